@@ -1,0 +1,53 @@
+# ekmbench: the user's front door. Wraps cmake/ctest; see README.md.
+#
+#   make            build (Release) into build/
+#   make test       build, run every test; then again under ASan+UBSan
+#   make demo       install missing packages, build, run the smoke campaign
+#   make bench      benchmarks: prints a table, writes results/bench.{md,json}
+#
+# Components add targets in mk/*.mk (DEM runs, comparison, campaign).
+
+BUILD      ?= build
+BUILD_SAN  ?= build-sanitize
+JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
+CMAKE_ARGS ?=
+EKM        := $(BUILD)/continuum/ekm
+
+.PHONY: all build deps test test-release test-sanitize demo bench clean help
+
+all: build
+
+deps:
+	@scripts/deps.sh
+
+$(BUILD)/CMakeCache.txt:
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
+
+build: $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+
+$(BUILD_SAN)/CMakeCache.txt:
+	cmake -S . -B $(BUILD_SAN) -DCMAKE_BUILD_TYPE=Debug -DEKM_SANITIZE=ON $(CMAKE_ARGS)
+
+test: deps test-release test-sanitize
+
+test-release: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The sanitizer pass skips tests labelled 'dem' (they exercise the external
+# DEM engines, not our code).
+test-sanitize: $(BUILD_SAN)/CMakeCache.txt
+	cmake --build $(BUILD_SAN) -j $(JOBS)
+	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --output-on-failure -j $(JOBS) -LE dem
+
+bench: deps build
+	@scripts/bench.sh $(BUILD)
+
+clean:
+	rm -rf $(BUILD) $(BUILD_SAN)
+
+help:
+	@sed -n '1,12p' Makefile
+
+-include mk/*.mk

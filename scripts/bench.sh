@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# make bench: run every bench/*.sh (each writes one JSON fragment into
+# $BUILD/bench/<name>.json: {"rows":[{"benchmark":..,"value":..,"unit":..,
+# "target":..,"status":..}], "keys":{...}}), then merge the fragments into
+# results/bench.json (flat keys + all rows) and results/bench.md (a table),
+# and print the table.
+set -euo pipefail
+build=${1:-build}
+root=$(cd "$(dirname "$0")/.." && pwd)
+out="$root/$build/bench"
+mkdir -p "$out" "$root/results"
+rm -f "$out"/*.json
+for b in "$root"/bench/*.sh; do
+  echo "bench: running $(basename "$b")" >&2
+  BUILD="$root/$build" OUT="$out" bash "$b"
+done
+shopt -s nullglob
+frags=("$out"/*.json)
+[ ${#frags[@]} -gt 0 ] || { echo "bench: no results" >&2; exit 1; }
+host="$(nproc) cores, $(awk '/model name/{sub(/.*: /,"");print;exit}' /proc/cpuinfo)"
+ver=$(git -C "$root" describe --always --dirty 2>/dev/null || echo nogit)
+jq -s --arg host "$host" --arg ver "$ver" --arg date "$(date -u +%Y-%m-%dT%H:%M:%SZ)" \
+  '{date:$date, code_version:$ver, machine:$host,
+    rows:(map(.rows)|add), keys:(map(.keys)|add)} + (map(.keys)|add)' \
+  "${frags[@]}" > "$root/results/bench.json.tmp"
+mv "$root/results/bench.json.tmp" "$root/results/bench.json"
+{
+  echo "# ekmbench benchmarks"
+  echo
+  echo "Measured by \`make bench\` on $(jq -r .date "$root/results/bench.json"), code $ver, $host."
+  echo
+  echo "| benchmark | value | unit | target | status |"
+  echo "|---|---:|---|---|---|"
+  jq -r '.rows[] | "| \(.benchmark) | \(.value) | \(.unit) | \(.target // "") | \(.status // "") |"' \
+    "$root/results/bench.json"
+} > "$root/results/bench.md.tmp"
+mv "$root/results/bench.md.tmp" "$root/results/bench.md"
+cat "$root/results/bench.md"
