@@ -1,0 +1,278 @@
+#!/usr/bin/env bash
+# run.sh: run one DEM scenario in one engine at one size.
+#
+#   scripts/dem/run.sh [-f] [-n NP] [-s key=value]... SCENARIO ENGINE SIZE
+#
+#   SCENARIO  name of scenarios/<name>.ini (must have a [dem] section), or
+#             'collision' with -c FILE: binary-collision restitution test
+#             using the contact parameters of FILE's [dem] section
+#   ENGINE    liggghts | lammps
+#   SIZE      smoke | ref (selects the '<size>.' keys of [dem])
+#   -n NP     MPI ranks (default 1; NP > 1 runs through mpirun)
+#   -f        overwrite a finished run (FORCE=1 in make)
+#   -s k=v    override a [dem] key for this run (repeatable)
+#   -o DIR    output root (default runs/)
+#
+# The scenario file is the single source of truth: shared values (geometry,
+# gravity, wall speeds, inflow) come from its continuum sections, DEM-only
+# values from [dem]; docs/dem.md lists the mapping. Every case writes
+# runs/<scenario>/<engine>-<size>[/<point>]/ with the deck (deck.in), the
+# variables (vars.txt), the engine log (log.txt), its screen output
+# (screen.txt), dumps, a monitor series (monitor.txt) and run.json.
+#
+# Exit status: 0 ok (or already done), 1 run failed (deck error, lost atoms,
+# NaN, timeout, missing completion marker), 2 usage or scenario error,
+# 3 engine missing, 4 run finished but not steady where steadiness is required.
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+prog=run.sh
+
+die() { echo "$prog: $*" >&2; exit 2; }
+
+force=0; np=1; outroot="$root/runs"; sets=(); cfile=""
+while getopts "fn:s:o:c:h" opt; do
+  case $opt in
+    f) force=1 ;;
+    n) np=$OPTARG ;;
+    s) sets+=("$OPTARG") ;;
+    o) outroot=$OPTARG ;;
+    c) cfile=$OPTARG ;;
+    h) sed -n '2,28p' "$0"; exit 0 ;;
+    *) die "bad option (see -h)" ;;
+  esac
+done
+shift $((OPTIND - 1))
+[ $# -eq 3 ] || die "usage: run.sh [-f] [-n NP] [-s key=value] SCENARIO ENGINE SIZE"
+scen=$1; engine=$2; size=$3
+case $engine in liggghts|lammps) ;; *) die "unknown engine '$engine' (liggghts, lammps)" ;; esac
+case $size in smoke|ref) ;; *) die "unknown size '$size' (smoke, ref)" ;; esac
+[[ $np =~ ^[1-9][0-9]*$ ]] || die "NP must be a positive integer, got '$np'"
+
+if [ "$scen" = collision ]; then
+  ini=${cfile:-$root/scenarios/chute.ini}
+else
+  ini=$root/scenarios/$scen.ini
+fi
+[ -r "$ini" ] || die "no scenario file $ini"
+grep -q '^\[dem\]' "$ini" || die "$ini: no [dem] section"
+deck=$root/dem_inputs/$engine/$scen.in
+[ -r "$deck" ] || die "no deck $deck for scenario '$scen' in $engine"
+
+# --- INI access --------------------------------------------------------
+# get SECTION KEY [DEFAULT]: value, or DEFAULT, or a loud error.
+get() {
+  local v
+  if v=$(awk -v sec="$1" -v key="$2" -f "$here/ini.awk" "$ini"); then
+    echo "$v"
+  elif [ $# -ge 3 ]; then
+    echo "$3"
+  else
+    echo "$prog: $ini: [$1] $2: missing key" >&2; kill -TERM $$; exit 2
+  fi
+}
+# dem KEY [DEFAULT]: [dem] value with precedence -s override, then
+# '<engine>.<size>.KEY', '<size>.KEY', '<engine>.KEY', 'KEY'.
+dem() {
+  local k=$1 s v
+  for s in "${sets[@]+"${sets[@]}"}"; do
+    [ "${s%%=*}" = "$k" ] && { echo "${s#*=}"; return; }
+  done
+  for cand in "$engine.$size.$k" "$size.$k" "$engine.$k" "$k"; do
+    if v=$(awk -v sec=dem -v key="$cand" -f "$here/ini.awk" "$ini"); then
+      echo "$v"; return
+    fi
+  done
+  if [ $# -ge 2 ]; then echo "$2"; return; fi
+  echo "$prog: $ini: [dem] $k: missing key (also tried $size.$k, $engine.$k)" >&2
+  kill -TERM $$; exit 2
+}
+trap 'exit 2' TERM
+num() { # num NAME VALUE: check VALUE is a number
+  [[ $2 =~ ^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$ ]] ||
+    { echo "$prog: $ini: $1: expected a number, got '$2'" >&2; exit 2; }
+}
+calc() { awk "BEGIN { printf \"%.10g\", $* }"; }
+
+# --- engine ------------------------------------------------------------
+case $engine in
+  liggghts) exe=liggghts ;;
+  lammps)   exe=lmp ;;
+esac
+command -v "$exe" >/dev/null ||
+  { echo "$prog: engine '$exe' not found (run scripts/deps.sh dem)" >&2; exit 3; }
+if [ "$np" -gt 1 ]; then
+  command -v mpirun >/dev/null ||
+    { echo "$prog: NP=$np needs mpirun (openmpi-bin)" >&2; exit 3; }
+fi
+version=$("$exe" -h 2>/dev/null | grep -m1 -oE '(LIGGGHTS-PUBLIC [0-9.]+|[0-9]+ [A-Z][a-z]{2} [0-9]{4}( - Update [0-9]+)?)')
+
+# --- variables common to every deck ------------------------------------
+declare -a vars=()
+addv() { num "$1" "$2"; vars+=("$1" "$2"); }
+d=$(dem diameter);      addv d "$d"
+addv spread "$(dem spread)"
+addv rho "$(get material rho_p)"
+addv E "$(dem youngs)"
+nu=$(dem poisson);      addv nu "$nu"
+addv e_in "$(dem restitution_input "$(dem restitution)")"
+addv mu "$(dem friction)"
+# LAMMPS: tangential/normal damping ratio that reproduces LIGGGHTS's
+# gamma_t/gamma_n = sqrt(S_t/S_n) = sqrt(2 (1-nu)/(2-nu)) (docs/dem.md).
+[ "$engine" = lammps ] && addv xgt "$(calc "sqrt(2*(1-$nu)/(2-$nu))")"
+addv dt "$(dem dt)"
+addv seed "$(dem seed 15485863)"
+addv thermo_every "$(dem thermo_every 1000)"
+addv dump_every "$(dem dump_every 5000)"
+lx=$(calc "$(dem lx) * $d"); ly=$(calc "$(dem ly) * $d")
+
+# --- scenario-specific variables and sweep points ------------------------
+# points: one "tag|name value name value ..." per case; tag '' = top dir.
+points=()
+case $scen in
+  collision)
+    points+=("|") ;;
+  filling)
+    addv lx "$lx"; addv ly "$ly"
+    addv lz "$(get domain length)"
+    addv g "$(get gravity magnitude)"
+    addv phi_in "$(get top phi)"
+    addv w_in "$(get top w)"
+    addv t_stop "$(get top t_stop)"
+    addv t_end "$(dem t_end "$(get run t_end)")"
+    points+=("|") ;;
+  chute)
+    addv lx "$lx"; addv ly "$ly"
+    addv h "$(get initial layer_height)"
+    addv phi0 "$(get initial phi)"
+    addv g "$(get gravity magnitude)"
+    addv t_settle "$(dem t_settle)"
+    addv t_flow "$(dem t_flow)"
+    angles=$(dem angles "$(get gravity angle)")
+    set -f; na=$(echo $angles | wc -w)
+    for a in $angles; do
+      num angle "$a"
+      if [ "$na" -eq 1 ]; then points+=("|theta $a"); else points+=("theta$a|theta $a"); fi
+    done; set +f ;;
+  shear_cell)
+    addv lx "$lx"; addv ly "$ly"
+    addv gap "$(get domain length)"
+    addv phi0 "$(get initial phi)"
+    addv v_top "$(get top velocity)"
+    addv v_bot "$(get bottom velocity)"
+    addv pressure "$(dem pressure)"
+    addv wall_damp "$(dem wall_damping)"
+    addv t_run "$(dem t_run)"
+    points+=("|") ;;
+  simple_shear)
+    L=$(get domain length)
+    rate0=$(calc "($(get top velocity) - $(get bottom velocity)) / $L")
+    addv L "$L"
+    addv t_compress "$(dem t_compress)"
+    addv strain "$(dem strain)"
+    phis=$(dem phis "$(get initial phi)"); rates=$(dem rates "$rate0")
+    set -f; n=$(( $(echo $phis | wc -w) * $(echo $rates | wc -w) ))
+    for p in $phis; do for r in $rates; do
+      num phi "$p"; num rate "$r"
+      if [ "$n" -eq 1 ]; then points+=("|phi $p rate $r")
+      else points+=("phi${p}-rate${r}|phi $p rate $r"); fi
+    done; done; set +f ;;
+  *) die "no variable mapping for scenario '$scen' (see docs/dem.md)" ;;
+esac
+timeout_s=$(dem timeout 900)
+require_steady=$(dem require_steady 0)
+steady_tol=$(dem steady_tol 0.05)
+
+# --- run one case --------------------------------------------------------
+json_escape() { sed -e 's/\\/\\\\/g' -e 's/"/\\"/g' | tr -d '\n'; }
+
+run_case() { # run_case TAG "name value ..."
+  local tag=$1 extra=$2 dir st=ok msg="" rc
+  dir=$outroot/$scen/$engine-$size${tag:+/$tag}
+  if [ -f "$dir/run.json" ] && grep -q '"status": "ok"' "$dir/run.json" && [ $force -eq 0 ]; then
+    echo "$prog: $dir is done (status ok); FORCE=1 (-f) to redo"; return 0
+  fi
+  rm -rf "$dir"; mkdir -p "$dir" || { echo "$prog: cannot create $dir" >&2; return 1; }
+  cp "$deck" "$dir/deck.in"
+  cp "$root/dem_inputs/$engine/"*.inc "$dir/" 2>/dev/null
+  local -a all=("${vars[@]}") args=()
+  set -f; all+=($extra); set +f
+  : > "$dir/vars.txt"
+  local i
+  for ((i = 0; i < ${#all[@]}; i += 2)); do
+    printf '%s = %s\n' "${all[i]}" "${all[i+1]}" >> "$dir/vars.txt"
+    args+=(-var "${all[i]}" "${all[i+1]}")
+  done
+  local -a cmd=()
+  [ "$np" -gt 1 ] && cmd+=(mpirun --allow-run-as-root --oversubscribe -np "$np")
+  cmd+=(stdbuf -o0 "$exe" -in deck.in -log log.txt -echo screen "${args[@]}")
+  local cmdstr; cmdstr=$(printf '%q ' "${cmd[@]}")
+  echo "$prog: $scen $engine $size${tag:+ $tag}: running in $dir"
+  local t0 t1
+  t0=$(date +%s.%N)
+  ( cd "$dir" && timeout "$timeout_s" "${cmd[@]}" > screen.txt 2>&1 )
+  rc=$?
+  t1=$(date +%s.%N)
+  local wall; wall=$(calc "$t1 - $t0")
+  # --- loud failure detection ---
+  if [ $rc -eq 124 ]; then st=timeout; msg="killed after ${timeout_s} s"
+  elif grep -qE '^ERROR|ERROR( on proc [0-9]+)?:' "$dir/screen.txt"; then
+    st=deck_error; msg=$(grep -m1 -E 'ERROR' "$dir/screen.txt")
+  elif grep -qi 'lost atoms' "$dir/screen.txt"; then
+    st=lost_atoms; msg=$(grep -m1 -i 'lost atoms' "$dir/screen.txt")
+  elif [ $rc -ne 0 ]; then st=engine_failed; msg="exit status $rc"
+  elif awk '/^ *Step /{t=1;next} /^Loop time/{t=0} t && tolower($0) ~ /(^|[ \t])[-+]?(nan|inf)([ \t]|$)/ {f=1} END{exit !f}' "$dir/screen.txt"; then
+    st=nan; msg="NaN or Inf in thermo output"
+  elif ! grep -q '^EKMDEM_DONE' "$dir/screen.txt"; then
+    st=incomplete; msg="no completion marker (EKMDEM_DONE) in screen output"
+  fi
+  local natoms="null" steps="null"
+  if grep -q '^EKMDEM_DONE' "$dir/screen.txt"; then
+    natoms=$(grep -m1 '^EKMDEM_DONE' "$dir/screen.txt" | sed -n 's/.*natoms \([0-9]*\).*/\1/p')
+    steps=$(grep -m1 '^EKMDEM_DONE' "$dir/screen.txt" | sed -n 's/.*steps \([0-9]*\).*/\1/p')
+  fi
+  # --- steady state: last quarter of the monitor series vs the one before ---
+  local steady=null drift=null
+  if [ "$st" = ok ] && [ -s "$dir/monitor.txt" ]; then
+    drift=$(awk '!/^#/ && NF>=2 {v[n++]=$2} END {
+        if (n < 8) { print "null"; exit }
+        q = int(n/4); a = 0; b = 0
+        for (i = n-2*q; i < n-q; i++) a += v[i]
+        for (i = n-q; i < n; i++) b += v[i]
+        a /= q; b /= q; s = (a < 0 ? -a : a) + (b < 0 ? -b : b)
+        if (s == 0) { print 0; exit }
+        dd = (b - a) / (0.5 * s); printf "%.4g", (dd < 0 ? -dd : dd) }' "$dir/monitor.txt")
+    if [ "$drift" != null ]; then
+      if awk "BEGIN { exit !($drift <= $steady_tol) }"; then steady=true; else steady=false; fi
+    fi
+    if [ "$require_steady" = 1 ] && [ "$steady" != true ]; then
+      st=not_steady; msg="monitor drift $drift > $steady_tol between the last two quarters"
+    fi
+  fi
+  {
+    echo "{"
+    echo "  \"scenario\": \"$scen\", \"engine\": \"$engine\", \"version\": \"$version\","
+    echo "  \"size\": \"$size\", \"point\": \"$tag\", \"scenario_file\": \"${ini#$root/}\","
+    echo "  \"command\": \"$(echo "$cmdstr" | json_escape)\","
+    echo "  \"ranks\": $np, \"steps\": ${steps:-null}, \"dt\": $(dem dt),"
+    echo "  \"particles\": ${natoms:-null}, \"wall_time_s\": $wall,"
+    echo "  \"steady\": $steady, \"monitor_drift\": $drift, \"steady_tol\": $steady_tol,"
+    echo "  \"status\": \"$st\", \"message\": \"$(echo "$msg" | json_escape)\","
+    echo "  \"finished\": \"$(date -u +%Y-%m-%dT%H:%M:%SZ)\""
+    echo "}"
+  } > "$dir/run.json"
+  if [ "$st" != ok ]; then
+    echo "$prog: FAILED $scen $engine $size${tag:+ $tag}: $st: $msg (see $dir/screen.txt)" >&2
+    [ "$st" = not_steady ] && return 4
+    return 1
+  fi
+  echo "$prog: ok $scen $engine $size${tag:+ $tag}: $natoms particles, $steps steps, ${wall%.*} s"
+  return 0
+}
+
+worst=0
+for p in "${points[@]}"; do
+  run_case "${p%%|*}" "${p#*|}"; r=$?
+  [ $r -gt $worst ] && worst=$r
+done
+exit $worst
