@@ -1,0 +1,80 @@
+#include "bc.h"
+
+static int adjacent_cell(ekm_side side, const ekm_state *s)
+{
+    return side == EKM_SIDE_BOTTOM ? 0 : s->n - 1;
+}
+
+static ekm_bc_face bc_wall(const ekm_bc *bc, ekm_side side, const ekm_state *s)
+{
+    (void)side;
+    ekm_bc_face b = {0};
+    b.w = 0.0;
+    b.wall_conductance = 1.0 / (0.5 * s->dz + bc->slip_length);
+    b.u_wall = bc->velocity;
+    return b;
+}
+
+static ekm_bc_face bc_inflow(const ekm_bc *bc, ekm_side side, const ekm_state *s)
+{
+    (void)side;
+    (void)s;
+    ekm_bc_face b = {0};
+    b.w = bc->w;
+    b.phi_in = bc->phi;
+    b.u_in = bc->u;
+    b.T_in = bc->T;
+    return b;
+}
+
+static ekm_bc_face bc_outflow(const ekm_bc *bc, ekm_side side, const ekm_state *s)
+{
+    (void)bc;
+    const int j = adjacent_cell(side, s);
+    ekm_bc_face b = {0};
+    b.w_follows = 1;
+    b.phi_in = s->phi[j];
+    b.u_in = s->u[j];
+    b.T_in = s->T[j];
+    return b;
+}
+
+static ekm_bc_face bc_free(const ekm_bc *bc, ekm_side side, const ekm_state *s)
+{
+    (void)bc;
+    (void)side;
+    (void)s;
+    ekm_bc_face b = {0};
+    b.w_follows = 1; /* vacuum outside: phi_in = 0, nothing enters */
+    return b;
+}
+
+typedef ekm_bc_face (*bc_fn)(const ekm_bc *, ekm_side, const ekm_state *);
+
+static const bc_fn BC_KINDS[] = {
+    [EKM_BC_WALL] = bc_wall,
+    [EKM_BC_INFLOW] = bc_inflow,
+    [EKM_BC_OUTFLOW] = bc_outflow,
+    [EKM_BC_FREE] = bc_free,
+};
+
+ekm_bc_face ekm_bc_evaluate(const ekm_bc *bc, ekm_side side, double t, const ekm_state *s)
+{
+    if (bc->kind == EKM_BC_INFLOW && t >= bc->t_stop) {
+        ekm_bc closed = *bc;
+        closed.kind = EKM_BC_WALL;
+        closed.velocity = 0.0;
+        closed.slip_length = 0.0;
+        return bc_wall(&closed, side, s);
+    }
+    return BC_KINDS[bc->kind](bc, side, s);
+}
+
+double ekm_bc_face_w(const ekm_bc_face *b, ekm_side side, const ekm_state *s)
+{
+    if (!b->w_follows)
+        return b->w;
+    if (s->n < 2)
+        return 0.0;
+    return side == EKM_SIDE_BOTTOM ? s->w[1] : s->w[s->n - 1];
+}

@@ -1,0 +1,39 @@
+/* bc.h: boundary conditions at the two ends of the slab (MODEL.md 5).
+ *
+ * Each kind is one function that describes its boundary face for the
+ * current state: the normal velocity there (prescribed, or following the
+ * adjacent interior face = zero gradient), the phi, u and T carried in when
+ * the flow enters, and the tangential wall friction.
+ *
+ *   wall     w = 0; u: no slip or Navier slip, tau = eta (u_wall - u)/(dz/2 + b)
+ *            (b = slip_length); adiabatic (zero heat flux)
+ *   inflow   w = w_in; brings phi_in, u_in, T_in; no conduction, no shear;
+ *            after t_stop it is a resting wall
+ *   outflow  zero gradient of w, phi, u, T; no conduction, no shear
+ *   free     open to vacuum: zero gradient of w, nothing enters, zero stress
+ */
+#ifndef EKM_BC_H
+#define EKM_BC_H
+
+#include "scenario.h"
+#include "state.h"
+
+typedef enum { EKM_SIDE_BOTTOM = 0, EKM_SIDE_TOP = 1 } ekm_side;
+
+typedef struct {
+    int w_follows;      /* 1: w at the face equals w at the adjacent interior face */
+    double w;           /* prescribed normal velocity at the face when !w_follows [m/s] */
+    double phi_in;      /* volume fraction carried in by an entering flow [-] */
+    double u_in;        /* tangential velocity carried in [m/s] */
+    double T_in;        /* temperature carried in [m^2/s^2] */
+    double wall_conductance; /* 1/(dz/2 + slip_length) for walls, 0: stress-free [1/m] */
+    double u_wall;      /* tangential wall velocity [m/s] */
+} ekm_bc_face;
+
+/* The face description of boundary `side` at time t. */
+ekm_bc_face ekm_bc_evaluate(const ekm_bc *bc, ekm_side side, double t, const ekm_state *s);
+
+/* Normal velocity at the boundary face given the interior solution. */
+double ekm_bc_face_w(const ekm_bc_face *b, ekm_side side, const ekm_state *s);
+
+#endif

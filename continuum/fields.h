@@ -1,0 +1,26 @@
+/* fields.h: the cell-centred output fields of a state (what ekm writes):
+ *   vx = u;  vz = (w_{j-1/2} + w_{j+1/2})/2;
+ *   sxz = mean of the two face shear stresses eta_f du/dz (walls: the wall
+ *         stress, stress-free ends: 0);
+ *   szz = -(P_K + P_Y) + mu_n dw/dz;  P = P_K + P_Y - zeta dw/dz;
+ *   regime = 0 empty (phi < phi_dry), 1 kinetic (phi <= phi_co),
+ *            2 dense flow (phi > phi_co), 3 solid (hypoplastic).
+ */
+#ifndef EKM_FIELDS_H
+#define EKM_FIELDS_H
+
+#include "scenario.h"
+#include "state.h"
+
+enum { EKM_REGIME_EMPTY = 0, EKM_REGIME_KINETIC = 1, EKM_REGIME_DENSE = 2, EKM_REGIME_SOLID = 3 };
+
+typedef struct {
+    double *vx, *vz;       /* [m/s] */
+    double *P, *sxz, *szz; /* [Pa] */
+    int *regime;           /* EKM_REGIME_* */
+} ekm_fields;
+
+/* Arrays of n each, owned by the caller. */
+void ekm_fields_compute(const ekm_scenario *sc, const ekm_state *s, double t, ekm_fields *out);
+
+#endif

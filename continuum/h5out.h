@@ -1,0 +1,36 @@
+/* h5out.h: the run's output file (HDF5) and its XDMF sidecar.
+ *
+ * Layout (docs/output-format.md):
+ *   /z                      cell centres [m], double[nz]
+ *   /t                      output times [s], double[nt]
+ *   /phi /vx /vz /T /P /sxz /szz   double[nt][nz], SI, cell-centred
+ *   /regime                 int32[nt][nz] (fields.h)
+ *   every dataset has a string attribute "units";
+ *   root attributes: every scenario key as "section.key" (number or
+ *   string), gravity_x, gravity_z [m/s^2], variant, code_version,
+ *   scenario_file, created (UTC).
+ * The file is written under PATH.tmp and renamed to PATH on commit; the
+ * sidecar PATH-without-.h5 + ".xdmf" lets ParaView open the time series.
+ */
+#ifndef EKM_H5OUT_H
+#define EKM_H5OUT_H
+
+#include "scenario.h"
+#include "state.h"
+#include "status.h"
+
+typedef struct ekm_h5_writer ekm_h5_writer;
+
+ekm_status ekm_h5_writer_open(ekm_h5_writer **out, const char *path, const ekm_scenario *sc,
+                              const ekm_state *s, ekm_error *err);
+/* Append the state as one more time row. */
+ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error *err);
+/* Close, write the XDMF sidecar, rename both into place, free w. */
+ekm_status ekm_h5_writer_commit(ekm_h5_writer *w, ekm_error *err);
+/* Close and delete the temporary file, free w (NULL is harmless). */
+void ekm_h5_writer_abort(ekm_h5_writer *w);
+
+/* The sidecar's path for an output path (".h5" replaced by ".xdmf"). */
+void ekm_h5_xdmf_path(const char *h5_path, char *out, size_t size);
+
+#endif

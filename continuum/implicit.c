@@ -1,0 +1,210 @@
+#include "implicit.h"
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+#include <math.h>
+#include <stdlib.h>
+
+ekm_implicit_work *ekm_implicit_alloc(int n)
+{
+    ekm_implicit_work *wk = calloc(1, sizeof *wk);
+    if (!wk)
+        return NULL;
+    wk->n = n;
+    const size_t m = (size_t)n + 1;
+    wk->diag = calloc(m, sizeof(double));
+    wk->sub = calloc(m, sizeof(double));
+    wk->sup = calloc(m, sizeof(double));
+    wk->rhs = calloc(m, sizeof(double));
+    wk->x = calloc(m, sizeof(double));
+    if (!wk->diag || !wk->sub || !wk->sup || !wk->rhs || !wk->x) {
+        ekm_implicit_free(wk);
+        return NULL;
+    }
+    return wk;
+}
+
+void ekm_implicit_free(ekm_implicit_work *wk)
+{
+    if (!wk)
+        return;
+    free(wk->diag);
+    free(wk->sub);
+    free(wk->sup);
+    free(wk->rhs);
+    free(wk->x);
+    free(wk);
+}
+
+/* Solve the m x m tridiagonal system held in wk (sub[i] couples row i to
+ * i-1, sup[i] to i+1) into wk->x. */
+static ekm_status solve(ekm_implicit_work *wk, int m, const char *what, ekm_error *err)
+{
+    if (m == 1) {
+        if (wk->diag[0] == 0.0)
+            return EKM_FAIL(err, EKM_ENUMERIC, "%s: singular 1x1 system", what);
+        wk->x[0] = wk->rhs[0] / wk->diag[0];
+        return EKM_OK;
+    }
+    gsl_vector_view d = gsl_vector_view_array(wk->diag, (size_t)m);
+    gsl_vector_view e = gsl_vector_view_array(wk->sup, (size_t)m - 1);
+    gsl_vector_view f = gsl_vector_view_array(wk->sub + 1, (size_t)m - 1);
+    gsl_vector_view b = gsl_vector_view_array(wk->rhs, (size_t)m);
+    gsl_vector_view x = gsl_vector_view_array(wk->x, (size_t)m);
+    int rc = gsl_linalg_solve_tridiag(&d.vector, &e.vector, &f.vector, &b.vector, &x.vector);
+    if (rc != GSL_SUCCESS)
+        return EKM_FAIL(err, EKM_ENUMERIC, "%s: tridiagonal solve failed: %s", what, gsl_strerror(rc));
+    return EKM_OK;
+}
+
+static double harmonic(double a, double b)
+{
+    return a > 0.0 && b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
+}
+
+ekm_status ekm_implicit_normal_velocity(ekm_implicit_work *wk, int n, double dt, double dz,
+                                        const double *rho_face, const double *rhs,
+                                        const double *mu_n, const unsigned char *dry_face,
+                                        ekm_implicit_end bottom, ekm_implicit_end top,
+                                        double *w, ekm_error *err)
+{
+    if (n < 2) {
+        w[0] = bottom.follows ? 0.0 : bottom.value;
+        w[n] = top.follows ? 0.0 : top.value;
+        return EKM_OK;
+    }
+    const int m = n - 1; /* unknowns: faces 1..n-1 -> rows 0..m-1 */
+    const double a = dt / (dz * dz);
+    for (int i = 0; i < m; i++) {
+        const int f = i + 1;
+        if (dry_face[f]) {
+            wk->diag[i] = 1.0;
+            wk->sub[i] = wk->sup[i] = wk->rhs[i] = 0.0;
+            continue;
+        }
+        const double mu_below = mu_n[f - 1], mu_above = mu_n[f];
+        wk->diag[i] = rho_face[f] + a * (mu_below + mu_above);
+        wk->sub[i] = -a * mu_below;
+        wk->sup[i] = -a * mu_above;
+        wk->rhs[i] = rhs[f];
+        if (f == 1) {
+            if (bottom.follows)
+                wk->diag[i] -= a * mu_below; /* no viscous stress difference in cell 0 */
+            else
+                wk->rhs[i] += a * mu_below * bottom.value;
+            wk->sub[i] = 0.0;
+        }
+        if (f == n - 1) {
+            if (top.follows)
+                wk->diag[i] -= a * mu_above;
+            else
+                wk->rhs[i] += a * mu_above * top.value;
+            wk->sup[i] = 0.0;
+        }
+    }
+    ekm_status st = solve(wk, m, "normal momentum", err);
+    if (st != EKM_OK)
+        return st;
+    for (int i = 0; i < m; i++)
+        w[i + 1] = wk->x[i];
+    w[0] = bottom.follows ? w[1] : bottom.value;
+    w[n] = top.follows ? w[n - 1] : top.value;
+    return EKM_OK;
+}
+
+ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, double dz,
+                                       const double *rho, const double *rhs, const double *eta,
+                                       const unsigned char *dry, ekm_implicit_end bottom,
+                                       ekm_implicit_end top, double *u, ekm_error *err)
+{
+    const double a = dt / (dz * dz);
+    const double b = dt / dz;
+    for (int j = 0; j < n; j++) {
+        if (dry[j]) {
+            wk->diag[j] = 1.0;
+            wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
+            continue;
+        }
+        const double e_below = j > 0 ? harmonic(eta[j - 1], eta[j]) : 0.0;
+        const double e_above = j < n - 1 ? harmonic(eta[j], eta[j + 1]) : 0.0;
+        wk->diag[j] = rho[j] + a * (e_below + e_above);
+        wk->sub[j] = -a * e_below;
+        wk->sup[j] = -a * e_above;
+        wk->rhs[j] = rhs[j];
+        if (j == 0 && bottom.conductance > 0.0) {
+            wk->diag[j] += b * eta[j] * bottom.conductance;
+            wk->rhs[j] += b * eta[j] * bottom.conductance * bottom.value;
+        }
+        if (j == n - 1 && top.conductance > 0.0) {
+            wk->diag[j] += b * eta[j] * top.conductance;
+            wk->rhs[j] += b * eta[j] * top.conductance * top.value;
+        }
+    }
+    ekm_status st = solve(wk, n, "shear momentum", err);
+    if (st != EKM_OK)
+        return st;
+    for (int j = 0; j < n; j++)
+        u[j] = wk->x[j];
+    return EKM_OK;
+}
+
+ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz,
+                                    const ekm_material *m, ekm_variant v, const double *phi,
+                                    const double *rhoT_star, const double *lambda,
+                                    const double *u2, const double *w2,
+                                    const unsigned char *dry, double T_floor, double tol,
+                                    int newton_max, double *T, int *iterations, ekm_error *err)
+{
+    const double a = 2.0 / 3.0 * dt / (dz * dz);
+    for (int it = 1; it <= newton_max; it++) {
+        for (int j = 0; j < n; j++) {
+            if (dry[j]) {
+                wk->diag[j] = 1.0;
+                wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
+                continue;
+            }
+            const double l_below = j > 0 ? harmonic(lambda[j - 1], lambda[j]) : 0.0;
+            const double l_above = j < n - 1 ? harmonic(lambda[j], lambda[j + 1]) : 0.0;
+            const double T_below = j > 0 ? T[j - 1] : 0.0;
+            const double T_above = j < n - 1 ? T[j + 1] : 0.0;
+            double dS;
+            const double S = ekm_temperature_source(m, v, phi[j], T[j], u2[j], w2[j], &dS);
+            const double rho = m->rho_p * phi[j];
+            const double residual = rho * T[j] - rhoT_star[j]
+                - a * (l_above * (T_above - T[j]) - l_below * (T[j] - T_below)) - dt * S;
+            wk->diag[j] = rho + a * (l_below + l_above) - dt * dS;
+            wk->sub[j] = -a * l_below;
+            wk->sup[j] = -a * l_above;
+            wk->rhs[j] = -residual;
+        }
+        ekm_status st = solve(wk, n, "temperature", err);
+        if (st != EKM_OK)
+            return st;
+        double change = 0.0;
+        for (int j = 0; j < n; j++) {
+            if (dry[j]) {
+                T[j] = 0.0;
+                continue;
+            }
+            double Tn = T[j] + wk->x[j];
+            /* Newton safeguard: never step to or below zero; approach the
+             * (concave) root from below instead. */
+            if (!(Tn > 0.1 * T[j]))
+                Tn = 0.1 * T[j];
+            if (Tn < T_floor)
+                Tn = T_floor;
+            const double c = fabs(Tn - T[j]) / Tn;
+            if (c > change)
+                change = c;
+            T[j] = Tn;
+        }
+        if (!isfinite(change))
+            return EKM_FAIL(err, EKM_ENUMERIC, "temperature: non-finite Newton update");
+        if (change < tol) {
+            *iterations = it;
+            return EKM_OK;
+        }
+    }
+    *iterations = newton_max;
+    return EKM_FAIL(err, EKM_ENUMERIC, "temperature: Newton did not converge in %d iterations", newton_max);
+}

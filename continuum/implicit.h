@@ -1,0 +1,65 @@
+/* implicit.h: the implicit (backward Euler) parts of a time step, each a
+ * tridiagonal solve with GSL (gsl_linalg_solve_tridiag):
+ *
+ *   normal momentum   rho_f w_f - dt d/dz(mu_n dw/dz)      = rho_f w**_f  (faces)
+ *   shear momentum    rho_j u_j - dt d/dz(eta du/dz)       = (rho u)*_j   (cells)
+ *   temperature       rho_j T_j - dt 2/3 d/dz(lambda dT/dz) - dt S_j(T_j)
+ *                                                          = (rho T)*_j   (cells)
+ *
+ * so that the viscosities (up to 1e7 Pa s and beyond in a quasi-static bed),
+ * the conduction and the stiff temperature source never limit the time
+ * step.  The temperature equation is nonlinear in S (the yield viscosity
+ * ~ 1/sqrt(T)); it is solved by Newton's method with the conductivities
+ * lagged.  Transport coefficients at faces are harmonic means of the two
+ * cells (series resistances; zero next to an empty cell).
+ */
+#ifndef EKM_IMPLICIT_H
+#define EKM_IMPLICIT_H
+
+#include "model.h"
+#include "status.h"
+
+typedef struct {
+    int n;        /* cells */
+    double *diag, *sub, *sup, *rhs, *x; /* n + 1 each */
+} ekm_implicit_work;
+
+ekm_implicit_work *ekm_implicit_alloc(int n);
+void ekm_implicit_free(ekm_implicit_work *wk);
+
+/* Boundary data of a velocity solve at one end. */
+typedef struct {
+    int follows;        /* normal solve: w_b = adjacent interior w (zero gradient) */
+    double value;       /* normal solve: prescribed w_b [m/s]; shear: wall velocity [m/s] */
+    double conductance; /* shear solve: 1/(dz/2 + slip length), 0: stress-free [1/m] */
+} ekm_implicit_end;
+
+/* Normal velocity at the interior faces 1..n-1 (w[0], w[n] are set from
+ * the ends).  rho_face [kg/m^3] and rhs = rho_face w** [kg/(m^2 s)] at
+ * faces, mu_n [Pa s] at cells; faces with dry[f] != 0 get w = 0. */
+ekm_status ekm_implicit_normal_velocity(ekm_implicit_work *wk, int n, double dt, double dz,
+                                        const double *rho_face, const double *rhs,
+                                        const double *mu_n, const unsigned char *dry_face,
+                                        ekm_implicit_end bottom, ekm_implicit_end top,
+                                        double *w, ekm_error *err);
+
+/* Tangential velocity at the cells; rho [kg/m^3], rhs = (rho u)* + dt rho g_x
+ * [kg/(m^2 s)], eta [Pa s]; dry cells get u = 0. */
+ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, double dz,
+                                       const double *rho, const double *rhs, const double *eta,
+                                       const unsigned char *dry, ekm_implicit_end bottom,
+                                       ekm_implicit_end top, double *u, ekm_error *err);
+
+/* Temperature equation, Newton's method.  phi [-] (new), rhoT_star
+ * [kg/(m s^2)] after convection, lambda [kg/(m s)] lagged, u2, w2 [1/s^2]
+ * squared gradients at cells; T holds the initial guess on entry and the
+ * solution on success.  Returns EKM_ENUMERIC when Newton does not converge
+ * in newton_max iterations (the caller retries with a smaller step). */
+ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz,
+                                    const ekm_material *m, ekm_variant v, const double *phi,
+                                    const double *rhoT_star, const double *lambda,
+                                    const double *u2, const double *w2,
+                                    const unsigned char *dry, double T_floor, double tol,
+                                    int newton_max, double *T, int *iterations, ekm_error *err);
+
+#endif

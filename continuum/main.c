@@ -1,0 +1,156 @@
+/* ekm: run the EKM slab solver on a scenario file.  See `ekm --help`. */
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "h5out.h"
+#include "run.h"
+#include "scenario.h"
+#include "state.h"
+#include "step.h"
+
+static void usage(FILE *fp)
+{
+    fprintf(fp,
+        "usage: ekm run FILE.ini [-o OUT.h5] [--set section.key=value ...] [--quiet]\n"
+        "       ekm --help | --version\n"
+        "\n"
+        "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
+        "scenario file and writes one HDF5 file (+ XDMF sidecar for ParaView).\n"
+        "\n"
+        "  -o OUT.h5        output file (default: the scenario file's name with .h5,\n"
+        "                   in the current directory); written atomically\n"
+        "  --set S.K=V      override key K of section S (repeatable), e.g.\n"
+        "                   --set domain.cells=200 --set model.variant=thesis\n"
+        "  --quiet          no progress line and no summary\n"
+        "\n"
+        "Exit codes: 0 success; 1 usage error; 2 bad scenario or command line value;\n"
+        "3 file could not be read or written; 4 the solver could not continue\n"
+        "(phi would reach phi_cp, no convergence); 5 internal error or out of memory.\n"
+        "Formats and units: README.md and docs/ of ekmbench.\n");
+}
+
+typedef struct {
+    ekm_h5_writer *writer;
+} frame_ctx;
+
+static ekm_status write_frame(void *ctx, const ekm_state *s, const ekm_stepper *st, ekm_error *err)
+{
+    (void)st;
+    return ekm_h5_writer_append(((frame_ctx *)ctx)->writer, s, err);
+}
+
+static void default_output(const char *ini, char *out, size_t size)
+{
+    const char *base = strrchr(ini, '/');
+    base = base ? base + 1 : ini;
+    size_t len = strlen(base);
+    if (len > 4 && strcmp(base + len - 4, ".ini") == 0)
+        len -= 4;
+    snprintf(out, size, "%.*s.h5", (int)len, base);
+}
+
+static int fail(const ekm_error *err, ekm_status st)
+{
+    fprintf(stderr, "ekm: %s\n", err->message);
+    return ekm_status_exit_code(st);
+}
+
+static int cmd_run(int argc, char **argv)
+{
+    const char *ini = NULL, *out = NULL;
+    int quiet = 0;
+    const char **sets = calloc((size_t)argc, sizeof *sets);
+    size_t n_sets = 0;
+    if (!sets) {
+        fprintf(stderr, "ekm: out of memory\n");
+        return 5;
+    }
+    for (int i = 0; i < argc; i++) {
+        if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) out = argv[++i];
+        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc) sets[n_sets++] = argv[++i];
+        else if (strcmp(argv[i], "--quiet") == 0) quiet = 1;
+        else if (argv[i][0] == '-' || ini) {
+            fprintf(stderr, "ekm run: unexpected argument '%s' (see ekm --help)\n", argv[i]);
+            free(sets);
+            return 1;
+        } else ini = argv[i];
+    }
+    if (!ini) {
+        fprintf(stderr, "ekm run: missing scenario file (see ekm --help)\n");
+        free(sets);
+        return 1;
+    }
+    char out_buf[1024];
+    if (!out) {
+        default_output(ini, out_buf, sizeof out_buf);
+        out = out_buf;
+    }
+    ekm_error err = {0};
+    ekm_scenario sc;
+    ekm_status st = ekm_scenario_load(&sc, ini, sets, n_sets, &err);
+    free(sets);
+    if (st != EKM_OK) {
+        ekm_scenario_free(&sc);
+        return fail(&err, st);
+    }
+    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
+    ekm_stepper *stepper = s ? ekm_step_alloc(&sc, &err) : NULL;
+    if (!s || !stepper) {
+        if (!s) EKM_FAIL(&err, EKM_ENOMEM, "out of memory (%d cells)", sc.cells);
+        ekm_state_free(s);
+        ekm_scenario_free(&sc);
+        return fail(&err, s ? EKM_EINPUT : EKM_ENOMEM);
+    }
+    ekm_state_init(s, &sc);
+    frame_ctx fc = {0};
+    ekm_run_stats stats;
+    st = ekm_h5_writer_open(&fc.writer, out, &sc, s, &err);
+    if (st == EKM_OK) {
+        ekm_run_hooks hooks = {.frame = write_frame, .ctx = &fc, .progress = !quiet && isatty(STDERR_FILENO)};
+        st = ekm_run(&sc, s, stepper, &hooks, &stats, &err);
+        if (st == EKM_OK)
+            st = ekm_h5_writer_commit(fc.writer, &err);
+        else
+            ekm_h5_writer_abort(fc.writer);
+    }
+    int code = 0;
+    if (st != EKM_OK) {
+        code = fail(&err, st);
+    } else if (!quiet) {
+        const double m0 = stats.mass_initial, m1 = stats.mass_final;
+        const double scale = fmax(fmax(m0, m1), 1e-300);
+        printf("%-20s t = %-8.4g s  %7ld steps (%ld rejected)  %5d cells  phi_max %.4f  "
+               "mass balance %.1e  %.3f s  -> %s\n",
+               sc.name, s->t, stats.steps, stats.rejected, sc.cells, stats.phi_max,
+               (m1 - m0 - stats.mass_in) / scale, stats.wall_s, out);
+    }
+    ekm_step_free(stepper);
+    ekm_state_free(s);
+    ekm_scenario_free(&sc);
+    return code;
+}
+
+int main(int argc, char **argv)
+{
+    gsl_set_error_handler_off();
+    if (argc < 2) {
+        usage(stderr);
+        return 1;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+        usage(stdout);
+        return 0;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("ekm %s\n", EKMBENCH_VERSION);
+        return 0;
+    }
+    if (strcmp(argv[1], "run") == 0)
+        return cmd_run(argc - 2, argv + 2);
+    fprintf(stderr, "ekm: unknown command '%s' (see ekm --help)\n", argv[1]);
+    return 1;
+}

@@ -1,0 +1,158 @@
+/* model.c: the EKM constitutive law (see model.h for the equations). */
+#include "model.h"
+
+#include <math.h>
+
+ekm_material ekm_material_thesis(void)
+{
+    ekm_material m = {
+        .rho_p = 1600.0, .phi_co = 0.60, .phi_cp = 0.64, .T0 = 1.5,
+        .eta0 = 3.55e-4, .zeta0 = 1e-4, .lambda0 = 3.4e-4, .eps0 = 500.0,
+        .nu = 1.0, .A_h = 200e6, .B_h = 200e6, .alpha = 0.0,
+    };
+    return m;
+}
+
+ekm_status ekm_material_check(const ekm_material *m, ekm_error *err)
+{
+    struct { const char *key; double value; } positive[] = {
+        {"rho_p", m->rho_p}, {"phi_cp", m->phi_cp}, {"T0", m->T0},
+        {"eta0", m->eta0}, {"zeta0", m->zeta0}, {"eps0", m->eps0},
+        {"nu", m->nu}, {"A_h", m->A_h}, {"B_h", m->B_h},
+    };
+    for (unsigned i = 0; i < sizeof positive / sizeof positive[0]; i++)
+        if (!(positive[i].value > 0.0))
+            return EKM_FAIL(err, EKM_EINPUT, "[material] %s: expected a positive number, got %g",
+                            positive[i].key, positive[i].value);
+    if (!(m->lambda0 >= 0.0))
+        return EKM_FAIL(err, EKM_EINPUT, "[material] lambda0: expected a number >= 0, got %g", m->lambda0);
+    if (!(m->alpha >= 0.0))
+        return EKM_FAIL(err, EKM_EINPUT, "[material] alpha: expected a number >= 0, got %g", m->alpha);
+    if (!(m->phi_cp < 1.0))
+        return EKM_FAIL(err, EKM_EINPUT, "[material] phi_cp: expected a number in (0, 1), got %g", m->phi_cp);
+    if (!(m->phi_co > 0.0 && m->phi_co < m->phi_cp))
+        return EKM_FAIL(err, EKM_EINPUT, "[material] phi_co: expected a number in (0, phi_cp = %g), got %g",
+                        m->phi_cp, m->phi_co);
+    return EKM_OK;
+}
+
+double ekm_g(const ekm_material *m, double phi)
+{
+    return 1.0 / (1.0 - phi / m->phi_cp);
+}
+
+double ekm_pressure_kinetic(const ekm_material *m, double phi, double T)
+{
+    return m->rho_p * phi * T * ekm_g(m, phi);
+}
+
+double ekm_pressure_yield(const ekm_material *m, double phi)
+{
+    return phi > m->phi_co ? m->rho_p * m->T0 * (phi - m->phi_co) * ekm_g(m, phi) : 0.0;
+}
+
+double ekm_yield_temperature(const ekm_material *m, double phi)
+{
+    return phi > m->phi_co ? m->T0 * (phi - m->phi_co) / phi : 0.0;
+}
+
+/* Y/sqrt(T), with the convention 0 when there is no yield part. */
+static double yield_over_sqrtT(double Y, double a)
+{
+    return Y > 0.0 ? Y / a : 0.0;
+}
+
+ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v,
+                                         double phi, double T)
+{
+    const double g = ekm_g(m, phi);
+    const double a = sqrt(T);
+    const double Ya = yield_over_sqrtT(ekm_yield_temperature(m, phi), a);
+    ekm_transport c;
+    c.eta = m->rho_p * m->eta0 * g * (a + m->nu * Ya);
+    c.zeta = m->rho_p * m->zeta0 * g * (a + Ya);
+    c.lambda = m->rho_p * m->lambda0 * g * (a + Ya);
+    c.eps = m->eps0 * g * (a + m->nu * Ya); /* eps0 sqrt(T) g (1 + nu r) */
+    c.mu_n = v == EKM_VARIANT_THESIS ? c.zeta : 4.0 / 3.0 * c.eta + c.zeta;
+    return c;
+}
+
+ekm_slab_stress ekm_stress_slab(const ekm_material *m, ekm_variant v, double phi,
+                                double T, double du_dz, double dw_dz)
+{
+    const ekm_transport c = ekm_transport_coefficients(m, v, phi, T);
+    const double p_eq = ekm_pressure_kinetic(m, phi, T) + ekm_pressure_yield(m, phi);
+    ekm_slab_stress s;
+    s.sigma_xz = c.eta * du_dz;
+    s.sigma_zz = -p_eq + c.mu_n * dw_dz;
+    s.P = p_eq - c.zeta * dw_dz;
+    return s;
+}
+
+/* Viscosity lengths multiplying w'^2 in the heating: the regular part
+ * (factor sqrt(T)) and the yield part (factor Y/sqrt(T)). */
+static void normal_lengths(const ekm_material *m, ekm_variant v, double *cn, double *cn_yield)
+{
+    if (v == EKM_VARIANT_THESIS) {
+        *cn = m->zeta0;
+        *cn_yield = m->zeta0;
+    } else {
+        *cn = 4.0 / 3.0 * m->eta0 + m->zeta0;
+        *cn_yield = 4.0 / 3.0 * m->nu * m->eta0 + m->zeta0;
+    }
+}
+
+double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi,
+                              double T, double u2, double w2, double *dS_dT)
+{
+    double cn, cny;
+    normal_lengths(m, v, &cn, &cny);
+    const double g = ekm_g(m, phi);
+    const double Y = ekm_yield_temperature(m, phi);
+    const double a = sqrt(T);
+    const double Ka = m->eta0 * u2 + cn * w2;
+    const double Kb = Y * (m->nu * m->eta0 * u2 + cny * w2);
+    const double pe = phi * m->eps0;
+    const double Kb_a = Kb > 0.0 ? Kb / a : 0.0;
+    const double S = m->rho_p * g * (2.0 / 3.0 * (Ka * a + Kb_a) - pe * (a * T + m->nu * Y * a));
+    if (dS_dT) {
+        if (a > 0.0) {
+            const double dS_da = m->rho_p * g *
+                (2.0 / 3.0 * (Ka - Kb_a / a) - pe * (3.0 * T + m->nu * Y));
+            *dS_dT = dS_da / (2.0 * a);
+        } else {
+            *dS_dT = 0.0;
+        }
+    }
+    return S;
+}
+
+double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v,
+                                     double phi, double u2, double w2)
+{
+    if (!(phi > 0.0))
+        return 0.0;
+    double cn, cny;
+    normal_lengths(m, v, &cn, &cny);
+    const double Y = ekm_yield_temperature(m, phi);
+    const double Ka = m->eta0 * u2 + cn * w2;
+    const double Kb = Y * (m->nu * m->eta0 * u2 + cny * w2);
+    const double A = phi * m->eps0;
+    const double B = A * m->nu * Y - 2.0 / 3.0 * Ka;
+    const double C = -2.0 / 3.0 * Kb;
+    const double disc = sqrt(B * B - 4.0 * A * C);
+    /* Cancellation-free root of A T^2 + B T + C = 0 with C <= 0. */
+    if (B > 0.0)
+        return disc + B > 0.0 ? -2.0 * C / (B + disc) : 0.0;
+    return (-B + disc) / (2.0 * A);
+}
+
+double ekm_sound_speed(const ekm_material *m, double phi, double T)
+{
+    const double g = ekm_g(m, phi);
+    const double dg = g * g / m->phi_cp; /* dg/dphi */
+    double c2 = T * (g + phi * dg) + 2.0 / 3.0 * T * g * g;
+    if (phi > m->phi_co)
+        c2 += m->T0 * (g + (phi - m->phi_co) * dg);
+    return sqrt(c2);
+}

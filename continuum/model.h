@@ -1,0 +1,107 @@
+/* model.h: the EKM constitutive law in the flow regimes, as pure functions
+ * of the local state (phi, T) and the velocity gradients.
+ *
+ * Conventions (MODEL.md sections 1-3, docs/model.md): SI units; T is the
+ * granular temperature per degree of freedom [m^2/s^2]; stress negative in
+ * compression, P = -tr(sigma)/3 positive in compression.  With
+ *
+ *   g(phi) = 1 / (1 - phi/phi_cp)
+ *   P_K    = rho_p phi T g                       kinetic pressure   [Pa]
+ *   P_Y    = rho_p T0 (phi - phi_co)_+ g         yield pressure     [Pa]
+ *   r      = P_Y / P_K = Y / T,  Y = T0 (phi - phi_co)_+ / phi    [m^2/s^2]
+ *   eta    = rho_p eta0    sqrt(T) g (1 + nu r)  shear viscosity    [Pa s]
+ *   zeta   = rho_p zeta0   sqrt(T) g (1 + r)     bulk viscosity     [Pa s]
+ *   lambda = rho_p lambda0 sqrt(T) g (1 + r)     conductivity  [kg/(m s)]
+ *   eps    = eps0          sqrt(T) g (1 + nu r)  dissipation rate   [1/s]
+ *
+ * the slab stresses for u = v_x(z), w = v_z(z) are
+ *
+ *   sigma_xz = eta u'
+ *   sigma_zz = -(P_K + P_Y) + mu_n w'     mu_n = 4/3 eta + zeta (full)
+ *                                          mu_n = zeta          (thesis)
+ *   P        = P_K + P_Y - zeta w'        (thesis variant: same)
+ *
+ * and the temperature equation's local source (per unit volume) is
+ *
+ *   S = (2/3)(eta u'^2 + mu_n w'^2) - rho_p phi eps T          [W/m^3]
+ *
+ * The thesis variant (Chapter 6) keeps only the bulk viscosity in the
+ * normal stress; both keep eta in the shear stress.
+ */
+#ifndef EKM_MODEL_H
+#define EKM_MODEL_H
+
+#include "status.h"
+
+typedef enum { EKM_VARIANT_FULL = 0, EKM_VARIANT_THESIS = 1 } ekm_variant;
+
+/* Material constants, SI, rho_p factored out (MODEL.md section 1). */
+typedef struct {
+    double rho_p;   /* particle material density [kg/m^3] */
+    double phi_co;  /* cross-over volume fraction, onset of yield pressure [-] */
+    double phi_cp;  /* random close packing, where g(phi) diverges [-] */
+    double T0;      /* temperature scale of the yield pressure [m^2/s^2] */
+    double eta0;    /* shear viscosity length [m] */
+    double zeta0;   /* bulk viscosity length [m] */
+    double lambda0; /* heat conductivity length [m] */
+    double eps0;    /* dissipation coefficient [1/m] */
+    double nu;      /* rate dependence of friction, thesis eq. 4.2.14 [-] */
+    double A_h;     /* hypoplastic stiffness, volumetric part [Pa] */
+    double B_h;     /* hypoplastic stiffness, shear part [Pa] */
+    double alpha;   /* exponent of the hypoplastic density factor f(phi) [-] */
+} ekm_material;
+
+/* Transport coefficients at one state. */
+typedef struct {
+    double eta;    /* shear viscosity [Pa s] */
+    double zeta;   /* bulk viscosity [Pa s] */
+    double mu_n;   /* normal (longitudinal) viscosity of sigma_zz [Pa s] */
+    double lambda; /* heat conductivity [kg/(m s)] */
+    double eps;    /* dissipation rate [1/s] */
+} ekm_transport;
+
+/* Stresses of the slab at one state. */
+typedef struct {
+    double P;        /* pressure -tr(sigma)/3, positive in compression [Pa] */
+    double sigma_xz; /* shear stress [Pa] */
+    double sigma_zz; /* normal stress, negative in compression [Pa] */
+} ekm_slab_stress;
+
+/* Thesis default material (Sections 4.6.2, 6.5) in SI. */
+ekm_material ekm_material_thesis(void);
+
+/* Check ranges (0 < phi_co < phi_cp < 1, positive constants); names the
+ * offending key in err. */
+ekm_status ekm_material_check(const ekm_material *m, ekm_error *err);
+
+double ekm_g(const ekm_material *m, double phi);
+double ekm_pressure_kinetic(const ekm_material *m, double phi, double T);
+double ekm_pressure_yield(const ekm_material *m, double phi);
+/* Y = T0 (phi - phi_co)_+ / phi, so that r = P_Y/P_K = Y/T [m^2/s^2]. */
+double ekm_yield_temperature(const ekm_material *m, double phi);
+
+ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v,
+                                         double phi, double T);
+
+/* du_dz = u', dw_dz = w' [1/s]. */
+ekm_slab_stress ekm_stress_slab(const ekm_material *m, ekm_variant v, double phi,
+                                double T, double du_dz, double dw_dz);
+
+/* Local temperature source S(T) [W/m^3] for squared gradients u2 = u'^2,
+ * w2 = w'^2 [1/s^2], and its derivative dS/dT (may be NULL). */
+double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi,
+                              double T, double u2, double w2, double *dS_dT);
+
+/* The temperature at which S(T) = 0 (local balance of viscous heating and
+ * dissipation): the positive root of
+ *   phi eps0 T^2 + (phi eps0 nu Y - 2/3 Ka) T - 2/3 Kb = 0,
+ *   Ka = eta0 u2 + c_n w2,  Kb = Y (nu eta0 u2 + c_n' w2)
+ * (c_n, c_n' the normal-viscosity lengths of the variant).  For steady
+ * simple shear this is T = 2 eta0 gdot^2/(3 phi eps0) (MODEL.md 7). */
+double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v,
+                                     double phi, double u2, double w2);
+
+/* Sound speed bound sqrt(dP/drho + 2/3 T g^2) [m/s] for the CFL limit. */
+double ekm_sound_speed(const ekm_material *m, double phi, double T);
+
+#endif

@@ -1,0 +1,97 @@
+#include "run.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <time.h>
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static void track_phi(ekm_run_stats *stats, const ekm_state *s)
+{
+    for (int j = 0; j < s->n; j++)
+        if (s->phi[j] > stats->phi_max)
+            stats->phi_max = s->phi[j];
+}
+
+static void progress_line(const ekm_state *s, double t_end, double dt, double started)
+{
+    const double elapsed = now_s() - started;
+    const double frac = s->t / t_end;
+    const double eta = frac > 0.0 ? elapsed * (1.0 - frac) / frac : 0.0;
+    fprintf(stderr, "\r  t = %10.4g s / %.4g s  (%5.1f%%)  dt = %9.3g s  steps %9ld  ETA %6.0f s ",
+            s->t, t_end, 100.0 * frac, dt, s->steps, eta);
+    fflush(stderr);
+}
+
+ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
+                   const ekm_run_hooks *hooks, ekm_run_stats *stats, ekm_error *err)
+{
+    const double rho_p = sc->material.rho_p;
+    *stats = (ekm_run_stats){.dt_min_used = INFINITY};
+    stats->mass_initial = ekm_state_mass(s, rho_p);
+    track_phi(stats, s);
+    ekm_status rc;
+    if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
+        return rc;
+    const double started = now_s();
+    double last_progress = started;
+    long frame = 0;
+    double dt_prev = INFINITY;
+    /* Times the inflows close: steps end exactly there. */
+    double events[2] = {INFINITY, INFINITY};
+    if (sc->bottom.kind == EKM_BC_INFLOW) events[0] = sc->bottom.t_stop;
+    if (sc->top.kind == EKM_BC_INFLOW) events[1] = sc->top.t_stop;
+    while (s->t < sc->t_end * (1.0 - 1e-14)) {
+        const double t_next_out = fmin(sc->t_end, (frame + 1) * sc->output_dt);
+        double dt = fmin(ekm_step_max_dt(st, s), 1.5 * dt_prev);
+        double t_target = t_next_out;
+        for (int e = 0; e < 2; e++)
+            if (events[e] > s->t * (1.0 + 1e-14) && events[e] < t_target)
+                t_target = events[e];
+        if (s->t + dt >= t_target * (1.0 - 1e-12))
+            dt = t_target - s->t;
+        for (;;) {
+            int accepted;
+            if ((rc = ekm_step_apply(st, s, dt, &accepted, err)) != EKM_OK)
+                return rc;
+            if (accepted)
+                break;
+            stats->rejected++;
+            dt *= 0.5;
+            if (dt < sc->numerics.dt_min)
+                return EKM_FAIL(err, EKM_ENUMERIC,
+                                "%s: time step fell below dt_min = %g s; last rejected step: %s",
+                                sc->source, sc->numerics.dt_min, st->reject_reason);
+        }
+        if (dt < stats->dt_min_used)
+            stats->dt_min_used = dt;
+        /* Do not let an event- or output-shortened step throttle growth. */
+        if (s->t < t_target * (1.0 - 1e-12))
+            dt_prev = dt;
+        stats->steps++;
+        stats->cell_updates += s->n;
+        if (s->t >= t_next_out * (1.0 - 1e-12)) {
+            frame++;
+            track_phi(stats, s);
+            if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
+                return rc;
+        }
+        if (hooks && hooks->progress && now_s() - last_progress > 0.25) {
+            last_progress = now_s();
+            progress_line(s, sc->t_end, dt, started);
+        }
+    }
+    if (hooks && hooks->progress) {
+        progress_line(s, sc->t_end, dt_prev, started);
+        fputc('\n', stderr);
+    }
+    stats->wall_s = now_s() - started;
+    stats->mass_final = ekm_state_mass(s, rho_p);
+    stats->mass_in = s->mass_in;
+    return EKM_OK;
+}

@@ -1,0 +1,33 @@
+/* run.h: the time loop: adaptive time step (CFL on |w| + sound speed,
+ * growth at most x1.5 per step, halved on a rejected step down to dt_min),
+ * output cadence, inflow closing times, progress line. */
+#ifndef EKM_RUN_H
+#define EKM_RUN_H
+
+#include "scenario.h"
+#include "state.h"
+#include "step.h"
+
+typedef struct {
+    /* Called at t = 0, every output_dt and at t_end. */
+    ekm_status (*frame)(void *ctx, const ekm_state *s, const ekm_stepper *st, ekm_error *err);
+    void *ctx;
+    int progress; /* 1: a progress line with ETA on stderr */
+} ekm_run_hooks;
+
+typedef struct {
+    long steps;          /* accepted steps */
+    long rejected;       /* rejected (and retried) steps */
+    double cell_updates; /* accepted steps x cells */
+    double wall_s;       /* wall-clock time of the loop [s] */
+    double dt_min_used;  /* smallest accepted step [s] */
+    double mass_initial; /* [kg/m^2] */
+    double mass_final;   /* [kg/m^2] */
+    double mass_in;      /* net boundary inflow [kg/m^2] */
+    double phi_max;      /* largest phi of any output frame [-] */
+} ekm_run_stats;
+
+ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
+                   const ekm_run_hooks *hooks, ekm_run_stats *stats, ekm_error *err);
+
+#endif

@@ -1,0 +1,417 @@
+/* scenario.c: defaults, INI reading (inih) and validation of a scenario. */
+#include "scenario.h"
+
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#define DEG (3.14159265358979323846 / 180.0)
+
+typedef enum { KEY_DOUBLE, KEY_INT, KEY_STRING } key_type;
+
+/* Registry of ekm's keys: where each is stored and whether it is required. */
+typedef struct {
+    const char *section;
+    const char *key;
+    key_type type;
+    size_t offset;   /* into ekm_scenario */
+    size_t size;     /* for strings: buffer size */
+    int required;
+    const char *only_for_bc; /* BC keys: the bc type they belong to, or NULL */
+} key_spec;
+
+#define SC(field) offsetof(ekm_scenario, field)
+#define MAT(k) {"material", #k, KEY_DOUBLE, SC(material.k), 0, 1, NULL}
+#define BC(side, k, t, only) {#side, #k, t, SC(side.k), 0, 0, only}
+#define BC_KEYS(side)                                                  \
+    {#side, "type", KEY_STRING, 0, 0, 1, NULL},                        \
+    BC(side, velocity, KEY_DOUBLE, "wall"),                            \
+    BC(side, slip_length, KEY_DOUBLE, "wall"),                         \
+    BC(side, phi, KEY_DOUBLE, "inflow"),                               \
+    BC(side, w, KEY_DOUBLE, "inflow"),                                 \
+    BC(side, u, KEY_DOUBLE, "inflow"),                                 \
+    BC(side, T, KEY_DOUBLE, "inflow"),                                 \
+    BC(side, t_stop, KEY_DOUBLE, "inflow")
+
+static const key_spec KEYS[] = {
+    {"scenario", "name", KEY_STRING, SC(name), sizeof(((ekm_scenario *)0)->name), 0, NULL},
+    {"scenario", "description", KEY_STRING, SC(description), sizeof(((ekm_scenario *)0)->description), 0, NULL},
+    MAT(rho_p), MAT(phi_co), MAT(phi_cp), MAT(T0), MAT(eta0), MAT(zeta0),
+    MAT(lambda0), MAT(eps0), MAT(nu), MAT(A_h), MAT(B_h), MAT(alpha),
+    {"model", "variant", KEY_STRING, 0, 0, 0, NULL},
+    {"domain", "length", KEY_DOUBLE, SC(length), 0, 1, NULL},
+    {"domain", "cells", KEY_INT, SC(cells), 0, 1, NULL},
+    {"gravity", "magnitude", KEY_DOUBLE, SC(gravity), 0, 0, NULL},
+    {"gravity", "angle", KEY_DOUBLE, SC(angle_deg), 0, 0, NULL},
+    {"initial", "phi", KEY_DOUBLE, SC(phi_init), 0, 1, NULL},
+    {"initial", "T", KEY_DOUBLE, SC(T_init), 0, 0, NULL},
+    {"initial", "u", KEY_DOUBLE, SC(u_init), 0, 0, NULL},
+    {"initial", "layer_height", KEY_DOUBLE, SC(layer_height), 0, 0, NULL},
+    BC_KEYS(bottom),
+    BC_KEYS(top),
+    {"run", "t_end", KEY_DOUBLE, SC(t_end), 0, 1, NULL},
+    {"run", "output_dt", KEY_DOUBLE, SC(output_dt), 0, 0, NULL},
+    {"numerics", "cfl", KEY_DOUBLE, SC(numerics.cfl), 0, 0, NULL},
+    {"numerics", "convection", KEY_STRING, 0, 0, 0, NULL},
+    {"numerics", "limiter", KEY_STRING, SC(numerics.limiter), sizeof(((ekm_numerics *)0)->limiter), 0, NULL},
+    {"numerics", "dt_max", KEY_DOUBLE, SC(numerics.dt_max), 0, 0, NULL},
+    {"numerics", "dt_min", KEY_DOUBLE, SC(numerics.dt_min), 0, 0, NULL},
+    {"numerics", "phi_dry", KEY_DOUBLE, SC(numerics.phi_dry), 0, 0, NULL},
+    {"numerics", "T_floor", KEY_DOUBLE, SC(numerics.T_floor), 0, 0, NULL},
+    {"numerics", "phi_step_max", KEY_DOUBLE, SC(numerics.phi_step_max), 0, 0, NULL},
+    {"numerics", "newton_tol", KEY_DOUBLE, SC(numerics.newton_tol), 0, 0, NULL},
+    {"numerics", "newton_max", KEY_INT, SC(numerics.newton_max), 0, 0, NULL},
+};
+#define N_KEYS (sizeof KEYS / sizeof KEYS[0])
+
+/* Sections that belong to other tools of ekmbench: skipped by ekm. */
+static const char *const FOREIGN_SECTIONS[] = {"dem", "compare", "campaign", "figures"};
+
+void ekm_scenario_init_defaults(ekm_scenario *s)
+{
+    memset(s, 0, sizeof *s);
+    snprintf(s->name, sizeof s->name, "unnamed");
+    s->material = ekm_material_thesis();
+    s->variant = EKM_VARIANT_FULL;
+    s->gravity = 0.0;
+    s->angle_deg = 0.0;
+    s->T_init = 0.0;
+    s->layer_height = INFINITY;
+    s->bottom.kind = s->top.kind = EKM_BC_WALL;
+    s->bottom.t_stop = s->top.t_stop = INFINITY;
+    s->output_dt = 0.0; /* 0: t_end / 100 */
+    s->numerics = (ekm_numerics){
+        .cfl = 0.4, .convection = EKM_CONVECTION_UPWIND, .limiter = "vanleer",
+        .dt_max = INFINITY, .dt_min = 1e-12, .phi_dry = 1e-9, .T_floor = 1e-16,
+        .phi_step_max = 0.5, .newton_tol = 1e-9, .newton_max = 30,
+    };
+}
+
+typedef struct {
+    ekm_scenario *s;
+    const char *file;  /* file name or "--set" */
+    FILE *fp;
+    int line;          /* current line number */
+    int long_line;     /* line number of a line too long for inih, or 0 */
+    int failed;
+    ekm_error *err;
+    int seen[N_KEYS];  /* 1 + entry index where the key was set, 0 if not */
+    int seen_line[N_KEYS];
+} parse_ctx;
+
+static char *reader(char *str, int num, void *stream)
+{
+    parse_ctx *c = stream;
+    if (!fgets(str, num, c->fp))
+        return NULL;
+    c->line++;
+    size_t n = strlen(str);
+    if (n == (size_t)num - 1 && str[n - 1] != '\n' && !feof(c->fp)) {
+        if (!c->long_line)
+            c->long_line = c->line;
+        int ch; /* skip the rest of the line */
+        while ((ch = fgetc(c->fp)) != EOF && ch != '\n') {}
+    }
+    return str;
+}
+
+static int fail_once(parse_ctx *c, ekm_status code, const char *fmt, const char *section,
+                     const char *key, const char *detail)
+{
+    if (!c->failed) {
+        c->failed = 1;
+        char buf[700];
+        snprintf(buf, sizeof buf, fmt, section, key, detail);
+        EKM_FAIL(c->err, code, "%s:%d: %s", c->file, c->line, buf);
+    }
+    return 0;
+}
+
+static int parse_double(const char *v, double *out)
+{
+    char *end;
+    errno = 0;
+    double x = strtod(v, &end);
+    if (end == v || *end != '\0' || errno == ERANGE || !isfinite(x))
+        return 0;
+    *out = x;
+    return 1;
+}
+
+static int parse_int(const char *v, int *out)
+{
+    char *end;
+    errno = 0;
+    long x = strtol(v, &end, 10);
+    if (end == v || *end != '\0' || errno == ERANGE || x < -2147483647L || x > 2147483647L)
+        return 0;
+    *out = (int)x;
+    return 1;
+}
+
+static ekm_status record_entry(ekm_scenario *s, const char *section, const char *key,
+                               const char *value, ekm_error *err)
+{
+    char name[64];
+    snprintf(name, sizeof name, "%s.%s", section, key);
+    for (size_t i = 0; i < s->n_entries; i++)
+        if (strcmp(s->entries[i].name, name) == 0) {
+            snprintf(s->entries[i].value, sizeof s->entries[i].value, "%s", value);
+            return EKM_OK;
+        }
+    ekm_entry *e = realloc(s->entries, (s->n_entries + 1) * sizeof *e);
+    if (!e)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory reading the scenario");
+    s->entries = e;
+    snprintf(e[s->n_entries].name, sizeof e->name, "%s", name);
+    snprintf(e[s->n_entries].value, sizeof e->value, "%s", value);
+    s->n_entries++;
+    return EKM_OK;
+}
+
+static int is_foreign(const char *section)
+{
+    for (size_t i = 0; i < sizeof FOREIGN_SECTIONS / sizeof FOREIGN_SECTIONS[0]; i++)
+        if (strcasecmp(section, FOREIGN_SECTIONS[i]) == 0)
+            return 1;
+    return 0;
+}
+
+static int section_known(const char *section)
+{
+    for (size_t i = 0; i < N_KEYS; i++)
+        if (strcmp(KEYS[i].section, section) == 0)
+            return 1;
+    return 0;
+}
+
+static int handler(void *user, const char *section, const char *key, const char *value)
+{
+    parse_ctx *c = user;
+    if (c->failed)
+        return 0;
+    if (is_foreign(section))
+        return 1;
+    if (!section_known(section))
+        return fail_once(c, EKM_EINPUT,
+                         "[%s]%s: unknown section (ekm reads scenario material model domain gravity "
+                         "initial bottom top run numerics; skips dem compare campaign figures)%s",
+                         section, "", "");
+    size_t k;
+    for (k = 0; k < N_KEYS; k++)
+        if (strcmp(KEYS[k].section, section) == 0 && strcmp(KEYS[k].key, key) == 0)
+            break;
+    if (k == N_KEYS)
+        return fail_once(c, EKM_EINPUT, "[%s] %s: unknown key%s", section, key, "");
+    const key_spec *ks = &KEYS[k];
+    char *base = (char *)c->s;
+    if (strcmp(key, "variant") == 0) {
+        if (strcmp(value, "full") == 0) c->s->variant = EKM_VARIANT_FULL;
+        else if (strcmp(value, "thesis") == 0) c->s->variant = EKM_VARIANT_THESIS;
+        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'full' or 'thesis', got '%s'", section, key, value);
+    } else if (strcmp(key, "convection") == 0) {
+        if (strcmp(value, "upwind") == 0) c->s->numerics.convection = EKM_CONVECTION_UPWIND;
+        else if (strcmp(value, "tvd") == 0) c->s->numerics.convection = EKM_CONVECTION_TVD;
+        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'upwind' or 'tvd', got '%s'", section, key, value);
+    } else if (strcmp(key, "type") == 0) {
+        ekm_bc *bc = strcmp(section, "bottom") == 0 ? &c->s->bottom : &c->s->top;
+        if (strcmp(value, "wall") == 0) bc->kind = EKM_BC_WALL;
+        else if (strcmp(value, "inflow") == 0) bc->kind = EKM_BC_INFLOW;
+        else if (strcmp(value, "outflow") == 0) bc->kind = EKM_BC_OUTFLOW;
+        else if (strcmp(value, "free") == 0) bc->kind = EKM_BC_FREE;
+        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected one of wall inflow outflow free, got '%s'",
+                              section, key, value);
+    } else if (ks->type == KEY_DOUBLE) {
+        if (!parse_double(value, (double *)(base + ks->offset)))
+            return fail_once(c, EKM_EINPUT, "[%s] %s: expected a number, got '%s'", section, key, value);
+    } else if (ks->type == KEY_INT) {
+        if (!parse_int(value, (int *)(base + ks->offset)))
+            return fail_once(c, EKM_EINPUT, "[%s] %s: expected an integer, got '%s'", section, key, value);
+    } else {
+        if (strlen(value) >= ks->size)
+            return fail_once(c, EKM_EINPUT, "[%s] %s: value longer than allowed: '%s'", section, key, value);
+        snprintf(base + ks->offset, ks->size, "%s", value);
+    }
+    c->seen[k] = 1;
+    c->seen_line[k] = c->line;
+    if (record_entry(c->s, section, key, value, c->err) != EKM_OK) {
+        c->failed = 1;
+        return 0;
+    }
+    return 1;
+}
+
+/* Range checks after reading; each names the key and where it was set. */
+typedef struct {
+    const parse_ctx *c;
+    ekm_error *err;
+} check_ctx;
+
+static const char *where(const parse_ctx *c, const char *section, const char *key, char *buf, size_t n)
+{
+    for (size_t k = 0; k < N_KEYS; k++)
+        if (strcmp(KEYS[k].section, section) == 0 && strcmp(KEYS[k].key, key) == 0 && c->seen[k]) {
+            if (c->seen_line[k] > 0)
+                snprintf(buf, n, "%s:%d", c->file, c->seen_line[k]);
+            else
+                snprintf(buf, n, "--set %s.%s", section, key);
+            return buf;
+        }
+    snprintf(buf, n, "%s", c->file);
+    return buf;
+}
+
+#define RANGE(cond, section, key, expect, value)                                           \
+    do {                                                                                  \
+        if (!(cond)) {                                                                    \
+            char w_[600];                                                                 \
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: expected %s, got %g",          \
+                            where(c, section, key, w_, sizeof w_), section, key, expect,  \
+                            (double)(value));                                             \
+        }                                                                                 \
+    } while (0)
+
+static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char *side,
+                           const ekm_bc *bc, ekm_error *err)
+{
+    const char *type = ekm_bc_kind_name(bc->kind);
+    for (size_t k = 0; k < N_KEYS; k++)
+        if (strcmp(KEYS[k].section, side) == 0 && KEYS[k].only_for_bc && c->seen[k] &&
+            strcmp(KEYS[k].only_for_bc, type) != 0) {
+            char w_[600];
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: only allowed with type = %s (this side is %s)",
+                            where(c, side, KEYS[k].key, w_, sizeof w_), side, KEYS[k].key,
+                            KEYS[k].only_for_bc, type);
+        }
+    const double phi_cp = s->material.phi_cp;
+    if (bc->kind == EKM_BC_WALL)
+        RANGE(bc->slip_length >= 0.0, side, "slip_length", "a length >= 0 [m]", bc->slip_length);
+    if (bc->kind == EKM_BC_INFLOW) {
+        RANGE(bc->phi > 0.0 && bc->phi < phi_cp, side, "phi", "a volume fraction in (0, phi_cp)", bc->phi);
+        int bottom = strcmp(side, "bottom") == 0;
+        RANGE(bottom ? bc->w > 0.0 : bc->w < 0.0, side, "w",
+              bottom ? "a velocity > 0 (into the domain)" : "a velocity < 0 (into the domain)", bc->w);
+        RANGE(bc->T >= 0.0, side, "T", "a temperature >= 0 [m^2/s^2]", bc->T);
+        RANGE(bc->t_stop > 0.0, side, "t_stop", "a time > 0 [s]", bc->t_stop);
+    }
+    return EKM_OK;
+}
+
+static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error *err)
+{
+    for (size_t k = 0; k < N_KEYS; k++)
+        if (KEYS[k].required && !c->seen[k])
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: missing (a required key)", c->file,
+                            KEYS[k].section, KEYS[k].key);
+    ekm_error merr;
+    if (ekm_material_check(&s->material, &merr) != EKM_OK)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", c->file, merr.message);
+    RANGE(s->length > 0.0, "domain", "length", "a length > 0 [m]", s->length);
+    RANGE(s->cells >= 1 && s->cells <= 10000000, "domain", "cells", "an integer in [1, 1e7]", s->cells);
+    RANGE(s->gravity >= 0.0, "gravity", "magnitude", "a number >= 0 [m/s^2]", s->gravity);
+    RANGE(fabs(s->angle_deg) <= 180.0, "gravity", "angle", "an angle in [-180, 180] degrees", s->angle_deg);
+    RANGE(s->phi_init >= 0.0 && s->phi_init < s->material.phi_cp, "initial", "phi",
+          "a volume fraction in [0, phi_cp)", s->phi_init);
+    RANGE(s->T_init >= 0.0, "initial", "T", "a temperature >= 0 [m^2/s^2]", s->T_init);
+    RANGE(s->layer_height > 0.0, "initial", "layer_height", "a height > 0 [m]", s->layer_height);
+    RANGE(s->t_end > 0.0, "run", "t_end", "a time > 0 [s]", s->t_end);
+    if (s->output_dt == 0.0)
+        s->output_dt = s->t_end / 100.0;
+    RANGE(s->output_dt > 0.0, "run", "output_dt", "a time > 0 [s]", s->output_dt);
+    const ekm_numerics *n = &s->numerics;
+    RANGE(n->cfl > 0.0 && n->cfl <= 1.0, "numerics", "cfl", "a number in (0, 1]", n->cfl);
+    RANGE(n->dt_max > 0.0, "numerics", "dt_max", "a time > 0 [s]", n->dt_max);
+    RANGE(n->dt_min > 0.0 && n->dt_min < n->dt_max, "numerics", "dt_min", "a time in (0, dt_max) [s]", n->dt_min);
+    RANGE(n->phi_dry > 0.0 && n->phi_dry < 1e-3, "numerics", "phi_dry", "a number in (0, 1e-3)", n->phi_dry);
+    RANGE(n->T_floor > 0.0, "numerics", "T_floor", "a temperature > 0 [m^2/s^2]", n->T_floor);
+    RANGE(n->phi_step_max > 0.0 && n->phi_step_max < 1.0, "numerics", "phi_step_max", "a number in (0, 1)",
+          n->phi_step_max);
+    RANGE(n->newton_tol > 0.0 && n->newton_tol < 1e-2, "numerics", "newton_tol", "a number in (0, 1e-2)",
+          n->newton_tol);
+    RANGE(n->newton_max >= 1, "numerics", "newton_max", "an integer >= 1", n->newton_max);
+    ekm_status st = check_bc(c, s, "bottom", &s->bottom, err);
+    if (st != EKM_OK)
+        return st;
+    return check_bc(c, s, "top", &s->top, err);
+}
+
+ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
+                             const char *const *overrides, size_t n_overrides,
+                             ekm_error *err)
+{
+    ekm_scenario_init_defaults(s);
+    snprintf(s->source, sizeof s->source, "%s", path);
+    parse_ctx c = {.s = s, .file = path, .err = err};
+    c.fp = fopen(path, "r");
+    if (!c.fp)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: cannot open scenario file: %s", path, strerror(errno));
+    int rc = ini_parse_stream(reader, &c, handler, &c);
+    fclose(c.fp);
+    c.fp = NULL;
+    if (c.failed)
+        return EKM_EINPUT;
+    if (c.long_line)
+        return EKM_FAIL(err, EKM_EINPUT, "%s:%d: line longer than %d characters", path, c.long_line,
+                        INI_MAX_LINE - 2);
+    if (rc > 0)
+        return EKM_FAIL(err, EKM_EINPUT, "%s:%d: expected '[section]' or 'key = value'", path, rc);
+    if (rc < 0)
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot read scenario file", path);
+    for (size_t i = 0; i < n_overrides; i++) {
+        const char *o = overrides[i];
+        const char *dot = strchr(o, '.');
+        const char *eq = strchr(o, '=');
+        if (!dot || !eq || dot > eq || dot == o || eq == dot + 1)
+            return EKM_FAIL(err, EKM_EINPUT, "--set %s: expected section.key=value", o);
+        char section[64], key[64];
+        snprintf(section, sizeof section, "%.*s", (int)(dot - o), o);
+        snprintf(key, sizeof key, "%.*s", (int)(eq - dot - 1), dot + 1);
+        c.file = "--set";
+        c.line = (int)i + 1;
+        if (!handler(&c, section, key, eq + 1))
+            return EKM_EINPUT;
+        /* --set entries are marked with line 0 so messages say "--set". */
+        for (size_t k = 0; k < N_KEYS; k++)
+            if (strcmp(KEYS[k].section, section) == 0 && strcmp(KEYS[k].key, key) == 0)
+                c.seen_line[k] = 0;
+    }
+    c.file = path;
+    /* Messages about --set keys say where they came from. */
+    ekm_status st = check_scenario(&c, s, err);
+    return st;
+}
+
+void ekm_scenario_free(ekm_scenario *s)
+{
+    if (!s)
+        return;
+    free(s->entries);
+    s->entries = NULL;
+    s->n_entries = 0;
+}
+
+double ekm_scenario_gravity_x(const ekm_scenario *s)
+{
+    return s->gravity * sin(s->angle_deg * DEG);
+}
+
+double ekm_scenario_gravity_z(const ekm_scenario *s)
+{
+    return -s->gravity * cos(s->angle_deg * DEG);
+}
+
+const char *ekm_bc_kind_name(ekm_bc_kind k)
+{
+    switch (k) {
+    case EKM_BC_WALL: return "wall";
+    case EKM_BC_INFLOW: return "inflow";
+    case EKM_BC_OUTFLOW: return "outflow";
+    case EKM_BC_FREE: return "free";
+    }
+    return "?";
+}

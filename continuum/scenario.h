@@ -1,0 +1,97 @@
+/* scenario.h: a run's parameters, their defaults, and reading them from a
+ * scenario INI file (inih) with command-line overrides.
+ *
+ * ekm owns the sections listed in docs/scenario-format.md ([scenario]
+ * [material] [model] [domain] [gravity] [initial] [bottom] [top] [run]
+ * [numerics]); the sections of other tools ([dem], [compare], [campaign],
+ * [figures]) are skipped; any other section or key is an error that names
+ * the file, line, section and key.
+ */
+#ifndef EKM_SCENARIO_H
+#define EKM_SCENARIO_H
+
+#include <stddef.h>
+
+#include "model.h"
+#include "status.h"
+
+typedef enum {
+    EKM_BC_WALL = 0, /* impermeable, adiabatic, tangential speed + slip length */
+    EKM_BC_INFLOW,   /* prescribed phi, w, u, T; closes to a wall at t_stop */
+    EKM_BC_OUTFLOW,  /* zero gradient of every field */
+    EKM_BC_FREE      /* open to vacuum: zero stress, material may leave */
+} ekm_bc_kind;
+
+typedef struct {
+    ekm_bc_kind kind;
+    double velocity;    /* wall: tangential velocity u of the wall [m/s] */
+    double slip_length; /* wall: Navier slip length, 0 = no slip [m] */
+    double phi;         /* inflow: volume fraction entering [-] */
+    double w;           /* inflow: normal velocity along +z [m/s] */
+    double u;           /* inflow: tangential velocity [m/s] */
+    double T;           /* inflow: granular temperature [m^2/s^2] */
+    double t_stop;      /* inflow: time it closes to a resting wall [s] */
+} ekm_bc;
+
+typedef enum { EKM_CONVECTION_UPWIND = 0, EKM_CONVECTION_TVD = 1 } ekm_convection;
+
+typedef struct {
+    double cfl;          /* Courant number on |w| + sound speed [-] */
+    ekm_convection convection;
+    char limiter[16];    /* TVD limiter name (flux.h registry) */
+    double dt_max;       /* largest time step [s] */
+    double dt_min;       /* smallest step before giving up [s] */
+    double phi_dry;      /* below this phi a cell is empty (vacuum) [-] */
+    double T_floor;      /* lowest T of a non-empty cell [m^2/s^2] */
+    double phi_step_max; /* largest fraction of the gap phi_cp - phi one step may close [-] */
+    double newton_tol;   /* relative tolerance of the implicit T solve [-] */
+    int newton_max;      /* iterations of the implicit T solve before a retry */
+} ekm_numerics;
+
+/* One key as given (file or --set), kept for provenance in the output. */
+typedef struct {
+    char name[64];   /* "section.key" */
+    char value[160]; /* the value string as written */
+} ekm_entry;
+
+typedef struct {
+    char name[64];          /* scenario name */
+    char description[256];
+    char source[512];       /* file it was read from */
+    ekm_material material;
+    ekm_variant variant;
+    double length;          /* domain height, z in [0, length] [m] */
+    int cells;              /* number of finite-volume cells */
+    double gravity;         /* magnitude G [m/s^2] */
+    double angle_deg;       /* tilt of gravity in the x-z plane [deg]: g = G (sin a, -cos a) */
+    double phi_init;        /* initial volume fraction below layer_height [-] */
+    double T_init;          /* initial granular temperature [m^2/s^2] */
+    double u_init;          /* initial tangential velocity [m/s] */
+    double layer_height;    /* material fills z < layer_height; vacuum above [m] */
+    ekm_bc bottom, top;
+    double t_end;           /* end time [s] */
+    double output_dt;       /* output interval [s] */
+    ekm_numerics numerics;
+    ekm_entry *entries;     /* every key read, in order (provenance) */
+    size_t n_entries;
+} ekm_scenario;
+
+/* Defaults for everything that has one (docs/scenario-format.md). */
+void ekm_scenario_init_defaults(ekm_scenario *s);
+
+/* Read a scenario file, then apply overrides "section.key=value" in order.
+ * On failure err names the file (or "--set"), line, section and key.
+ * Call ekm_scenario_free() in every case. */
+ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
+                             const char *const *overrides, size_t n_overrides,
+                             ekm_error *err);
+
+void ekm_scenario_free(ekm_scenario *s);
+
+/* Gravity components [m/s^2]. */
+double ekm_scenario_gravity_x(const ekm_scenario *s);
+double ekm_scenario_gravity_z(const ekm_scenario *s);
+
+const char *ekm_bc_kind_name(ekm_bc_kind k);
+
+#endif

@@ -1,0 +1,76 @@
+#include "state.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+ekm_state *ekm_state_alloc(int n, double length)
+{
+    ekm_state *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->n = n;
+    s->dz = length / n;
+    s->z = calloc((size_t)n, sizeof *s->z);
+    s->phi = calloc((size_t)n, sizeof *s->phi);
+    s->T = calloc((size_t)n, sizeof *s->T);
+    s->u = calloc((size_t)n, sizeof *s->u);
+    s->w = calloc((size_t)n + 1, sizeof *s->w);
+    if (!s->z || !s->phi || !s->T || !s->u || !s->w) {
+        ekm_state_free(s);
+        return NULL;
+    }
+    for (int j = 0; j < n; j++)
+        s->z[j] = (j + 0.5) * s->dz;
+    return s;
+}
+
+void ekm_state_free(ekm_state *s)
+{
+    if (!s)
+        return;
+    free(s->z);
+    free(s->phi);
+    free(s->T);
+    free(s->u);
+    free(s->w);
+    free(s);
+}
+
+void ekm_state_copy(ekm_state *dst, const ekm_state *src)
+{
+    const size_t n = (size_t)src->n;
+    memcpy(dst->phi, src->phi, n * sizeof *dst->phi);
+    memcpy(dst->T, src->T, n * sizeof *dst->T);
+    memcpy(dst->u, src->u, n * sizeof *dst->u);
+    memcpy(dst->w, src->w, (n + 1) * sizeof *dst->w);
+    dst->t = src->t;
+    dst->steps = src->steps;
+    dst->mass_in = src->mass_in;
+}
+
+void ekm_state_init(ekm_state *s, const ekm_scenario *sc)
+{
+    for (int j = 0; j < s->n; j++) {
+        /* A cell cut by the layer surface gets the covered fraction. */
+        double lo = j * s->dz, hi = (j + 1) * s->dz;
+        double cover = sc->layer_height >= hi ? 1.0
+                     : sc->layer_height <= lo ? 0.0
+                     : (sc->layer_height - lo) / s->dz;
+        s->phi[j] = sc->phi_init * cover;
+        s->T[j] = s->phi[j] > sc->numerics.phi_dry ? sc->T_init : 0.0;
+        s->u[j] = s->phi[j] > sc->numerics.phi_dry ? sc->u_init : 0.0;
+    }
+    for (int f = 0; f <= s->n; f++)
+        s->w[f] = 0.0;
+    s->t = 0.0;
+    s->steps = 0;
+    s->mass_in = 0.0;
+}
+
+double ekm_state_mass(const ekm_state *s, double rho_p)
+{
+    double m = 0.0;
+    for (int j = 0; j < s->n; j++)
+        m += s->phi[j];
+    return rho_p * m * s->dz;
+}

@@ -1,0 +1,317 @@
+#include "step.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bc.h"
+
+ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
+{
+    ekm_stepper *st = calloc(1, sizeof *st);
+    if (!st) {
+        EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper");
+        return NULL;
+    }
+    const int n = sc->cells;
+    const size_t c = (size_t)n, f = (size_t)n + 1;
+    st->sc = sc;
+    st->n = n;
+    st->g_x = ekm_scenario_gravity_x(sc);
+    st->g_z = ekm_scenario_gravity_z(sc);
+    st->F = calloc(f, sizeof(double));
+    st->qF = calloc(f, sizeof(double));
+    st->phi_new = calloc(c, sizeof(double));
+    st->rhoU = calloc(c, sizeof(double));
+    st->rhoT = calloc(c, sizeof(double));
+    st->T_star = calloc(c, sizeof(double));
+    st->P = calloc(c, sizeof(double));
+    st->eta = calloc(c, sizeof(double));
+    st->mu_n = calloc(c, sizeof(double));
+    st->lambda = calloc(c, sizeof(double));
+    st->u2 = calloc(c, sizeof(double));
+    st->w2 = calloc(c, sizeof(double));
+    st->mom_c = calloc(c, sizeof(double));
+    st->rho_face = calloc(f, sizeof(double));
+    st->rhs_face = calloc(f, sizeof(double));
+    st->rhs_cell = calloc(c, sizeof(double));
+    st->dry = calloc(c, 1);
+    st->dry_face = calloc(f, 1);
+    st->wk = ekm_implicit_alloc(n);
+    st->backup = ekm_state_alloc(n, sc->length);
+    if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P ||
+        !st->eta || !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c ||
+        !st->rho_face || !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face ||
+        !st->wk || !st->backup) {
+        ekm_step_free(st);
+        EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
+        return NULL;
+    }
+    if (sc->numerics.convection == EKM_CONVECTION_TVD) {
+        const ekm_limiter *lim;
+        if (ekm_limiter_find(sc->numerics.limiter, &lim, err) != EKM_OK) {
+            ekm_step_free(st);
+            return NULL;
+        }
+        st->psi = lim->psi;
+    }
+    return st;
+}
+
+void ekm_step_free(ekm_stepper *st)
+{
+    if (!st)
+        return;
+    free(st->F); free(st->qF); free(st->phi_new); free(st->rhoU); free(st->rhoT);
+    free(st->T_star); free(st->P); free(st->eta); free(st->mu_n); free(st->lambda);
+    free(st->u2); free(st->w2); free(st->mom_c); free(st->rho_face); free(st->rhs_face);
+    free(st->rhs_cell); free(st->dry); free(st->dry_face);
+    ekm_implicit_free(st->wk);
+    ekm_state_free(st->backup);
+    free(st);
+}
+
+double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
+{
+    const ekm_scenario *sc = st->sc;
+    double speed = 0.0;
+    for (int f = 0; f <= s->n; f++)
+        speed = fmax(speed, fabs(s->w[f]));
+    speed = fmax(speed, sc->bottom.kind == EKM_BC_INFLOW ? fabs(sc->bottom.w) : 0.0);
+    speed = fmax(speed, sc->top.kind == EKM_BC_INFLOW ? fabs(sc->top.w) : 0.0);
+    double c_max = 0.0;
+    for (int j = 0; j < s->n; j++)
+        if (s->phi[j] >= sc->numerics.phi_dry)
+            c_max = fmax(c_max, ekm_sound_speed(&sc->material, s->phi[j], s->T[j]));
+    speed += c_max;
+    double dt = speed > 0.0 ? sc->numerics.cfl * s->dz / speed : sc->numerics.dt_max;
+    return fmin(dt, sc->numerics.dt_max);
+}
+
+/* Phase 2: face fluxes and the new volume fractions; 0 = reject. */
+static int mass_update(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
+                       const ekm_bc_face *bt, double dt)
+{
+    const int n = s->n;
+    const ekm_material *m = &st->sc->material;
+    double *F = st->F;
+    F[0] = s->w[0] * (s->w[0] > 0.0 ? bb->phi_in : s->phi[0]);
+    F[n] = s->w[n] * (s->w[n] < 0.0 ? bt->phi_in : s->phi[n - 1]);
+    for (int f = 1; f < n; f++)
+        F[f] = s->w[f] == 0.0 ? 0.0 : s->w[f] * ekm_flux_face_value(s->phi, n, f, s->w[f] > 0.0, st->psi);
+    const double r = dt / s->dz;
+    for (int j = 0; j < n; j++) {
+        const double phi = s->phi[j];
+        const double phi_new = phi - r * (F[j + 1] - F[j]);
+        st->phi_new[j] = phi_new;
+        if (!(phi_new >= 0.0) || !(phi_new - phi <= st->sc->numerics.phi_step_max * (m->phi_cp - phi))) {
+            snprintf(st->reject_reason, sizeof st->reject_reason,
+                     "t = %.9g s, dt = %.3g s, cell %d (z = %.6g m): phi %.9g -> %.9g "
+                     "(allowed [0, %.9g)), T = %.3g m^2/s^2, w below/above = %.3g/%.3g m/s",
+                     s->t, dt, j, s->z[j], phi, phi_new,
+                     phi + st->sc->numerics.phi_step_max * (m->phi_cp - phi), s->T[j], s->w[j],
+                     s->w[j + 1]);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* Phase 3: convection of rho u, rho T and the face momentum. */
+static void convection(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
+                       const ekm_bc_face *bt, double dt)
+{
+    const int n = s->n;
+    const double rho_p = st->sc->material.rho_p;
+    const double r = dt / s->dz;
+    ekm_flux_advect(n, st->F, s->u, bb->u_in, bt->u_in, st->psi, st->qF);
+    for (int j = 0; j < n; j++)
+        st->rhoU[j] = rho_p * (s->phi[j] * s->u[j] - r * (st->qF[j + 1] - st->qF[j]));
+    ekm_flux_advect(n, st->F, s->T, bb->T_in, bt->T_in, st->psi, st->qF);
+    for (int j = 0; j < n; j++)
+        st->rhoT[j] = rho_p * (s->phi[j] * s->T[j] - r * (st->qF[j + 1] - st->qF[j]));
+    ekm_flux_face_momentum(n, st->F, s->w, st->mom_c);
+    for (int f = 1; f < n; f++) {
+        const double phi_face = 0.5 * (s->phi[f - 1] + s->phi[f]);
+        st->rhs_face[f] = rho_p * (phi_face * s->w[f] - r * (st->mom_c[f] - st->mom_c[f - 1]));
+    }
+}
+
+/* Phase 4: T*, dry flags and transport coefficients at (phi*, T*). */
+static void properties(ekm_stepper *st, int n)
+{
+    const ekm_scenario *sc = st->sc;
+    const ekm_material *m = &sc->material;
+    for (int j = 0; j < n; j++) {
+        const double phi = st->phi_new[j];
+        st->dry[j] = phi < sc->numerics.phi_dry;
+        if (st->dry[j]) {
+            st->T_star[j] = 0.0;
+            st->P[j] = st->eta[j] = st->mu_n[j] = st->lambda[j] = 0.0;
+            continue;
+        }
+        const double T = fmax(st->rhoT[j] / (m->rho_p * phi), sc->numerics.T_floor);
+        st->T_star[j] = T;
+        const ekm_transport c = ekm_transport_coefficients(m, sc->variant, phi, T);
+        st->eta[j] = c.eta;
+        st->mu_n[j] = c.mu_n;
+        st->lambda[j] = c.lambda;
+        st->P[j] = ekm_pressure_kinetic(m, phi, T) + ekm_pressure_yield(m, phi);
+    }
+    for (int f = 1; f < n; f++) {
+        const double phi_face = 0.5 * (st->phi_new[f - 1] + st->phi_new[f]);
+        st->dry_face[f] = phi_face < sc->numerics.phi_dry;
+        st->rho_face[f] = m->rho_p * phi_face;
+    }
+}
+
+/* Squared shear rate at cells from the face gradients of u; faces next to
+ * an empty cell or stress-free boundaries carry none. */
+static void shear_rates(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
+                        const ekm_bc_face *bt)
+{
+    const int n = s->n;
+    for (int j = 0; j < n; j++) {
+        double sum = 0.0;
+        int count = 0;
+        if (j > 0 && !st->dry[j - 1]) {
+            const double g = (s->u[j] - s->u[j - 1]) / s->dz;
+            sum += g * g;
+            count++;
+        } else if (j == 0 && bb->wall_conductance > 0.0) {
+            const double g = (s->u[0] - bb->u_wall) * bb->wall_conductance;
+            sum += g * g;
+            count++;
+        }
+        if (j < n - 1 && !st->dry[j + 1]) {
+            const double g = (s->u[j + 1] - s->u[j]) / s->dz;
+            sum += g * g;
+            count++;
+        } else if (j == n - 1 && bt->wall_conductance > 0.0) {
+            const double g = (bt->u_wall - s->u[n - 1]) * bt->wall_conductance;
+            sum += g * g;
+            count++;
+        }
+        st->u2[j] = count ? sum / count : 0.0;
+        const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
+        st->w2[j] = dw * dw;
+    }
+}
+
+static int state_finite(const ekm_state *s)
+{
+    for (int j = 0; j < s->n; j++)
+        if (!isfinite(s->phi[j]) || !isfinite(s->T[j]) || !isfinite(s->u[j]))
+            return 0;
+    for (int f = 0; f <= s->n; f++)
+        if (!isfinite(s->w[f]))
+            return 0;
+    return 1;
+}
+
+static int reject(ekm_stepper *st, ekm_state *s, int *accepted)
+{
+    ekm_state_copy(s, st->backup);
+    *accepted = 0;
+    return 0;
+}
+
+ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepted, ekm_error *err)
+{
+    const ekm_scenario *sc = st->sc;
+    const ekm_material *m = &sc->material;
+    const int n = s->n;
+    *accepted = 1;
+    ekm_state_copy(st->backup, s);
+
+    /* 1. boundaries */
+    const ekm_bc_face bb = ekm_bc_evaluate(&sc->bottom, EKM_SIDE_BOTTOM, s->t, s);
+    const ekm_bc_face bt = ekm_bc_evaluate(&sc->top, EKM_SIDE_TOP, s->t, s);
+    s->w[0] = ekm_bc_face_w(&bb, EKM_SIDE_BOTTOM, s);
+    s->w[n] = ekm_bc_face_w(&bt, EKM_SIDE_TOP, s);
+
+    /* 2. mass */
+    if (!mass_update(st, s, &bb, &bt, dt)) {
+        reject(st, s, accepted);
+        return EKM_OK;
+    }
+    /* 3. convection */
+    convection(st, s, &bb, &bt, dt);
+    /* 4. properties */
+    properties(st, n);
+
+    /* 5. normal momentum */
+    for (int f = 1; f < n; f++)
+        st->rhs_face[f] += dt * (st->rho_face[f] * st->g_z - (st->P[f] - st->P[f - 1]) / s->dz);
+    ekm_implicit_end nb = {.follows = bb.w_follows, .value = bb.w};
+    ekm_implicit_end nt = {.follows = bt.w_follows, .value = bt.w};
+    ekm_error serr;
+    if (ekm_implicit_normal_velocity(st->wk, n, dt, s->dz, st->rho_face, st->rhs_face, st->mu_n,
+                                     st->dry_face, nb, nt, s->w, &serr) != EKM_OK) {
+        snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s: %.400s", s->t, serr.message);
+        reject(st, s, accepted);
+        return EKM_OK;
+    }
+
+    /* 6. shear momentum */
+    for (int j = 0; j < n; j++)
+        st->rhs_cell[j] = st->rhoU[j] + dt * m->rho_p * st->phi_new[j] * st->g_x;
+    ekm_implicit_end sb = {.value = bb.u_wall, .conductance = bb.wall_conductance};
+    ekm_implicit_end stp = {.value = bt.u_wall, .conductance = bt.wall_conductance};
+    double *rho_cell = st->qF; /* reuse: rho at cells */
+    for (int j = 0; j < n; j++)
+        rho_cell[j] = m->rho_p * st->phi_new[j];
+    if (ekm_implicit_shear_velocity(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->eta, st->dry,
+                                    sb, stp, s->u, &serr) != EKM_OK) {
+        snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s: %.400s", s->t, serr.message);
+        reject(st, s, accepted);
+        return EKM_OK;
+    }
+
+    /* 7. temperature */
+    memcpy(s->phi, st->phi_new, (size_t)n * sizeof *s->phi);
+    shear_rates(st, s, &bb, &bt);
+    for (int j = 0; j < n; j++) {
+        if (st->dry[j]) {
+            s->T[j] = 0.0;
+            continue;
+        }
+        /* Initial guess: T*, or the local balance where the source relaxes
+         * faster than the step (the quasi-static beds). */
+        double dS;
+        const double rho = m->rho_p * s->phi[j];
+        ekm_temperature_source(m, sc->variant, s->phi[j], st->T_star[j], st->u2[j], st->w2[j], &dS);
+        double guess = st->T_star[j];
+        if (dt * fabs(dS) > 10.0 * rho)
+            guess = fmax(ekm_temperature_local_balance(m, sc->variant, s->phi[j], st->u2[j], st->w2[j]),
+                         sc->numerics.T_floor);
+        s->T[j] = guess;
+    }
+    int iterations = 0;
+    if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m, sc->variant, s->phi, st->rhoT, st->lambda,
+                                 st->u2, st->w2, st->dry, sc->numerics.T_floor, sc->numerics.newton_tol,
+                                 sc->numerics.newton_max, s->T, &iterations, &serr) != EKM_OK) {
+        snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s, dt = %.3g s: %.400s", s->t, dt,
+                 serr.message);
+        reject(st, s, accepted);
+        return EKM_OK;
+    }
+    for (int j = 0; j < n; j++)
+        if (st->dry[j])
+            s->u[j] = 0.0;
+
+    /* 8. accept */
+    if (!state_finite(s)) {
+        snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s, dt = %.3g s: non-finite state",
+                 s->t, dt);
+        reject(st, s, accepted);
+        return EKM_OK;
+    }
+    s->mass_in += dt * m->rho_p * (st->F[0] - st->F[n]);
+    s->t += dt;
+    s->steps++;
+    st->newton_iterations = iterations;
+    (void)err;
+    return EKM_OK;
+}

@@ -1,0 +1,63 @@
+/* step.h: one time step of the EKM slab solver, as a fixed sequence of
+ * phases (operator splitting, first order in time):
+ *
+ *   1. boundaries    face data of both ends at time t (bc.h)
+ *   2. mass          face volume fluxes F = w phi_face (upwind or TVD);
+ *                    phi* = phi - dt/dz dF, exactly conservative; the step
+ *                    is rejected if phi* < 0 or if one step would close more
+ *                    than phi_step_max of the gap to phi_cp in any cell, so
+ *                    phi < phi_cp holds by construction
+ *   3. convection    (rho u)*, (rho T)* with the same fluxes; face momentum
+ *                    with the cell-centre fluxes (flux.h)
+ *   4. properties    T* = (rho T)* / rho, eta, mu_n, lambda, P at (phi*, T*)
+ *   5. normal mom.   pressure gradient and gravity explicit, viscous implicit
+ *   6. shear mom.    gravity explicit, viscous implicit
+ *   7. temperature   heating from the new gradients, conduction and
+ *                    dissipation implicit (Newton)
+ *   8. accept        finite state -> t += dt; else the state is restored
+ *
+ * Empty cells (phi < phi_dry) keep their (tiny) mass but have T = u = 0 and
+ * no stress; a wet cell's T never falls below T_floor.
+ */
+#ifndef EKM_STEP_H
+#define EKM_STEP_H
+
+#include "flux.h"
+#include "implicit.h"
+#include "scenario.h"
+#include "state.h"
+
+typedef struct {
+    const ekm_scenario *sc;
+    ekm_limiter_fn psi;     /* NULL: first-order upwind */
+    double g_x, g_z;        /* gravity [m/s^2] */
+    int n;
+    double *F;              /* face volume flux [m/s], n+1 */
+    double *qF;             /* face flux of a cell quantity, n+1 */
+    double *phi_new;        /* n */
+    double *rhoU, *rhoT;    /* after convection [kg/(m^2 s)], [kg/(m s^2)], n */
+    double *T_star;         /* n */
+    double *P, *eta, *mu_n, *lambda; /* [Pa], [Pa s], [Pa s], [kg/(m s)], n */
+    double *u2, *w2;        /* squared gradients at cells [1/s^2], n */
+    double *mom_c;          /* centre momentum fluxes, n */
+    double *rho_face, *rhs_face; /* n+1 */
+    double *rhs_cell;       /* n */
+    unsigned char *dry, *dry_face; /* n, n+1 */
+    ekm_implicit_work *wk;
+    ekm_state *backup;      /* state before the step, for rejection */
+    int newton_iterations;  /* of the last accepted step */
+    char reject_reason[512];/* why the last step was rejected */
+} ekm_stepper;
+
+ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err);
+void ekm_step_free(ekm_stepper *st);
+
+/* Largest stable step for the state: cfl dz / max(|w| + c). */
+double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s);
+
+/* Advance s by dt.  *accepted = 0 means the step was rejected (reason in
+ * st->reject_reason, s unchanged): retry with a smaller dt.  A non-OK
+ * status is a hard failure. */
+ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepted, ekm_error *err);
+
+#endif
