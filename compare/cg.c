@@ -1,0 +1,191 @@
+/* cg.c: coarse-grained fields of one snapshot (see cg.h). */
+#include "cg.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const field_names[CG_NFIELD] = {
+  "phi", "rho", "vx", "vy", "vz", "T", "P", "sxz", "szz", "mu", "I"};
+static const char *const field_units[CG_NFIELD] = {
+  "1", "kg/m^3", "m/s", "m/s", "m/s", "m^2/s^2", "Pa", "Pa", "Pa", "1", "1"};
+
+const char *cg_field_name(int f) { return field_names[f]; }
+const char *cg_field_units(int f) { return field_units[f]; }
+
+int cg_profile_alloc(cg_profile **out, const cg_kernel *k, const cg_grid *g,
+                     cg_tmode tmode, cg_error *err)
+{
+  *out = NULL;
+  if (g->n < 1 || !(g->hi > g->lo))
+    return CG_ERROR(err, CG_EUSAGE, "grid: expected at least one bin and lo < hi");
+  double L = g->hi - g->lo;
+  if ((g->periodic || g->reflect) && k->type != CG_KERNEL_BINS && k->cutoff > L)
+    return CG_ERROR(err, CG_EUSAGE,
+                    "--width: kernel support %g m is longer than the box (%g m)", k->cutoff, L);
+  cg_profile *p = calloc(1, sizeof *p);
+  if (!p) return CG_ERROR(err, CG_ESYS, "out of memory");
+  p->k = k;
+  p->g = *g;
+  p->tmode = tmode;
+  p->maxw = cg_kernel_maxweights(g);
+  p->bin = malloc(p->maxw * sizeof *p->bin);
+  p->w = malloc(p->maxw * sizeof *p->w);
+  p->vel = malloc(3 * g->n * sizeof *p->vel);
+  if (!p->bin || !p->w || !p->vel) {
+    cg_profile_free(p);
+    return CG_ERROR(err, CG_ESYS, "out of memory");
+  }
+  *out = p;
+  return CG_OK;
+}
+
+void cg_profile_free(cg_profile *p)
+{
+  if (!p) return;
+  free(p->bin);
+  free(p->w);
+  free(p->vel);
+  free(p);
+}
+
+/* CG velocity at coordinate s: linear between bin centres, skipping
+ * empty bins, wrapped on a periodic grid, constant beyond the end centres. */
+static void velocity_at(const cg_profile *p, const double *rho, double s, double out[3])
+{
+  const cg_grid *g = &p->g;
+  size_t n = g->n;
+  double u = (s - g->lo) / g->dz - 0.5;
+  double fl = floor(u), a = u - fl;
+  long k0 = (long)fl, k1 = k0 + 1;
+  if (g->periodic) {
+    k0 = ((k0 % (long)n) + (long)n) % (long)n;
+    k1 = ((k1 % (long)n) + (long)n) % (long)n;
+  } else {
+    if (k0 < 0) { k0 = 0; a = 0.0; }
+    if (k1 > (long)n - 1) { k1 = (long)n - 1; }
+    if (k0 > (long)n - 1) { k0 = (long)n - 1; a = 0.0; }
+    if (k1 < 0) k1 = 0;
+  }
+  double w0 = 1.0 - a, w1 = a;
+  if (rho[k0] <= 0.0) w0 = 0.0;
+  if (rho[k1] <= 0.0) w1 = 0.0;
+  double ws = w0 + w1;
+  for (int c = 0; c < 3; c++)
+    out[c] = ws > 0.0 ? (w0 * p->vel[c * n + (size_t)k0] + w1 * p->vel[c * n + (size_t)k1]) / ws : 0.0;
+}
+
+int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_error *err)
+{
+  size_t n = p->g.n;
+  (void)err;
+  memset(prim, 0, CG_NPRIM * n * sizeof *prim);
+  double *rho = prim + CG_P_RHO * n, *phi = prim + CG_P_PHI * n;
+  double *px = prim + CG_P_PX * n, *py = prim + CG_P_PY * n, *pz = prim + CG_P_PZ * n;
+  double *K[6], *S[6];
+  for (int c = 0; c < 6; c++) {
+    K[c] = prim + (CG_P_KXX + c) * n;
+    S[c] = prim + (CG_P_SXX + c) * n;
+  }
+  int consistent = (p->tmode == CG_T_CONSISTENT);
+  /* pass 1: mass, volume, momentum (and m v v, contact stress) */
+  for (size_t i = 0; i < pt->n; i++) {
+    size_t nw = cg_kernel_weights(p->k, &p->g, pt->s[i], pt->rad[i], p->bin, p->w);
+    const double *v = pt->v + 3 * i;
+    double m = pt->m[i], vol = pt->vol[i];
+    double mv[3] = {m * v[0], m * v[1], m * v[2]};
+    double mvv[6] = {mv[0] * v[0], mv[1] * v[1], mv[2] * v[2],
+                     mv[0] * v[1], mv[0] * v[2], mv[1] * v[2]};
+    const double *Si = pt->S ? pt->S + 6 * i : NULL;
+    for (size_t j = 0; j < nw; j++) {
+      size_t k = p->bin[j];
+      double w = p->w[j];
+      rho[k] += m * w;
+      phi[k] += vol * w;
+      px[k] += mv[0] * w;
+      py[k] += mv[1] * w;
+      pz[k] += mv[2] * w;
+      if (consistent)
+        for (int c = 0; c < 6; c++) K[c][k] += mvv[c] * w;
+      if (Si)
+        for (int c = 0; c < 6; c++) S[c][k] += Si[c] * w;
+    }
+  }
+  for (size_t k = 0; k < n; k++) {
+    double r = rho[k];
+    p->vel[k] = r > 0 ? px[k] / r : 0.0;
+    p->vel[n + k] = r > 0 ? py[k] / r : 0.0;
+    p->vel[2 * n + k] = r > 0 ? pz[k] / r : 0.0;
+  }
+  if (consistent) {
+    static const int ia[6] = {0, 1, 2, 0, 0, 1}, ib[6] = {0, 1, 2, 1, 2, 2};
+    for (size_t k = 0; k < n; k++)
+      for (int c = 0; c < 6; c++)
+        K[c][k] -= rho[k] * p->vel[ia[c] * n + k] * p->vel[ib[c] * n + k];
+  } else {
+    /* pass 2: fluctuations about the CG velocity at the particle */
+    for (size_t i = 0; i < pt->n; i++) {
+      size_t nw = cg_kernel_weights(p->k, &p->g, pt->s[i], pt->rad[i], p->bin, p->w);
+      double V[3];
+      velocity_at(p, rho, pt->s[i], V);
+      const double *v = pt->v + 3 * i;
+      double m = pt->m[i];
+      double c0 = v[0] - V[0], c1 = v[1] - V[1], c2 = v[2] - V[2];
+      double mcc[6] = {m * c0 * c0, m * c1 * c1, m * c2 * c2,
+                       m * c0 * c1, m * c0 * c2, m * c1 * c2};
+      for (size_t j = 0; j < nw; j++) {
+        size_t k = p->bin[j];
+        double w = p->w[j];
+        for (int c = 0; c < 6; c++) K[c][k] += mcc[c] * w;
+      }
+    }
+  }
+  double inv = 1.0 / pt->area;
+  for (size_t q = 0; q < CG_NPRIM * n; q++) prim[q] *= inv;
+  return CG_OK;
+}
+
+void cg_profile_derive(const double *prim, const cg_grid *g, double d, double rho_p,
+                       double *f)
+{
+  size_t n = g->n;
+  const double *rho = prim + CG_P_RHO * n, *phi = prim + CG_P_PHI * n;
+  for (size_t k = 0; k < n; k++) {
+    double r = rho[k];
+    f[CG_F_PHI * n + k] = phi[k];
+    f[CG_F_RHO * n + k] = r;
+    double nan = NAN;
+    f[CG_F_VX * n + k] = r > 0 ? prim[CG_P_PX * n + k] / r : nan;
+    f[CG_F_VY * n + k] = r > 0 ? prim[CG_P_PY * n + k] / r : nan;
+    f[CG_F_VZ * n + k] = r > 0 ? prim[CG_P_PZ * n + k] / r : nan;
+    double trK = prim[CG_P_KXX * n + k] + prim[CG_P_KYY * n + k] + prim[CG_P_KZZ * n + k];
+    f[CG_F_T * n + k] = r > 0 ? trK / (3.0 * r) : nan;
+    double sxx = -prim[CG_P_KXX * n + k] + prim[CG_P_SXX * n + k];
+    double syy = -prim[CG_P_KYY * n + k] + prim[CG_P_SYY * n + k];
+    double szz = -prim[CG_P_KZZ * n + k] + prim[CG_P_SZZ * n + k];
+    double sxz = -prim[CG_P_KXZ * n + k] + prim[CG_P_SXZ * n + k];
+    double P = -(sxx + syy + szz) / 3.0;
+    f[CG_F_P * n + k] = P;
+    f[CG_F_SXZ * n + k] = sxz;
+    f[CG_F_SZZ * n + k] = szz;
+    f[CG_F_MU * n + k] = P > 0 ? fabs(sxz) / P : nan;
+  }
+  for (size_t k = 0; k < n; k++) {
+    const double *vx = f + CG_F_VX * n;
+    size_t km, kp;
+    double span;
+    if (g->periodic) {
+      km = (k + n - 1) % n;
+      kp = (k + 1) % n;
+      span = 2.0 * g->dz;
+    } else {
+      km = k > 0 ? k - 1 : k;
+      kp = k + 1 < n ? k + 1 : k;
+      span = (double)(kp - km) * g->dz;
+    }
+    double P = f[CG_F_P * n + k];
+    double rp = rho_p > 0 ? rho_p : (phi[k] > 0 ? rho[k] / phi[k] : 0.0);
+    double gd = span > 0 ? fabs(vx[kp] - vx[km]) / span : NAN;
+    f[CG_F_I * n + k] = (P > 0 && rp > 0) ? gd * d / sqrt(P / rp) : NAN;
+  }
+}

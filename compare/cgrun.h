@@ -1,0 +1,52 @@
+/* cgrun.h: the `ekmcompare cg` pipeline: dumps -> selected snapshots ->
+ * particles -> kernel sums -> windows of block averages -> fields with
+ * standard errors -> HDF5 (and CSV), written atomically.
+ *
+ * Snapshots are streamed file after file (memory is one snapshot plus the
+ * block store); a step already seen (restart overlap between files) is
+ * skipped. The time of a snapshot is ITEM: TIME when the dump has it,
+ * otherwise step x dt (--dt). --steady reads the selection twice: first to
+ * find the steady start by MSER-5 on the kinetic energy per unit mass and
+ * (on a non-periodic axis) the centre of mass, then to average.
+ */
+#ifndef CG_CGRUN_H
+#define CG_CGRUN_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "cg.h"
+#include "error.h"
+
+typedef struct {
+  const char *const *inputs; /* dump files, in time order */
+  size_t ninputs;
+  const char *out;           /* HDF5 output path, or NULL */
+  const char *csv;           /* CSV output path, or NULL */
+  int axis;                  /* profile axis: 0 x, 1 y, 2 z */
+  const char *kernel;        /* "gauss", "lucy" or "bins" */
+  double width;              /* kernel std. deviation [m]; 0: mean diameter */
+  size_t bins;               /* number of bins; 0: from dz */
+  double dz;                 /* bin width [m]; 0: width/2 */
+  int have_range;            /* 1: grid over [range_lo, range_hi] */
+  double range_lo, range_hi; /* [m] */
+  double rho_p;              /* material density [kg/m^3]; 0: not given */
+  double dt;                 /* engine time step [s]; 0: need ITEM: TIME */
+  int have_from, have_to;
+  double from, to;           /* time selection [s] */
+  int have_steps;
+  int64_t step_a, step_b;    /* step selection, inclusive */
+  int steady;                /* 1: find the steady start (MSER-5) */
+  size_t every;              /* > 0: one profile per `every` snapshots */
+  double window;             /* > 0: one profile per window [s] */
+  cg_tmode tmode;            /* temperature definition */
+  size_t nstress;            /* 0 or 6 per-atom stress columns */
+  const char *stress[6];     /* names: xx yy zz xy xz yz (stress x volume) */
+  FILE *log;                 /* notes and warnings, or NULL */
+} cg_run_opts;
+
+cg_run_opts cg_run_opts_default(void);
+
+int cg_run(const cg_run_opts *o, cg_error *err);
+
+#endif

@@ -1,0 +1,75 @@
+/* dump.h: streaming reader for LAMMPS/LIGGGHTS `dump custom` files.
+ *
+ * Formats: text (`dump custom`, LIGGGHTS or LAMMPS, any column order, extra
+ * columns ignored, trailing blanks allowed), the same gzip-compressed (zlib,
+ * detected from the content, not the name), and LAMMPS binary dumps with
+ * column names (magic string, format revision >= 2, as written by LAMMPS
+ * since 2020; older binary files carry no column names and are refused).
+ *
+ * The caller names the columns it wants at open time; every snapshot then
+ * delivers those columns (or marks them absent) for all atoms in a buffer
+ * reused from one snapshot to the next, so memory does not grow with the
+ * number of snapshots.
+ *
+ * Boxes: orthogonal and triclinic (`ITEM: BOX BOUNDS xy xz yz ...`); the
+ * bounding box the engines write is converted back to the box (lo, hi)
+ * and the tilt factors.
+ *
+ * Errors name the input and its line ("run.dump:120: ..."; binary files name
+ * the byte offset, "run.bin:@4096: ..."). A snapshot cut short by the end of
+ * the file (a killed run) is not an error: cg_dump_next returns CG_EOF and
+ * sets `truncated` and `warning`.
+ */
+#ifndef CG_DUMP_H
+#define CG_DUMP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "error.h"
+
+#define CG_DUMP_MAXCOL 64  /* most columns one may select */
+
+typedef struct {
+  int64_t step;          /* time step number */
+  int has_time;          /* 1 if the dump carried ITEM: TIME */
+  double time;           /* simulation time from ITEM: TIME [s] */
+  int64_t natoms;        /* atoms in this snapshot */
+  int triclinic;         /* 1 if the box has tilt factors */
+  double lo[3], hi[3];   /* box corners (not the bounding box) [m] */
+  double tilt[3];        /* xy, xz, yz tilt factors [m] */
+  int periodic[3];       /* 1 if x, y, z is periodic ('p' flags) */
+  size_t nsel;           /* number of selected columns */
+  int present[CG_DUMP_MAXCOL]; /* 1 if selected column j exists */
+  double *data;          /* natoms x nsel values, row-major (absent: 0) */
+  size_t cap;            /* allocated rows of data */
+  char where[600];       /* "file:line" of this snapshot's ITEM: ATOMS */
+} cg_snapshot;
+
+typedef struct cg_dump cg_dump;
+
+/* Open a dump (text, gzip or binary) and select columns by name. */
+int cg_dump_open(cg_dump **d, const char *path, const char *const *cols,
+                 size_t ncols, cg_error *err);
+
+/* Read the next snapshot into s (its buffers are reused and grown).
+ * Returns CG_OK, CG_EOF at the end (check cg_dump_truncated), or an error. */
+int cg_dump_next(cg_dump *d, cg_snapshot *s, cg_error *err);
+
+/* After CG_EOF: non-zero if the last snapshot was incomplete and skipped;
+ * the warning text ("file:line: truncated snapshot ... skipped"). */
+int cg_dump_truncated(const cg_dump *d);
+const char *cg_dump_warning(const cg_dump *d);
+
+/* Close the dump; cg_dump_close(NULL) is harmless. */
+void cg_dump_close(cg_dump *d);
+
+/* Release a snapshot's buffers (the struct itself belongs to the caller). */
+void cg_snapshot_free(cg_snapshot *s);
+
+/* Parse a decimal floating-point token at *p (fast path for up to 15
+ * significant digits, strtod otherwise). On success *p points past it.
+ * Returns 0, 1 if malformed, 2 if NaN or inf. Exposed for tests. */
+int cg_parse_double(const char **p, double *out);
+
+#endif

@@ -1,0 +1,248 @@
+/* main.c: the ekmcompare command line (cg and score subcommands). */
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cgrun.h"
+#include "error.h"
+#include "h5io.h"
+#include "score.h"
+
+#define MAX_STRESS_NAME 64
+
+static const char usage_text[] =
+  "usage: ekmcompare cg [options] DUMP... (-o OUT.h5 | --csv OUT.csv)\n"
+  "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [-o SCORE.json]\n"
+  "       ekmcompare --help | --version\n"
+  "\n"
+  "cg: coarse-grain LAMMPS/LIGGGHTS dumps (text, gzip, binary) into slab profiles\n"
+  "with standard errors (block averages). Options:\n"
+  "  -o FILE              HDF5 output (written atomically)\n"
+  "  --csv FILE           the same as CSV\n"
+  "  --axis x|y|z         profile axis (default z)\n"
+  "  --kernel K           gauss (default), lucy or bins (exact sphere-slab volumes)\n"
+  "  --width W            kernel standard deviation [m] (default: mean diameter)\n"
+  "  --bins N | --dz DZ   output grid (default dz = width/2)\n"
+  "  --range LO:HI        grid extent [m] (default: the box; no wall reflection)\n"
+  "  --rho-p RHO          material density [kg/m^3] (dumps without mass)\n"
+  "  --dt DT              engine time step [s] (dumps without ITEM: TIME)\n"
+  "  --from T --to T      select snapshots by time [s]\n"
+  "  --steps A:B          select snapshots by step (inclusive)\n"
+  "  --steady             find the start of the steady state (MSER-5) and use from there\n"
+  "  --every K            one profile per K snapshots (time series)\n"
+  "  --window DT          one profile per DT seconds (time series)\n"
+  "  --temperature M      particle (default: fluctuations about V at the particle)\n"
+  "                       or consistent (about the bin's V; adds the shear within the kernel)\n"
+  "  --stress C           per-atom stress x volume columns (compute stress/atom, contact part):\n"
+  "                       a prefix (c_s means c_s[1]..c_s[6]) or six names xx,yy,zz,xy,xz,yz\n"
+  "  --quiet              no notes on stderr\n"
+  "\n"
+  "score: interpolate ekm's output onto the DEM grid and times; per field the relative L2\n"
+  "error and the noise-normalised error (MODEL.md section 9); prints a markdown table.\n"
+  "  --dem FILE --ekm FILE  inputs (ekmcompare cg output; ekm output)\n"
+  "  --fields LIST        default: phi,vx,vz,T,P,sxz,szz (those in both files)\n"
+  "  -o FILE              JSON output\n"
+  "  --ekm-time last      compare with the EKM's last output (steady state)\n"
+  "  --shift DZ           add DZ [m] to the DEM coordinate\n"
+  "\n"
+  "Exit status: 0 success; 1 bad input file or data; 2 bad command line;\n"
+  "3 system error (out of memory, cannot write). Errors are one line: file:line: message.\n";
+
+static int usage_error(cg_error *err, const char *fmt, const char *arg)
+{
+  return CG_ERROR(err, CG_EUSAGE, fmt, arg);
+}
+
+static int get_double(const char *opt, const char *s, double *out, cg_error *err)
+{
+  char *end;
+  double v = strtod(s, &end);
+  if (end == s || *end || !isfinite(v))
+    return CG_ERROR(err, CG_EUSAGE, "%s: expected a number, got '%s'", opt, s);
+  *out = v;
+  return CG_OK;
+}
+
+static int get_size(const char *opt, const char *s, size_t *out, cg_error *err)
+{
+  char *end;
+  long long v = strtoll(s, &end, 10);
+  if (end == s || *end || v < 1)
+    return CG_ERROR(err, CG_EUSAGE, "%s: expected a positive integer, got '%s'", opt, s);
+  *out = (size_t)v;
+  return CG_OK;
+}
+
+static int get_pair(const char *opt, const char *s, double *a, double *b, cg_error *err)
+{
+  const char *c = strchr(s, ':');
+  char *end;
+  if (c) {
+    *a = strtod(s, &end);
+    if (end == c) {
+      *b = strtod(c + 1, &end);
+      if (end != c + 1 && !*end && isfinite(*a) && isfinite(*b)) return CG_OK;
+    }
+  }
+  return CG_ERROR(err, CG_EUSAGE, "%s: expected A:B, got '%s'", opt, s);
+}
+
+typedef struct {
+  char names[6][MAX_STRESS_NAME];
+} stress_names;
+
+static int get_stress(const char *s, stress_names *sn, cg_run_opts *o, cg_error *err)
+{
+  if (!strchr(s, ',')) {
+    for (int c = 0; c < 6; c++)
+      if ((size_t)snprintf(sn->names[c], MAX_STRESS_NAME, "%s[%d]", s, c + 1) >= MAX_STRESS_NAME)
+        return usage_error(err, "--stress: name too long: '%s'", s);
+  } else {
+    const char *p = s;
+    for (int c = 0; c < 6; c++) {
+      const char *q = strchr(p, ',');
+      size_t len = q ? (size_t)(q - p) : strlen(p);
+      if (len == 0 || len >= MAX_STRESS_NAME || (c < 5 && !q) || (c == 5 && q))
+        return usage_error(err, "--stress: expected a prefix or six comma-separated names, got '%s'", s);
+      memcpy(sn->names[c], p, len);
+      sn->names[c][len] = '\0';
+      p = q ? q + 1 : p + len;
+    }
+  }
+  o->nstress = 6;
+  for (int c = 0; c < 6; c++) o->stress[c] = sn->names[c];
+  return CG_OK;
+}
+
+static int cmd_cg(int argc, char **argv, cg_error *err)
+{
+  cg_run_opts o = cg_run_opts_default();
+  o.log = stderr;
+  stress_names sn;
+  const char **inputs = calloc((size_t)argc, sizeof *inputs);
+  if (!inputs) return CG_ERROR(err, CG_ESYS, "out of memory");
+  size_t nin = 0;
+  int rc = CG_OK;
+  for (int i = 0; i < argc && !rc; i++) {
+    const char *a = argv[i], *v = NULL;
+    if (a[0] != '-' || !strcmp(a, "-")) { inputs[nin++] = a; continue; }
+#define ARG() do { if (i + 1 >= argc) { rc = usage_error(err, "%s: expected a value", a); break; } v = argv[++i]; } while (0)
+    if (!strcmp(a, "-o")) { ARG(); o.out = v; }
+    else if (!strcmp(a, "--csv")) { ARG(); o.csv = v; }
+    else if (!strcmp(a, "--axis")) {
+      ARG();
+      if (!strcmp(v, "x")) o.axis = 0;
+      else if (!strcmp(v, "y")) o.axis = 1;
+      else if (!strcmp(v, "z")) o.axis = 2;
+      else rc = usage_error(err, "--axis: expected x, y or z, got '%s'", v);
+    }
+    else if (!strcmp(a, "--kernel")) { ARG(); o.kernel = v; }
+    else if (!strcmp(a, "--width")) { ARG(); rc = get_double(a, v, &o.width, err);
+      if (!rc && !(o.width > 0)) rc = usage_error(err, "--width: expected a positive width, got '%s'", v); }
+    else if (!strcmp(a, "--bins")) { ARG(); rc = get_size(a, v, &o.bins, err); }
+    else if (!strcmp(a, "--dz")) { ARG(); rc = get_double(a, v, &o.dz, err);
+      if (!rc && !(o.dz > 0)) rc = usage_error(err, "--dz: expected a positive spacing, got '%s'", v); }
+    else if (!strcmp(a, "--range")) { ARG(); rc = get_pair(a, v, &o.range_lo, &o.range_hi, err);
+      if (!rc && !(o.range_hi > o.range_lo)) rc = usage_error(err, "--range: expected LO < HI, got '%s'", v);
+      o.have_range = 1; }
+    else if (!strcmp(a, "--rho-p")) { ARG(); rc = get_double(a, v, &o.rho_p, err);
+      if (!rc && !(o.rho_p > 0)) rc = usage_error(err, "--rho-p: expected a positive density, got '%s'", v); }
+    else if (!strcmp(a, "--dt")) { ARG(); rc = get_double(a, v, &o.dt, err);
+      if (!rc && !(o.dt > 0)) rc = usage_error(err, "--dt: expected a positive time step, got '%s'", v); }
+    else if (!strcmp(a, "--from")) { ARG(); rc = get_double(a, v, &o.from, err); o.have_from = 1; }
+    else if (!strcmp(a, "--to")) { ARG(); rc = get_double(a, v, &o.to, err); o.have_to = 1; }
+    else if (!strcmp(a, "--steps")) {
+      ARG();
+      double x, y;
+      rc = get_pair(a, v, &x, &y, err);
+      if (!rc && (x != floor(x) || y != floor(y) || y < x))
+        rc = usage_error(err, "--steps: expected integers A:B with A <= B, got '%s'", v);
+      o.step_a = (int64_t)x;
+      o.step_b = (int64_t)y;
+      o.have_steps = 1;
+    }
+    else if (!strcmp(a, "--steady")) o.steady = 1;
+    else if (!strcmp(a, "--every")) { ARG(); rc = get_size(a, v, &o.every, err); }
+    else if (!strcmp(a, "--window")) { ARG(); rc = get_double(a, v, &o.window, err);
+      if (!rc && !(o.window > 0)) rc = usage_error(err, "--window: expected a positive duration, got '%s'", v); }
+    else if (!strcmp(a, "--temperature")) {
+      ARG();
+      if (!strcmp(v, "particle")) o.tmode = CG_T_PARTICLE;
+      else if (!strcmp(v, "consistent")) o.tmode = CG_T_CONSISTENT;
+      else rc = usage_error(err, "--temperature: expected particle or consistent, got '%s'", v);
+    }
+    else if (!strcmp(a, "--stress")) { ARG(); rc = get_stress(v, &sn, &o, err); }
+    else if (!strcmp(a, "--quiet")) o.log = NULL;
+    else rc = usage_error(err, "cg: unknown option '%s' (see ekmcompare --help)", a);
+#undef ARG
+  }
+  if (!rc && o.every && o.window > 0) rc = CG_ERROR(err, CG_EUSAGE, "cg: expected --every or --window, not both");
+  if (!rc) {
+    o.inputs = inputs;
+    o.ninputs = nin;
+    rc = cg_run(&o, err);
+  }
+  free(inputs);
+  return rc;
+}
+
+static int cmd_score(int argc, char **argv, cg_error *err)
+{
+  cg_score_opts o = cg_score_opts_default();
+  o.table = stdout;
+  o.log = stderr;
+  int rc = CG_OK;
+  for (int i = 0; i < argc && !rc; i++) {
+    const char *a = argv[i], *v = NULL;
+#define ARG() do { if (i + 1 >= argc) { rc = usage_error(err, "%s: expected a value", a); break; } v = argv[++i]; } while (0)
+    if (!strcmp(a, "--dem")) { ARG(); o.dem = v; }
+    else if (!strcmp(a, "--ekm")) { ARG(); o.ekm = v; }
+    else if (!strcmp(a, "--fields")) { ARG(); o.fields = v; }
+    else if (!strcmp(a, "-o")) { ARG(); o.json = v; }
+    else if (!strcmp(a, "--shift")) { ARG(); rc = get_double(a, v, &o.shift, err); }
+    else if (!strcmp(a, "--ekm-time")) {
+      ARG();
+      if (!strcmp(v, "last")) o.ekm_last = 1;
+      else if (!strcmp(v, "interp")) o.ekm_last = 0;
+      else rc = usage_error(err, "--ekm-time: expected last or interp, got '%s'", v);
+    }
+    else if (!strcmp(a, "--quiet")) o.log = NULL;
+    else rc = usage_error(err, "score: unknown argument '%s' (see ekmcompare --help)", a);
+#undef ARG
+  }
+  size_t nres;
+  if (!rc) rc = cg_score(&o, NULL, &nres, err);
+  return rc;
+}
+
+int main(int argc, char **argv)
+{
+  gsl_set_error_handler_off();
+  cg_h5_quiet();
+  cg_error err;
+  cg_error_clear(&err);
+  int rc;
+  if (argc < 2) {
+    fputs(usage_text, stderr);
+    return CG_EUSAGE;
+  }
+  if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+    fputs(usage_text, stdout);
+    return 0;
+  }
+  if (!strcmp(argv[1], "--version")) {
+    printf("ekmcompare %s\n", EKMBENCH_VERSION);
+    return 0;
+  }
+  if (!strcmp(argv[1], "cg")) rc = cmd_cg(argc - 2, argv + 2, &err);
+  else if (!strcmp(argv[1], "score")) rc = cmd_score(argc - 2, argv + 2, &err);
+  else rc = CG_ERROR(&err, CG_EUSAGE, "ekmcompare: unknown command '%s': expected cg or score (see --help)", argv[1]);
+  if (rc) {
+    fprintf(stderr, "%s\n", err.msg);
+    if (getenv("EKMCOMPARE_DEBUG")) fprintf(stderr, "  (raised at %s:%d)\n", err.src, err.src_line);
+    return rc;
+  }
+  return 0;
+}

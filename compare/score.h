@@ -1,0 +1,47 @@
+/* score.h: `ekmcompare score`: the EKM against coarse-grained DEM
+ * (MODEL.md section 9).
+ *
+ * The EKM fields (ekm's HDF5: /z, /t, [nt][nz] fields) are interpolated
+ * linearly in z and t onto the DEM grid and times (cg HDF5: axis dataset,
+ * /t, fields and FIELD_se). Over the points both cover (DEM coordinate
+ * inside the EKM cell-centre range, DEM time inside the EKM output times,
+ * both values finite), per field:
+ *   rel_l2 = ||f_EKM - f_DEM|| / ||f_DEM||
+ *   noise  = sqrt(mean(((f_EKM - f_DEM) / SE_DEM)^2))   (points with SE > 0)
+ * With --ekm-time last (or automatically, with a note, when no DEM time is
+ * inside the EKM's), every DEM time is compared with the EKM's last output
+ * (a steady state).
+ */
+#ifndef CG_SCORE_H
+#define CG_SCORE_H
+
+#include <stdio.h>
+
+#include "error.h"
+
+typedef struct {
+  const char *dem;     /* cg HDF5 file */
+  const char *ekm;     /* ekm HDF5 file */
+  const char *fields;  /* comma-separated list, or NULL for the default */
+  const char *json;    /* JSON output path, or NULL */
+  int ekm_last;        /* 1: compare with the EKM's last output time */
+  double shift;        /* added to the DEM coordinate before comparing [m] */
+  FILE *table;         /* markdown table (stdout), or NULL */
+  FILE *log;           /* notes, or NULL */
+} cg_score_opts;
+
+cg_score_opts cg_score_opts_default(void);
+
+/* Per-field result. */
+typedef struct {
+  char name[32];
+  size_t points;       /* points compared */
+  size_t points_se;    /* of which with a positive standard error */
+  double rel_l2;       /* relative L2 error (NAN if undefined) */
+  double noise;        /* noise-normalised error (NAN if undefined) */
+} cg_score_field;
+
+/* Score; results (up to 16 fields) in res/nres when res != NULL. */
+int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error *err);
+
+#endif
