@@ -485,15 +485,15 @@ static int text_atoms(cg_dump *d, cg_snapshot *s, cg_error *err)
       return rc;
     double *row = s->data + (size_t)i * nsel;
     const char *p = line;
+    if (p[0] == 'I' && !strncmp(p, "ITEM:", 5))
+      return CG_ERROR(err, CG_EINPUT,
+                      "%s:%lld: expected %lld atoms (ITEM: NUMBER OF ATOMS), got %lld",
+                      d->path, d->lineno, (long long)n, (long long)i);
     for (size_t c = 0; c < ncols; c++) {
       p = skip_blank(p);
       if (!*p) {
         if (d->eof && d->last_no_newline && d->pos == d->end)
           return mark_truncated(d, "last line cut short");
-        if (!strncmp(line, "ITEM:", 5))
-          return CG_ERROR(err, CG_EINPUT,
-                          "%s:%lld: expected %lld atoms (ITEM: NUMBER OF ATOMS), got %lld",
-                          d->path, d->lineno, (long long)n, (long long)i);
         return CG_ERROR(err, CG_EINPUT, "%s:%lld: expected %zu columns, got %zu",
                         d->path, d->lineno, ncols, c);
       }
@@ -527,8 +527,6 @@ static int text_atoms(cg_dump *d, cg_snapshot *s, cg_error *err)
 static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
 {
   int have_step = 0, have_n = 0, have_box = 0, started = 0, rc;
-  s->has_time = 0;
-  s->time = 0.0;
   for (;;) {
     char *line;
     if (!text_line(d, &line, &rc, err)) {
@@ -540,7 +538,11 @@ static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
       return mark_truncated(d, "end of file inside the header");
     }
     if (!started && *skip_blank(line) == '\0') continue;
-    started = 1;
+    if (!started) {
+      s->has_time = 0;
+      s->time = 0.0;
+      started = 1;
+    }
     if (strncmp(line, "ITEM:", 5))
       return CG_ERROR(err, CG_EINPUT, "%s:%lld: expected an ITEM: line%s, got '%.40s'",
                       d->path, d->lineno,

@@ -52,7 +52,9 @@ typedef struct cg_dump cg_dump;
 int cg_dump_open(cg_dump **d, const char *path, const char *const *cols,
                  size_t ncols, cg_error *err);
 
-/* Read the next snapshot into s (its buffers are reused and grown).
+/* Read the next snapshot into s (its buffers are reused and grown). At a
+ * clean end of data s is left as it was; after an error or a truncated
+ * snapshot its contents are undefined.
  * Returns CG_OK, CG_EOF at the end (check cg_dump_truncated), or an error. */
 int cg_dump_next(cg_dump *d, cg_snapshot *s, cg_error *err);
 

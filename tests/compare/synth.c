@@ -172,7 +172,7 @@ int synth_write(const char *path, const synth_opts *o)
       put(&w, &t, 8);
       char names[512] = "";
       for (int k = 0; k < nc; k++) {
-        strcat(names, pname[cols[k] > 10 ? cols[k] : cols[k]]);
+        strcat(names, pname[cols[k]]);
         if (k + 1 < nc) strcat(names, " ");
       }
       int32_t clen = (int32_t)strlen(names);

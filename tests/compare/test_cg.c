@@ -1,0 +1,366 @@
+/* test_cg.c: coarse-graining against known truth (synthetic particle sets
+ * with a fixed seed), exact identities, and the DEM-deck fixture. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+#include <math.h>
+
+#include "cgrun.h"
+#include "h5io.h"
+#include "synth.h"
+#include "test_util.h"
+
+#define PI 3.14159265358979323846
+
+typedef struct {
+  size_t n, nt;
+  double *z, *t, *f, *se;
+} profile;
+
+static void profile_free(profile *p)
+{
+  free(p->z); free(p->t); free(p->f); free(p->se);
+  memset(p, 0, sizeof *p);
+}
+
+/* Read field `name` (and its _se) of a cg output. */
+static void read_field(const char *path, const char *name, profile *p)
+{
+  cg_h5r *r;
+  cg_error err;
+  size_t nt, n;
+  char se[64];
+  memset(p, 0, sizeof *p);
+  assert_int_equal(cg_h5r_open(&r, path, &err), CG_OK);
+  assert_int_equal(cg_h5r_read(r, "z", &p->z, &nt, &p->n, &err), CG_OK);
+  assert_int_equal(cg_h5r_read(r, "t", &p->t, &nt, &p->nt, &err), CG_OK);
+  assert_int_equal(cg_h5r_read(r, name, &p->f, &nt, &n, &err), CG_OK);
+  assert_int_equal(nt, p->nt);
+  assert_int_equal(n, p->n);
+  snprintf(se, sizeof se, "%s_se", name);
+  assert_int_equal(cg_h5r_read(r, se, &p->se, &nt, &n, &err), CG_OK);
+  cg_h5r_close(r);
+}
+
+static void run_cg(const char *dump, const char *out, const char *kernel, double width,
+                   size_t bins, cg_tmode tmode, size_t every)
+{
+  cg_run_opts o = cg_run_opts_default();
+  const char *in[1] = {dump};
+  o.inputs = in;
+  o.ninputs = 1;
+  o.out = out;
+  o.kernel = kernel;
+  o.width = width;
+  o.bins = bins;
+  o.tmode = tmode;
+  o.every = every;
+  cg_error err;
+  int rc = cg_run(&o, &err);
+  if (rc) fail_msg("cg_run: %s", err.msg);
+}
+
+/* |f - truth| <= 3 SE in every bulk bin (>= `edge` from the walls), and
+ * the normalised residuals have an rms in [0.4, 1.6] (SEs are honest). */
+static void check_truth(const char *what, const profile *p, double edge, double lz,
+                        double (*truth)(double z, const void *ctx), const void *ctx)
+{
+  double chi2 = 0;
+  size_t nb = 0;
+  for (size_t k = 0; k < p->n; k++) {
+    double z = p->z[k];
+    if (z < edge || z > lz - edge) continue;
+    double tr = truth(z, ctx), d = p->f[k] - tr, se = p->se[k];
+    assert_true(se > 0);
+    if (fabs(d) > 3 * se)
+      fail_msg("%s at z = %g: %g, truth %g, SE %g (%.2f SE)", what, z, p->f[k], tr, se, d / se);
+    chi2 += d * d / (se * se);
+    nb++;
+  }
+  assert_true(nb >= 5);
+  double rms = sqrt(chi2 / (double)nb);
+  if (rms < 0.4 || rms > 1.6) fail_msg("%s: rms of residual/SE = %g", what, rms);
+}
+
+static double t_phi(double z, const void *ctx)
+{
+  const synth_opts *o = ctx;
+  return synth_rho(o, z) / o->rho_p;
+}
+static double t_u(double z, const void *ctx)
+{
+  const synth_opts *o = ctx;
+  return o->u0 + o->gdot * (z - 0.5 * o->lz);
+}
+static double t_v(double z, const void *ctx)
+{
+  (void)z;
+  return ((const synth_opts *)ctx)->v0;
+}
+static double t_T(double z, const void *ctx)
+{
+  const synth_opts *o = ctx;
+  return o->T0 * (1.0 + o->b * (z / o->lz - 0.5));
+}
+
+static synth_opts base(void)
+{
+  synth_opts o = synth_default();
+  o.natoms = 4000;
+  o.nsnap = 24;
+  o.radius = 0.0004;
+  o.a = 0.8;
+  o.b = 0.5;
+  o.u0 = 0.1;
+  o.v0 = -0.05;
+  o.T0 = 1e-4;
+  return o;
+}
+
+/* phi(z), u(z), T(z) recovered within 3 SE in the bulk (no shear). */
+static void test_recovery(void **state)
+{
+  (void)state;
+  synth_opts o = base();
+  char dump[512], out[512];
+  assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "rec.dump"), &o), 0);
+  const char *kernels[] = {"gauss", "lucy", "bins"};
+  for (int ik = 0; ik < 3; ik++) {
+    tmp_path(out, sizeof out, "rec.h5");
+    run_cg(dump, out, kernels[ik], 0.002, 20, CG_T_PARTICLE, 0);
+    profile p;
+    double edge = 0.007;
+    read_field(out, "phi", &p);
+    assert_int_equal(p.nt, 1);
+    check_truth("phi", &p, edge, o.lz, t_phi, &o);
+    profile_free(&p);
+    read_field(out, "vx", &p);
+    check_truth("vx", &p, edge, o.lz, t_u, &o);
+    profile_free(&p);
+    read_field(out, "vz", &p);
+    check_truth("vz", &p, edge, o.lz, t_v, &o);
+    profile_free(&p);
+    read_field(out, "T", &p);
+    check_truth("T", &p, edge, o.lz, t_T, &o);
+    profile_free(&p);
+  }
+}
+
+/* Shear: the particle T recovers T; the consistent T adds the velocity
+ * variance inside the kernel, gdot^2 (w_eff^2)/3, w_eff^2 = var(kernel) +
+ * dz^2/12 (bin average); truncated Gaussian: var = 0.97333 w^2. */
+static double shear_extra;
+static double t_T_consistent(double z, const void *ctx)
+{
+  return t_T(z, ctx) + shear_extra;
+}
+
+static void test_shear_temperatures(void **state)
+{
+  (void)state;
+  synth_opts o = base();
+  o.a = 0.0;
+  o.b = 0.0;
+  o.gdot = 5.0;
+  char dump[512], out[512];
+  assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "shear.dump"), &o), 0);
+  double w = 0.002, dz = o.lz / 20;
+  tmp_path(out, sizeof out, "shear.h5");
+  profile p;
+  run_cg(dump, out, "gauss", w, 20, CG_T_PARTICLE, 0);
+  read_field(out, "T", &p);
+  check_truth("T (particle)", &p, 0.007, o.lz, t_T, &o);
+  profile_free(&p);
+  run_cg(dump, out, "gauss", w, 20, CG_T_CONSISTENT, 0);
+  shear_extra = o.gdot * o.gdot * (0.973336 * w * w + dz * dz / 12.0) / 3.0;
+  assert_true(shear_extra > 0.3 * o.T0);
+  read_field(out, "T", &p);
+  check_truth("T (consistent)", &p, 0.007, o.lz, t_T_consistent, &o);
+  profile_free(&p);
+}
+
+/* Integral of rho over z = total mass / area, each snapshot, every kernel. */
+static void test_mass_identity(void **state)
+{
+  (void)state;
+  synth_opts o = base();
+  o.nsnap = 3;
+  o.natoms = 1000;
+  char dump[512], out[512];
+  assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "mass.dump"), &o), 0);
+  double m = o.rho_p * 4.0 / 3.0 * PI * pow(o.radius, 3);
+  double expect = (double)o.natoms * m / (o.lx * o.ly);
+  const char *kernels[] = {"gauss", "lucy", "bins"};
+  for (int ik = 0; ik < 3; ik++) {
+    run_cg(dump, tmp_path(out, sizeof out, "mass.h5"), kernels[ik], 0.003, 37, CG_T_PARTICLE, 1);
+    profile p;
+    read_field(out, "rho", &p);
+    assert_int_equal(p.nt, 3);
+    double dz = p.z[1] - p.z[0];
+    for (size_t it = 0; it < p.nt; it++) {
+      double sum = 0;
+      for (size_t k = 0; k < p.n; k++) sum += p.f[it * p.n + k] * dz;
+      assert_close(sum, expect, 1e-9 * expect);
+    }
+    profile_free(&p);
+  }
+}
+
+/* A uniform velocity added to every particle leaves T unchanged. */
+static void test_galilean(void **state)
+{
+  (void)state;
+  synth_opts o = base();
+  o.nsnap = 4;
+  o.gdot = 3.0;
+  o.format = SYNTH_BIN;
+  char d1[512], d2[512], h1[512], h2[512];
+  assert_int_equal(synth_write(tmp_path(d1, sizeof d1, "gal1.bin"), &o), 0);
+  o.u0 += 3.7;
+  o.v0 -= 1.2;
+  assert_int_equal(synth_write(tmp_path(d2, sizeof d2, "gal2.bin"), &o), 0);
+  for (int mode = 0; mode < 2; mode++) {
+    cg_tmode tm = mode ? CG_T_CONSISTENT : CG_T_PARTICLE;
+    run_cg(d1, tmp_path(h1, sizeof h1, "gal1.h5"), "gauss", 0.002, 20, tm, 0);
+    run_cg(d2, tmp_path(h2, sizeof h2, "gal2.h5"), "gauss", 0.002, 20, tm, 0);
+    profile a, b;
+    read_field(h1, "T", &a);
+    read_field(h2, "T", &b);
+    for (size_t k = 0; k < a.n; k++) assert_close(b.f[k], a.f[k], 1e-8 * a.f[k]);
+    profile_free(&a);
+    profile_free(&b);
+  }
+}
+
+/* Shuffled columns (and extra ones) give identical output. */
+static void test_shuffled_columns(void **state)
+{
+  (void)state;
+  synth_opts o = base();
+  o.nsnap = 3;
+  o.with_stress = 1;
+  o.P0 = 100;
+  char d1[512], d2[512], h1[512], h2[512];
+  assert_int_equal(synth_write(tmp_path(d1, sizeof d1, "ord1.dump"), &o), 0);
+  o.shuffle = 1;
+  assert_int_equal(synth_write(tmp_path(d2, sizeof d2, "ord2.dump"), &o), 0);
+  run_cg(d1, tmp_path(h1, sizeof h1, "ord1.h5"), "gauss", 0.002, 20, CG_T_PARTICLE, 0);
+  run_cg(d2, tmp_path(h2, sizeof h2, "ord2.h5"), "gauss", 0.002, 20, CG_T_PARTICLE, 0);
+  const char *f[] = {"phi", "rho", "vx", "vy", "vz", "T", "P", "sxz", "szz"};
+  for (size_t i = 0; i < sizeof f / sizeof *f; i++) {
+    profile a, b;
+    read_field(h1, f[i], &a);
+    read_field(h2, f[i], &b);
+    assert_memory_equal(a.f, b.f, a.n * sizeof(double));
+    assert_memory_equal(a.se, b.se, a.n * sizeof(double));
+    profile_free(&a);
+    profile_free(&b);
+  }
+}
+
+/* Contact stress from per-atom stress x volume: uniform P0 and S0 give
+ * P = P0 phi + kinetic, sxz = S0 phi (bulk), mu and I are written. */
+static void test_contact_stress(void **state)
+{
+  (void)state;
+  synth_opts o = base();
+  o.a = 0;
+  o.b = 0;
+  o.nsnap = 4;
+  o.with_stress = 1;
+  o.P0 = 1000;
+  o.S0 = 300;
+  char dump[512], out[512];
+  assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "stress.dump"), &o), 0);
+  cg_run_opts ro = cg_run_opts_default();
+  const char *in[1] = {dump};
+  ro.inputs = in;
+  ro.ninputs = 1;
+  ro.out = tmp_path(out, sizeof out, "stress.h5");
+  ro.width = 0.002;
+  ro.bins = 20;
+  ro.nstress = 6;
+  const char *names[6] = {"c_s[1]", "c_s[2]", "c_s[3]", "c_s[4]", "c_s[5]", "c_s[6]"};
+  for (int c = 0; c < 6; c++) ro.stress[c] = names[c];
+  cg_error err;
+  if (cg_run(&ro, &err)) fail_msg("%s", err.msg);
+  profile phi, P, sxz, mu;
+  read_field(out, "phi", &phi);
+  read_field(out, "P", &P);
+  read_field(out, "sxz", &sxz);
+  read_field(out, "mu", &mu);
+  for (size_t k = 3; k + 3 < phi.n; k++) {
+    double rho = phi.f[k] * o.rho_p;
+    assert_close(P.f[k], o.P0 * phi.f[k] + rho * o.T0, 0.05 * o.P0 * phi.f[k]);
+    assert_close(sxz.f[k], o.S0 * phi.f[k], 0.05 * o.S0 * phi.f[k]);
+    assert_close(mu.f[k], fabs(sxz.f[k]) / P.f[k], 1e-12);
+  }
+  profile_free(&phi);
+  profile_free(&P);
+  profile_free(&sxz);
+  profile_free(&mu);
+}
+
+/* The LIGGGHTS deck's dump format (deck columns, c_sa stress, no TIME):
+ * read, coarse-grained, total mass checked. */
+static void test_deck_dump(void **state)
+{
+  (void)state;
+  cg_run_opts o = cg_run_opts_default();
+  const char *in[1] = {CG_FIXTURES "/liggghts_deck.dump"};
+  char out[512];
+  o.inputs = in;
+  o.ninputs = 1;
+  o.out = tmp_path(out, sizeof out, "deck.h5");
+  o.dt = 1e-5;
+  o.every = 1;
+  o.nstress = 6;
+  const char *names[6] = {"c_sa[1]", "c_sa[2]", "c_sa[3]", "c_sa[4]", "c_sa[5]", "c_sa[6]"};
+  for (int c = 0; c < 6; c++) o.stress[c] = names[c];
+  cg_error err;
+  if (cg_run(&o, &err)) fail_msg("%s", err.msg);
+  /* total mass of the fixture: sum of its mass column */
+  FILE *fp = fopen(CG_FIXTURES "/liggghts_deck.dump", "r");
+  char line[1024];
+  double mtot = 0;
+  int in_atoms = 0, snap = 0;
+  while (fgets(line, sizeof line, fp)) {
+    if (!strncmp(line, "ITEM: ATOMS", 11)) { in_atoms = 1; snap++; continue; }
+    if (!strncmp(line, "ITEM:", 5)) { in_atoms = 0; continue; }
+    if (in_atoms && snap == 1) {
+      double v[10];
+      sscanf(line, "%lf %lf %lf %lf %lf %lf %lf %lf %lf %lf", &v[0], &v[1], &v[2], &v[3], &v[4],
+             &v[5], &v[6], &v[7], &v[8], &v[9]);
+      mtot += v[9];
+    }
+  }
+  fclose(fp);
+  profile p;
+  read_field(out, "rho", &p);
+  assert_int_equal(p.nt, 3);
+  assert_close(p.t[2], 2000 * 1e-5, 1e-15);
+  double dz = p.z[1] - p.z[0];
+  for (size_t it = 0; it < p.nt; it++) {
+    double sum = 0;
+    for (size_t k = 0; k < p.n; k++) sum += p.f[it * p.n + k] * dz * 0.01 * 0.01;
+    assert_close(sum, mtot, 1e-5 * mtot); /* masses printed with 6 digits */
+  }
+  profile_free(&p);
+  read_field(out, "mu", &p);
+  profile_free(&p);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_recovery),
+    cmocka_unit_test(test_shear_temperatures),
+    cmocka_unit_test(test_mass_identity),
+    cmocka_unit_test(test_galilean),
+    cmocka_unit_test(test_shuffled_columns),
+    cmocka_unit_test(test_contact_stress),
+    cmocka_unit_test(test_deck_dump),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
