@@ -121,7 +121,12 @@ addv mu "$(dem friction)"
 # gamma_t/gamma_n = sqrt(S_t/S_n) = sqrt(2 (1-nu)/(2-nu)) (docs/dem.md).
 [ "$engine" = lammps ] && addv xgt "$(calc "sqrt(2*(1-$nu)/(2-$nu))")"
 addv dt "$(dem dt)"
-addv seed "$(dem seed 15485863)"
+seed=$(dem seed 15485863); addv seed "$seed"
+# seed2, seed3: the next primes after seed (LIGGGHTS accepts only primes > 10000)
+nextprime() { awk -v s="$1" 'BEGIN { for (n = s + 1; ; n++) { p = 1
+  for (k = 2; k * k <= n; k++) if (n % k == 0) { p = 0; break }
+  if (p) { print n; exit } } }'; }
+seed2=$(nextprime "$seed"); addv seed2 "$seed2"; addv seed3 "$(nextprime "$seed2")"
 addv thermo_every "$(dem thermo_every 1000)"
 addv dump_every "$(dem dump_every 5000)"
 lx=$(calc "$(dem lx) * $d"); ly=$(calc "$(dem ly) * $d")
@@ -162,6 +167,7 @@ case $scen in
     addv v_bot "$(get bottom velocity)"
     addv pressure "$(dem pressure)"
     addv wall_damp "$(dem wall_damping)"
+    addv t_compress "$(dem t_compress 0)"
     addv t_run "$(dem t_run)"
     points+=("|") ;;
   simple_shear)
