@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# cli_test.sh: the ekmcompare command line: outputs, exit codes, one-line
+# errors naming file and line, and no output left behind on failure.
+# usage: cli_test.sh EKMCOMPARE CG_SYNTH FIXTURES WORKDIR
+set -u
+ekmc=$1 synth=$2 fx=$3 work=$4
+rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 1
+fails=0
+fail() { echo "FAIL: $*" >&2; fails=$((fails + 1)); }
+
+# expect CODE PATTERN -- command...: exit code, one stderr line matching PATTERN
+expect() {
+  local code=$1 pat=$2; shift 3
+  "$@" > out.txt 2> err.txt; local rc=$?
+  [ "$rc" -eq "$code" ] || fail "$*: exit $rc, expected $code ($(cat err.txt))"
+  if [ "$code" -ne 0 ]; then
+    [ "$(wc -l < err.txt)" -eq 1 ] || fail "$*: expected one error line, got: $(cat err.txt)"
+    grep -qE -- "$pat" err.txt || fail "$*: message '$(cat err.txt)' does not match '$pat'"
+  fi
+}
+
+expect 0 "" -- "$ekmc" --help
+grep -q "Exit status" out.txt || fail "--help: no exit status section"
+expect 0 "" -- "$ekmc" --version
+expect 2 "unknown command 'frobnicate'" -- "$ekmc" frobnicate
+
+# good inputs, every format
+for f in liggghts_deck.dump lammps_time.dump lammps_time.dump.gz triclinic.dump; do
+  expect 0 "" -- "$ekmc" cg "$fx/$f" --dt 1e-5 --rho-p 2500 --bins 8 -o "$f.h5" --quiet
+  h5dump -H "$f.h5" > /dev/null || fail "$f.h5: h5dump cannot read it"
+done
+expect 0 "" -- "$ekmc" cg "$fx/liggghts_example.dump" --dt 1e-5 --rho-p 2500 -o ex.h5 --csv ex.csv --quiet
+head -1 ex.csv | grep -q '^t,z,phi,phi_se,rho,rho_se,vx' || fail "ex.csv: bad header"
+[ "$(wc -l < ex.csv)" -gt 10 ] || fail "ex.csv: too short"
+# truncated: warning, exit 0, earlier snapshots kept
+"$ekmc" cg "$fx/truncated.dump" -o trunc.h5 2> err.txt || fail "truncated.dump: non-zero exit"
+grep -q "truncated.dump:[0-9]*: truncated snapshot" err.txt || fail "truncated.dump: no warning"
+grep -q "2 of 2 snapshots" err.txt || fail "truncated.dump: expected 2 snapshots used"
+# several files, a repeated step skipped, time series
+"$synth" a.dump text 500 6 && "$synth" b.bin bin 500 6 || fail "cg_synth"
+gzip -c a.dump > a.dump.gz
+"$ekmc" cg a.dump a.dump.gz --every 2 -o series.h5 2> err.txt || fail "two files"
+grep -q "skipped 6 snapshots" err.txt || fail "repeated steps not skipped: $(cat err.txt)"
+h5dump -H -d phi series.h5 | grep -q "( 3, " || fail "--every 2 over 6 snapshots: expected 3 profiles"
+expect 0 "" -- "$ekmc" cg b.bin --window 0.02 -o win.h5 --quiet
+expect 0 "" -- "$ekmc" cg b.bin --steps 1000:3000 --kernel lucy -o steps.h5
+grep -q "3 of 6 snapshots" err.txt || fail "--steps 1000:3000: expected 3 snapshots ($(cat err.txt))"
+expect 0 "" -- "$ekmc" cg b.bin --steady -o steady.h5
+grep -q "steady window starts at\|using all of them" err.txt || fail "--steady: no note"
+# score: a cg file against itself is a perfect score
+expect 0 "" -- "$ekmc" score --dem series.h5 --ekm series.h5 -o score.json --quiet
+grep -q "| phi | " out.txt || fail "score: no markdown table"
+jq -e '.fields.phi.rel_l2 == 0' score.json > /dev/null || fail "score.json: rel_l2 of a file against itself"
+
+# bad inputs: exit 1, one line file:line, no output file
+mk() { sed "$2" "$fx/lammps_time.dump" > "$1"; }
+mk bad_num.dump '15s/^\([0-9]* 1\) [^ ]*/\1 1.2.3/'
+mk bad_nan.dump '16s/^\([0-9]* 1 [^ ]* [^ ]*\) [^ ]*/\1 nan/'
+mk bad_col.dump 's/ITEM: ATOMS id type mass radius vx vy vz z y x/ITEM: ATOMS id type mass radius vx vy vq z y x/'
+mk bad_count.dump '0,/^8$/s/^8$/9/'
+expect 1 "bad_num.dump:15: column 'mass': expected a number, got '1.2.3'" -- "$ekmc" cg bad_num.dump -o bad.h5
+expect 1 "bad_nan.dump:16: column 'vx': expected a finite number, got 'nan'" -- "$ekmc" cg bad_nan.dump -o bad.h5
+expect 1 "bad_col.dump:13: ITEM: ATOMS has no column 'vz'" -- "$ekmc" cg bad_col.dump -o bad.h5
+expect 1 "bad_count.dump:22: expected 9 atoms \(ITEM: NUMBER OF ATOMS\), got 8" -- "$ekmc" cg bad_count.dump -o bad.h5
+expect 1 "nonexistent.dump: cannot open" -- "$ekmc" cg nonexistent.dump -o bad.h5
+expect 2 "has no ITEM: TIME: give --dt" -- "$ekmc" cg "$fx/liggghts_deck.dump" -o bad.h5
+expect 2 "\-\-width: expected a positive width" -- "$ekmc" cg a.dump --width -1 -o bad.h5
+expect 2 "\-\-kernel: expected gauss, lucy or bins, got 'box'" -- "$ekmc" cg a.dump --kernel box -o bad.h5
+expect 2 "expected -o OUT.h5" -- "$ekmc" cg a.dump
+expect 2 "unknown option '--bogus'" -- "$ekmc" cg a.dump --bogus -o bad.h5
+expect 1 "no snapshots selected" -- "$ekmc" cg a.dump --from 99 -o bad.h5
+expect 1 "expected an HDF5 file" -- "$ekmc" score --dem a.dump --ekm series.h5
+[ -e bad.h5 ] && fail "an output file was left behind by a failed run"
+ls ./*.tmp.* > /dev/null 2>&1 && fail "temporary files left behind"
+# an existing output is not touched by a failed run
+cp series.h5 keep.h5
+"$ekmc" cg bad_num.dump -o keep.h5 2>/dev/null
+cmp -s series.h5 keep.h5 || fail "a failed run modified an existing output"
+
+if [ "$fails" -gt 0 ]; then echo "$fails failure(s)" >&2; exit 1; fi
+echo "cli_test: all passed"

@@ -1,0 +1,184 @@
+/* test_score.c: scoring against synthetic ekm outputs (the solver's
+ * contract: /z, /t, [nt][nz] fields with units, /regime, root attributes)
+ * with known errors. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+#include <hdf5.h>
+#include <math.h>
+
+#include "h5io.h"
+#include "score.h"
+#include "test_util.h"
+
+/* An ekm-format file: f(z,t) = a + b z + c t for phi, vx, T (and P). */
+static void write_ekm(const char *path, size_t nz, double z0, double z1, size_t nt,
+                      double t1, double a, double b, double c)
+{
+  cg_h5w *w;
+  cg_error err;
+  assert_int_equal(cg_h5w_create(&w, path, &err), CG_OK);
+  double *z = malloc(nz * sizeof *z), *t = malloc(nt * sizeof *t), *f = malloc(nz * nt * sizeof *f);
+  for (size_t k = 0; k < nz; k++) z[k] = z0 + (z1 - z0) * ((double)k + 0.5) / (double)nz;
+  for (size_t i = 0; i < nt; i++) t[i] = nt > 1 ? t1 * (double)i / (double)(nt - 1) : t1;
+  for (size_t i = 0; i < nt; i++)
+    for (size_t k = 0; k < nz; k++) f[i * nz + k] = a + b * z[k] + c * t[i];
+  assert_int_equal(cg_h5w_dataset(w, "z", z, 0, nz, "m", &err), CG_OK);
+  assert_int_equal(cg_h5w_dataset(w, "t", t, 0, nt, "s", &err), CG_OK);
+  const char *names[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
+  for (size_t i = 0; i < 7; i++)
+    assert_int_equal(cg_h5w_dataset(w, names[i], f, nt, nz, "1", &err), CG_OK);
+  assert_int_equal(cg_h5w_attr_str(w, "variant", "full", &err), CG_OK);
+  assert_int_equal(cg_h5w_attr_double(w, "gravity_z", -9.81, &err), CG_OK);
+  assert_int_equal(cg_h5w_attr_str(w, "code_version", "test", &err), CG_OK);
+  assert_int_equal(cg_h5w_commit(w, &err), CG_OK);
+  /* the contract's int32 /regime dataset */
+  hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+  hsize_t dims[2] = {nt, nz};
+  hid_t sp = H5Screate_simple(2, dims, NULL);
+  hid_t d = H5Dcreate2(file, "regime", H5T_NATIVE_INT32, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  int *reg = calloc(nt * nz, sizeof *reg);
+  H5Dwrite(d, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, reg);
+  free(reg);
+  H5Dclose(d);
+  H5Sclose(sp);
+  H5Fclose(file);
+  free(z); free(t); free(f);
+}
+
+/* A cg-format file: f = a + b z + c t, SE = se everywhere. */
+static void write_dem(const char *path, size_t nz, double z0, double z1, size_t nt,
+                      const double *t, double a, double b, double c, double se)
+{
+  cg_h5w *w;
+  cg_error err;
+  assert_int_equal(cg_h5w_create(&w, path, &err), CG_OK);
+  double *z = malloc(nz * sizeof *z), *f = malloc(nz * nt * sizeof *f), *s = malloc(nz * nt * sizeof *s);
+  for (size_t k = 0; k < nz; k++) z[k] = z0 + (z1 - z0) * ((double)k + 0.5) / (double)nz;
+  for (size_t i = 0; i < nt; i++)
+    for (size_t k = 0; k < nz; k++) {
+      f[i * nz + k] = a + b * z[k] + c * t[i];
+      s[i * nz + k] = se;
+    }
+  assert_int_equal(cg_h5w_dataset(w, "z", z, 0, nz, "m", &err), CG_OK);
+  assert_int_equal(cg_h5w_dataset(w, "t", t, 0, nt, "s", &err), CG_OK);
+  const char *names[] = {"phi", "vx", "T"};
+  char sen[32];
+  for (size_t i = 0; i < 3; i++) {
+    assert_int_equal(cg_h5w_dataset(w, names[i], f, nt, nz, "1", &err), CG_OK);
+    snprintf(sen, sizeof sen, "%s_se", names[i]);
+    assert_int_equal(cg_h5w_dataset(w, sen, s, nt, nz, "1", &err), CG_OK);
+  }
+  assert_int_equal(cg_h5w_attr_str(w, "axis", "z", &err), CG_OK);
+  assert_int_equal(cg_h5w_commit(w, &err), CG_OK);
+  free(z); free(f); free(s);
+}
+
+static void test_known_errors(void **state)
+{
+  (void)state;
+  char ekm[512], dem[512], js[512];
+  tmp_path(ekm, sizeof ekm, "score_ekm.h5");
+  tmp_path(dem, sizeof dem, "score_dem.h5");
+  /* EKM on a finer grid over [0, 1], times 0..2; linear in z and t, so the
+   * interpolation is exact. DEM = EKM - 0.01 at t = 0.5 and 1.5. */
+  write_ekm(ekm, 50, 0.0, 1.0, 5, 2.0, 1.0, 2.0, 0.5);
+  double t[2] = {0.5, 1.5};
+  write_dem(dem, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 0.02);
+  cg_score_opts o = cg_score_opts_default();
+  o.dem = dem;
+  o.ekm = ekm;
+  o.json = tmp_path(js, sizeof js, "score.json");
+  cg_score_field r[16];
+  size_t n;
+  cg_error err;
+  if (cg_score(&o, r, &n, &err)) fail_msg("%s", err.msg);
+  assert_int_equal(n, 3); /* phi, vx, T: in both files */
+  /* DEM centres 0.05..0.95; EKM centres 0.01..0.99: all 10 x 2 inside */
+  double sd2 = 0;
+  for (int i = 0; i < 2; i++)
+    for (int k = 0; k < 10; k++) {
+      double d = 0.99 + 2.0 * (0.05 + 0.1 * k) + 0.5 * t[i];
+      sd2 += d * d;
+    }
+  for (size_t i = 0; i < n; i++) {
+    assert_int_equal(r[i].points, 20);
+    assert_int_equal(r[i].points_se, 20);
+    assert_close(r[i].rel_l2, 0.01 * sqrt(20.0 / sd2), 1e-9);
+    assert_close(r[i].noise, 0.5, 1e-9);
+  }
+  FILE *fp = fopen(js, "r");
+  assert_non_null(fp);
+  char buf[2048];
+  size_t len = fread(buf, 1, sizeof buf - 1, fp);
+  buf[len] = '\0';
+  fclose(fp);
+  assert_non_null(strstr(buf, "\"phi\": {\"points\": 20"));
+  assert_non_null(strstr(buf, "\"noise_normalised\": 0.5"));
+}
+
+/* Region: DEM points outside the EKM's z range are left out; DEM times
+ * outside the EKM's fall back to the EKM's last output. */
+static void test_region_and_last(void **state)
+{
+  (void)state;
+  char ekm[512], dem[512];
+  tmp_path(ekm, sizeof ekm, "score_ekm2.h5");
+  tmp_path(dem, sizeof dem, "score_dem2.h5");
+  write_ekm(ekm, 10, 0.0, 0.5, 3, 1.0, 1.0, 0.0, 1.0); /* centres 0.025..0.475 */
+  double t[1] = {5.0};
+  write_dem(dem, 10, 0.0, 1.0, 1, t, 2.0, 0.0, 0.0, 0.1); /* equals EKM at t = 1 */
+  cg_score_opts o = cg_score_opts_default();
+  o.dem = dem;
+  o.ekm = ekm;
+  o.fields = "phi";
+  cg_score_field r[16];
+  size_t n;
+  cg_error err;
+  if (cg_score(&o, r, &n, &err)) fail_msg("%s", err.msg);
+  assert_int_equal(n, 1);
+  assert_int_equal(r[0].points, 5); /* DEM centres 0.05 .. 0.45 */
+  assert_close(r[0].rel_l2, 0.0, 1e-14);
+  assert_close(r[0].noise, 0.0, 1e-12);
+}
+
+static void test_bad_inputs(void **state)
+{
+  (void)state;
+  char ekm[512], dem[512], junk[512];
+  tmp_path(ekm, sizeof ekm, "score_ekm3.h5");
+  tmp_path(dem, sizeof dem, "score_dem3.h5");
+  write_ekm(ekm, 10, 0.0, 1.0, 2, 1.0, 1.0, 0.0, 0.0);
+  double t[1] = {0.5};
+  write_dem(dem, 10, 0.0, 1.0, 1, t, 1.0, 0.0, 0.0, 0.1);
+  cg_score_opts o = cg_score_opts_default();
+  cg_score_field r[16];
+  size_t n;
+  cg_error err;
+  o.dem = dem;
+  o.ekm = "/nonexistent/run.h5";
+  assert_int_equal(cg_score(&o, r, &n, &err), CG_EINPUT);
+  assert_non_null(strstr(err.msg, "/nonexistent/run.h5: cannot open"));
+  write_text(tmp_path(junk, sizeof junk, "junk.h5"), "not hdf5\n");
+  o.ekm = junk;
+  assert_int_equal(cg_score(&o, r, &n, &err), CG_EINPUT);
+  assert_non_null(strstr(err.msg, "expected an HDF5 file"));
+  o.ekm = ekm;
+  o.fields = "phi,P";
+  assert_int_equal(cg_score(&o, r, &n, &err), CG_EINPUT);
+  assert_non_null(strstr(err.msg, "score_dem3.h5: expected a dataset P"));
+  o.fields = "phi,,T";
+  assert_int_equal(cg_score(&o, r, &n, &err), CG_EUSAGE);
+}
+
+int main(void)
+{
+  cg_h5_quiet();
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(test_known_errors),
+    cmocka_unit_test(test_region_and_last),
+    cmocka_unit_test(test_bad_inputs),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
