@@ -22,7 +22,8 @@
 #
 # Exit status: 0 ok (or already done), 1 run failed (deck error, lost atoms,
 # NaN, timeout, missing completion marker), 2 usage or scenario error,
-# 3 engine missing, 4 run finished but not steady where steadiness is required.
+# 3 engine missing, 4 run finished but not steady where steadiness is required,
+# 5 scenario not supported by this engine (dem_inputs/<engine>/<scenario>.unsupported).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -57,6 +58,11 @@ fi
 [ -r "$ini" ] || die "no scenario file $ini"
 grep -q '^\[dem\]' "$ini" || die "$ini: no [dem] section"
 deck=$root/dem_inputs/$engine/$scen.in
+if [ -r "$root/dem_inputs/$engine/$scen.unsupported" ]; then
+  echo "$prog: UNSUPPORTED: $scen in $engine:" >&2
+  sed 's/^/  /' "$root/dem_inputs/$engine/$scen.unsupported" >&2
+  exit 5
+fi
 [ -r "$deck" ] || die "no deck $deck for scenario '$scen' in $engine"
 
 # --- INI access --------------------------------------------------------
@@ -129,7 +135,11 @@ nextprime() { awk -v s="$1" 'BEGIN { for (n = s + 1; ; n++) { p = 1
 seed2=$(nextprime "$seed"); addv seed2 "$seed2"; addv seed3 "$(nextprime "$seed2")"
 addv thermo_every "$(dem thermo_every 1000)"
 addv dump_every "$(dem dump_every 5000)"
-lx=$(calc "$(dem lx) * $d"); ly=$(calc "$(dem ly) * $d")
+lateral() { # lx, ly: [dem] lx, ly are in grain diameters
+  local x y; x=$(dem lx) && y=$(dem ly) || exit 2
+  num lx "$x"; num ly "$y"
+  addv lx "$(calc "$x * $d")"; addv ly "$(calc "$y * $d")"
+}
 
 # --- scenario-specific variables and sweep points ------------------------
 # points: one "tag|name value name value ..." per case; tag '' = top dir.
@@ -138,7 +148,7 @@ case $scen in
   collision)
     points+=("|") ;;
   filling)
-    addv lx "$lx"; addv ly "$ly"
+    lateral
     addv lz "$(get domain length)"
     addv g "$(get gravity magnitude)"
     addv phi_in "$(get top phi)"
@@ -147,7 +157,7 @@ case $scen in
     addv t_end "$(dem t_end "$(get run t_end)")"
     points+=("|") ;;
   chute)
-    addv lx "$lx"; addv ly "$ly"
+    lateral
     addv h "$(get initial layer_height)"
     addv phi0 "$(get initial phi)"
     addv g "$(get gravity magnitude)"
@@ -160,7 +170,7 @@ case $scen in
       if [ "$na" -eq 1 ]; then points+=("|theta $a"); else points+=("theta$a|theta $a"); fi
     done; set +f ;;
   shear_cell)
-    addv lx "$lx"; addv ly "$ly"
+    lateral
     addv gap "$(get domain length)"
     addv phi0 "$(get initial phi)"
     addv v_top "$(get top velocity)"
