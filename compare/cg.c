@@ -29,8 +29,9 @@ int cg_profile_alloc(cg_profile **out, const cg_kernel *k, const cg_grid *g,
   p->g = *g;
   p->tmode = tmode;
   p->maxw = cg_kernel_maxweights(g);
-  p->bin = malloc(p->maxw * sizeof *p->bin);
-  p->w = malloc(p->maxw * sizeof *p->w);
+  p->cap = p->maxw;
+  p->bin = malloc(p->cap * sizeof *p->bin);
+  p->w = malloc(p->cap * sizeof *p->w);
   p->vel = malloc(3 * g->n * sizeof *p->vel);
   if (!p->bin || !p->w || !p->vel) {
     cg_profile_free(p);
@@ -45,6 +46,7 @@ void cg_profile_free(cg_profile *p)
   if (!p) return;
   free(p->bin);
   free(p->w);
+  free(p->nw);
   free(p->vel);
   free(p);
 }
@@ -75,10 +77,32 @@ static void velocity_at(const cg_profile *p, const double *rho, double s, double
     out[c] = ws > 0.0 ? (w0 * p->vel[c * n + (size_t)k0] + w1 * p->vel[c * n + (size_t)k1]) / ws : 0.0;
 }
 
+/* Room for `more` weights after `used` ones (the weight store grows with
+ * the largest snapshot, not with the number of snapshots). */
+static int reserve_weights(cg_profile *p, size_t used, size_t more, cg_error *err)
+{
+  if (used + more <= p->cap) return CG_OK;
+  size_t c = p->cap;
+  while (c < used + more) c *= 2;
+  size_t *b = realloc(p->bin, c * sizeof *b);
+  if (!b) return CG_ERROR(err, CG_ESYS, "out of memory (kernel weights)");
+  p->bin = b;
+  double *w = realloc(p->w, c * sizeof *w);
+  if (!w) return CG_ERROR(err, CG_ESYS, "out of memory (kernel weights)");
+  p->w = w;
+  p->cap = c;
+  return CG_OK;
+}
+
 int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_error *err)
 {
   size_t n = p->g.n;
-  (void)err;
+  if (pt->n > p->ncap) {
+    unsigned *nw = realloc(p->nw, pt->n * sizeof *nw);
+    if (!nw) return CG_ERROR(err, CG_ESYS, "out of memory (kernel weights)");
+    p->nw = nw;
+    p->ncap = pt->n;
+  }
   memset(prim, 0, CG_NPRIM * n * sizeof *prim);
   double *rho = prim + CG_P_RHO * n, *phi = prim + CG_P_PHI * n;
   double *px = prim + CG_P_PX * n, *py = prim + CG_P_PY * n, *pz = prim + CG_P_PZ * n;
@@ -88,9 +112,17 @@ int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_
     S[c] = prim + (CG_P_SXX + c) * n;
   }
   int consistent = (p->tmode == CG_T_CONSISTENT);
-  /* pass 1: mass, volume, momentum (and m v v, contact stress) */
+  /* pass 1: mass, volume, momentum (and m v v, contact stress); the
+   * weights are kept for pass 2 */
+  size_t used = 0;
   for (size_t i = 0; i < pt->n; i++) {
-    size_t nw = cg_kernel_weights(p->k, &p->g, pt->s[i], pt->rad[i], p->bin, p->w);
+    int rc = reserve_weights(p, used, p->maxw, err);
+    if (rc) return rc;
+    size_t *bin = p->bin + used;
+    double *wt = p->w + used;
+    size_t nw = cg_kernel_weights(p->k, &p->g, pt->s[i], pt->rad[i], bin, wt);
+    p->nw[i] = (unsigned)nw;
+    used += nw;
     const double *v = pt->v + 3 * i;
     double m = pt->m[i], vol = pt->vol[i];
     double mv[3] = {m * v[0], m * v[1], m * v[2]};
@@ -98,8 +130,8 @@ int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_
                      mv[0] * v[1], mv[0] * v[2], mv[1] * v[2]};
     const double *Si = pt->S ? pt->S + 6 * i : NULL;
     for (size_t j = 0; j < nw; j++) {
-      size_t k = p->bin[j];
-      double w = p->w[j];
+      size_t k = bin[j];
+      double w = wt[j];
       rho[k] += m * w;
       phi[k] += vol * w;
       px[k] += mv[0] * w;
@@ -124,8 +156,12 @@ int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_
         K[c][k] -= rho[k] * p->vel[ia[c] * n + k] * p->vel[ib[c] * n + k];
   } else {
     /* pass 2: fluctuations about the CG velocity at the particle */
+    used = 0;
     for (size_t i = 0; i < pt->n; i++) {
-      size_t nw = cg_kernel_weights(p->k, &p->g, pt->s[i], pt->rad[i], p->bin, p->w);
+      size_t nw = p->nw[i];
+      const size_t *bin = p->bin + used;
+      const double *wt = p->w + used;
+      used += nw;
       double V[3];
       velocity_at(p, rho, pt->s[i], V);
       const double *v = pt->v + 3 * i;
@@ -134,8 +170,8 @@ int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_
       double mcc[6] = {m * c0 * c0, m * c1 * c1, m * c2 * c2,
                        m * c0 * c1, m * c0 * c2, m * c1 * c2};
       for (size_t j = 0; j < nw; j++) {
-        size_t k = p->bin[j];
-        double w = p->w[j];
+        size_t k = bin[j];
+        double w = wt[j];
         for (int c = 0; c < 6; c++) K[c][k] += mcc[c] * w;
       }
     }

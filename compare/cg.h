@@ -63,9 +63,12 @@ typedef struct {
   const cg_kernel *k; /* kernel (not owned) */
   cg_grid g;          /* output grid */
   cg_tmode tmode;     /* fluctuation definition for K and T */
-  size_t maxw;        /* capacity of bin/w */
-  size_t *bin;        /* scratch: bins of one particle */
-  double *w;          /* scratch: weights of one particle [1/m] */
+  size_t maxw;        /* most weights of one particle */
+  size_t cap;         /* capacity of bin/w (all particles of a snapshot) */
+  size_t *bin;        /* bins of every particle, pass 1 -> pass 2 */
+  double *w;          /* their weights [1/m] */
+  size_t ncap;        /* capacity of nw */
+  unsigned *nw;       /* number of weights of each particle */
   double *vel;        /* scratch: V per bin, 3 x n [m/s] */
 } cg_profile;
 

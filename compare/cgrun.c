@@ -70,7 +70,13 @@ static void source_init(source *src, const cg_run_opts *o)
 {
   memset(src, 0, sizeof *src);
   src->o = o;
-  for (size_t j = 0; j < C_STRESS; j++) src->cols[j] = base_cols[j];
+  /* only the position columns the axis needs are parsed: the axis
+   * coordinate, and for scaled ones the later dimensions (triclinic) */
+  for (size_t j = 0; j < C_STRESS; j++) {
+    int f = (int)j / 3, c = (int)j % 3;
+    int need = j >= C_VX || c == o->axis || (f >= 2 && c > o->axis);
+    src->cols[j] = need ? base_cols[j] : "\001unused";
+  }
   src->ncols = C_STRESS;
   for (size_t j = 0; j < o->nstress; j++) src->cols[src->ncols++] = o->stress[j];
 }

@@ -70,7 +70,8 @@ void cg_dump_close(cg_dump *d);
 void cg_snapshot_free(cg_snapshot *s);
 
 /* Parse a decimal floating-point token at *p (fast path for up to 15
- * significant digits, strtod otherwise). On success *p points past it.
+ * significant digits, within 1 ulp; strtod otherwise). On success *p
+ * points past it.
  * Returns 0, 1 if malformed, 2 if NaN or inf. Exposed for tests. */
 int cg_parse_double(const char **p, double *out);
 

@@ -40,6 +40,8 @@ int cg_kernel_alloc(cg_kernel **out, const char *name, double width, cg_error *e
     }
     k->tab[0] = 0.0;
     k->tab[k->ntab - 1] = 1.0;
+    k->tscale = (double)(k->ntab - 1) / (2.0 * GAUSS_CUT * width);
+    k->toff = 0.5 * (double)(k->ntab - 1);
   } else if (type == CG_KERNEL_LUCY) {
     k->cutoff = LUCY_C * width;
   }
@@ -69,10 +71,8 @@ double cg_kernel_cdf(const cg_kernel *k, double x, double R)
 {
   switch (k->type) {
   case CG_KERNEL_GAUSS: {
-    double u = x / k->width;
-    if (u <= -GAUSS_CUT) return 0.0;
-    if (u >= GAUSS_CUT) return 1.0;
-    double f = (u + GAUSS_CUT) / (2.0 * GAUSS_CUT) * (double)(k->ntab - 1);
+    double f = x * k->tscale + k->toff; /* table coordinate */
+    if (f <= 0.0) return 0.0;
     size_t i = (size_t)f;
     if (i >= k->ntab - 1) return 1.0;
     double a = f - (double)i;
@@ -110,6 +110,28 @@ static size_t add_image(const cg_kernel *k, const cg_grid *g, double s, double R
   long k0 = fa < 0 ? 0 : (long)fa;
   long k1 = fb > (double)(g->n - 1) ? (long)g->n - 1 : (long)fb;
   double inv = 1.0 / g->dz;
+  if (k->type == CG_KERNEL_GAUSS) {
+    /* the hot path: table coordinate advances by a constant per edge */
+    const double *tab = k->tab;
+    double top = (double)(k->ntab - 1), df = g->dz * k->tscale;
+    double f = (g->lo + (double)k0 * g->dz - s) * k->tscale + k->toff;
+    double fc = f < 0.0 ? 0.0 : f > top ? top : f;
+    size_t i = (size_t)fc;
+    double fprev = i >= k->ntab - 1 ? 1.0 : tab[i] + (fc - (double)i) * (tab[i + 1] - tab[i]);
+    for (long kk = k0; kk <= k1; kk++) {
+      f += df;
+      fc = f < 0.0 ? 0.0 : f > top ? top : f;
+      i = (size_t)fc;
+      double fn = i >= k->ntab - 1 ? 1.0 : tab[i] + (fc - (double)i) * (tab[i + 1] - tab[i]);
+      double wt = (fn - fprev) * inv;
+      if (wt != 0.0) {
+        bin[cnt] = (size_t)kk;
+        w[cnt++] = wt;
+      }
+      fprev = fn;
+    }
+    return cnt;
+  }
   double fprev = cg_kernel_cdf(k, g->lo + (double)k0 * g->dz - s, R);
   for (long kk = k0; kk <= k1; kk++) {
     double fn = cg_kernel_cdf(k, g->lo + (double)(kk + 1) * g->dz - s, R);

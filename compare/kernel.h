@@ -32,6 +32,8 @@ typedef struct {
   double cutoff;   /* support half-width [m] (gauss 3w, lucy c; bins: 0) */
   size_t ntab;     /* tabulated points of F (gauss) */
   double *tab;     /* F at u = -3 + 6 i/(ntab-1), u = x/w (gauss) */
+  double tscale;   /* table index per metre [1/m] (gauss) */
+  double toff;     /* table index of x = 0 (gauss) */
 } cg_kernel;
 
 typedef struct {
