@@ -101,9 +101,9 @@ num() { # num NAME VALUE: check VALUE is a number
 calc() { awk "BEGIN { printf \"%.10g\", $* }"; }
 
 # --- engine ------------------------------------------------------------
-case $engine in
-  liggghts) exe=liggghts ;;
-  lammps)   exe=lmp ;;
+case $engine in   # LIGGGHTS_EXE, LAMMPS_EXE override the binaries
+  liggghts) exe=${LIGGGHTS_EXE:-liggghts} ;;
+  lammps)   exe=${LAMMPS_EXE:-lmp} ;;
 esac
 command -v "$exe" >/dev/null ||
   { echo "$prog: engine '$exe' not found (run scripts/deps.sh dem)" >&2; exit 3; }
@@ -232,10 +232,10 @@ run_case() { # run_case TAG "name value ..."
   local wall; wall=$(calc "$t1 - $t0")
   # --- loud failure detection ---
   if [ $rc -eq 124 ]; then st=timeout; msg="killed after ${timeout_s} s"
-  elif grep -qE '^ERROR|ERROR( on proc [0-9]+)?:' "$dir/screen.txt"; then
-    st=deck_error; msg=$(grep -m1 -E 'ERROR' "$dir/screen.txt")
   elif grep -qi 'lost atoms' "$dir/screen.txt"; then
     st=lost_atoms; msg=$(grep -m1 -i 'lost atoms' "$dir/screen.txt")
+  elif grep -qE '^ERROR|ERROR( on proc [0-9]+)?:' "$dir/screen.txt"; then
+    st=deck_error; msg=$(grep -m1 -E 'ERROR' "$dir/screen.txt")
   elif [ $rc -ne 0 ]; then st=engine_failed; msg="exit status $rc"
   elif awk '/^ *Step /{t=1;next} /^Loop time/{t=0} t && tolower($0) ~ /(^|[ \t])[-+]?(nan|inf)([ \t]|$)/ {f=1} END{exit !f}' "$dir/screen.txt"; then
     st=nan; msg="NaN or Inf in thermo output"

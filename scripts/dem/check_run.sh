@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# check_run.sh: assert that a finished DEM case is complete and usable.
+#
+#   scripts/dem/check_run.sh [--filling] DIR
+#
+# Checks: run.json has status "ok"; atoms.dump exists, has at least two
+# frames and its ITEM: ATOMS header names the columns the comparison tool
+# needs (id type x y z vx vy vz radius mass c_sa[1..6]); pairs.dump exists;
+# log and deck copies exist. With --filling also the mass balance: mass in
+# the box at the end equals the mass inserted (to 1e-9 relative) and the
+# scenario's target rho phi |w| A t_stop to 1%, and the bed is at rest
+# (kinetic energy per unit mass below [dem] rest_ke). Exit 0 if all pass.
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+filling=0
+[ "${1:-}" = --filling ] && { filling=1; shift; }
+[ $# -eq 1 ] || { echo "usage: check_run.sh [--filling] DIR" >&2; exit 2; }
+dir=$1; fail=0
+bad() { echo "check_run: $dir: $*" >&2; fail=1; }
+
+[ -f "$dir/run.json" ] || { bad "no run.json"; exit 1; }
+grep -q '"status": "ok"' "$dir/run.json" || bad "status is not ok: $(grep -o '"status": "[a-z_]*"' "$dir/run.json")"
+for f in deck.in vars.txt log.txt screen.txt atoms.dump pairs.dump; do
+  [ -s "$dir/$f" ] || bad "missing or empty $f"
+done
+if [ -s "$dir/atoms.dump" ]; then
+  frames=$(grep -c '^ITEM: TIMESTEP' "$dir/atoms.dump")
+  [ "$frames" -ge 2 ] || bad "atoms.dump has $frames frame(s), expected >= 2"
+  hdr=$(grep -m1 '^ITEM: ATOMS' "$dir/atoms.dump")
+  for c in id type x y z vx vy vz radius mass 'c_sa\[1\]' 'c_sa\[6\]'; do
+    echo "$hdr" | grep -qE " $c( |$)" || bad "atoms.dump: ITEM: ATOMS has no column '${c//\\/}'"
+  done
+fi
+if [ $filling -eq 1 ]; then
+  line=$(grep '^EKMDEM_MASS' "$dir/screen.txt")
+  [ -n "$line" ] || { bad "no EKMDEM_MASS line"; exit 1; }
+  ini=$root/$(sed -n 's/.*"scenario_file": "\([^"]*\)".*/\1/p' "$dir/run.json")
+  rest=$(awk -v sec=dem -v key=rest_ke -f "$here/ini.awk" "$ini") || rest=1e-5
+  echo "$line" | awk -v rest="$rest" -v dir="$dir" '{
+    for (i = 2; i < NF; i += 2) v[$i] = $(i + 1)
+    t = v["target"]; ins = v["inserted"]; fin = v["final"]; ke = v["ke_per_mass"]
+    e1 = (fin - ins) / ins; if (e1 < 0) e1 = -e1
+    e2 = (fin - t) / t;     if (e2 < 0) e2 = -e2
+    printf "filling mass: target %.6g kg, inserted %.6g kg, final %.6g kg (vs target %.3f%%), ke/mass %.3g J/kg (limit %s)\n", t, ins, fin, 100 * e2, ke, rest
+    f = 0
+    if (e1 > 1e-9) { print "check_run: " dir ": mass lost after insertion" > "/dev/stderr"; f = 1 }
+    if (e2 > 0.01) { print "check_run: " dir ": final mass differs from the inflow target by more than 1%" > "/dev/stderr"; f = 1 }
+    if (ke + 0 > rest + 0) { print "check_run: " dir ": bed not at rest" > "/dev/stderr"; f = 1 }
+    exit f }' || fail=1
+fi
+[ $fail -eq 0 ] && echo "check_run: $dir: ok"
+exit $fail
