@@ -13,8 +13,39 @@ static const char *const field_units[CG_NFIELD] = {
 const char *cg_field_name(int f) { return field_names[f]; }
 const char *cg_field_units(int f) { return field_units[f]; }
 
+/* Sub-grid nodes and their bin weights (CSR). */
+static int build_subgrid(cg_profile *p, cg_error *err)
+{
+  const cg_grid *g = &p->g;
+  double c = cg_kernel_support(p->k, 0.0);
+  p->h = g->dz / CG_SUBGRID;
+  size_t ext = 0;
+  if (g->periodic) {
+    p->x0 = g->lo;
+    p->nnode = g->n * CG_SUBGRID;
+  } else {
+    ext = (size_t)ceil(c / p->h) + 1;
+    p->x0 = g->lo - (double)ext * p->h;
+    p->nnode = g->n * CG_SUBGRID + 2 * ext + 1;
+  }
+  size_t maxw = cg_kernel_maxweights(g);
+  p->noff = malloc((p->nnode + 1) * sizeof *p->noff);
+  p->nbin = malloc(p->nnode * maxw * sizeof *p->nbin);
+  p->nwt = malloc(p->nnode * maxw * sizeof *p->nwt);
+  p->node = malloc(p->nnode * CG_NPRIM * sizeof *p->node);
+  if (!p->noff || !p->nbin || !p->nwt || !p->node)
+    return CG_ERROR(err, CG_ESYS, "out of memory (sub-grid)");
+  size_t used = 0;
+  for (size_t j = 0; j < p->nnode; j++) {
+    p->noff[j] = used;
+    used += cg_kernel_weights(p->k, g, p->x0 + (double)j * p->h, 0.0, p->nbin + used, p->nwt + used);
+  }
+  p->noff[p->nnode] = used;
+  return CG_OK;
+}
+
 int cg_profile_alloc(cg_profile **out, const cg_kernel *k, const cg_grid *g,
-                     cg_tmode tmode, cg_error *err)
+                     cg_tmode tmode, int exact, cg_error *err)
 {
   *out = NULL;
   if (g->n < 1 || !(g->hi > g->lo))
@@ -33,9 +64,18 @@ int cg_profile_alloc(cg_profile **out, const cg_kernel *k, const cg_grid *g,
   p->bin = malloc(p->cap * sizeof *p->bin);
   p->w = malloc(p->cap * sizeof *p->w);
   p->vel = malloc(3 * g->n * sizeof *p->vel);
-  if (!p->bin || !p->w || !p->vel) {
+  p->acc = malloc(CG_NPRIM * g->n * sizeof *p->acc);
+  if (!p->bin || !p->w || !p->vel || !p->acc) {
     cg_profile_free(p);
     return CG_ERROR(err, CG_ESYS, "out of memory");
+  }
+  p->sub = !exact && k->type != CG_KERNEL_BINS;
+  if (p->sub) {
+    int rc = build_subgrid(p, err);
+    if (rc) {
+      cg_profile_free(p);
+      return rc;
+    }
   }
   *out = p;
   return CG_OK;
@@ -48,6 +88,11 @@ void cg_profile_free(cg_profile *p)
   free(p->w);
   free(p->nw);
   free(p->vel);
+  free(p->acc);
+  free(p->noff);
+  free(p->nbin);
+  free(p->nwt);
+  free(p->node);
   free(p);
 }
 
@@ -94,23 +139,133 @@ static int reserve_weights(cg_profile *p, size_t used, size_t more, cg_error *er
   return CG_OK;
 }
 
+/* Node and fraction of a particle on the sub-grid; 0 if it is too far
+ * outside the grid to contribute. */
+static int locate_node(const cg_profile *p, double s, size_t *j0, size_t *j1, double *a)
+{
+  double u = (s - p->x0) / p->h, fl = floor(u);
+  *a = u - fl;
+  if (p->g.periodic) {
+    long N = (long)p->nnode, j = ((long)fl % N + N) % N;
+    *j0 = (size_t)j;
+    *j1 = (size_t)((j + 1) % N);
+    return 1;
+  }
+  if (fl < 0 || fl + 1 >= (double)p->nnode) return 0;
+  *j0 = (size_t)fl;
+  *j1 = *j0 + 1;
+  return 1;
+}
+
+/* Spread quantities q0..q0+nq-1 of the nodes into the bins (acc). */
+static void spread(cg_profile *p, int q0, int nq)
+{
+  for (size_t j = 0; j < p->nnode; j++) {
+    const double *src = p->node + j * CG_NPRIM + q0;
+    int any = 0;
+    for (int c = 0; c < nq; c++) any |= (src[c] != 0.0);
+    if (!any) continue;
+    for (size_t e = p->noff[j]; e < p->noff[j + 1]; e++) {
+      double *dst = p->acc + p->nbin[e] * CG_NPRIM + q0, w = p->nwt[e];
+      for (int c = 0; c < nq; c++) dst[c] += src[c] * w;
+    }
+  }
+}
+
+static int snapshot_subgrid(cg_profile *p, const cg_particles *pt, double *prim)
+{
+  size_t n = p->g.n;
+  double *acc = p->acc, *node = p->node;
+  memset(acc, 0, CG_NPRIM * n * sizeof *acc);
+  memset(node, 0, CG_NPRIM * p->nnode * sizeof *node);
+  int consistent = (p->tmode == CG_T_CONSISTENT);
+  for (size_t i = 0; i < pt->n; i++) {
+    size_t j0, j1;
+    double a;
+    if (!locate_node(p, pt->s[i], &j0, &j1, &a)) continue;
+    const double *v = pt->v + 3 * i;
+    double m = pt->m[i];
+    double q[CG_NPRIM];
+    q[CG_P_RHO] = m;
+    q[CG_P_PHI] = pt->vol[i];
+    q[CG_P_PX] = m * v[0];
+    q[CG_P_PY] = m * v[1];
+    q[CG_P_PZ] = m * v[2];
+    int nq = 5;
+    if (consistent || pt->S) {
+      nq = CG_NPRIM;
+      double mvv[6] = {q[CG_P_PX] * v[0], q[CG_P_PY] * v[1], q[CG_P_PZ] * v[2],
+                       q[CG_P_PX] * v[1], q[CG_P_PX] * v[2], q[CG_P_PY] * v[2]};
+      for (int c = 0; c < 6; c++) {
+        q[CG_P_KXX + c] = consistent ? mvv[c] : 0.0;
+        q[CG_P_SXX + c] = pt->S ? pt->S[6 * i + c] : 0.0;
+      }
+    }
+    double *d0 = node + j0 * CG_NPRIM, *d1 = node + j1 * CG_NPRIM, b = 1.0 - a;
+    for (int c = 0; c < nq; c++) {
+      d0[c] += q[c] * b;
+      d1[c] += q[c] * a;
+    }
+  }
+  spread(p, 0, (consistent || pt->S) ? CG_NPRIM : 5);
+  double *rho = prim + CG_P_RHO * n;
+  for (size_t k = 0; k < n; k++) {
+    const double *q = acc + k * CG_NPRIM;
+    double r = q[CG_P_RHO];
+    rho[k] = r;
+    p->vel[k] = r > 0 ? q[CG_P_PX] / r : 0.0;
+    p->vel[n + k] = r > 0 ? q[CG_P_PY] / r : 0.0;
+    p->vel[2 * n + k] = r > 0 ? q[CG_P_PZ] / r : 0.0;
+  }
+  if (consistent) {
+    static const int ia[6] = {0, 1, 2, 0, 0, 1}, ib[6] = {0, 1, 2, 1, 2, 2};
+    for (size_t k = 0; k < n; k++)
+      for (int c = 0; c < 6; c++)
+        acc[k * CG_NPRIM + CG_P_KXX + c] -=
+          acc[k * CG_NPRIM + CG_P_RHO] * p->vel[ia[c] * n + k] * p->vel[ib[c] * n + k];
+  } else {
+    for (size_t j = 0; j < p->nnode; j++)
+      memset(node + j * CG_NPRIM + CG_P_KXX, 0, 6 * sizeof *node);
+    for (size_t i = 0; i < pt->n; i++) {
+      size_t j0, j1;
+      double a;
+      if (!locate_node(p, pt->s[i], &j0, &j1, &a)) continue;
+      double V[3];
+      velocity_at(p, rho, pt->s[i], V);
+      const double *v = pt->v + 3 * i;
+      double m = pt->m[i];
+      double c0 = v[0] - V[0], c1 = v[1] - V[1], c2 = v[2] - V[2];
+      const double mcc[6] = {m * c0 * c0, m * c1 * c1, m * c2 * c2,
+                             m * c0 * c1, m * c0 * c2, m * c1 * c2};
+      double *d0 = node + j0 * CG_NPRIM + CG_P_KXX, *d1 = node + j1 * CG_NPRIM + CG_P_KXX;
+      double b = 1.0 - a;
+      for (int c = 0; c < 6; c++) {
+        d0[c] += mcc[c] * b;
+        d1[c] += mcc[c] * a;
+      }
+    }
+    spread(p, CG_P_KXX, 6);
+  }
+  double inv = 1.0 / pt->area;
+  for (size_t k = 0; k < n; k++)
+    for (size_t c = 0; c < CG_NPRIM; c++) prim[c * n + k] = acc[k * CG_NPRIM + c] * inv;
+  return CG_OK;
+}
+
 int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_error *err)
 {
   size_t n = p->g.n;
+  if (p->sub) return snapshot_subgrid(p, pt, prim);
   if (pt->n > p->ncap) {
     unsigned *nw = realloc(p->nw, pt->n * sizeof *nw);
     if (!nw) return CG_ERROR(err, CG_ESYS, "out of memory (kernel weights)");
     p->nw = nw;
     p->ncap = pt->n;
   }
-  memset(prim, 0, CG_NPRIM * n * sizeof *prim);
-  double *rho = prim + CG_P_RHO * n, *phi = prim + CG_P_PHI * n;
-  double *px = prim + CG_P_PX * n, *py = prim + CG_P_PY * n, *pz = prim + CG_P_PZ * n;
-  double *K[6], *S[6];
-  for (int c = 0; c < 6; c++) {
-    K[c] = prim + (CG_P_KXX + c) * n;
-    S[c] = prim + (CG_P_SXX + c) * n;
-  }
+  /* accumulate bin-major (the CG_NPRIM sums of a bin are contiguous, so a
+   * particle's update of a bin touches one or two cache lines) */
+  double *acc = p->acc;
+  memset(acc, 0, CG_NPRIM * n * sizeof *acc);
   int consistent = (p->tmode == CG_T_CONSISTENT);
   /* pass 1: mass, volume, momentum (and m v v, contact stress); the
    * weights are kept for pass 2 */
@@ -124,36 +279,43 @@ int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_
     p->nw[i] = (unsigned)nw;
     used += nw;
     const double *v = pt->v + 3 * i;
-    double m = pt->m[i], vol = pt->vol[i];
-    double mv[3] = {m * v[0], m * v[1], m * v[2]};
-    double mvv[6] = {mv[0] * v[0], mv[1] * v[1], mv[2] * v[2],
-                     mv[0] * v[1], mv[0] * v[2], mv[1] * v[2]};
-    const double *Si = pt->S ? pt->S + 6 * i : NULL;
+    double m = pt->m[i];
+    const double a[5] = {m, pt->vol[i], m * v[0], m * v[1], m * v[2]};
     for (size_t j = 0; j < nw; j++) {
-      size_t k = bin[j];
-      double w = wt[j];
-      rho[k] += m * w;
-      phi[k] += vol * w;
-      px[k] += mv[0] * w;
-      py[k] += mv[1] * w;
-      pz[k] += mv[2] * w;
-      if (consistent)
-        for (int c = 0; c < 6; c++) K[c][k] += mvv[c] * w;
-      if (Si)
-        for (int c = 0; c < 6; c++) S[c][k] += Si[c] * w;
+      double *q = acc + bin[j] * CG_NPRIM, w = wt[j];
+      for (int c = 0; c < 5; c++) q[CG_P_RHO + c] += a[c] * w;
+    }
+    if (consistent) {
+      const double mvv[6] = {a[2] * v[0], a[3] * v[1], a[4] * v[2],
+                             a[2] * v[1], a[2] * v[2], a[3] * v[2]};
+      for (size_t j = 0; j < nw; j++) {
+        double *q = acc + bin[j] * CG_NPRIM + CG_P_KXX, w = wt[j];
+        for (int c = 0; c < 6; c++) q[c] += mvv[c] * w;
+      }
+    }
+    if (pt->S) {
+      const double *Si = pt->S + 6 * i;
+      for (size_t j = 0; j < nw; j++) {
+        double *q = acc + bin[j] * CG_NPRIM + CG_P_SXX, w = wt[j];
+        for (int c = 0; c < 6; c++) q[c] += Si[c] * w;
+      }
     }
   }
+  double *rho = prim + CG_P_RHO * n;
   for (size_t k = 0; k < n; k++) {
-    double r = rho[k];
-    p->vel[k] = r > 0 ? px[k] / r : 0.0;
-    p->vel[n + k] = r > 0 ? py[k] / r : 0.0;
-    p->vel[2 * n + k] = r > 0 ? pz[k] / r : 0.0;
+    const double *q = acc + k * CG_NPRIM;
+    double r = q[CG_P_RHO];
+    rho[k] = r; /* for velocity_at */
+    p->vel[k] = r > 0 ? q[CG_P_PX] / r : 0.0;
+    p->vel[n + k] = r > 0 ? q[CG_P_PY] / r : 0.0;
+    p->vel[2 * n + k] = r > 0 ? q[CG_P_PZ] / r : 0.0;
   }
   if (consistent) {
     static const int ia[6] = {0, 1, 2, 0, 0, 1}, ib[6] = {0, 1, 2, 1, 2, 2};
     for (size_t k = 0; k < n; k++)
       for (int c = 0; c < 6; c++)
-        K[c][k] -= rho[k] * p->vel[ia[c] * n + k] * p->vel[ib[c] * n + k];
+        acc[k * CG_NPRIM + CG_P_KXX + c] -=
+          acc[k * CG_NPRIM + CG_P_RHO] * p->vel[ia[c] * n + k] * p->vel[ib[c] * n + k];
   } else {
     /* pass 2: fluctuations about the CG velocity at the particle */
     used = 0;
@@ -167,17 +329,18 @@ int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_
       const double *v = pt->v + 3 * i;
       double m = pt->m[i];
       double c0 = v[0] - V[0], c1 = v[1] - V[1], c2 = v[2] - V[2];
-      double mcc[6] = {m * c0 * c0, m * c1 * c1, m * c2 * c2,
-                       m * c0 * c1, m * c0 * c2, m * c1 * c2};
+      const double mcc[6] = {m * c0 * c0, m * c1 * c1, m * c2 * c2,
+                             m * c0 * c1, m * c0 * c2, m * c1 * c2};
       for (size_t j = 0; j < nw; j++) {
-        size_t k = bin[j];
-        double w = wt[j];
-        for (int c = 0; c < 6; c++) K[c][k] += mcc[c] * w;
+        double *q = acc + bin[j] * CG_NPRIM + CG_P_KXX, w = wt[j];
+        for (int c = 0; c < 6; c++) q[c] += mcc[c] * w;
       }
     }
   }
+  /* transpose to quantity-major, per unit area */
   double inv = 1.0 / pt->area;
-  for (size_t q = 0; q < CG_NPRIM * n; q++) prim[q] *= inv;
+  for (size_t k = 0; k < n; k++)
+    for (size_t c = 0; c < CG_NPRIM; c++) prim[c * n + k] = acc[k * CG_NPRIM + c] * inv;
   return CG_OK;
 }
 

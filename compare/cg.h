@@ -70,10 +70,27 @@ typedef struct {
   size_t ncap;        /* capacity of nw */
   unsigned *nw;       /* number of weights of each particle */
   double *vel;        /* scratch: V per bin, 3 x n [m/s] */
+  double *acc;        /* scratch: sums, bin-major, n x CG_NPRIM */
+  /* sub-grid path (gauss, lucy; see cg_profile_alloc) */
+  int sub;            /* 1: deposit on the sub-grid, then spread */
+  size_t nnode;       /* sub-grid nodes */
+  double x0, h;       /* position of node 0 and node spacing [m] */
+  size_t *noff;       /* node j's weights: noff[j] .. noff[j+1]-1 */
+  size_t *nbin;       /* their bins */
+  double *nwt;        /* their weights [1/m] */
+  double *node;       /* scratch: sums per node, nnode x CG_NPRIM */
 } cg_profile;
 
+/* exact: 1 evaluates the kernel for every particle; 0 (the fast default
+ * for gauss and lucy) deposits each particle linearly (cloud-in-cell) on a
+ * sub-grid of spacing h = dz/CG_SUBGRID and spreads the nodes with the
+ * kernel's exact bin weights. The sub-grid conserves mass and momentum
+ * exactly and widens the kernel's variance by a(1-a) h^2 <= h^2/4 for a
+ * particle at fraction a between nodes (with dz <= w/2, <= w^2/4096). The
+ * bins kernel depends on each particle's radius and is always exact. */
+#define CG_SUBGRID 16
 int cg_profile_alloc(cg_profile **p, const cg_kernel *k, const cg_grid *g,
-                     cg_tmode tmode, cg_error *err);
+                     cg_tmode tmode, int exact, cg_error *err);
 void cg_profile_free(cg_profile *p);
 
 /* Primary sums of one snapshot into prim (CG_NPRIM x n, overwritten). */

@@ -431,6 +431,9 @@ static int write_h5(const cg_run_opts *o, const cg_grid *g, const results *r,
   if (!rc) rc = cg_h5w_attr_str(w, "inputs", info->inputs, err);
   if (!rc) rc = cg_h5w_attr_str(w, "axis", axis_names[o->axis], err);
   if (!rc) rc = cg_h5w_attr_str(w, "kernel", cg_kernel_name(k), err);
+  if (!rc) rc = cg_h5w_attr_str(w, "kernel_evaluation",
+                                o->exact || !strcmp(o->kernel, "bins") ? "exact, per particle"
+                                : "sub-grid dz/16, cloud-in-cell", err);
   if (!rc) rc = cg_h5w_attr_double(w, "width", info->width, err);
   if (!rc) rc = cg_h5w_attr_double(w, "dz", g->dz, err);
   if (!rc) rc = cg_h5w_attr_double(w, "lo", g->lo, err);
@@ -558,7 +561,7 @@ int cg_run(const cg_run_opts *o, cg_error *err)
       info.width = width;
       if ((rc = make_grid(o, &src, width, &g, err))) break;
       if ((rc = cg_kernel_alloc(&k, o->kernel, width, err))) break;
-      if ((rc = cg_profile_alloc(&prof, k, &g, o->tmode, err))) break;
+      if ((rc = cg_profile_alloc(&prof, k, &g, o->tmode, o->exact, err))) break;
       if ((rc = cg_blocks_alloc(&fz.b, CG_NPRIM * g.n, BLOCKS_MAX, err))) break;
       fz.g = &g;
       fz.mean = malloc(CG_NPRIM * g.n * sizeof(double));

@@ -40,6 +40,7 @@ typedef struct {
   size_t every;              /* > 0: one profile per `every` snapshots */
   double window;             /* > 0: one profile per window [s] */
   cg_tmode tmode;            /* temperature definition */
+  int exact;                 /* 1: kernel per particle, no sub-grid (cg.h) */
   size_t nstress;            /* 0 or 6 per-atom stress columns */
   const char *stress[6];     /* names: xx yy zz xy xz yz (stress x volume) */
   FILE *log;                 /* notes and warnings, or NULL */

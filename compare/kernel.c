@@ -6,9 +6,20 @@
 #include <string.h>
 
 #define GAUSS_CUT 3.0        /* Gaussian cut at 3 standard deviations */
-#define GAUSS_NTAB 6001      /* points of the tabulated Gaussian F */
+#define GAUSS_NTAB 601       /* points of the tabulated Gaussian F (and F') */
 #define LUCY_C 3.2403703492  /* sqrt(21/2): Lucy cutoff / std. deviation */
 #define SQRT2 1.41421356237309504880
+
+/* Tabulated Gaussian F at table coordinate f in [0, ntab - 1]. */
+static inline double gauss_tab(const cg_kernel *k, double f)
+{
+  size_t i = (size_t)f;
+  if (i >= k->ntab - 1) return 1.0;
+  double a = f - (double)i, a2 = a * a, a3 = a2 * a;
+  const double *t = k->tab + 2 * i;
+  return t[0] * (2 * a3 - 3 * a2 + 1) + t[1] * (a3 - 2 * a2 + a) +
+         t[2] * (3 * a2 - 2 * a3) + t[3] * (a3 - a2);
+}
 
 int cg_kernel_alloc(cg_kernel **out, const char *name, double width, cg_error *err)
 {
@@ -28,18 +39,22 @@ int cg_kernel_alloc(cg_kernel **out, const char *name, double width, cg_error *e
   if (type == CG_KERNEL_GAUSS) {
     k->cutoff = GAUSS_CUT * width;
     k->ntab = GAUSS_NTAB;
-    k->tab = malloc(k->ntab * sizeof *k->tab);
+    k->tab = malloc(2 * k->ntab * sizeof *k->tab);
     if (!k->tab) {
       cg_kernel_free(k);
       return CG_ERROR(err, CG_ESYS, "out of memory");
     }
+    /* pairs (F_i, h F'_i), h the table step in u: cubic Hermite
+     * interpolation, error < 1e-10, 9.6 kB (stays in L1 cache) */
     double lo = 0.5 * erfc(GAUSS_CUT / SQRT2), norm = 1.0 - 2.0 * lo;
+    double h = 2.0 * GAUSS_CUT / (double)(k->ntab - 1);
     for (size_t i = 0; i < k->ntab; i++) {
-      double u = -GAUSS_CUT + 2.0 * GAUSS_CUT * (double)i / (double)(k->ntab - 1);
-      k->tab[i] = (0.5 * erfc(-u / SQRT2) - lo) / norm;
+      double u = -GAUSS_CUT + h * (double)i;
+      k->tab[2 * i] = (0.5 * erfc(-u / SQRT2) - lo) / norm;
+      k->tab[2 * i + 1] = h * exp(-0.5 * u * u) / (sqrt(2.0 * 3.14159265358979323846) * norm);
     }
     k->tab[0] = 0.0;
-    k->tab[k->ntab - 1] = 1.0;
+    k->tab[2 * (k->ntab - 1)] = 1.0;
     k->tscale = (double)(k->ntab - 1) / (2.0 * GAUSS_CUT * width);
     k->toff = 0.5 * (double)(k->ntab - 1);
   } else if (type == CG_KERNEL_LUCY) {
@@ -73,10 +88,7 @@ double cg_kernel_cdf(const cg_kernel *k, double x, double R)
   case CG_KERNEL_GAUSS: {
     double f = x * k->tscale + k->toff; /* table coordinate */
     if (f <= 0.0) return 0.0;
-    size_t i = (size_t)f;
-    if (i >= k->ntab - 1) return 1.0;
-    double a = f - (double)i;
-    return k->tab[i] + a * (k->tab[i + 1] - k->tab[i]);
+    return gauss_tab(k, f);
   }
   case CG_KERNEL_LUCY: {
     double r = x / k->cutoff;
@@ -112,17 +124,14 @@ static size_t add_image(const cg_kernel *k, const cg_grid *g, double s, double R
   double inv = 1.0 / g->dz;
   if (k->type == CG_KERNEL_GAUSS) {
     /* the hot path: table coordinate advances by a constant per edge */
-    const double *tab = k->tab;
     double top = (double)(k->ntab - 1), df = g->dz * k->tscale;
     double f = (g->lo + (double)k0 * g->dz - s) * k->tscale + k->toff;
     double fc = f < 0.0 ? 0.0 : f > top ? top : f;
-    size_t i = (size_t)fc;
-    double fprev = i >= k->ntab - 1 ? 1.0 : tab[i] + (fc - (double)i) * (tab[i + 1] - tab[i]);
+    double fprev = gauss_tab(k, fc);
     for (long kk = k0; kk <= k1; kk++) {
       f += df;
       fc = f < 0.0 ? 0.0 : f > top ? top : f;
-      i = (size_t)fc;
-      double fn = i >= k->ntab - 1 ? 1.0 : tab[i] + (fc - (double)i) * (tab[i + 1] - tab[i]);
+      double fn = gauss_tab(k, fc);
       double wt = (fn - fprev) * inv;
       if (wt != 0.0) {
         bin[cnt] = (size_t)kk;

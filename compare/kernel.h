@@ -7,8 +7,8 @@
  * continuous coarse-grained fields, and the weights of a particle sum to
  * exactly 1/dz x dz = 1 (mass is conserved to round-off) whenever the kernel
  * lies inside the grid. Kernels, all of standard deviation `width` w:
- *   gauss  Gaussian cut at 3w and renormalised (F tabulated, 6001 points,
- *          linear interpolation, error < 1e-7);
+ *   gauss  Gaussian cut at 3w and renormalised (F and F' tabulated at 601
+ *          points, cubic Hermite interpolation, error < 1e-10);
  *   lucy   Lucy's polynomial (5/4c)(1+3r)(1-r)^3, r = |x|/c, with cutoff
  *          c = sqrt(21/2) w (same standard deviation as the Gaussian);
  *   bins   exact sphere-slab volume bins: a sphere of radius R is split
@@ -31,7 +31,7 @@ typedef struct {
   double width;    /* standard deviation w [m] (gauss, lucy) */
   double cutoff;   /* support half-width [m] (gauss 3w, lucy c; bins: 0) */
   size_t ntab;     /* tabulated points of F (gauss) */
-  double *tab;     /* F at u = -3 + 6 i/(ntab-1), u = x/w (gauss) */
+  double *tab;     /* (F, h F') at u = -3 + h i, h = 6/(ntab-1), u = x/w (gauss) */
   double tscale;   /* table index per metre [1/m] (gauss) */
   double toff;     /* table index of x = 0 (gauss) */
 } cg_kernel;

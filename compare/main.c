@@ -23,6 +23,7 @@ static const char usage_text[] =
   "  --csv FILE           the same as CSV\n"
   "  --axis x|y|z         profile axis (default z)\n"
   "  --kernel K           gauss (default), lucy or bins (exact sphere-slab volumes)\n"
+  "  --exact-kernel       evaluate gauss/lucy per particle instead of on a dz/16 sub-grid\n"
   "  --width W            kernel standard deviation [m] (default: mean diameter)\n"
   "  --bins N | --dz DZ   output grid (default dz = width/2)\n"
   "  --range LO:HI        grid extent [m] (default: the box; no wall reflection)\n"
@@ -164,6 +165,7 @@ static int cmd_cg(int argc, char **argv, cg_error *err)
       o.have_steps = 1;
     }
     else if (!strcmp(a, "--steady")) o.steady = 1;
+    else if (!strcmp(a, "--exact-kernel")) o.exact = 1;
     else if (!strcmp(a, "--every")) { ARG(); rc = get_size(a, v, &o.every, err); }
     else if (!strcmp(a, "--window")) { ARG(); rc = get_double(a, v, &o.window, err);
       if (!rc && !(o.window > 0)) rc = usage_error(err, "--window: expected a positive duration, got '%s'", v); }

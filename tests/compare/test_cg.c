@@ -43,10 +43,11 @@ static void read_field(const char *path, const char *name, profile *p)
   cg_h5r_close(r);
 }
 
-static void run_cg(const char *dump, const char *out, const char *kernel, double width,
-                   size_t bins, cg_tmode tmode, size_t every)
+static void run_cg_x(const char *dump, const char *out, const char *kernel, double width,
+                     size_t bins, cg_tmode tmode, size_t every, int exact)
 {
   cg_run_opts o = cg_run_opts_default();
+  o.exact = exact;
   const char *in[1] = {dump};
   o.inputs = in;
   o.ninputs = 1;
@@ -59,6 +60,12 @@ static void run_cg(const char *dump, const char *out, const char *kernel, double
   cg_error err;
   int rc = cg_run(&o, &err);
   if (rc) fail_msg("cg_run: %s", err.msg);
+}
+
+static void run_cg(const char *dump, const char *out, const char *kernel, double width,
+                   size_t bins, cg_tmode tmode, size_t every)
+{
+  run_cg_x(dump, out, kernel, width, bins, tmode, every, 0);
 }
 
 /* |f - truth| <= 3 SE in every bulk bin (>= `edge` from the walls), and
@@ -191,9 +198,9 @@ static void test_mass_identity(void **state)
   assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "mass.dump"), &o), 0);
   double m = o.rho_p * 4.0 / 3.0 * PI * pow(o.radius, 3);
   double expect = (double)o.natoms * m / (o.lx * o.ly);
-  const char *kernels[] = {"gauss", "lucy", "bins"};
-  for (int ik = 0; ik < 3; ik++) {
-    run_cg(dump, tmp_path(out, sizeof out, "mass.h5"), kernels[ik], 0.003, 37, CG_T_PARTICLE, 1);
+  const char *kernels[] = {"gauss", "lucy", "bins", "gauss", "lucy"};
+  for (int ik = 0; ik < 5; ik++) {
+    run_cg_x(dump, tmp_path(out, sizeof out, "mass.h5"), kernels[ik], 0.003, 37, CG_T_PARTICLE, 1, ik >= 3);
     profile p;
     read_field(out, "rho", &p);
     assert_int_equal(p.nt, 3);
@@ -204,6 +211,32 @@ static void test_mass_identity(void **state)
       assert_close(sum, expect, 1e-9 * expect);
     }
     profile_free(&p);
+  }
+}
+
+/* The sub-grid (default) and the per-particle kernel agree: the sub-grid
+ * only widens the kernel variance by <= (dz/32)^2. */
+static void test_subgrid_vs_exact(void **state)
+{
+  (void)state;
+  synth_opts o = base();
+  o.nsnap = 4;
+  o.gdot = 3.0;
+  char dump[512], h1[512], h2[512];
+  assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "sub.dump"), &o), 0);
+  const char *kernels[] = {"gauss", "lucy"};
+  for (int ik = 0; ik < 2; ik++) {
+    run_cg_x(dump, tmp_path(h1, sizeof h1, "sub1.h5"), kernels[ik], 0.002, 20, CG_T_PARTICLE, 0, 0);
+    run_cg_x(dump, tmp_path(h2, sizeof h2, "sub2.h5"), kernels[ik], 0.002, 20, CG_T_PARTICLE, 0, 1);
+    const char *f[] = {"phi", "vx", "T"};
+    for (int i = 0; i < 3; i++) {
+      profile a, b;
+      read_field(h1, f[i], &a);
+      read_field(h2, f[i], &b);
+      for (size_t k = 0; k < a.n; k++) assert_close(a.f[k], b.f[k], 2e-4 * fabs(b.f[k]) + 1e-3 * b.se[k]);
+      profile_free(&a);
+      profile_free(&b);
+    }
   }
 }
 
@@ -357,6 +390,7 @@ int main(void)
     cmocka_unit_test(test_recovery),
     cmocka_unit_test(test_shear_temperatures),
     cmocka_unit_test(test_mass_identity),
+    cmocka_unit_test(test_subgrid_vs_exact),
     cmocka_unit_test(test_galilean),
     cmocka_unit_test(test_shuffled_columns),
     cmocka_unit_test(test_contact_stress),
