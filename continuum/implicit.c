@@ -17,7 +17,8 @@ ekm_implicit_work *ekm_implicit_alloc(int n)
     wk->sup = calloc(m, sizeof(double));
     wk->rhs = calloc(m, sizeof(double));
     wk->x = calloc(m, sizeof(double));
-    if (!wk->diag || !wk->sub || !wk->sup || !wk->rhs || !wk->x) {
+    wk->aux = calloc(m, sizeof(double));
+    if (!wk->diag || !wk->sub || !wk->sup || !wk->rhs || !wk->x || !wk->aux) {
         ekm_implicit_free(wk);
         return NULL;
     }
@@ -33,6 +34,7 @@ void ekm_implicit_free(ekm_implicit_work *wk)
     free(wk->sup);
     free(wk->rhs);
     free(wk->x);
+    free(wk->aux);
     free(wk);
 }
 
@@ -149,13 +151,20 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
 }
 
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz,
-                                    const ekm_material *m, ekm_variant v, const double *phi,
-                                    const double *rhoT_star, const double *lambda,
-                                    const double *u2, const double *w2,
-                                    const unsigned char *dry, double T_floor, double tol,
-                                    int newton_max, double *T, int *iterations, ekm_error *err)
+                                    double rho_p, const double *phi, const double *rhoT_star,
+                                    const double *lambda, const ekm_source_coeffs *src,
+                                    const double *T_balance, const unsigned char *dry,
+                                    double T_floor, double tol, int newton_max, double *T,
+                                    int *iterations, ekm_error *err)
 {
     const double a = 2.0 / 3.0 * dt / (dz * dz);
+    /* Face conductances (lagged); lam_face[j] is the face between cells
+     * j-1 and j, zero at the (adiabatic) ends. */
+    double *lam_face = wk->aux;
+    lam_face[0] = 0.0;
+    for (int j = 1; j < n; j++)
+        lam_face[j] = harmonic(lambda[j - 1], lambda[j]);
+    lam_face[n] = 0.0;
     for (int it = 1; it <= newton_max; it++) {
         for (int j = 0; j < n; j++) {
             if (dry[j]) {
@@ -163,13 +172,16 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
                 wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
                 continue;
             }
-            const double l_below = j > 0 ? harmonic(lambda[j - 1], lambda[j]) : 0.0;
-            const double l_above = j < n - 1 ? harmonic(lambda[j], lambda[j + 1]) : 0.0;
+            const double rho = rho_p * phi[j];
+            double dS;
+            double S = ekm_source_eval(&src[j], T[j], &dS);
+            if (it == 1 && dt * fabs(dS) > 10.0 * rho) {
+                T[j] = fmax(T_balance[j], T_floor);
+                S = ekm_source_eval(&src[j], T[j], &dS);
+            }
+            const double l_below = lam_face[j], l_above = lam_face[j + 1];
             const double T_below = j > 0 ? T[j - 1] : 0.0;
             const double T_above = j < n - 1 ? T[j + 1] : 0.0;
-            double dS;
-            const double S = ekm_temperature_source(m, v, phi[j], T[j], u2[j], w2[j], &dS);
-            const double rho = m->rho_p * phi[j];
             const double residual = rho * T[j] - rhoT_star[j]
                 - a * (l_above * (T_above - T[j]) - l_below * (T[j] - T_below)) - dt * S;
             wk->diag[j] = rho + a * (l_below + l_above) - dt * dS;
@@ -200,7 +212,9 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
         }
         if (!isfinite(change))
             return EKM_FAIL(err, EKM_ENUMERIC, "temperature: non-finite Newton update");
-        if (change < tol) {
+        /* Newton converges quadratically: once an update is below
+         * sqrt(tol), the remaining error (~ update^2) is below tol. */
+        if (change < tol || change * change < tol) {
             *iterations = it;
             return EKM_OK;
         }

@@ -21,7 +21,8 @@
 
 typedef struct {
     int n;        /* cells */
-    double *diag, *sub, *sup, *rhs, *x; /* n + 1 each */
+    double *diag, *sub, *sup, *rhs, *x; /* the system and its solution, n + 1 each */
+    double *aux;  /* face conductances of the temperature solve, n + 1 */
 } ekm_implicit_work;
 
 ekm_implicit_work *ekm_implicit_alloc(int n);
@@ -51,15 +52,17 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
                                        ekm_implicit_end top, double *u, ekm_error *err);
 
 /* Temperature equation, Newton's method.  phi [-] (new), rhoT_star
- * [kg/(m s^2)] after convection, lambda [kg/(m s)] lagged, u2, w2 [1/s^2]
- * squared gradients at cells; T holds the initial guess on entry and the
- * solution on success.  Returns EKM_ENUMERIC when Newton does not converge
- * in newton_max iterations (the caller retries with a smaller step). */
+ * [kg/(m s^2)] after convection, lambda [kg/(m s)] lagged, src the source
+ * coefficients of each cell (model.h); T holds the initial guess on entry
+ * and the solution on success.  Where the source relaxes much faster than
+ * dt (quasi-static beds), the guess is replaced by the local balance
+ * T_balance.  Returns EKM_ENUMERIC when Newton does not converge in
+ * newton_max iterations (the caller retries with a smaller step). */
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz,
-                                    const ekm_material *m, ekm_variant v, const double *phi,
-                                    const double *rhoT_star, const double *lambda,
-                                    const double *u2, const double *w2,
-                                    const unsigned char *dry, double T_floor, double tol,
-                                    int newton_max, double *T, int *iterations, ekm_error *err);
+                                    double rho_p, const double *phi, const double *rhoT_star,
+                                    const double *lambda, const ekm_source_coeffs *src,
+                                    const double *T_balance, const unsigned char *dry,
+                                    double T_floor, double tol, int newton_max, double *T,
+                                    int *iterations, ekm_error *err);
 
 #endif

@@ -124,9 +124,10 @@ static int cmd_run(int argc, char **argv)
         const double m0 = stats.mass_initial, m1 = stats.mass_final;
         const double scale = fmax(fmax(m0, m1), 1e-300);
         printf("%-20s t = %-8.4g s  %7ld steps (%ld rejected)  %5d cells  phi_max %.4f  "
-               "mass balance %.1e  %.3f s  -> %s\n",
+               "mass balance %.1e  Newton/step %.2f  %.3f s  -> %s\n",
                sc.name, s->t, stats.steps, stats.rejected, sc.cells, stats.phi_max,
-               (m1 - m0 - stats.mass_in) / scale, stats.wall_s, out);
+               (m1 - m0 - stats.mass_in) / scale,
+               stats.steps ? (double)stats.newton_iterations / stats.steps : 0.0, stats.wall_s, out);
     }
     ekm_step_free(stepper);
     ekm_state_free(s);

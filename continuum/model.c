@@ -127,6 +127,21 @@ double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi,
     return S;
 }
 
+ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_variant v, double phi,
+                                                double u2, double w2)
+{
+    double cn, cny;
+    normal_lengths(m, v, &cn, &cny);
+    const double g = ekm_g(m, phi);
+    const double Y = ekm_yield_temperature(m, phi);
+    ekm_source_coeffs c;
+    c.k_heat_a = m->rho_p * g * 2.0 / 3.0 * (m->eta0 * u2 + cn * w2);
+    c.k_heat_y = m->rho_p * g * 2.0 / 3.0 * Y * (m->nu * m->eta0 * u2 + cny * w2);
+    c.k_diss = m->rho_p * g * phi * m->eps0;
+    c.nuY = m->nu * Y;
+    return c;
+}
+
 double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v,
                                      double phi, double u2, double w2)
 {

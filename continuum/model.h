@@ -92,6 +92,29 @@ ekm_slab_stress ekm_stress_slab(const ekm_material *m, ekm_variant v, double phi
 double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi,
                               double T, double u2, double w2, double *dS_dT);
 
+/* The source written as S(T) = k_heat_a sqrt(T) + k_heat_y / sqrt(T)
+ * - k_diss (T^(3/2) + nu Y sqrt(T)): the coefficients depend on phi and
+ * the gradients only, so an implicit solve computes them once per step. */
+typedef struct {
+    double k_heat_a; /* rho_p g 2/3 Ka [kg/(m^2 s^2)] */
+    double k_heat_y; /* rho_p g 2/3 Kb [kg/s^4] */
+    double k_diss;   /* rho_p g phi eps0 [kg/m^4] */
+    double nuY;      /* nu Y [m^2/s^2] */
+} ekm_source_coeffs;
+
+ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_variant v, double phi,
+                                                double u2, double w2);
+
+/* S(T) and dS/dT from precomputed coefficients (T > 0). */
+static inline double ekm_source_eval(const ekm_source_coeffs *c, double T, double *dS_dT)
+{
+    const double a = __builtin_sqrt(T);
+    const double inv_a = 1.0 / a;
+    const double heat_y = c->k_heat_y * inv_a;
+    *dS_dT = 0.5 * inv_a * (c->k_heat_a - heat_y * inv_a - c->k_diss * (3.0 * T + c->nuY));
+    return c->k_heat_a * a + heat_y - c->k_diss * a * (T + c->nuY);
+}
+
 /* The temperature at which S(T) = 0 (local balance of viscous heating and
  * dissipation): the positive root of
  *   phi eps0 T^2 + (phi eps0 nu Y - 2/3 Ka) T - 2/3 Kb = 0,

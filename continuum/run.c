@@ -74,6 +74,7 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
         if (s->t < t_target * (1.0 - 1e-12))
             dt_prev = dt;
         stats->steps++;
+        stats->newton_iterations += st->newton_iterations;
         stats->cell_updates += s->n;
         if (s->t >= t_next_out * (1.0 - 1e-12)) {
             frame++;

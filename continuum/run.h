@@ -25,6 +25,7 @@ typedef struct {
     double mass_final;   /* [kg/m^2] */
     double mass_in;      /* net boundary inflow [kg/m^2] */
     double phi_max;      /* largest phi of any output frame [-] */
+    long newton_iterations; /* temperature Newton iterations, all steps */
 } ekm_run_stats;
 
 ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,

@@ -51,6 +51,7 @@ static const key_spec KEYS[] = {
     {"initial", "phi", KEY_DOUBLE, SC(phi_init), 0, 1, NULL},
     {"initial", "T", KEY_DOUBLE, SC(T_init), 0, 0, NULL},
     {"initial", "u", KEY_DOUBLE, SC(u_init), 0, 0, NULL},
+    {"initial", "shear_rate", KEY_DOUBLE, SC(shear_rate_init), 0, 0, NULL},
     {"initial", "layer_height", KEY_DOUBLE, SC(layer_height), 0, 0, NULL},
     BC_KEYS(bottom),
     BC_KEYS(top),
@@ -88,7 +89,7 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->numerics = (ekm_numerics){
         .cfl = 0.4, .convection = EKM_CONVECTION_UPWIND, .limiter = "vanleer",
         .dt_max = INFINITY, .dt_min = 1e-12, .phi_dry = 1e-9, .T_floor = 1e-16,
-        .phi_step_max = 0.5, .newton_tol = 1e-9, .newton_max = 30,
+        .phi_step_max = 0.05, .newton_tol = 1e-9, .newton_max = 30,
     };
 }
 

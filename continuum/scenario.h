@@ -66,7 +66,8 @@ typedef struct {
     double angle_deg;       /* tilt of gravity in the x-z plane [deg]: g = G (sin a, -cos a) */
     double phi_init;        /* initial volume fraction below layer_height [-] */
     double T_init;          /* initial granular temperature [m^2/s^2] */
-    double u_init;          /* initial tangential velocity [m/s] */
+    double u_init;          /* initial tangential velocity at z = 0 [m/s] */
+    double shear_rate_init; /* initial du/dz: u = u_init + shear_rate z [1/s] */
     double layer_height;    /* material fills z < layer_height; vacuum above [m] */
     ekm_bc bottom, top;
     double t_end;           /* end time [s] */

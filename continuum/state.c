@@ -58,7 +58,7 @@ void ekm_state_init(ekm_state *s, const ekm_scenario *sc)
                      : (sc->layer_height - lo) / s->dz;
         s->phi[j] = sc->phi_init * cover;
         s->T[j] = s->phi[j] > sc->numerics.phi_dry ? sc->T_init : 0.0;
-        s->u[j] = s->phi[j] > sc->numerics.phi_dry ? sc->u_init : 0.0;
+        s->u[j] = s->phi[j] > sc->numerics.phi_dry ? sc->u_init + sc->shear_rate_init * s->z[j] : 0.0;
     }
     for (int f = 0; f <= s->n; f++)
         s->w[f] = 0.0;

@@ -33,6 +33,8 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->u2 = calloc(c, sizeof(double));
     st->w2 = calloc(c, sizeof(double));
     st->mom_c = calloc(c, sizeof(double));
+    st->src = calloc(c, sizeof *st->src);
+    st->T_balance = calloc(c, sizeof(double));
     st->rho_face = calloc(f, sizeof(double));
     st->rhs_face = calloc(f, sizeof(double));
     st->rhs_cell = calloc(c, sizeof(double));
@@ -41,7 +43,7 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->wk = ekm_implicit_alloc(n);
     st->backup = ekm_state_alloc(n, sc->length);
     if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P ||
-        !st->eta || !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c ||
+        !st->eta || !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src || !st->T_balance ||
         !st->rho_face || !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face ||
         !st->wk || !st->backup) {
         ekm_step_free(st);
@@ -65,7 +67,7 @@ void ekm_step_free(ekm_stepper *st)
         return;
     free(st->F); free(st->qF); free(st->phi_new); free(st->rhoU); free(st->rhoT);
     free(st->T_star); free(st->P); free(st->eta); free(st->mu_n); free(st->lambda);
-    free(st->u2); free(st->w2); free(st->mom_c); free(st->rho_face); free(st->rhs_face);
+    free(st->u2); free(st->w2); free(st->mom_c); free(st->src); free(st->T_balance); free(st->rho_face); free(st->rhs_face);
     free(st->rhs_cell); free(st->dry); free(st->dry_face);
     ekm_implicit_free(st->wk);
     ekm_state_free(st->backup);
@@ -81,11 +83,21 @@ double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
     speed = fmax(speed, sc->bottom.kind == EKM_BC_INFLOW ? fabs(sc->bottom.w) : 0.0);
     speed = fmax(speed, sc->top.kind == EKM_BC_INFLOW ? fabs(sc->top.w) : 0.0);
     double c_max = 0.0;
+    /* Compression limit: predicted dphi/dt = -phi dw/dz must not close more
+     * than half of phi_step_max of the gap to phi_cp in one step (the
+     * step is rejected beyond phi_step_max; this avoids most rejections). */
+    double rate_max = 0.0; /* largest compression rate relative to the gap [1/s] */
+    const double phi_cp = sc->material.phi_cp;
     for (int j = 0; j < s->n; j++)
-        if (s->phi[j] >= sc->numerics.phi_dry)
+        if (s->phi[j] >= sc->numerics.phi_dry) {
             c_max = fmax(c_max, ekm_sound_speed(&sc->material, s->phi[j], s->T[j]));
+            const double compression = -s->phi[j] * (s->w[j + 1] - s->w[j]) / s->dz;
+            rate_max = fmax(rate_max, compression / (phi_cp - s->phi[j]));
+        }
     speed += c_max;
     double dt = speed > 0.0 ? sc->numerics.cfl * s->dz / speed : sc->numerics.dt_max;
+    if (rate_max > 0.0)
+        dt = fmin(dt, 0.5 * sc->numerics.phi_step_max / rate_max);
     return fmin(dt, sc->numerics.dt_max);
 }
 
@@ -273,24 +285,16 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     memcpy(s->phi, st->phi_new, (size_t)n * sizeof *s->phi);
     shear_rates(st, s, &bb, &bt);
     for (int j = 0; j < n; j++) {
-        if (st->dry[j]) {
-            s->T[j] = 0.0;
+        s->T[j] = st->T_star[j];
+        if (st->dry[j])
             continue;
-        }
-        /* Initial guess: T*, or the local balance where the source relaxes
-         * faster than the step (the quasi-static beds). */
-        double dS;
-        const double rho = m->rho_p * s->phi[j];
-        ekm_temperature_source(m, sc->variant, s->phi[j], st->T_star[j], st->u2[j], st->w2[j], &dS);
-        double guess = st->T_star[j];
-        if (dt * fabs(dS) > 10.0 * rho)
-            guess = fmax(ekm_temperature_local_balance(m, sc->variant, s->phi[j], st->u2[j], st->w2[j]),
-                         sc->numerics.T_floor);
-        s->T[j] = guess;
+        st->src[j] = ekm_temperature_source_coeffs(m, sc->variant, s->phi[j], st->u2[j], st->w2[j]);
+        /* Local balance: the Newton guess where the source is stiff. */
+        st->T_balance[j] = ekm_temperature_local_balance(m, sc->variant, s->phi[j], st->u2[j], st->w2[j]);
     }
     int iterations = 0;
-    if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m, sc->variant, s->phi, st->rhoT, st->lambda,
-                                 st->u2, st->w2, st->dry, sc->numerics.T_floor, sc->numerics.newton_tol,
+    if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src,
+                                 st->T_balance, st->dry, sc->numerics.T_floor, sc->numerics.newton_tol,
                                  sc->numerics.newton_max, s->T, &iterations, &serr) != EKM_OK) {
         snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s, dt = %.3g s: %.400s", s->t, dt,
                  serr.message);

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# Bad scenario files and command lines: each gives exactly one error line
+# naming the file (or --set), the section and key, a non-zero exit code,
+# and leaves no output file behind.
+# usage: bad_input.sh EKM_BINARY SOURCE_DIR WORK_DIR
+set -u
+ekm=$1 src=$2 work=$3
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+base="$src/scenarios/chute.ini"
+failures=0 passed=0
+
+# check NAME EXPECTED_EXIT 'PATTERN' ARGS... : run ekm, check exit code, one
+# stderr line matching PATTERN, and no out.h5 / out.h5.tmp / out.xdmf.
+check() {
+    local name=$1 want_rc=$2 pattern=$3; shift 3
+    rm -f out.h5 out.h5.tmp out.xdmf out.xdmf.tmp
+    "$ekm" "$@" 2> err.txt > /dev/null
+    local rc=$? lines msg
+    lines=$(wc -l < err.txt)
+    msg=$(cat err.txt)
+    if [ "$rc" -ne "$want_rc" ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$pattern" err.txt \
+       || [ -e out.h5 ] || [ -e out.h5.tmp ] || [ -e out.xdmf ]; then
+        echo "FAIL $name: exit $rc (want $want_rc), $lines lines: $msg"
+        failures=$((failures + 1))
+    else
+        echo "ok   $name: $msg"
+        passed=$((passed + 1))
+    fi
+}
+
+grep -v '^eps0' "$base" > missing.ini
+check "missing key" 2 "missing.ini: \[material\] eps0: missing" run missing.ini -o out.h5
+
+sed 's/^\[material\]/[material]\nfoo = 1/' "$base" > unknown.ini
+check "unknown key" 2 "unknown.ini:[0-9]+: \[material\] foo: unknown key" run unknown.ini -o out.h5
+
+sed 's/^phi_cp .*/phi_cp = -0.64/' "$base" > negative.ini
+check "negative phi_cp" 2 "negative.ini.*\[material\] phi_cp: expected" run negative.ini -o out.h5
+
+sed 's/^eps0 .*/eps0 = 5x0/' "$base" > malformed.ini
+check "malformed number" 2 "malformed.ini:[0-9]+: \[material\] eps0: expected a number, got '5x0'" \
+    run malformed.ini -o out.h5
+
+check "unreadable file" 2 "nonexistent.ini: cannot open scenario file" run nonexistent.ini -o out.h5
+
+cp "$base" unreadable.ini && chmod 000 unreadable.ini
+if [ "$(id -u)" -ne 0 ]; then
+    check "permission denied" 2 "unreadable.ini: cannot open" run unreadable.ini -o out.h5
+fi
+
+printf '[materal]\nrho_p = 1\n' | cat - "$base" > section.ini
+check "unknown section" 2 "section.ini:[0-9]+: \[materal\]: unknown section" run section.ini -o out.h5
+
+printf 'this is not ini\n' | cat "$base" - > syntax.ini
+check "syntax error" 2 "syntax.ini:[0-9]+: expected" run syntax.ini -o out.h5
+
+check "bad --set value" 2 "--set.*\[domain\] cells: expected an integer, got 'many'" \
+    run "$base" -o out.h5 --set domain.cells=many
+
+check "--set out of range" 2 "--set domain.length.*expected a length > 0" \
+    run "$base" -o out.h5 --set domain.length=-1
+
+check "inflow key on a wall" 2 "\[bottom\] phi: only allowed with type = inflow" \
+    run "$base" -o out.h5 --set bottom.phi=0.3
+
+check "missing argument" 1 "missing scenario file" run -o out.h5
+
+check "unknown command" 1 "unknown command 'walk'" walk "$base"
+
+# A run that cannot continue leaves no output either: a dt_min larger than
+# any possible step makes the first rejection fatal.
+check "solver failure" 4 "phi .* -> " run "$base" -o out.h5 --set initial.T=1e2 \
+    --set numerics.phi_step_max=1e-9 --set numerics.dt_min=1e-3 --set numerics.dt_max=1
+
+echo "$passed passed, $failures failed"
+[ "$failures" -eq 0 ]
