@@ -172,6 +172,68 @@ static void spread(cg_profile *p, int q0, int nq)
   }
 }
 
+/* Points of the midpoint rule along a contact's branch, at most h apart. */
+static size_t branch_points(const cg_profile *p, double bs)
+{
+  double m = ceil(fabs(bs) / p->h);
+  return m < 1 ? 1 : m > 1e6 ? 1000000 : (size_t)m;
+}
+
+static void contact_tensor(const cg_particles *pt, size_t c, double out[6])
+{
+  const double *b = pt->cb + 3 * c, *f = pt->cf + 3 * c;
+  out[0] = -f[0] * b[0];
+  out[1] = -f[1] * b[1];
+  out[2] = -f[2] * b[2];
+  out[3] = -0.5 * (f[0] * b[1] + f[1] * b[0]);
+  out[4] = -0.5 * (f[0] * b[2] + f[2] * b[0]);
+  out[5] = -0.5 * (f[1] * b[2] + f[2] * b[1]);
+}
+
+/* Contact stress onto the sub-grid nodes (S part). */
+static void deposit_contacts_sub(cg_profile *p, const cg_particles *pt)
+{
+  int ax = p->g.axis;
+  for (size_t c = 0; c < pt->nc; c++) {
+    double t[6], bs = pt->cb[3 * c + ax];
+    contact_tensor(pt, c, t);
+    size_t M = branch_points(p, bs);
+    for (size_t q = 0; q < M; q++) {
+      size_t j0, j1;
+      double a, s = pt->cs[c] + ((double)q + 0.5) / (double)M * bs;
+      if (!locate_node(p, s, &j0, &j1, &a)) continue;
+      double *d0 = p->node + j0 * CG_NPRIM + CG_P_SXX, *d1 = p->node + j1 * CG_NPRIM + CG_P_SXX;
+      double w1 = a / (double)M, w0 = (1.0 - a) / (double)M;
+      for (int k = 0; k < 6; k++) {
+        d0[k] += t[k] * w0;
+        d1[k] += t[k] * w1;
+      }
+    }
+  }
+}
+
+/* Contact stress with the kernel evaluated at every branch point (exact path). */
+static int deposit_contacts_exact(cg_profile *p, const cg_particles *pt)
+{
+  int ax = p->g.axis;
+  double h = p->g.dz / CG_SUBGRID;
+  for (size_t c = 0; c < pt->nc; c++) {
+    double t[6], bs = pt->cb[3 * c + ax];
+    contact_tensor(pt, c, t);
+    double mm = ceil(fabs(bs) / h);
+    size_t M = mm < 1 ? 1 : mm > 1e6 ? 1000000 : (size_t)mm;
+    for (size_t q = 0; q < M; q++) {
+      double s = pt->cs[c] + ((double)q + 0.5) / (double)M * bs;
+      size_t nw = cg_kernel_weights(p->k, &p->g, s, 0.0, p->bin, p->w);
+      for (size_t j = 0; j < nw; j++) {
+        double *d = p->acc + p->bin[j] * CG_NPRIM + CG_P_SXX, w = p->w[j] / (double)M;
+        for (int k = 0; k < 6; k++) d[k] += t[k] * w;
+      }
+    }
+  }
+  return CG_OK;
+}
+
 static int snapshot_subgrid(cg_profile *p, const cg_particles *pt, double *prim)
 {
   size_t n = p->g.n;
@@ -207,7 +269,8 @@ static int snapshot_subgrid(cg_profile *p, const cg_particles *pt, double *prim)
       d1[c] += q[c] * a;
     }
   }
-  spread(p, 0, (consistent || pt->S) ? CG_NPRIM : 5);
+  if (pt->nc) deposit_contacts_sub(p, pt);
+  spread(p, 0, (consistent || pt->S || pt->nc) ? CG_NPRIM : 5);
   double *rho = prim + CG_P_RHO * n;
   for (size_t k = 0; k < n; k++) {
     const double *q = acc + k * CG_NPRIM;
@@ -337,6 +400,7 @@ int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_
       }
     }
   }
+  if (pt->nc) deposit_contacts_exact(p, pt);
   /* transpose to quantity-major, per unit area */
   double inv = 1.0 / pt->area;
   for (size_t k = 0; k < n; k++)

@@ -12,7 +12,11 @@
  * particle: CG_T_PARTICLE, the default) or c_i = v_i - V_k
  * (CG_T_CONSISTENT: K = sum m v v W / A - rho V V). S_i is the per-atom
  * stress x volume of LAMMPS `compute stress/atom` [Pa m^3], sign as the
- * engine's (negative in compression, as ours).
+ * engine's (negative in compression, as ours). Or, from a pair dump, the
+ * contact part is the line integral of the kernel along each branch vector
+ * b = r_i - r_j (Goldhirsch): S_k = -sum_c sym(f_c b_c) Wbar_ck / A, with
+ * Wbar the kernel weight averaged over the branch (midpoint rule with
+ * points at most one sub-grid spacing apart), f_c the force on i by j.
  * These "primary" sums are linear in the particles and are averaged over
  * snapshots; the fields are derived from the averages:
  *   V = p/rho, T = tr(K)/(3 rho), sigma = -K + S, P = -tr(sigma)/3,
@@ -57,6 +61,10 @@ typedef struct {
   const double *S;    /* contact stress x volume, 6 per particle (xx yy zz
                          xy xz yz) [Pa m^3], or NULL */
   double area;        /* lateral area of the box normal to the axis [m^2] */
+  size_t nc;          /* contacts (pair dump), or 0 */
+  const double *cs;   /* coordinate of contact partner j along the axis [m] */
+  const double *cb;   /* branch vectors r_i - r_j, 3 per contact [m] */
+  const double *cf;   /* forces on i by j, 3 per contact [N] */
 } cg_particles;
 
 typedef struct {

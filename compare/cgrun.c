@@ -17,7 +17,7 @@
 /* Selected dump columns. */
 enum {
   C_POS = 0,        /* 3 x flavour (plain, u, s, su) + dim: x y z xu ... */
-  C_VX = 12, C_VY, C_VZ, C_MASS, C_RADIUS, C_DIAMETER, C_STRESS, C_NCOL = C_STRESS + 6
+  C_VX = 12, C_VY, C_VZ, C_MASS, C_RADIUS, C_DIAMETER, C_STRESS, C_ID = C_STRESS + 6, C_NCOL
 };
 static const char *const base_cols[C_STRESS] = {
   "x", "y", "z", "xu", "yu", "zu", "xs", "ys", "zs", "xsu", "ysu", "zsu",
@@ -54,6 +54,15 @@ typedef struct {
   int periodic;           /* box periodic along the axis */
   double dsum;            /* sum of diameters so far [m] */
   double dcount;          /* particles in dsum */
+  size_t ipair;           /* next pair file to open */
+  cg_dump *pd;            /* pair dump being read */
+  cg_snapshot psnap;      /* pair snapshot */
+  int have_pair;          /* psnap read but not used yet */
+  int skip_pairs;         /* 1: do not read the pair dumps (steady pass) */
+  size_t ccap;            /* contact capacity */
+  double *cs, *cb, *cf;   /* contacts: partner coordinate, branch, force */
+  double *ids;            /* id-mode: (id, index) pairs sorted by id */
+  size_t idcap;
 } source;
 
 static void source_close(source *src)
@@ -61,6 +70,12 @@ static void source_close(source *src)
   cg_dump_close(src->d);
   src->d = NULL;
   cg_snapshot_free(&src->snap);
+  cg_dump_close(src->pd);
+  src->pd = NULL;
+  cg_snapshot_free(&src->psnap);
+  free(src->cs); free(src->cb); free(src->cf); free(src->ids);
+  src->cs = src->cb = src->cf = src->ids = NULL;
+  src->ccap = src->idcap = 0;
   free(src->s); free(src->v); free(src->m); free(src->vol); free(src->rad); free(src->S);
   src->s = src->v = src->m = src->vol = src->rad = src->S = NULL;
   src->cap = 0;
@@ -72,13 +87,15 @@ static void source_init(source *src, const cg_run_opts *o)
   src->o = o;
   /* only the position columns the axis needs are parsed: the axis
    * coordinate, and for scaled ones the later dimensions (triclinic) */
+  int idmode = o->npaircols == 5;
   for (size_t j = 0; j < C_STRESS; j++) {
     int f = (int)j / 3, c = (int)j % 3;
-    int need = j >= C_VX || c == o->axis || (f >= 2 && c > o->axis);
+    int need = j >= C_VX || c == o->axis || (f >= 2 && c > o->axis) || (idmode && f == 0);
     src->cols[j] = need ? base_cols[j] : "\001unused";
   }
-  src->ncols = C_STRESS;
-  for (size_t j = 0; j < o->nstress; j++) src->cols[src->ncols++] = o->stress[j];
+  for (size_t j = 0; j < 6; j++) src->cols[C_STRESS + j] = j < o->nstress ? o->stress[j] : "\001unused";
+  src->cols[C_ID] = idmode ? "id" : "\001unused";
+  src->ncols = C_NCOL;
 }
 
 static int source_grow(source *src, size_t n, cg_error *err)
@@ -134,6 +151,11 @@ static int source_convert(source *src, cg_error *err)
                                   : "'zs' (scaled triclinic coordinates need all three)", err);
   for (int c = 0; c < 3; c++)
     if (!pr[C_VX + c]) return missing(sn, c == 0 ? "'vx'" : c == 1 ? "'vy'" : "'vz'", err);
+  if (o->npaircols == 5) {
+    if (!pr[C_ID]) return missing(sn, "'id' (pair dumps with atom ids)", err);
+    for (int c = 0; c < 3; c++)
+      if (!pr[C_POS + c]) return missing(sn, c == 0 ? "'x' (pair dumps with atom ids)" : c == 1 ? "'y' (pair dumps with atom ids)" : "'z' (pair dumps with atom ids)", err);
+  }
   int has_mass = pr[C_MASS], has_rad = pr[C_RADIUS], has_diam = pr[C_DIAMETER];
   if (!has_mass && !(has_rad || has_diam))
     return missing(sn, "'mass', 'radius' or 'diameter'", err);
@@ -211,6 +233,129 @@ static int source_convert(source *src, cg_error *err)
   src->pt.rad = src->rad;
   src->pt.S = o->nstress ? src->S : NULL;
   src->pt.area = L[0] * L[1] * L[2] / L[ax];
+  src->pt.nc = 0;
+  return CG_OK;
+}
+
+/* ---------- contacts from pair dumps ---------- */
+
+static int cmp_id(const void *a, const void *b)
+{
+  double x = *(const double *)a, y = *(const double *)b;
+  return x < y ? -1 : x > y;
+}
+
+/* Index of the atom with this id (binary search in src->ids), or -1. */
+static long find_id(const source *src, double id)
+{
+  size_t lo = 0, hi = src->pt.n;
+  while (lo < hi) {
+    size_t mid = (lo + hi) / 2;
+    double v = src->ids[2 * mid];
+    if (v == id) return (long)src->ids[2 * mid + 1];
+    if (v < id) lo = mid + 1; else hi = mid;
+  }
+  return -1;
+}
+
+/* The pair snapshot with the atom snapshot's step, as contacts. */
+static int source_pairs(source *src, cg_error *err)
+{
+  const cg_run_opts *o = src->o;
+  const cg_snapshot *sn = &src->snap;
+  int rc;
+  for (;;) {
+    if (!src->have_pair) {
+      if (!src->pd) {
+        if (src->ipair >= o->npairs)
+          return CG_ERROR(err, CG_EINPUT, "%s: no pair-dump snapshot for step %lld (the pair dumps end before)",
+                          sn->where, (long long)sn->step);
+        if ((rc = cg_dump_open(&src->pd, o->pairs[src->ipair++], o->paircols, o->npaircols, err)))
+          return rc;
+      }
+      rc = cg_dump_next(src->pd, &src->psnap, err);
+      if (rc == CG_EOF) {
+        if (cg_dump_truncated(src->pd) && o->log)
+          fprintf(o->log, "warning: %s\n", cg_dump_warning(src->pd));
+        cg_dump_close(src->pd);
+        src->pd = NULL;
+        continue;
+      }
+      if (rc) return rc;
+      src->have_pair = 1;
+    }
+    if (src->psnap.step < sn->step) { src->have_pair = 0; continue; }
+    if (src->psnap.step > sn->step)
+      return CG_ERROR(err, CG_EINPUT, "%s: no pair-dump snapshot for step %lld (the next one is step %lld)",
+                      sn->where, (long long)sn->step, (long long)src->psnap.step);
+    break;
+  }
+  src->have_pair = 0;
+  const cg_snapshot *ps = &src->psnap;
+  for (size_t j = 0; j < o->npaircols; j++)
+    if (!ps->present[j])
+      return CG_ERROR(err, CG_EINPUT, "%s: ITEM: ENTRIES has no column '%s' (--pair-columns)", ps->where,
+                      o->paircols[j]);
+  size_t nc = (size_t)ps->natoms, w = ps->nsel;
+  if (nc > src->ccap) {
+    double *a = realloc(src->cs, nc * sizeof *a);
+    if (a) src->cs = a;
+    double *b = realloc(src->cb, 3 * nc * sizeof *b);
+    if (b) src->cb = b;
+    double *f = realloc(src->cf, 3 * nc * sizeof *f);
+    if (f) src->cf = f;
+    if (!a || !b || !f) return CG_ERROR(err, CG_ESYS, "out of memory (%zu contacts)", nc);
+    src->ccap = nc;
+  }
+  int ax = o->axis;
+  if (o->npaircols == 9) {
+    for (size_t c = 0; c < nc; c++) {
+      const double *row = ps->data + c * w;
+      for (int d = 0; d < 3; d++) {
+        src->cb[3 * c + d] = row[d] - row[3 + d];
+        src->cf[3 * c + d] = row[6 + d];
+      }
+      src->cs[c] = row[3 + ax];
+    }
+  } else {
+    if (sn->triclinic)
+      return CG_ERROR(err, CG_EINPUT, "%s: pair dumps with atom ids need an orthogonal box "
+                      "(give positions in --pair-columns)", sn->where);
+    size_t n = src->pt.n;
+    if (n > src->idcap) {
+      double *p = realloc(src->ids, 2 * n * sizeof *p);
+      if (!p) return CG_ERROR(err, CG_ESYS, "out of memory");
+      src->ids = p;
+      src->idcap = n;
+    }
+    const double *ad = sn->data;
+    size_t aw = sn->nsel;
+    for (size_t i = 0; i < n; i++) {
+      src->ids[2 * i] = ad[i * aw + C_ID];
+      src->ids[2 * i + 1] = (double)i;
+    }
+    qsort(src->ids, n, 2 * sizeof(double), cmp_id);
+    double L[3];
+    for (int d = 0; d < 3; d++) L[d] = sn->hi[d] - sn->lo[d];
+    for (size_t c = 0; c < nc; c++) {
+      const double *row = ps->data + c * w;
+      long i = find_id(src, row[0]), j = find_id(src, row[1]);
+      if (i < 0 || j < 0)
+        return CG_ERROR(err, CG_EINPUT, "%s: entry %zu: no atom with id %.0f in %s", ps->where, c + 1,
+                        i < 0 ? row[0] : row[1], sn->where);
+      for (int d = 0; d < 3; d++) {
+        double b = ad[(size_t)i * aw + C_POS + d] - ad[(size_t)j * aw + C_POS + d];
+        if (sn->periodic[d]) b -= L[d] * nearbyint(b / L[d]);
+        src->cb[3 * c + d] = b;
+        src->cf[3 * c + d] = row[2 + d];
+      }
+      src->cs[c] = src->s[j];
+    }
+  }
+  src->pt.nc = nc;
+  src->pt.cs = src->cs;
+  src->pt.cb = src->cb;
+  src->pt.cf = src->cf;
   return CG_OK;
 }
 
@@ -250,7 +395,9 @@ static int source_next(source *src, cg_error *err)
     if (o->have_steps && (sn->step < o->step_a || sn->step > o->step_b)) continue;
     if (o->have_from && src->t < o->from) continue;
     if (o->have_to && src->t > o->to) continue;
-    return source_convert(src, err);
+    int crc = source_convert(src, err);
+    if (crc || !o->npairs || src->skip_pairs) return crc;
+    return source_pairs(src, err);
   }
 }
 
@@ -274,6 +421,7 @@ static int find_steady(const cg_run_opts *o, double *t_start, cg_error *err)
 {
   source src;
   source_init(&src, o);
+  src.skip_pairs = 1;
   double *ke = NULL, *com = NULL, *ts = NULL;
   size_t nke = 0, ncom = 0, nts = 0, cke = 0, ccom = 0, cts = 0;
   int rc, periodic = 0;
@@ -399,6 +547,7 @@ static const char *const axis_names[3] = {"x", "y", "z"};
 
 typedef struct {
   char inputs[4096];
+  char pairs[4096];
   char window[256];
   char stress[256];
   double width, d, area, t_start;
@@ -422,13 +571,14 @@ static int write_h5(const cg_run_opts *o, const cg_grid *g, const results *r,
   free(zc);
   if (!rc) rc = cg_h5w_dataset(w, "t", r->t, 0, r->nt, "s", err);
   if (!rc) rc = cg_h5w_dataset(w, "nsnapshots", r->nsnap, 0, r->nt, "1", err);
-  int nfield = o->nstress ? CG_NFIELD : CG_F_MU;
+  int nfield = (o->nstress || o->npairs) ? CG_NFIELD : CG_F_MU;
   for (int f = 0; f < nfield && !rc; f++) {
     rc = cg_h5w_dataset(w, cg_field_name(f), r->f[f], r->nt, n, cg_field_units(f), err);
     snprintf(name, sizeof name, "%s_se", cg_field_name(f));
     if (!rc) rc = cg_h5w_dataset(w, name, r->se[f], r->nt, n, cg_field_units(f), err);
   }
   if (!rc) rc = cg_h5w_attr_str(w, "inputs", info->inputs, err);
+  if (!rc && o->npairs) rc = cg_h5w_attr_str(w, "pair_inputs", info->pairs, err);
   if (!rc) rc = cg_h5w_attr_str(w, "axis", axis_names[o->axis], err);
   if (!rc) rc = cg_h5w_attr_str(w, "kernel", cg_kernel_name(k), err);
   if (!rc) rc = cg_h5w_attr_str(w, "kernel_evaluation",
@@ -465,7 +615,7 @@ static int write_csv(const cg_run_opts *o, const cg_grid *g, const results *r, c
     free(tmp);
     return CG_ERROR(err, CG_ESYS, "%s: cannot create the output file", o->csv);
   }
-  int nfield = o->nstress ? CG_NFIELD : CG_F_MU;
+  int nfield = (o->nstress || o->npairs) ? CG_NFIELD : CG_F_MU;
   fprintf(fp, "t,%s", axis_names[o->axis]);
   for (int f = 0; f < nfield; f++) fprintf(fp, ",%s,%s_se", cg_field_name(f), cg_field_name(f));
   fputc('\n', fp);
@@ -497,6 +647,7 @@ static int make_grid(const cg_run_opts *o, const source *src, double width, cg_g
   g->hi = o->have_range ? o->range_hi : src->hi;
   if (!(g->hi > g->lo))
     return CG_ERROR(err, CG_EUSAGE, "--range: expected lo < hi, got %g:%g", g->lo, g->hi);
+  g->axis = o->axis;
   g->periodic = src->periodic && !o->have_range;
   g->reflect = !src->periodic && !o->have_range;
   double L = g->hi - g->lo;
@@ -525,9 +676,20 @@ int cg_run(const cg_run_opts *o, cg_error *err)
   for (size_t i = 0; i < o->ninputs && used + 2 < sizeof info.inputs; i++)
     used += (size_t)snprintf(info.inputs + used, sizeof info.inputs - used, "%s%s",
                              i ? "\n" : "", o->inputs[i]);
+  used = 0;
+  for (size_t i = 0; i < o->npairs && used + 2 < sizeof info.pairs; i++)
+    used += (size_t)snprintf(info.pairs + used, sizeof info.pairs - used, "%s%s", i ? "\n" : "", o->pairs[i]);
+  if (o->nstress && o->npairs)
+    return CG_ERROR(err, CG_EUSAGE, "cg: expected --stress or --pairs, not both (the contact stress would count twice)");
+  if (o->npairs && o->npaircols != 9 && o->npaircols != 5)
+    return CG_ERROR(err, CG_EUSAGE, "--pairs: expected --pair-columns with 9 (x1,y1,z1,x2,y2,z2,fx,fy,fz) "
+                    "or 5 (id1,id2,fx,fy,fz) names");
   if (o->nstress)
     snprintf(info.stress, sizeof info.stress, "kinetic + per-atom %s %s %s %s %s %s",
              o->stress[0], o->stress[1], o->stress[2], o->stress[3], o->stress[4], o->stress[5]);
+  else if (o->npairs)
+    snprintf(info.stress, sizeof info.stress, "kinetic + contacts from pair dumps (branch line integral), %s",
+             o->npaircols == 9 ? "positions" : "atom ids");
   else
     snprintf(info.stress, sizeof info.stress, "kinetic only");
   int rc = CG_OK;

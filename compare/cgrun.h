@@ -43,6 +43,10 @@ typedef struct {
   int exact;                 /* 1: kernel per particle, no sub-grid (cg.h) */
   size_t nstress;            /* 0 or 6 per-atom stress columns */
   const char *stress[6];     /* names: xx yy zz xy xz yz (stress x volume) */
+  const char *const *pairs;  /* pair dumps (dump local), in time order */
+  size_t npairs;
+  size_t npaircols;          /* 9: x1 y1 z1 x2 y2 z2 fx fy fz; 5: id1 id2 fx fy fz */
+  const char *paircols[9];   /* their column names (force on 1 by 2) */
   FILE *log;                 /* notes and warnings, or NULL */
 } cg_run_opts;
 

@@ -623,7 +623,7 @@ static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
       s->has_time = 1;
     } else if (item_is(item, "UNITS")) {
       if (!value_line(d, &v, &rc, err)) return rc;
-    } else if (item_is(item, "NUMBER OF ATOMS")) {
+    } else if (item_is(item, "NUMBER OF ATOMS") || item_is(item, "NUMBER OF ENTRIES")) {
       if (!value_line(d, &v, &rc, err)) return rc;
       if (parse_int64(v, &s->natoms) || s->natoms < 0)
         return CG_ERROR(err, CG_EINPUT,
@@ -633,7 +633,7 @@ static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
     } else if (item_starts(item, "BOX BOUNDS", &rest)) {
       if ((rc = parse_box(d, s, rest, err))) return rc;
       have_box = 1;
-    } else if (item_starts(item, "ATOMS", &rest)) {
+    } else if (item_starts(item, "ATOMS", &rest) || item_starts(item, "ENTRIES", &rest)) {
       snprintf(s->where, sizeof s->where, "%s:%lld", d->path, d->lineno);
       const char *miss = !have_step ? "TIMESTEP" : !have_n ? "NUMBER OF ATOMS" : !have_box ? "BOX BOUNDS" : NULL;
       if (miss)
@@ -643,8 +643,8 @@ static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
       return text_atoms(d, s, err);
     } else {
       return CG_ERROR(err, CG_EINPUT,
-                      "%s:%lld: expected ITEM: TIMESTEP, TIME, UNITS, NUMBER OF ATOMS, BOX BOUNDS "
-                      "or ATOMS, got '%.40s'", d->path, d->lineno, line);
+                      "%s:%lld: expected ITEM: TIMESTEP, TIME, UNITS, NUMBER OF ATOMS (ENTRIES), "
+                      "BOX BOUNDS or ATOMS (ENTRIES), got '%.40s'", d->path, d->lineno, line);
     }
   }
 }

@@ -11,6 +11,10 @@
  * reused from one snapshot to the next, so memory does not grow with the
  * number of snapshots.
  *
+ * Local dumps (`dump local`, e.g. compute pair/gran/local or pair/local:
+ * ITEM: NUMBER OF ENTRIES, ITEM: ENTRIES) are read the same way, one entry
+ * per "atom".
+ *
  * Boxes: orthogonal and triclinic (`ITEM: BOX BOUNDS xy xz yz ...`); the
  * bounding box the engines write is converted back to the box (lo, hi)
  * and the tilt factors.

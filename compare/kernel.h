@@ -42,6 +42,7 @@ typedef struct {
   double dz;       /* bin width (hi - lo)/n [m] */
   int periodic;    /* 1: wrap the kernel across lo/hi */
   int reflect;     /* 1: reflect the kernel at lo and hi (walls) */
+  int axis;        /* profile axis: 0 x, 1 y, 2 z */
 } cg_grid;
 
 /* Kernel by name ("gauss", "lucy", "bins"); width w > 0 [m]. */

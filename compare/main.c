@@ -38,6 +38,11 @@ static const char usage_text[] =
   "                       or consistent (about the bin's V; adds the shear within the kernel)\n"
   "  --stress C           per-atom stress x volume columns (compute stress/atom, contact part):\n"
   "                       a prefix (c_s means c_s[1]..c_s[6]) or six names xx,yy,zz,xy,xz,yz\n"
+  "  --pairs FILE         pair dump (dump local; repeat for several files): contact stress\n"
+  "                       by line integrals along the branch vectors, matched by step\n"
+  "  --pair-columns L     its columns: x1,y1,z1,x2,y2,z2,fx,fy,fz (positions) or\n"
+  "                       id1,id2,fx,fy,fz (atom ids; positions from the atom dump);\n"
+  "                       f is the force on atom 1 by atom 2\n"
   "  --quiet              no notes on stderr\n"
   "\n"
   "score: interpolate ekm's output onto the DEM grid and times; per field the relative L2\n"
@@ -94,6 +99,32 @@ typedef struct {
   char names[6][MAX_STRESS_NAME];
 } stress_names;
 
+typedef struct {
+  char names[9][MAX_STRESS_NAME];
+} pair_names;
+
+static int get_paircols(const char *s, pair_names *pn, cg_run_opts *o, cg_error *err)
+{
+  size_t n = 0;
+  const char *p = s;
+  for (;;) {
+    const char *q = strchr(p, ',');
+    size_t len = q ? (size_t)(q - p) : strlen(p);
+    if (len == 0 || len >= MAX_STRESS_NAME || n == 9) break;
+    memcpy(pn->names[n], p, len);
+    pn->names[n++][len] = '\0';
+    if (!q) {
+      if (n != 9 && n != 5) break;
+      o->npaircols = n;
+      for (size_t j = 0; j < n; j++) o->paircols[j] = pn->names[j];
+      return CG_OK;
+    }
+    p = q + 1;
+  }
+  return usage_error(err, "--pair-columns: expected 9 names (x1,y1,z1,x2,y2,z2,fx,fy,fz) or 5 "
+                     "(id1,id2,fx,fy,fz), got '%s'", s);
+}
+
 static int get_stress(const char *s, stress_names *sn, cg_run_opts *o, cg_error *err)
 {
   if (!strchr(s, ',')) {
@@ -122,9 +153,15 @@ static int cmd_cg(int argc, char **argv, cg_error *err)
   cg_run_opts o = cg_run_opts_default();
   o.log = stderr;
   stress_names sn;
+  pair_names pn;
   const char **inputs = calloc((size_t)argc, sizeof *inputs);
-  if (!inputs) return CG_ERROR(err, CG_ESYS, "out of memory");
-  size_t nin = 0;
+  const char **pairs = calloc((size_t)argc, sizeof *pairs);
+  if (!inputs || !pairs) {
+    free(inputs);
+    free(pairs);
+    return CG_ERROR(err, CG_ESYS, "out of memory");
+  }
+  size_t nin = 0, npairs = 0;
   int rc = CG_OK;
   for (int i = 0; i < argc && !rc; i++) {
     const char *a = argv[i], *v = NULL;
@@ -176,6 +213,8 @@ static int cmd_cg(int argc, char **argv, cg_error *err)
       else rc = usage_error(err, "--temperature: expected particle or consistent, got '%s'", v);
     }
     else if (!strcmp(a, "--stress")) { ARG(); rc = get_stress(v, &sn, &o, err); }
+    else if (!strcmp(a, "--pairs")) { ARG(); pairs[npairs++] = v; }
+    else if (!strcmp(a, "--pair-columns")) { ARG(); rc = get_paircols(v, &pn, &o, err); }
     else if (!strcmp(a, "--quiet")) o.log = NULL;
     else rc = usage_error(err, "cg: unknown option '%s' (see ekmcompare --help)", a);
 #undef ARG
@@ -184,9 +223,17 @@ static int cmd_cg(int argc, char **argv, cg_error *err)
   if (!rc) {
     o.inputs = inputs;
     o.ninputs = nin;
-    rc = cg_run(&o, err);
+    o.pairs = pairs;
+    o.npairs = npairs;
+    if (npairs && !o.npaircols)
+      rc = CG_ERROR(err, CG_EUSAGE, "--pairs: expected --pair-columns too");
+    else if (!npairs && o.npaircols)
+      rc = CG_ERROR(err, CG_EUSAGE, "--pair-columns: expected --pairs too");
+    else
+      rc = cg_run(&o, err);
   }
   free(inputs);
+  free(pairs);
   return rc;
 }
 

@@ -6,6 +6,8 @@
 #include <cmocka.h>
 #include <math.h>
 
+#include <gsl/gsl_rng.h>
+
 #include "cgrun.h"
 #include "h5io.h"
 #include "synth.h"
@@ -335,6 +337,135 @@ static void test_contact_stress(void **state)
   profile_free(&mu);
 }
 
+
+/* Contacts: the same random packing written as an atom dump with per-atom
+ * stress (each contact's -f b split half to each atom) and as pair dumps
+ * (positions, and atom ids). Pair positions and ids give the same fields;
+ * every form gives the same integral of szz over z (contact part exact:
+ * the kernel weights of a contact sum to one); the sub-grid and the exact
+ * kernel agree. */
+static void write_packing(const char *atoms, const char *pos, const char *ids)
+{
+  enum { N = 400 };
+  const double L = 0.01, H = 0.02, r = 0.0005, dc = 0.0022;
+  static double x[N][3], S[N][6];
+  gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(g, 11);
+  for (int i = 0; i < N; i++) {
+    x[i][0] = gsl_rng_uniform(g) * L;
+    x[i][1] = gsl_rng_uniform(g) * L;
+    x[i][2] = r + gsl_rng_uniform(g) * (H - 2 * r);
+    for (int c = 0; c < 6; c++) S[i][c] = 0;
+  }
+  FILE *fp = fopen(pos, "w"), *fi = fopen(ids, "w");
+  const char *hdr = "ITEM: TIMESTEP\n100\nITEM: NUMBER OF ENTRIES\n%d\nITEM: BOX BOUNDS pp pp ff\n"
+                    "0 0.01\n0 0.01\n0 0.02\n";
+  /* count contacts first */
+  int nc = 0;
+  for (int pass = 0; pass < 2; pass++) {
+    if (pass == 1) {
+      fprintf(fp, hdr, nc);
+      fprintf(fp, "ITEM: ENTRIES c_pc[1] c_pc[2] c_pc[3] c_pc[4] c_pc[5] c_pc[6] c_pc[7] c_pc[8] c_pc[9] c_pc[10] c_pc[11] c_pc[12] \n");
+      fprintf(fi, hdr, nc);
+      fprintf(fi, "ITEM: ENTRIES c_pid[1] c_pid[2] c_pl[1] c_pl[2] c_pl[3] c_pl[4]\n");
+    }
+    for (int i = 0; i < N; i++)
+      for (int j = i + 1; j < N; j++) {
+        double b[3], d2 = 0, jimg[3];
+        for (int c = 0; c < 3; c++) {
+          b[c] = x[i][c] - x[j][c];
+          if (c < 2) b[c] -= L * nearbyint(b[c] / L);
+          jimg[c] = x[i][c] - b[c];
+          d2 += b[c] * b[c];
+        }
+        if (d2 > dc * dc) continue;
+        if (pass == 0) { nc++; continue; }
+        double d = sqrt(d2), f[3];
+        for (int c = 0; c < 3; c++) f[c] = 1e-3 * b[c] / d + (c == 0 ? 2e-4 : 0.0);
+        double t[6] = {-f[0] * b[0], -f[1] * b[1], -f[2] * b[2], -0.5 * (f[0] * b[1] + f[1] * b[0]),
+                       -0.5 * (f[0] * b[2] + f[2] * b[0]), -0.5 * (f[1] * b[2] + f[2] * b[1])};
+        for (int c = 0; c < 6; c++) {
+          S[i][c] += 0.5 * t[c];
+          S[j][c] += 0.5 * t[c];
+        }
+        fprintf(fp, "%.17g %.17g %.17g %.17g %.17g %.17g %d %d 0 %.17g %.17g %.17g \n", x[i][0], x[i][1],
+                x[i][2], jimg[0], jimg[1], jimg[2], i + 1, j + 1, f[0], f[1], f[2]);
+        fprintf(fi, "%d %d %.17g %.17g %.17g %.17g\n", i + 1, j + 1, d, f[0], f[1], f[2]);
+      }
+  }
+  fclose(fp);
+  fclose(fi);
+  fp = fopen(atoms, "w");
+  fprintf(fp, "ITEM: TIME\n0.001\nITEM: TIMESTEP\n100\nITEM: NUMBER OF ATOMS\n%d\nITEM: BOX BOUNDS pp pp ff\n"
+          "0 0.01\n0 0.01\n0 0.02\nITEM: ATOMS id x y z vx vy vz radius mass c_s[1] c_s[2] c_s[3] c_s[4] c_s[5] c_s[6]\n", N);
+  for (int i = 0; i < N; i++) {
+    fprintf(fp, "%d %.17g %.17g %.17g 0 0 0 %g %g", i + 1, x[i][0], x[i][1], x[i][2], r, 2500 * 4.18879 * r * r * r);
+    for (int c = 0; c < 6; c++) fprintf(fp, " %.17g", S[i][c]);
+    fputc('\n', fp);
+  }
+  fclose(fp);
+  gsl_rng_free(g);
+}
+
+static void run_contacts(const char *atoms, const char *pairs, int idmode, int exact, const char *out)
+{
+  cg_run_opts o = cg_run_opts_default();
+  const char *in[1] = {atoms}, *pin[1] = {pairs};
+  static const char *posc[9] = {"c_pc[1]", "c_pc[2]", "c_pc[3]", "c_pc[4]", "c_pc[5]", "c_pc[6]",
+                                "c_pc[10]", "c_pc[11]", "c_pc[12]"};
+  static const char *idc[5] = {"c_pid[1]", "c_pid[2]", "c_pl[2]", "c_pl[3]", "c_pl[4]"};
+  static const char *sc[6] = {"c_s[1]", "c_s[2]", "c_s[3]", "c_s[4]", "c_s[5]", "c_s[6]"};
+  o.inputs = in;
+  o.ninputs = 1;
+  o.out = out;
+  o.width = 0.001;
+  o.bins = 40;
+  o.exact = exact;
+  if (pairs) {
+    o.pairs = pin;
+    o.npairs = 1;
+    o.npaircols = idmode ? 5 : 9;
+    for (size_t j = 0; j < o.npaircols; j++) o.paircols[j] = idmode ? idc[j] : posc[j];
+  } else {
+    o.nstress = 6;
+    for (int c = 0; c < 6; c++) o.stress[c] = sc[c];
+  }
+  cg_error err;
+  if (cg_run(&o, &err)) fail_msg("%s", err.msg);
+}
+
+static double integral(const profile *p)
+{
+  double s = 0, dz = p->z[1] - p->z[0];
+  for (size_t k = 0; k < p->n; k++) s += p->f[k] * dz;
+  return s;
+}
+
+static void test_pair_contacts(void **state)
+{
+  (void)state;
+  char atoms[512], pos[512], ids[512], h[4][512];
+  write_packing(tmp_path(atoms, sizeof atoms, "pk_atoms.dump"), tmp_path(pos, sizeof pos, "pk_pos.dump"),
+                tmp_path(ids, sizeof ids, "pk_ids.dump"));
+  run_contacts(atoms, pos, 0, 0, tmp_path(h[0], sizeof h[0], "pk0.h5"));
+  run_contacts(atoms, ids, 1, 0, tmp_path(h[1], sizeof h[1], "pk1.h5"));
+  run_contacts(atoms, NULL, 0, 0, tmp_path(h[2], sizeof h[2], "pk2.h5"));
+  run_contacts(atoms, pos, 0, 1, tmp_path(h[3], sizeof h[3], "pk3.h5"));
+  const char *f[] = {"szz", "sxz", "P"};
+  for (int i = 0; i < 3; i++) {
+    profile a[4];
+    for (int r = 0; r < 4; r++) read_field(h[r], f[i], &a[r]);
+    double ref = integral(&a[2]);
+    assert_true(fabs(ref) > 0);
+    for (int r = 0; r < 4; r++) assert_close(integral(&a[r]), ref, 1e-9 * fabs(ref));
+    for (size_t k = 0; k < a[0].n; k++) {
+      assert_close(a[1].f[k], a[0].f[k], 1e-9 * fabs(ref) / 0.02);
+      assert_close(a[3].f[k], a[0].f[k], 2e-3 * fabs(ref) / 0.02);
+    }
+    for (int r = 0; r < 4; r++) profile_free(&a[r]);
+  }
+}
+
 /* The LIGGGHTS deck's dump format (deck columns, c_sa stress, no TIME):
  * read, coarse-grained, total mass checked. */
 static void test_deck_dump(void **state)
@@ -395,6 +526,7 @@ int main(void)
     cmocka_unit_test(test_shuffled_columns),
     cmocka_unit_test(test_contact_stress),
     cmocka_unit_test(test_deck_dump),
+    cmocka_unit_test(test_pair_contacts),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
