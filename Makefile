@@ -41,6 +41,9 @@ test-sanitize: $(BUILD_SAN)/CMakeCache.txt
 	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS) -LE dem
 
+demo: deps build
+	@scripts/demo.sh $(BUILD)
+
 bench: deps build
 	@scripts/bench.sh $(BUILD)
 

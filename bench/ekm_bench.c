@@ -1,0 +1,159 @@
+/* ekm_bench: solver throughput for `make bench` (bench/ekm.sh).
+ *
+ *   ekm_bench SOURCE_DIR OUT.json
+ *
+ * Cell-updates per second (accepted steps x cells / wall time) of
+ * shear_cell and filling at 100, 1000 and 10000 cells, each stepped from
+ * its initial state for at least 1 s of wall time, and the wall time of a
+ * whole thesis_filling run (30 cells, until the bed has formed, no output).
+ * Writes a JSON fragment for scripts/bench.sh. */
+#include <gsl/gsl_errno.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "run.h"
+#include "scenario.h"
+#include "state.h"
+#include "step.h"
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static int load(ekm_scenario *sc, const char *src, const char *name, const char *const *sets, size_t n)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/scenarios/%s.ini", src, name);
+    ekm_error err;
+    if (ekm_scenario_load(sc, path, sets, n, &err) != EKM_OK) {
+        fprintf(stderr, "ekm_bench: %s\n", err.message);
+        return 0;
+    }
+    return 1;
+}
+
+/* Cell-updates per second, or a negative number on failure. */
+static double throughput(const char *src, const char *name, int cells)
+{
+    char set_cells[64];
+    snprintf(set_cells, sizeof set_cells, "domain.cells=%d", cells);
+    const char *sets[] = {set_cells};
+    ekm_scenario sc;
+    if (!load(&sc, src, name, sets, 1)) {
+        ekm_scenario_free(&sc);
+        return -1;
+    }
+    ekm_error err;
+    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
+    ekm_stepper *st = s ? ekm_step_alloc(&sc, &err) : NULL;
+    double rate = -1;
+    if (s && st) {
+        ekm_state_init(s, &sc);
+        long updates = 0, steps = 0;
+        const double t0 = now_s();
+        double elapsed = 0;
+        while (elapsed < 1.0 || steps < 20) {
+            double dt = ekm_step_max_dt(st, s);
+            int accepted = 0;
+            while (!accepted) {
+                if (ekm_step_apply(st, s, dt, &accepted, &err) != EKM_OK || dt < sc.numerics.dt_min) {
+                    fprintf(stderr, "ekm_bench: %s at %d cells failed: %s\n", name, cells, st->reject_reason);
+                    goto done;
+                }
+                dt *= 0.5;
+            }
+            steps++;
+            updates += cells;
+            if ((steps & 15) == 0)
+                elapsed = now_s() - t0;
+        }
+        elapsed = now_s() - t0;
+        rate = updates / elapsed;
+        fprintf(stderr, "  %-12s %6d cells: %8ld steps in %.2f s, %.3g cell-updates/s\n", name, cells, steps,
+                elapsed, rate);
+    }
+done:
+    ekm_step_free(st);
+    ekm_state_free(s);
+    ekm_scenario_free(&sc);
+    return rate;
+}
+
+static double thesis_filling_wall(const char *src, long *steps)
+{
+    ekm_scenario sc;
+    double wall = -1;
+    if (!load(&sc, src, "thesis_filling", NULL, 0)) {
+        ekm_scenario_free(&sc);
+        return -1;
+    }
+    ekm_error err;
+    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
+    ekm_stepper *st = s ? ekm_step_alloc(&sc, &err) : NULL;
+    if (s && st) {
+        ekm_state_init(s, &sc);
+        ekm_run_stats stats;
+        const double t0 = now_s();
+        if (ekm_run(&sc, s, st, NULL, &stats, &err) == EKM_OK) {
+            wall = now_s() - t0;
+            *steps = stats.steps;
+        } else {
+            fprintf(stderr, "ekm_bench: thesis_filling failed: %s\n", err.message);
+        }
+    }
+    ekm_step_free(st);
+    ekm_state_free(s);
+    ekm_scenario_free(&sc);
+    return wall;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 3) {
+        fprintf(stderr, "usage: ekm_bench SOURCE_DIR OUT.json\n");
+        return 1;
+    }
+    gsl_set_error_handler_off();
+    const char *src = argv[1];
+    const char *names[] = {"shear_cell", "filling"};
+    const int sizes[] = {100, 1000, 10000};
+    double rates[2][3];
+    for (int i = 0; i < 2; i++)
+        for (int k = 0; k < 3; k++)
+            if ((rates[i][k] = throughput(src, names[i], sizes[k])) < 0)
+                return 4;
+    long steps = 0;
+    const double wall = thesis_filling_wall(src, &steps);
+    if (wall < 0)
+        return 4;
+    fprintf(stderr, "  thesis_filling (30 cells, 40 s): %ld steps, %.3f s\n", steps, wall);
+    char tmp[1100];
+    snprintf(tmp, sizeof tmp, "%s.tmp", argv[2]);
+    FILE *fp = fopen(tmp, "w");
+    if (!fp) {
+        fprintf(stderr, "ekm_bench: %s: cannot write\n", tmp);
+        return 3;
+    }
+    fprintf(fp, "{\"rows\": [\n");
+    for (int i = 0; i < 2; i++)
+        for (int k = 0; k < 3; k++) {
+            const int target_row = i == 0 && k == 1;
+            fprintf(fp, "  {\"benchmark\": \"ekm %s, %d cells\", \"value\": %.4g, \"unit\": \"cell-updates/s (1 core)\", "
+                        "\"target\": \"%s\", \"status\": \"%s\"},\n",
+                    names[i], sizes[k], rates[i][k], target_row ? ">= 2e7" : "",
+                    target_row ? (rates[i][k] >= 2e7 ? "ok" : "MISSED") : "");
+        }
+    fprintf(fp, "  {\"benchmark\": \"ekm thesis_filling, 30 cells, to t = 40 s (%ld steps)\", \"value\": %.4g, "
+                "\"unit\": \"s wall\", \"target\": \"< 1\", \"status\": \"%s\"}\n",
+            steps, wall, wall < 1.0 ? "ok" : "MISSED");
+    fprintf(fp, "], \"keys\": {\"ekm_cell_updates_per_s\": %.6g, \"thesis_filling_wall_s\": %.6g}}\n", rates[0][1], wall);
+    if (fclose(fp) != 0 || rename(tmp, argv[2]) != 0) {
+        fprintf(stderr, "ekm_bench: %s: cannot write\n", argv[2]);
+        return 3;
+    }
+    return 0;
+}
