@@ -551,7 +551,7 @@ typedef struct {
   char window[256];
   char stress[256];
   double width, d, area, t_start;
-  size_t nread, nused;
+  size_t nread, nused, nout;
   int steady;
   const char *wall;
 } run_info;
@@ -598,6 +598,7 @@ static int write_h5(const cg_run_opts *o, const cg_grid *g, const results *r,
   if (!rc) rc = cg_h5w_attr_double(w, "rho_p", o->rho_p, err);
   if (!rc) rc = cg_h5w_attr_double(w, "snapshots_read", (double)info->nread, err);
   if (!rc) rc = cg_h5w_attr_double(w, "snapshots_used", (double)info->nused, err);
+  if (!rc) rc = cg_h5w_attr_double(w, "particles_outside_grid", (double)info->nout, err);
   if (!rc && info->steady) rc = cg_h5w_attr_double(w, "steady_start", info->t_start, err);
   if (!rc) rc = cg_h5w_attr_str(w, "code_version", EKMBENCH_VERSION, err);
   if (rc) { cg_h5w_abort(w); return rc; }
@@ -711,7 +712,7 @@ int cg_run(const cg_run_opts *o, cg_error *err)
   memset(&r, 0, sizeof r);
   long cur_w = -1;
   double t0 = 0, tw0 = 0, tw1 = 0, tsel0 = 0, tsel1 = 0;
-  size_t count = 0;
+  size_t count = 0, nout = 0;
   while ((rc = source_next(&src, err)) == CG_OK) {
     if (src.t < t_start) continue;
     if (!prof) {
@@ -752,6 +753,8 @@ int cg_run(const cg_run_opts *o, cg_error *err)
     tw1 = src.t;
     tsel1 = src.t;
     if ((rc = cg_profile_snapshot(prof, &src.pt, prim, err))) break;
+    if (!g.periodic)
+      for (size_t i = 0; i < src.pt.n; i++) nout += (src.pt.s[i] < g.lo || src.pt.s[i] > g.hi);
     cg_blocks_add(fz.b, prim);
     count++;
   }
@@ -773,6 +776,10 @@ int cg_run(const cg_run_opts *o, cg_error *err)
                tsel0, tsel1, count, o->window);
     else
       snprintf(info.window, sizeof info.window, "t = %.9g .. %.9g s, %zu snapshots", tsel0, tsel1, count);
+    info.nout = nout;
+    if (nout && o->log)
+      fprintf(o->log, "note: %zu particle-snapshots outside the grid [%.6g, %.6g] m (a shrink-wrapped box, or "
+              "--range): only their kernel tails inside are counted\n", nout, g.lo, g.hi);
     if (src.nrepeat && o->log)
       fprintf(o->log, "note: skipped %zu snapshots whose step was already read\n", src.nrepeat);
     int wrote_h5 = 0;

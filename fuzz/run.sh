@@ -21,7 +21,7 @@ clang -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
   { cat "$out/build.log" >&2; echo "fuzz/run.sh: cannot build with libFuzzer: skipped" >&2; exit 77; }
 seeds=$(mktemp -d)
 trap 'rm -rf "$seeds"' EXIT
-cp "$root"/tests/compare/fixtures/* "$seeds"/
+cp "$root"/tests/compare/fixtures/* "$here"/seeds/* "$seeds"/
 cd "$out"
 "$exe" -max_total_time="$secs" -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
   -print_final_stats=1 "$corpus" "$here/corpus" "$seeds" 2> "$out/fuzz.log" || {

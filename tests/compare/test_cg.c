@@ -7,6 +7,7 @@
 #include <math.h>
 
 #include <gsl/gsl_rng.h>
+#include <zlib.h>
 
 #include "cgrun.h"
 #include "h5io.h"
@@ -466,6 +467,95 @@ static void test_pair_contacts(void **state)
   }
 }
 
+
+/* Real dumps from the DEM decks (chute, LIGGGHTS and LAMMPS smoke runs,
+ * last two snapshots, with their pair dumps): read, coarse-grained with
+ * the contact stress from the pair dumps and from stress/atom, total mass
+ * checked against the sum of the mass column. */
+static double dump_mass(const char *path, int snap)
+{
+  gzFile gz = gzopen(path, "rb");
+  assert_non_null(gz);
+  char line[4096];
+  int col = -1, in_atoms = 0, s = 0;
+  double sum = 0;
+  while (gzgets(gz, line, sizeof line)) {
+    if (!strncmp(line, "ITEM: ATOMS", 11)) {
+      s++;
+      in_atoms = (s == snap);
+      char *tok = strtok(line + 11, " \n");
+      for (int c = 0; tok; c++, tok = strtok(NULL, " \n"))
+        if (!strcmp(tok, "mass")) col = c;
+      continue;
+    }
+    if (!strncmp(line, "ITEM:", 5)) { in_atoms = 0; continue; }
+    if (in_atoms) {
+      char *p = line;
+      for (int c = 0; c < col; c++) strtod(p, &p);
+      sum += strtod(p, NULL);
+    }
+  }
+  gzclose(gz);
+  assert_true(col >= 0);
+  return sum;
+}
+
+static void test_real_chute(void **state)
+{
+  (void)state;
+  const char *eng[2] = {"liggghts", "lammps"};
+  static const char *lig[9] = {"c_pc[1]", "c_pc[2]", "c_pc[3]", "c_pc[4]", "c_pc[5]", "c_pc[6]",
+                               "c_pc[10]", "c_pc[11]", "c_pc[12]"};
+  static const char *lmp[5] = {"c_pid[1]", "c_pid[2]", "c_pl[2]", "c_pl[3]", "c_pl[4]"};
+  static const char *sa[6] = {"c_sa[1]", "c_sa[2]", "c_sa[3]", "c_sa[4]", "c_sa[5]", "c_sa[6]"};
+  for (int e = 0; e < 2; e++) {
+    char atoms[512], pairs[512], out[512];
+    snprintf(atoms, sizeof atoms, CG_FIXTURES "/chute_%s_atoms.dump.gz", eng[e]);
+    snprintf(pairs, sizeof pairs, CG_FIXTURES "/chute_%s_pairs.dump.gz", eng[e]);
+    for (int mode = 0; mode < 2; mode++) {
+      cg_run_opts o = cg_run_opts_default();
+      const char *in[1] = {atoms}, *pin[1] = {pairs};
+      o.inputs = in;
+      o.ninputs = 1;
+      o.out = tmp_path(out, sizeof out, "chute.h5");
+      o.dt = 1e-5; /* LIGGGHTS writes no ITEM: TIME */
+      o.every = 1;
+      if (mode == 0) {
+        o.pairs = pin;
+        o.npairs = 1;
+        o.npaircols = e == 0 ? 9 : 5;
+        for (size_t j = 0; j < o.npaircols; j++) o.paircols[j] = e == 0 ? lig[j] : lmp[j];
+      } else {
+        o.nstress = 6;
+        for (int c = 0; c < 6; c++) o.stress[c] = sa[c];
+      }
+      cg_error err;
+      if (cg_run(&o, &err)) fail_msg("%s: %s", eng[e], err.msg);
+      profile rho, phi, P;
+      read_field(out, "rho", &rho);
+      read_field(out, "phi", &phi);
+      read_field(out, "P", &P);
+      assert_int_equal(rho.nt, 2);
+      double dz = rho.z[1] - rho.z[0], area = 0.016 * 0.012;
+      for (size_t it = 0; it < 2; it++) {
+        double m = 0;
+        for (size_t k = 0; k < rho.n; k++) m += rho.f[it * rho.n + k] * dz * area;
+        double ref = dump_mass(atoms, (int)it + 1);
+        assert_close(m, ref, 1e-9 * ref);
+      }
+      /* a dense flowing bed: phi near 0.59 and P > 0 at mid-depth (z = 2 cm) */
+      for (size_t k = 0; k < phi.n; k++)
+        if (fabs(phi.z[k] - 0.02) < 0.001) {
+          assert_true(phi.f[k] > 0.5 && phi.f[k] < 0.65);
+          assert_true(P.f[k] > 0);
+        }
+      profile_free(&rho);
+      profile_free(&phi);
+      profile_free(&P);
+    }
+  }
+}
+
 /* The LIGGGHTS deck's dump format (deck columns, c_sa stress, no TIME):
  * read, coarse-grained, total mass checked. */
 static void test_deck_dump(void **state)
@@ -527,6 +617,7 @@ int main(void)
     cmocka_unit_test(test_contact_stress),
     cmocka_unit_test(test_deck_dump),
     cmocka_unit_test(test_pair_contacts),
+    cmocka_unit_test(test_real_chute),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
