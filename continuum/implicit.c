@@ -153,7 +153,7 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz,
                                     double rho_p, const double *phi, const double *rhoT_star,
                                     const double *lambda, const ekm_source_coeffs *src,
-                                    const double *T_balance, const unsigned char *dry,
+                                    const unsigned char *dry,
                                     double T_floor, double tol, int newton_max, double *T,
                                     int *iterations, ekm_error *err)
 {
@@ -176,7 +176,8 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
             double dS;
             double S = ekm_source_eval(&src[j], T[j], &dS);
             if (it == 1 && dt * fabs(dS) > 10.0 * rho) {
-                T[j] = fmax(T_balance[j], T_floor);
+                const double Tb = ekm_source_balance(&src[j]);
+                T[j] = Tb > T_floor ? Tb : T_floor;
                 S = ekm_source_eval(&src[j], T[j], &dS);
             }
             const double l_below = lam_face[j], l_above = lam_face[j + 1];

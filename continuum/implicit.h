@@ -56,12 +56,12 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
  * coefficients of each cell (model.h); T holds the initial guess on entry
  * and the solution on success.  Where the source relaxes much faster than
  * dt (quasi-static beds), the guess is replaced by the local balance
- * T_balance.  Returns EKM_ENUMERIC when Newton does not converge in
+ * S(T) = 0.  Returns EKM_ENUMERIC when Newton does not converge in
  * newton_max iterations (the caller retries with a smaller step). */
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz,
                                     double rho_p, const double *phi, const double *rhoT_star,
                                     const double *lambda, const ekm_source_coeffs *src,
-                                    const double *T_balance, const unsigned char *dry,
+                                    const unsigned char *dry,
                                     double T_floor, double tol, int newton_max, double *T,
                                     int *iterations, ekm_error *err);
 

@@ -164,10 +164,15 @@ double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v,
 
 double ekm_sound_speed(const ekm_material *m, double phi, double T)
 {
+    return sqrt(ekm_sound_speed_squared(m, phi, T));
+}
+
+double ekm_sound_speed_squared(const ekm_material *m, double phi, double T)
+{
     const double g = ekm_g(m, phi);
     const double dg = g * g / m->phi_cp; /* dg/dphi */
     double c2 = T * (g + phi * dg) + 2.0 / 3.0 * T * g * g;
     if (phi > m->phi_co)
         c2 += m->T0 * (g + (phi - m->phi_co) * dg);
-    return sqrt(c2);
+    return c2;
 }

@@ -115,6 +115,20 @@ static inline double ekm_source_eval(const ekm_source_coeffs *c, double T, doubl
     return c->k_heat_a * a + heat_y - c->k_diss * a * (T + c->nuY);
 }
 
+/* The root of S from precomputed coefficients (the local balance, see
+ * ekm_temperature_local_balance): S sqrt(T) = 0 is the quadratic
+ * k_diss T^2 + (k_diss nu Y - k_heat_a) T - k_heat_y = 0. */
+static inline double ekm_source_balance(const ekm_source_coeffs *c)
+{
+    const double A = c->k_diss, B = c->k_diss * c->nuY - c->k_heat_a, C = -c->k_heat_y;
+    if (!(A > 0.0))
+        return 0.0;
+    const double disc = __builtin_sqrt(B * B - 4.0 * A * C);
+    if (B > 0.0)
+        return disc + B > 0.0 ? -2.0 * C / (B + disc) : 0.0;
+    return (-B + disc) / (2.0 * A);
+}
+
 /* The temperature at which S(T) = 0 (local balance of viscous heating and
  * dissipation): the positive root of
  *   phi eps0 T^2 + (phi eps0 nu Y - 2/3 Ka) T - 2/3 Kb = 0,
@@ -124,7 +138,9 @@ static inline double ekm_source_eval(const ekm_source_coeffs *c, double T, doubl
 double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v,
                                      double phi, double u2, double w2);
 
-/* Sound speed bound sqrt(dP/drho + 2/3 T g^2) [m/s] for the CFL limit. */
+/* Sound speed bound sqrt(dP/drho + 2/3 T g^2) [m/s] for the CFL limit,
+ * and its square [m^2/s^2]. */
 double ekm_sound_speed(const ekm_material *m, double phi, double T);
+double ekm_sound_speed_squared(const ekm_material *m, double phi, double T);
 
 #endif

@@ -34,7 +34,6 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->w2 = calloc(c, sizeof(double));
     st->mom_c = calloc(c, sizeof(double));
     st->src = calloc(c, sizeof *st->src);
-    st->T_balance = calloc(c, sizeof(double));
     st->rho_face = calloc(f, sizeof(double));
     st->rhs_face = calloc(f, sizeof(double));
     st->rhs_cell = calloc(c, sizeof(double));
@@ -43,7 +42,7 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->wk = ekm_implicit_alloc(n);
     st->backup = ekm_state_alloc(n, sc->length);
     if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P ||
-        !st->eta || !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src || !st->T_balance ||
+        !st->eta || !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src ||
         !st->rho_face || !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face ||
         !st->wk || !st->backup) {
         ekm_step_free(st);
@@ -67,22 +66,24 @@ void ekm_step_free(ekm_stepper *st)
         return;
     free(st->F); free(st->qF); free(st->phi_new); free(st->rhoU); free(st->rhoT);
     free(st->T_star); free(st->P); free(st->eta); free(st->mu_n); free(st->lambda);
-    free(st->u2); free(st->w2); free(st->mom_c); free(st->src); free(st->T_balance); free(st->rho_face); free(st->rhs_face);
+    free(st->u2); free(st->w2); free(st->mom_c); free(st->src); free(st->rho_face); free(st->rhs_face);
     free(st->rhs_cell); free(st->dry); free(st->dry_face);
     ekm_implicit_free(st->wk);
     ekm_state_free(st->backup);
     free(st);
 }
 
+static inline double max2(double a, double b) { return a > b ? a : b; }
+
 double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
 {
     const ekm_scenario *sc = st->sc;
     double speed = 0.0;
     for (int f = 0; f <= s->n; f++)
-        speed = fmax(speed, fabs(s->w[f]));
-    speed = fmax(speed, sc->bottom.kind == EKM_BC_INFLOW ? fabs(sc->bottom.w) : 0.0);
-    speed = fmax(speed, sc->top.kind == EKM_BC_INFLOW ? fabs(sc->top.w) : 0.0);
-    double c_max = 0.0;
+        speed = max2(speed, fabs(s->w[f]));
+    speed = max2(speed, sc->bottom.kind == EKM_BC_INFLOW ? fabs(sc->bottom.w) : 0.0);
+    speed = max2(speed, sc->top.kind == EKM_BC_INFLOW ? fabs(sc->top.w) : 0.0);
+    double c2_max = 0.0;
     /* Compression limit: predicted dphi/dt = -phi dw/dz must not close more
      * than half of phi_step_max of the gap to phi_cp in one step (the
      * step is rejected beyond phi_step_max; this avoids most rejections). */
@@ -90,11 +91,12 @@ double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
     const double phi_cp = sc->material.phi_cp;
     for (int j = 0; j < s->n; j++)
         if (s->phi[j] >= sc->numerics.phi_dry) {
-            c_max = fmax(c_max, ekm_sound_speed(&sc->material, s->phi[j], s->T[j]));
+            c2_max = max2(c2_max, ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]));
             const double compression = -s->phi[j] * (s->w[j + 1] - s->w[j]) / s->dz;
-            rate_max = fmax(rate_max, compression / (phi_cp - s->phi[j]));
+            if (compression > 0.0)
+                rate_max = max2(rate_max, compression / (phi_cp - s->phi[j]));
         }
-    speed += c_max;
+    speed += sqrt(c2_max);
     double dt = speed > 0.0 ? sc->numerics.cfl * s->dz / speed : sc->numerics.dt_max;
     if (rate_max > 0.0)
         dt = fmin(dt, 0.5 * sc->numerics.phi_step_max / rate_max);
@@ -163,7 +165,7 @@ static void properties(ekm_stepper *st, int n)
             st->P[j] = st->eta[j] = st->mu_n[j] = st->lambda[j] = 0.0;
             continue;
         }
-        const double T = fmax(st->rhoT[j] / (m->rho_p * phi), sc->numerics.T_floor);
+        const double T = max2(st->rhoT[j] / (m->rho_p * phi), sc->numerics.T_floor);
         st->T_star[j] = T;
         const ekm_transport c = ekm_transport_coefficients(m, sc->variant, phi, T);
         st->eta[j] = c.eta;
@@ -289,12 +291,9 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
         if (st->dry[j])
             continue;
         st->src[j] = ekm_temperature_source_coeffs(m, sc->variant, s->phi[j], st->u2[j], st->w2[j]);
-        /* Local balance: the Newton guess where the source is stiff. */
-        st->T_balance[j] = ekm_temperature_local_balance(m, sc->variant, s->phi[j], st->u2[j], st->w2[j]);
     }
     int iterations = 0;
-    if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src,
-                                 st->T_balance, st->dry, sc->numerics.T_floor, sc->numerics.newton_tol,
+    if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src, st->dry, sc->numerics.T_floor, sc->numerics.newton_tol,
                                  sc->numerics.newton_max, s->T, &iterations, &serr) != EKM_OK) {
         snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s, dt = %.3g s: %.400s", s->t, dt,
                  serr.message);

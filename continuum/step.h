@@ -41,7 +41,6 @@ typedef struct {
     double *u2, *w2;        /* squared gradients at cells [1/s^2], n */
     double *mom_c;          /* centre momentum fluxes, n */
     ekm_source_coeffs *src; /* temperature source coefficients, n */
-    double *T_balance;      /* local-balance temperature [m^2/s^2], n */
     double *rho_face, *rhs_face; /* n+1 */
     double *rhs_cell;       /* n */
     unsigned char *dry, *dry_face; /* n, n+1 */
