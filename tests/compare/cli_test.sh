@@ -70,6 +70,15 @@ expect 2 "expected -o OUT.h5" -- "$ekmc" cg a.dump
 expect 2 "unknown option '--bogus'" -- "$ekmc" cg a.dump --bogus -o bad.h5
 expect 1 "no snapshots selected" -- "$ekmc" cg a.dump --from 99 -o bad.h5
 expect 1 "expected an HDF5 file" -- "$ekmc" score --dem a.dump --ekm series.h5
+# pair dumps: a step missing from the pair dump; both contact-stress sources
+zcat "$fx/chute_lammps_pairs.dump.gz" | sed 's/^30000$/30001/' > bad_pairs.dump
+pc='c_pid[1],c_pid[2],c_pl[2],c_pl[3],c_pl[4]'
+expect 1 "chute_lammps_atoms.dump.gz:[0-9]+: no pair-dump snapshot for step 30000 \(the next one is step 30001\)" -- \
+  "$ekmc" cg "$fx/chute_lammps_atoms.dump.gz" --pairs bad_pairs.dump --pair-columns "$pc" -o bad.h5
+expect 2 "expected --stress or --pairs, not both" -- \
+  "$ekmc" cg "$fx/chute_lammps_atoms.dump.gz" --pairs "$fx/chute_lammps_pairs.dump.gz" --pair-columns "$pc" --stress c_sa -o bad.h5
+expect 0 "" -- "$ekmc" cg "$fx/chute_lammps_atoms.dump.gz" --pairs "$fx/chute_lammps_pairs.dump.gz" --pair-columns "$pc" -o chute.h5 --quiet
+h5dump -H -d mu chute.h5 > /dev/null || fail "chute.h5: no mu with pair-dump stress"
 [ -e bad.h5 ] && fail "an output file was left behind by a failed run"
 ls ./*.tmp.* > /dev/null 2>&1 && fail "temporary files left behind"
 # an existing output is not touched by a failed run
