@@ -1,6 +1,8 @@
 /* scenario.c: defaults, INI reading (inih) and validation of a scenario. */
 #include "scenario.h"
 
+#include "flux.h"
+
 #include <errno.h>
 #include <ini.h>
 #include <math.h>
@@ -335,6 +337,12 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(n->newton_tol > 0.0 && n->newton_tol < 1e-2, "numerics", "newton_tol", "a number in (0, 1e-2)",
           n->newton_tol);
     RANGE(n->newton_max >= 1, "numerics", "newton_max", "an integer >= 1", n->newton_max);
+    const ekm_limiter *lim;
+    ekm_error lerr;
+    if (ekm_limiter_find(n->limiter, &lim, &lerr) != EKM_OK) {
+        char w_[600];
+        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", where(c, "numerics", "limiter", w_, sizeof w_), lerr.message);
+    }
     ekm_status st = check_bc(c, s, "bottom", &s->bottom, err);
     if (st != EKM_OK)
         return st;

@@ -60,6 +60,9 @@ check "bad --set value" 2 "--set.*\[domain\] cells: expected an integer, got 'ma
 check "--set out of range" 2 "--set domain.length.*expected a length > 0" \
     run "$base" -o out.h5 --set domain.length=-1
 
+check "unknown limiter" 2 "--set numerics.limiter: \[numerics\] limiter: unknown limiter 'foo' \(known: minmod vanleer superbee mc\)" \
+    run "$base" -o out.h5 --set numerics.limiter=foo
+
 check "inflow key on a wall" 2 "\[bottom\] phi: only allowed with type = inflow" \
     run "$base" -o out.h5 --set bottom.phi=0.3
 
