@@ -258,6 +258,27 @@ static long find_id(const source *src, double id)
   return -1;
 }
 
+/* Minimum image of a branch vector in the (possibly triclinic) box: a
+ * contact is never longer than half the box (LIGGGHTS writes the owned,
+ * wrapped position of a partner across a periodic boundary). */
+static void min_image(const cg_snapshot *sn, double b[3])
+{
+  double L[3];
+  for (int d = 0; d < 3; d++) L[d] = sn->hi[d] - sn->lo[d];
+  if (sn->periodic[2]) {
+    double n = nearbyint(b[2] / L[2]);
+    b[0] -= n * sn->tilt[1];
+    b[1] -= n * sn->tilt[2];
+    b[2] -= n * L[2];
+  }
+  if (sn->periodic[1]) {
+    double n = nearbyint(b[1] / L[1]);
+    b[0] -= n * sn->tilt[0];
+    b[1] -= n * L[1];
+  }
+  if (sn->periodic[0]) b[0] -= L[0] * nearbyint(b[0] / L[0]);
+}
+
 /* The pair snapshot with the atom snapshot's step, as contacts. */
 static int source_pairs(source *src, cg_error *err)
 {
@@ -315,12 +336,10 @@ static int source_pairs(source *src, cg_error *err)
         src->cb[3 * c + d] = row[d] - row[3 + d];
         src->cf[3 * c + d] = row[6 + d];
       }
+      min_image(sn, src->cb + 3 * c);
       src->cs[c] = row[3 + ax];
     }
   } else {
-    if (sn->triclinic)
-      return CG_ERROR(err, CG_EINPUT, "%s: pair dumps with atom ids need an orthogonal box "
-                      "(give positions in --pair-columns)", sn->where);
     size_t n = src->pt.n;
     if (n > src->idcap) {
       double *p = realloc(src->ids, 2 * n * sizeof *p);
@@ -335,8 +354,6 @@ static int source_pairs(source *src, cg_error *err)
       src->ids[2 * i + 1] = (double)i;
     }
     qsort(src->ids, n, 2 * sizeof(double), cmp_id);
-    double L[3];
-    for (int d = 0; d < 3; d++) L[d] = sn->hi[d] - sn->lo[d];
     for (size_t c = 0; c < nc; c++) {
       const double *row = ps->data + c * w;
       long i = find_id(src, row[0]), j = find_id(src, row[1]);
@@ -344,11 +361,10 @@ static int source_pairs(source *src, cg_error *err)
         return CG_ERROR(err, CG_EINPUT, "%s: entry %zu: no atom with id %.0f in %s", ps->where, c + 1,
                         i < 0 ? row[0] : row[1], sn->where);
       for (int d = 0; d < 3; d++) {
-        double b = ad[(size_t)i * aw + C_POS + d] - ad[(size_t)j * aw + C_POS + d];
-        if (sn->periodic[d]) b -= L[d] * nearbyint(b / L[d]);
-        src->cb[3 * c + d] = b;
+        src->cb[3 * c + d] = ad[(size_t)i * aw + C_POS + d] - ad[(size_t)j * aw + C_POS + d];
         src->cf[3 * c + d] = row[2 + d];
       }
+      min_image(sn, src->cb + 3 * c);
       src->cs[c] = src->s[j];
     }
   }

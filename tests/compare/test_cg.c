@@ -389,8 +389,11 @@ static void write_packing(const char *atoms, const char *pos, const char *ids)
           S[i][c] += 0.5 * t[c];
           S[j][c] += 0.5 * t[c];
         }
+        /* LIGGGHTS writes the partner's own (wrapped) position, not its image:
+         * half the contacts as LIGGGHTS, half with the image */
+        const double *xj = (i + j) % 2 ? x[j] : jimg;
         fprintf(fp, "%.17g %.17g %.17g %.17g %.17g %.17g %d %d 0 %.17g %.17g %.17g \n", x[i][0], x[i][1],
-                x[i][2], jimg[0], jimg[1], jimg[2], i + 1, j + 1, f[0], f[1], f[2]);
+                x[i][2], xj[0], xj[1], xj[2], i + 1, j + 1, f[0], f[1], f[2]);
         fprintf(fi, "%d %d %.17g %.17g %.17g %.17g\n", i + 1, j + 1, d, f[0], f[1], f[2]);
       }
   }
