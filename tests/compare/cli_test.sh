@@ -45,6 +45,9 @@ h5dump -H -d phi series.h5 | grep -q "( 3, " || fail "--every 2 over 6 snapshots
 expect 0 "" -- "$ekmc" cg b.bin --window 0.02 -o win.h5 --quiet
 expect 0 "" -- "$ekmc" cg b.bin --steps 1000:3000 --kernel lucy -o steps.h5
 grep -q "3 of 6 snapshots" err.txt || fail "--steps 1000:3000: expected 3 snapshots ($(cat err.txt))"
+expect 0 "" -- "$ekmc" cg b.bin --axis x --kernel bins --bins 10 -o axis_x.h5 --quiet
+h5dump -H -d x axis_x.h5 > /dev/null || fail "--axis x: no /x dataset"
+h5dump -a axis axis_x.h5 | grep -q '"x"' || fail "--axis x: attribute axis"
 expect 0 "" -- "$ekmc" cg b.bin --steady -o steady.h5
 grep -q "steady window starts at\|using all of them" err.txt || fail "--steady: no note"
 # score: a cg file against itself is a perfect score
