@@ -1,0 +1,150 @@
+/* hypo.c: the hypoplastic rate law of the slab (see hypo.h). */
+#include "hypo.h"
+
+#include <math.h>
+
+double ekm_hypo_density_factor(const ekm_material *m, double phi)
+{
+    if (m->alpha == 0.0)
+        return 1.0;
+    if (!(phi > m->phi_co))
+        return 0.0;
+    return pow((phi - m->phi_co) / (m->phi_cp - phi), m->alpha);
+}
+
+double ekm_hypo_R(const ekm_material *m, ekm_variant v, double phi)
+{
+    const double c = v == EKM_VARIANT_THESIS ? m->zeta0 : 4.0 / 3.0 * m->eta0 + m->zeta0;
+    return sqrt(3.0 * m->eps0 * c / (2.0 * phi));
+}
+
+static double norm_full(const ekm_material *m, double du_dz, double dw_dz)
+{
+    const double gdot2 = 0.5 * du_dz * du_dz + 2.0 / 3.0 * dw_dz * dw_dz;
+    return sqrt(gdot2 + m->zeta0 / (2.0 * m->eta0) * dw_dz * dw_dz);
+}
+
+double ekm_hypo_rate_norm(const ekm_material *m, ekm_variant v, double du_dz, double dw_dz)
+{
+    return v == EKM_VARIANT_THESIS ? fabs(dw_dz) : norm_full(m, du_dz, dw_dz);
+}
+
+static double coeff_a1(const ekm_material *m, double phi)
+{
+    return 2.0 / (9.0 * m->zeta0) * sqrt(phi * m->eta0 / (3.0 * m->eps0));
+}
+
+static double coeff_a2(const ekm_material *m, double phi)
+{
+    return sqrt(phi / (3.0 * m->eta0 * m->eps0));
+}
+
+ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi,
+                              const ekm_hypo_stress *s, double du_dz, double dw_dz)
+{
+    const double A = m->A_h, B = m->B_h;
+    const double f = ekm_hypo_density_factor(m, phi);
+    const double PY = ekm_pressure_yield(m, phi);
+    ekm_hypo_stress r = {0};
+    if (!(PY > 0.0))
+        return r;
+    const double a2 = coeff_a2(m, phi);
+    const double kfull = norm_full(m, du_dz, dw_dz);
+    /* Shear: the deviatoric part of the full law in both variants. */
+    r.xz = f * (B * du_dz - 2.0 * B * a2 * s->xz / PY * kfull);
+    if (v == EKM_VARIANT_THESIS) {
+        const double R = ekm_hypo_R(m, v, phi);
+        r.zz = f * A * (dw_dz - (s->zz + PY) / (R * PY) * fabs(dw_dz));
+        r.xx = r.yy = r.zz;
+        return r;
+    }
+    const double a1 = coeff_a1(m, phi);
+    const double tr = s->xx + s->yy + s->zz;
+    const double q = (tr + 3.0 * PY) / PY;
+    const double Niso = (3.0 * A + 2.0 * B) * a1 * q;
+    const double dev = 2.0 * B * a2 / PY;
+    r.xx = f * (A * dw_dz - (Niso + dev * (s->xx - tr / 3.0)) * kfull);
+    r.yy = f * (A * dw_dz - (Niso + dev * (s->yy - tr / 3.0)) * kfull);
+    r.zz = f * ((A + 2.0 * B) * dw_dz - (Niso + dev * (s->zz - tr / 3.0)) * kfull);
+    return r;
+}
+
+double ekm_hypo_yield(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s)
+{
+    const double PY = ekm_pressure_yield(m, phi);
+    if (!(PY > 0.0))
+        return INFINITY;
+    if (v == EKM_VARIANT_THESIS) {
+        const double q = (s->zz + PY) / (ekm_hypo_R(m, v, phi) * PY);
+        return q * q - 1.0;
+    }
+    const double tr = s->xx + s->yy + s->zz;
+    const double dxx = s->xx - tr / 3.0, dyy = s->yy - tr / 3.0, dzz = s->zz - tr / 3.0;
+    const double s2 = dxx * dxx + dyy * dyy + dzz * dzz + 2.0 * s->xz * s->xz;
+    const double q = tr + 3.0 * PY;
+    return (q * q + 9.0 * m->zeta0 / (2.0 * m->eta0) * s2)
+         / (27.0 * m->zeta0 * m->eps0 / (2.0 * phi) * PY * PY) - 1.0;
+}
+
+ekm_hypo_stress ekm_hypo_from_flow(const ekm_material *m, ekm_variant v, double phi, double T,
+                                   double du_dz, double dw_dz)
+{
+    const ekm_transport c = ekm_transport_coefficients(m, v, phi, T);
+    const double P = ekm_pressure_kinetic(m, phi, T) + ekm_pressure_yield(m, phi);
+    ekm_hypo_stress s;
+    s.zz = -P + c.mu_n * dw_dz;
+    s.xz = c.eta * du_dz;
+    if (v == EKM_VARIANT_THESIS)
+        s.xx = s.yy = s.zz;
+    else
+        s.xx = s.yy = -P + (c.zeta - 2.0 / 3.0 * c.eta) * dw_dz;
+    return s;
+}
+
+ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double phi, double dt,
+                                   const ekm_hypo_stress *s, double du_dz_old, double dw_dz_old)
+{
+    const double A = m->A_h, B = m->B_h;
+    const double PY = ekm_pressure_yield(m, phi);
+    ekm_hypo_implicit c = {0};
+    if (!(PY > 0.0))
+        return c; /* no solid state below phi_co: stress-free */
+    const double fdt = ekm_hypo_density_factor(m, phi) * dt;
+    const double a2 = coeff_a2(m, phi);
+    const double kfull = norm_full(m, du_dz_old, dw_dz_old);
+    const double c_d = fdt * 2.0 * B * a2 * kfull / PY;
+    c.xz_scale = 1.0 / (1.0 + c_d);
+    c.Vxz = fdt * B / (1.0 + c_d);
+    if (v == EKM_VARIANT_THESIS) {
+        const double R = ekm_hypo_R(m, v, phi);
+        const double cz = fdt * A * fabs(dw_dz_old) / (R * PY);
+        c.Ezz = (s->zz - cz * PY) / (1.0 + cz);
+        c.Vzz = fdt * A / (1.0 + cz);
+        c.Exx = c.Eyy = c.Ezz;
+        c.Vxx = c.Vzz;
+        return c;
+    }
+    const double a1 = coeff_a1(m, phi);
+    const double K3 = 3.0 * A + 2.0 * B;
+    const double c_p = fdt * 3.0 * K3 * a1 * kfull / PY;
+    const double tr = s->xx + s->yy + s->zz;
+    const double iso = (tr - 3.0 * c_p * PY) / (3.0 * (1.0 + c_p)); /* tr(sigma)^{n+1}/3 at w' = 0 */
+    const double Viso = fdt * K3 / (3.0 * (1.0 + c_p));
+    c.Ezz = iso + (s->zz - tr / 3.0) / (1.0 + c_d);
+    c.Exx = iso + (s->xx - tr / 3.0) / (1.0 + c_d);
+    c.Eyy = iso + (s->yy - tr / 3.0) / (1.0 + c_d);
+    c.Vzz = Viso + fdt * 4.0 * B / (3.0 * (1.0 + c_d));
+    c.Vxx = Viso - fdt * 2.0 * B / (3.0 * (1.0 + c_d));
+    return c;
+}
+
+ekm_hypo_stress ekm_hypo_finish(const ekm_hypo_implicit *c, double sigma_xz_old, double du_dz,
+                                double dw_dz)
+{
+    ekm_hypo_stress s;
+    s.zz = c->Ezz + c->Vzz * dw_dz;
+    s.xx = c->Exx + c->Vxx * dw_dz;
+    s.yy = c->Eyy + c->Vxx * dw_dz;
+    s.xz = sigma_xz_old * c->xz_scale + c->Vxz * du_dz;
+    return s;
+}

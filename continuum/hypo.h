@@ -1,0 +1,97 @@
+/* hypo.h: the hypoplastic (solid-like) regime of the EKM in the slab, as
+ * pure functions (MODEL.md section 4, docs/model.md "Solid regime").
+ *
+ * Full variant (cleaned tensor form of thesis 5.4.8-5.4.11), stress state
+ * sigma_xx, sigma_yy, sigma_zz, sigma_xz [Pa] (negative in compression),
+ * strain rate kappa_xz = u'/2, kappa_zz = w', tr(kappa) = w':
+ *
+ *   d(sigma)/dt = f(phi) ( L : kappa - N ||kappa|| )
+ *   L : kappa   = A_h tr(kappa) I + 2 B_h kappa
+ *   ||kappa||   = sqrt(gdot^2 + zeta0/(2 eta0) tr(kappa)^2),
+ *                 gdot^2 = u'^2/2 + (2/3) w'^2                     [1/s]
+ *   N           = (3 A_h + 2 B_h) a1 q I + 2 B_h a2 sigma^D / P_Y,
+ *                 q = (tr(sigma) + 3 P_Y) / P_Y
+ *   a1 = (2/(9 zeta0)) sqrt(phi eta0/(3 eps0)),  a2 = sqrt(phi/(3 eta0 eps0))
+ *   f(phi) = ((phi - phi_co)/(phi_cp - phi))^alpha                 [-]
+ *
+ * Its stationary states lie on the EKM limit surface
+ *
+ *   f_Y = [(tr sigma + 3 P_Y)^2 + (9 zeta0/(2 eta0)) sigma_s^2]
+ *         / [(27 zeta0 eps0/(2 phi)) P_Y^2] - 1 = 0
+ *
+ * (normalised: dimensionless, 0 on the surface, < 0 inside), with the
+ * EKM's quasi-static flow rule.  Uniaxial compression (u' = 0, w' < 0)
+ * saturates at sigma_zz = -P_Y (1 + R), R = sqrt(3 eps0 (4/3 eta0 + zeta0)
+ * / (2 phi)).
+ *
+ * Thesis variant (1D law 6.2.31, bulk viscosity only): one scalar stress
+ * sigma = sigma_xx = sigma_yy = sigma_zz,
+ *
+ *   d(sigma)/dt = f(phi) A_h ( w' - (sigma + P_Y)/(R P_Y) |w'| ),
+ *   R = sqrt(3 eps0 zeta0 / (2 phi)),  f_Y = ((sigma + P_Y)/(R P_Y))^2 - 1;
+ *
+ * the shear stress follows the deviatoric part of the full law (the thesis
+ * has none).  The thesis's Chapter 5 typos (MODEL.md 10) are not copied:
+ * L^-1 is never needed, N is derived afresh from the flow rule, and f
+ * scales the stiffness.
+ *
+ * Time integration (the stepper): backward Euler in kappa with ||kappa||
+ * lagged and N linear in sigma taken implicitly ("linearly implicit"):
+ * every stress component is then sigma^{n+1} = E + V * (velocity gradient
+ * at n+1), which the momentum solves take as a known stress E and a
+ * viscosity V.  The scheme is unconditionally stable and its fixed point
+ * under a constant rate is exactly the limit state.
+ */
+#ifndef EKM_HYPO_H
+#define EKM_HYPO_H
+
+#include "model.h"
+
+/* Slab stress state of a solid cell [Pa]. */
+typedef struct {
+    double xx, yy, zz, xz;
+} ekm_hypo_stress;
+
+/* Density factor f(phi) of the stiffness (0 at phi <= phi_co). */
+double ekm_hypo_density_factor(const ekm_material *m, double phi);
+
+/* R of the variant at phi (MODEL.md 4). */
+double ekm_hypo_R(const ekm_material *m, ekm_variant v, double phi);
+
+/* ||kappa|| [1/s] for u' = du_dz, w' = dw_dz (thesis variant: |w'|). */
+double ekm_hypo_rate_norm(const ekm_material *m, ekm_variant v, double du_dz, double dw_dz);
+
+/* d(sigma)/dt [Pa/s] of the rate law at phi for the given gradients. */
+ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi,
+                              const ekm_hypo_stress *s, double du_dz, double dw_dz);
+
+/* Normalised limit-surface function f_Y (0 on the surface, < 0 inside);
+ * +inf when P_Y = 0 (no solid state below phi_co). */
+double ekm_hypo_yield(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s);
+
+/* The EKM (flow) stress at (phi, T) and the gradients, in the solid's
+ * components: the initial solid stress at a flow -> solid switch and the
+ * comparison stress at solid -> flow. */
+ekm_hypo_stress ekm_hypo_from_flow(const ekm_material *m, ekm_variant v, double phi, double T,
+                                   double du_dz, double dw_dz);
+
+/* One linearly implicit step of length dt: with ||kappa^n|| from the
+ * gradients at the start of the step (lagged), the new stress is
+ *   zz = Ezz + Vzz w',  xx = Exx + Vxx w',  yy = Exx + Vxx w',
+ *   xz = Exz + Vxz u'      (Exz = sigma_xz^n * xz_scale)
+ * with w', u' the gradients at the end of the step. */
+typedef struct {
+    double Ezz, Vzz;      /* [Pa], [Pa s] */
+    double Exx, Vxx, Eyy; /* [Pa], [Pa s], [Pa] */
+    double xz_scale;      /* 1/(1 + c_d) [-] */
+    double Vxz;           /* [Pa s] */
+} ekm_hypo_implicit;
+
+ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double phi, double dt,
+                                   const ekm_hypo_stress *s, double du_dz_old, double dw_dz_old);
+
+/* Apply a prepared step: the new stress for the end-of-step gradients. */
+ekm_hypo_stress ekm_hypo_finish(const ekm_hypo_implicit *c, double sigma_xz_old, double du_dz,
+                                double dw_dz);
+
+#endif
