@@ -528,7 +528,7 @@ static int text_atoms(cg_dump *d, cg_snapshot *s, cg_error *err)
 {
   size_t nsel = d->nsel, ncols = d->ncols;
   int64_t n = s->natoms;
-  size_t reserve = (size_t)(n < (1 << 20) ? n : (1 << 20));
+  size_t reserve = (size_t)(n < (1 << 16) ? n : (1 << 16)); /* grows as lines come */
   int rc = grow_rows(s, reserve, nsel, d->path, err);
   if (rc) return rc;
   for (int64_t i = 0; i < n; i++) {
@@ -779,9 +779,10 @@ static int bin_next(cg_dump *d, cg_snapshot *s, cg_error *err)
     int64_t na = n / size_one;
     if (atom + na > s->natoms)
       return bin_fail(d, err, "expected no more atoms than the header's atom count");
-    if ((rc = grow_rows(s, (size_t)(atom + na), nsel, d->path, err))) return rc;
     while (na > 0) {
       size_t k = (size_t)na < per ? (size_t)na : per;
+      /* grow with the data actually read, never with a declared size */
+      if ((rc = grow_rows(s, (size_t)atom + k, nsel, d->path, err))) return rc;
       BREAD(d->chunk, k * (size_t)size_one * sizeof(double), "end of file inside a chunk");
       for (size_t i = 0; i < k; i++) {
         const double *in = d->chunk + i * (size_t)size_one;
