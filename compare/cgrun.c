@@ -37,8 +37,9 @@ cg_run_opts cg_run_opts_default(void)
 
 typedef struct {
   const cg_run_opts *o;
-  const char *cols[C_NCOL];
+  const char *cols[C_NCOL];  /* the columns asked of the reader (compact) */
   size_t ncols;
+  int col[C_NCOL];           /* C_* -> index in cols, or -1 if not asked */
   size_t ifile;           /* next file to open */
   cg_dump *d;
   cg_snapshot snap;
@@ -88,14 +89,21 @@ static void source_init(source *src, const cg_run_opts *o)
   /* only the position columns the axis needs are parsed: the axis
    * coordinate, and for scaled ones the later dimensions (triclinic) */
   int idmode = o->npaircols == 5;
+  const char *want[C_NCOL];
   for (size_t j = 0; j < C_STRESS; j++) {
     int f = (int)j / 3, c = (int)j % 3;
     int need = j >= C_VX || c == o->axis || (f >= 2 && c > o->axis) || (idmode && f == 0);
-    src->cols[j] = need ? base_cols[j] : "\001unused";
+    want[j] = need ? base_cols[j] : NULL;
   }
-  for (size_t j = 0; j < 6; j++) src->cols[C_STRESS + j] = j < o->nstress ? o->stress[j] : "\001unused";
-  src->cols[C_ID] = idmode ? "id" : "\001unused";
-  src->ncols = C_NCOL;
+  for (size_t j = 0; j < 6; j++) want[C_STRESS + j] = j < o->nstress ? o->stress[j] : NULL;
+  want[C_ID] = idmode ? "id" : NULL;
+  /* only the needed columns are asked for: fewer conversions, and a
+   * compact snapshot row */
+  src->ncols = 0;
+  for (size_t j = 0; j < C_NCOL; j++) {
+    src->col[j] = want[j] ? (int)src->ncols : -1;
+    if (want[j]) src->cols[src->ncols++] = want[j];
+  }
 }
 
 static int source_grow(source *src, size_t n, cg_error *err)
@@ -128,6 +136,9 @@ static int missing(const cg_snapshot *s, const char *what, cg_error *err)
 }
 
 /* Snapshot columns -> particle arrays. */
+#define PR(c) (src->col[c] >= 0 && pr[src->col[c]])
+#define AT(row, c) ((row)[src->col[c]])
+
 static int source_convert(source *src, cg_error *err)
 {
   const cg_run_opts *o = src->o;
@@ -137,7 +148,7 @@ static int source_convert(source *src, cg_error *err)
   static const char axname[3] = {'x', 'y', 'z'};
   int flav = -1;
   for (int f = 0; f < 4; f++)
-    if (pr[C_POS + 3 * f + ax]) { flav = f; break; }
+    if (PR(C_POS + 3 * f + ax)) { flav = f; break; }
   if (flav < 0) {
     char what[64];
     snprintf(what, sizeof what, "'%c' (nor %cu, %cs, %csu)", axname[ax], axname[ax], axname[ax], axname[ax]);
@@ -146,17 +157,17 @@ static int source_convert(source *src, cg_error *err)
   int scaled = flav >= 2;
   if (scaled && sn->triclinic && ax < 2)
     for (int c = ax; c < 3; c++)
-      if (!pr[C_POS + 3 * flav + c])
+      if (!PR(C_POS + 3 * flav + c))
         return missing(sn, c == 1 ? "'ys' (scaled triclinic coordinates need all three)"
                                   : "'zs' (scaled triclinic coordinates need all three)", err);
   for (int c = 0; c < 3; c++)
-    if (!pr[C_VX + c]) return missing(sn, c == 0 ? "'vx'" : c == 1 ? "'vy'" : "'vz'", err);
+    if (!PR(C_VX + c)) return missing(sn, c == 0 ? "'vx'" : c == 1 ? "'vy'" : "'vz'", err);
   if (o->npaircols == 5) {
-    if (!pr[C_ID]) return missing(sn, "'id' (pair dumps with atom ids)", err);
+    if (!PR(C_ID)) return missing(sn, "'id' (pair dumps with atom ids)", err);
     for (int c = 0; c < 3; c++)
-      if (!pr[C_POS + c]) return missing(sn, c == 0 ? "'x' (pair dumps with atom ids)" : c == 1 ? "'y' (pair dumps with atom ids)" : "'z' (pair dumps with atom ids)", err);
+      if (!PR(C_POS + c)) return missing(sn, c == 0 ? "'x' (pair dumps with atom ids)" : c == 1 ? "'y' (pair dumps with atom ids)" : "'z' (pair dumps with atom ids)", err);
   }
-  int has_mass = pr[C_MASS], has_rad = pr[C_RADIUS], has_diam = pr[C_DIAMETER];
+  int has_mass = PR(C_MASS), has_rad = PR(C_RADIUS), has_diam = PR(C_DIAMETER);
   if (!has_mass && !(has_rad || has_diam))
     return missing(sn, "'mass', 'radius' or 'diameter'", err);
   if (!has_mass && !(o->rho_p > 0))
@@ -168,7 +179,7 @@ static int source_convert(source *src, cg_error *err)
                     "%s: ITEM: ATOMS has no column 'radius' or 'diameter' (needed for phi): "
                     "give --rho-p (material density, kg/m^3)", sn->where);
   for (size_t j = 0; j < o->nstress; j++)
-    if (!pr[C_STRESS + j]) {
+    if (!PR(C_STRESS + j)) {
       char what[96];
       snprintf(what, sizeof what, "'%s' (--stress)", o->stress[j]);
       return missing(sn, what, err);
@@ -186,9 +197,10 @@ static int source_convert(source *src, cg_error *err)
     const double *row = sn->data + i * w;
     double s;
     if (!scaled) {
-      s = row[C_POS + 3 * flav + ax];
+      s = AT(row, C_POS + 3 * flav + ax);
     } else {
-      const double *q = row + C_POS + 3 * flav;
+      double q[3];
+      for (int c = 0; c < 3; c++) q[c] = PR(C_POS + 3 * flav + c) ? AT(row, C_POS + 3 * flav + c) : 0.0;
       if (ax == 2) s = sn->lo[2] + q[2] * L[2];
       else if (ax == 1) s = sn->lo[1] + q[1] * L[1] + (sn->triclinic ? q[2] * sn->tilt[2] : 0.0);
       else s = sn->lo[0] + q[0] * L[0] + (sn->triclinic ? q[1] * sn->tilt[0] + q[2] * sn->tilt[1] : 0.0);
@@ -199,9 +211,9 @@ static int source_convert(source *src, cg_error *err)
       if (s >= src->hi) s = src->lo;
     }
     src->s[i] = s;
-    for (int c = 0; c < 3; c++) src->v[3 * i + c] = row[C_VX + c];
-    double r = has_rad ? row[C_RADIUS] : has_diam ? 0.5 * row[C_DIAMETER] : -1.0;
-    double m = has_mass ? row[C_MASS] : 0.0;
+    for (int c = 0; c < 3; c++) src->v[3 * i + c] = AT(row, C_VX + c);
+    double r = has_rad ? AT(row, C_RADIUS) : has_diam ? 0.5 * AT(row, C_DIAMETER) : -1.0;
+    double m = has_mass ? AT(row, C_MASS) : 0.0;
     if (r >= 0.0) {
       if (!(r > 0.0))
         return CG_ERROR(err, CG_EINPUT, "%s: atom %zu: expected a positive radius, got %g",
@@ -223,7 +235,7 @@ static int source_convert(source *src, cg_error *err)
     src->dsum += 2.0 * r;
     src->dcount += 1.0;
     if (o->nstress)
-      for (int c = 0; c < 6; c++) src->S[6 * i + c] = row[C_STRESS + c];
+      for (int c = 0; c < 6; c++) src->S[6 * i + c] = AT(row, C_STRESS + c);
   }
   src->pt.n = n;
   src->pt.s = src->s;
@@ -350,7 +362,7 @@ static int source_pairs(source *src, cg_error *err)
     const double *ad = sn->data;
     size_t aw = sn->nsel;
     for (size_t i = 0; i < n; i++) {
-      src->ids[2 * i] = ad[i * aw + C_ID];
+      src->ids[2 * i] = AT(ad + i * aw, C_ID);
       src->ids[2 * i + 1] = (double)i;
     }
     qsort(src->ids, n, 2 * sizeof(double), cmp_id);
@@ -361,7 +373,7 @@ static int source_pairs(source *src, cg_error *err)
         return CG_ERROR(err, CG_EINPUT, "%s: entry %zu: no atom with id %.0f in %s", ps->where, c + 1,
                         i < 0 ? row[0] : row[1], sn->where);
       for (int d = 0; d < 3; d++) {
-        src->cb[3 * c + d] = ad[(size_t)i * aw + C_POS + d] - ad[(size_t)j * aw + C_POS + d];
+        src->cb[3 * c + d] = AT(ad + (size_t)i * aw, C_POS + d) - AT(ad + (size_t)j * aw, C_POS + d);
         src->cf[3 * c + d] = row[2 + d];
       }
       min_image(sn, src->cb + 3 * c);

@@ -816,12 +816,5 @@ int cg_dump_next(cg_dump *d, cg_snapshot *s, cg_error *err)
 {
   if (d->truncated) return CG_EOF;
   s->nsel = d->nsel;
-  int rc = d->binary ? bin_next(d, s, err) : text_next(d, s, err);
-  if (rc == CG_OK) {
-    /* absent columns read as 0 */
-    for (size_t j = 0; j < d->nsel; j++)
-      if (!s->present[j])
-        for (int64_t i = 0; i < s->natoms; i++) s->data[(size_t)i * d->nsel + j] = 0.0;
-  }
-  return rc;
+  return d->binary ? bin_next(d, s, err) : text_next(d, s, err);
 }

@@ -45,7 +45,8 @@ typedef struct {
   int periodic[3];       /* 1 if x, y, z is periodic ('p' flags) */
   size_t nsel;           /* number of selected columns */
   int present[CG_DUMP_MAXCOL]; /* 1 if selected column j exists */
-  double *data;          /* natoms x nsel values, row-major (absent: 0) */
+  double *data;          /* natoms x nsel values, row-major; the values of
+                            absent columns are unspecified */
   size_t cap;            /* allocated rows of data */
   char where[600];       /* "file:line" of this snapshot's ITEM: ATOMS */
 } cg_snapshot;

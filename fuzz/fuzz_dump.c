@@ -36,7 +36,8 @@ static void read_dump(const char *path)
   while (n++ < 1000 && cg_dump_next(d, &s, &err) == CG_OK) {
     /* touch every value that was read */
     for (int64_t i = 0; i < s.natoms; i++)
-      for (size_t j = 0; j < s.nsel; j++) sum += s.data[(size_t)i * s.nsel + j];
+      for (size_t j = 0; j < s.nsel; j++)
+        if (s.present[j]) sum += s.data[(size_t)i * s.nsel + j];
   }
   if (sum == 12345.678) fprintf(stderr, "(unlikely)\n");
   cg_snapshot_free(&s);
