@@ -213,7 +213,7 @@ static void deposit_contacts_sub(cg_profile *p, const cg_particles *pt)
 }
 
 /* Contact stress with the kernel evaluated at every branch point (exact path). */
-static int deposit_contacts_exact(cg_profile *p, const cg_particles *pt)
+static void deposit_contacts_exact(cg_profile *p, const cg_particles *pt)
 {
   int ax = p->g.axis;
   double h = p->g.dz / CG_SUBGRID;
@@ -231,7 +231,6 @@ static int deposit_contacts_exact(cg_profile *p, const cg_particles *pt)
       }
     }
   }
-  return CG_OK;
 }
 
 static int snapshot_subgrid(cg_profile *p, const cg_particles *pt, double *prim)
