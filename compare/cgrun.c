@@ -486,6 +486,9 @@ static int find_steady(const cg_run_opts *o, double *t_start, cg_error *err)
         else
           fprintf(o->log, "note: --steady: steady window starts at t = %.9g s (snapshot %zu of %zu, MSER-5)\n",
                   ts[k], k + 1, nts);
+        if (nts >= 10 && k >= (nts / 5 / 2) * 5)
+          fprintf(o->log, "warning: --steady: the start is the latest MSER-5 allows (half the selection): "
+                  "the run may not be steady yet, or is too short to tell; check with --every or give --from\n");
       }
     }
   }
