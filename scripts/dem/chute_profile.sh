@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # chute_profile.sh: steady-state profiles of a chute run, for docs/dem.md.
 #
-#   scripts/dem/chute_profile.sh [-w FRACTION] [-b BIN_D] DIR
+#   scripts/dem/chute_profile.sh [-w FRACTION] [-b BIN_D] [-s TSTART] DIR
 #
 # Reads DIR/atoms.dump and DIR/vars.txt; averages the frames of the last
-# FRACTION (default 0.5) of the flow period. Profiles along the bed normal
+# FRACTION (default 0.5) of the flow period (t_settle + t_flow), or, with
+# -s, every frame from time TSTART on (any slab run, e.g. shear_cell). Profiles along the bed normal
 # z (origin: centre plane of the base grains) in bins of BIN_D grain
 # diameters (default 0.5): phi(z) from the exact sphere-slab intersection
 # volumes, u(z) mass-weighted mean v_x of the grains centred in the bin.
@@ -13,11 +14,12 @@
 # u(z) = u_s [1 - (1 - z/h)^n] over 0.5 d < z < h.
 # This is a quick check, not the coarse-graining tool (compare/).
 set -euo pipefail
-frac=0.5; bin=0.5
-while getopts "w:b:" o; do case $o in w) frac=$OPTARG ;; b) bin=$OPTARG ;; *) exit 2 ;; esac; done
+frac=0.5; bin=0.5; tstart=""
+while getopts "w:b:s:" o; do case $o in w) frac=$OPTARG ;; b) bin=$OPTARG ;; s) tstart=$OPTARG ;; *) exit 2 ;; esac; done
 shift $((OPTIND - 1)); dir=$1
 v() { awk -v k="$1" '$1 == k { print $3 }' "$dir/vars.txt"; }
-awk -v dt="$(v dt)" -v t0="$(v t_settle)" -v tf="$(v t_flow)" -v frac="$frac" \
+if [ -n "$tstart" ]; then t0=$tstart; tf=0; else t0=$(v t_settle); tf=$(v t_flow); fi
+awk -v dt="$(v dt)" -v t0="$t0" -v tf="$tf" -v frac="$frac" \
     -v d="$(v d)" -v lx="$(v lx)" -v ly="$(v ly)" -v binw="$bin" '
 function seg(a, b, r, zc,   lo, hi) {          # volume of sphere in slab [a,b]
   lo = (a > zc - r) ? a : zc - r; hi = (b < zc + r) ? b : zc + r
