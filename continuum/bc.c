@@ -1,5 +1,7 @@
 #include "bc.h"
 
+#include <math.h>
+
 static int adjacent_cell(ekm_side side, const ekm_state *s)
 {
     return side == EKM_SIDE_BOTTOM ? 0 : s->n - 1;
@@ -49,6 +51,23 @@ static ekm_bc_face bc_free(const ekm_bc *bc, ekm_side side, const ekm_state *s)
     return b;
 }
 
+/* Piston: the face moves with w(t) = +w in the first half of each period,
+ * -w in the second; the material at the face follows it (zero gradient of
+ * phi, u, T, as the face of a deforming sample); no slip. */
+static ekm_bc_face bc_piston(const ekm_bc *bc, ekm_side side, const ekm_state *s, double t)
+{
+    const int j = adjacent_cell(side, s);
+    ekm_bc_face b = {0};
+    const double phase = t / bc->period - floor(t / bc->period);
+    /* a step that ends exactly at a half period belongs to the half before it */
+    b.w = phase < 0.5 - 1e-12 || phase > 1.0 - 1e-12 ? bc->w : -bc->w;
+    b.phi_in = s->phi[j];
+    b.u_in = s->u[j];
+    b.T_in = s->T[j];
+    b.wall_conductance = 1.0 / (0.5 * s->dz);
+    return b;
+}
+
 typedef ekm_bc_face (*bc_fn)(const ekm_bc *, ekm_side, const ekm_state *);
 
 static const bc_fn BC_KINDS[] = {
@@ -56,6 +75,7 @@ static const bc_fn BC_KINDS[] = {
     [EKM_BC_INFLOW] = bc_inflow,
     [EKM_BC_OUTFLOW] = bc_outflow,
     [EKM_BC_FREE] = bc_free,
+    [EKM_BC_PISTON] = NULL, /* time-dependent: bc_piston */
 };
 
 ekm_bc_face ekm_bc_evaluate(const ekm_bc *bc, ekm_side side, double t, const ekm_state *s)
@@ -67,6 +87,8 @@ ekm_bc_face ekm_bc_evaluate(const ekm_bc *bc, ekm_side side, double t, const ekm
         closed.slip_length = 0.0;
         return bc_wall(&closed, side, s);
     }
+    if (bc->kind == EKM_BC_PISTON)
+        return bc_piston(bc, side, s, t);
     return BC_KINDS[bc->kind](bc, side, s);
 }
 

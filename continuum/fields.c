@@ -45,6 +45,12 @@ void ekm_fields_compute(const ekm_scenario *sc, const ekm_state *s, double t, ek
         out->szz[j] = -p_eq + c.mu_n * dw;
         out->P[j] = p_eq - c.zeta * dw;
         out->regime[j] = phi <= m->phi_co ? EKM_REGIME_KINETIC : EKM_REGIME_DENSE;
+        if (s->solid[j]) { /* the rate law's stress (hypo.h); shear stress on faces */
+            out->sxz[j] = 0.5 * (s->sxz[j] + s->sxz[j + 1]);
+            out->szz[j] = s->szz[j];
+            out->P[j] = -(s->sxx[j] + s->syy[j] + s->szz[j]) / 3.0;
+            out->regime[j] = EKM_REGIME_SOLID;
+        }
         eta_prev = c.eta;
     }
 }

@@ -3,6 +3,8 @@
  *   sxz = mean of the two face shear stresses eta_f du/dz (walls: the wall
  *         stress, stress-free ends: 0);
  *   szz = -(P_K + P_Y) + mu_n dw/dz;  P = P_K + P_Y - zeta dw/dz;
+ *   solid cells: szz, P from their stress state, sxz the mean of their two
+ *         face stresses (hypo.h);
  *   regime = 0 empty (phi < phi_dry), 1 kinetic (phi <= phi_co),
  *            2 dense flow (phi > phi_co), 3 solid (hypoplastic).
  */

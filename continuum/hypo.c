@@ -46,8 +46,12 @@ ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi,
     const double f = ekm_hypo_density_factor(m, phi);
     const double PY = ekm_pressure_yield(m, phi);
     ekm_hypo_stress r = {0};
-    if (!(PY > 0.0))
+    if (!(PY > 0.0)) { /* loose (phi <= phi_co): no limit surface, elastic */
+        r.xz = f * B * du_dz;
+        r.zz = f * (v == EKM_VARIANT_THESIS ? A : A + 2.0 * B) * dw_dz;
+        r.xx = r.yy = v == EKM_VARIANT_THESIS ? r.zz : f * A * dw_dz;
         return r;
+    }
     const double a2 = coeff_a2(m, phi);
     const double kfull = norm_full(m, du_dz, dw_dz);
     /* Shear: the deviatoric part of the full law in both variants. */
@@ -107,17 +111,16 @@ ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double 
     const double A = m->A_h, B = m->B_h;
     const double PY = ekm_pressure_yield(m, phi);
     ekm_hypo_implicit c = {0};
-    if (!(PY > 0.0))
-        return c; /* no solid state below phi_co: stress-free */
+    const int loose = !(PY > 0.0); /* no limit surface: the elastic part only */
     const double fdt = ekm_hypo_density_factor(m, phi) * dt;
     const double a2 = coeff_a2(m, phi);
     const double kfull = norm_full(m, du_dz_old, dw_dz_old);
-    const double c_d = fdt * 2.0 * B * a2 * kfull / PY;
+    const double c_d = loose ? 0.0 : fdt * 2.0 * B * a2 * kfull / PY;
     c.xz_scale = 1.0 / (1.0 + c_d);
     c.Vxz = fdt * B / (1.0 + c_d);
     if (v == EKM_VARIANT_THESIS) {
         const double R = ekm_hypo_R(m, v, phi);
-        const double cz = fdt * A * fabs(dw_dz_old) / (R * PY);
+        const double cz = loose ? 0.0 : fdt * A * fabs(dw_dz_old) / (R * PY);
         c.Ezz = (s->zz - cz * PY) / (1.0 + cz);
         c.Vzz = fdt * A / (1.0 + cz);
         c.Exx = c.Eyy = c.Ezz;
@@ -126,7 +129,7 @@ ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double 
     }
     const double a1 = coeff_a1(m, phi);
     const double K3 = 3.0 * A + 2.0 * B;
-    const double c_p = fdt * 3.0 * K3 * a1 * kfull / PY;
+    const double c_p = loose ? 0.0 : fdt * 3.0 * K3 * a1 * kfull / PY;
     const double tr = s->xx + s->yy + s->zz;
     const double iso = (tr - 3.0 * c_p * PY) / (3.0 * (1.0 + c_p)); /* tr(sigma)^{n+1}/3 at w' = 0 */
     const double Viso = fdt * K3 / (3.0 * (1.0 + c_p));

@@ -35,6 +35,11 @@
  * L^-1 is never needed, N is derived afresh from the flow rule, and f
  * scales the stiffness.
  *
+ * Loose cells (phi <= phi_co, P_Y = 0: the partially filled surface cell
+ * of a bed) have no limit surface; for them the law is its elastic part
+ * f L : kappa alone, and the stepper lets them be solid only on top of a
+ * solid cell and while in compression.
+ *
  * Time integration (the stepper): backward Euler in kappa with ||kappa||
  * lagged and N linear in sigma taken implicitly ("linearly implicit"):
  * every stress component is then sigma^{n+1} = E + V * (velocity gradient

@@ -150,6 +150,35 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
     return EKM_OK;
 }
 
+ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, double dz,
+                                    const double *rho, const double *rhs, const double *k,
+                                    const double *t0, const unsigned char *dry, double u_wall_bottom,
+                                    double u_wall_top, double *u, ekm_error *err)
+{
+    const double b = dt / dz;
+    for (int j = 0; j < n; j++) {
+        if (dry[j]) {
+            wk->diag[j] = 1.0;
+            wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
+            continue;
+        }
+        wk->diag[j] = rho[j] + b * (k[j] + k[j + 1]);
+        wk->sub[j] = j > 0 ? -b * k[j] : 0.0;
+        wk->sup[j] = j < n - 1 ? -b * k[j + 1] : 0.0;
+        wk->rhs[j] = rhs[j] + b * (t0[j + 1] - t0[j]);
+        if (j == 0)
+            wk->rhs[j] += b * k[0] * u_wall_bottom;
+        if (j == n - 1)
+            wk->rhs[j] += b * k[n] * u_wall_top;
+    }
+    ekm_status st = solve(wk, n, "shear momentum", err);
+    if (st != EKM_OK)
+        return st;
+    for (int j = 0; j < n; j++)
+        u[j] = wk->x[j];
+    return EKM_OK;
+}
+
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz,
                                     double rho_p, const double *phi, const double *rhoT_star,
                                     const double *lambda, const ekm_source_coeffs *src,

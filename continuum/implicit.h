@@ -51,6 +51,18 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
                                        const unsigned char *dry, ekm_implicit_end bottom,
                                        ekm_implicit_end top, double *u, ekm_error *err);
 
+/* Tangential velocity with face stresses tau_f = k_f (u_j - u_{j-1}) + t0_f
+ * (interior faces f = 1..n-1, u_j the cell above the face), tau_0 =
+ * k_0 (u_0 - u_wall_bottom) + t0_0, tau_n = k_n (u_wall_top - u_{n-1}) + t0_n:
+ *   rho_j u_j - dt/dz (tau_{j+1} - tau_j) = rhs_j.
+ * k [kg/(m^2 s)] and t0 [Pa] at the n + 1 faces (k = viscosity / distance;
+ * a solid face: k = its rate-law stiffness dt f B_h / dz, t0 its known
+ * stress).  The solid regime's form of the shear solve (step.c). */
+ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, double dz,
+                                    const double *rho, const double *rhs, const double *k,
+                                    const double *t0, const unsigned char *dry, double u_wall_bottom,
+                                    double u_wall_top, double *u, ekm_error *err);
+
 /* Temperature equation, Newton's method.  phi [-] (new), rhoT_star
  * [kg/(m s^2)] after convection, lambda [kg/(m s)] lagged, src the source
  * coefficients of each cell (model.h); T holds the initial guess on entry

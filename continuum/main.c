@@ -128,6 +128,14 @@ static int cmd_run(int argc, char **argv)
                sc.name, s->t, stats.steps, stats.rejected, sc.cells, stats.phi_max,
                (m1 - m0 - stats.mass_in) / scale,
                stats.steps ? (double)stats.newton_iterations / stats.steps : 0.0, stats.wall_s, out);
+        if (sc.hypo.enabled) {
+            printf("%-20s switches: %ld flow -> solid, %ld solid -> flow, largest stress jump %.1e", "",
+                   stats.to_solid, stats.to_flow, stats.jump_max);
+            if (stats.fail_time >= 0.0)
+                printf("; first failure t = %.6g s at angle %.4f deg (f_Y = %.1e)", stats.fail_time,
+                       stats.fail_angle, stats.fail_fY);
+            printf("\n");
+        }
     }
     ekm_step_free(stepper);
     ekm_state_free(s);

@@ -53,6 +53,15 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
         for (int e = 0; e < 2; e++)
             if (events[e] > s->t * (1.0 + 1e-14) && events[e] < t_target)
                 t_target = events[e];
+        /* A piston reverses every half period: steps end there too. */
+        const ekm_bc *pistons[2] = {&sc->bottom, &sc->top};
+        for (int e = 0; e < 2; e++)
+            if (pistons[e]->kind == EKM_BC_PISTON) {
+                const double half = 0.5 * pistons[e]->period;
+                double next = (floor(s->t / half + 1e-9) + 1.0) * half;
+                if (next < t_target)
+                    t_target = next;
+            }
         if (s->t + dt >= t_target * (1.0 - 1e-12))
             dt = t_target - s->t;
         for (;;) {
@@ -94,5 +103,11 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
     stats->wall_s = now_s() - started;
     stats->mass_final = ekm_state_mass(s, rho_p);
     stats->mass_in = s->mass_in;
+    stats->to_solid = st->to_solid;
+    stats->to_flow = st->to_flow;
+    stats->jump_max = st->jump_max;
+    stats->fail_time = st->fail_time;
+    stats->fail_angle = st->fail_angle;
+    stats->fail_fY = st->fail_fY;
     return EKM_OK;
 }

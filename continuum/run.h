@@ -26,6 +26,11 @@ typedef struct {
     double mass_in;      /* net boundary inflow [kg/m^2] */
     double phi_max;      /* largest phi of any output frame [-] */
     long newton_iterations; /* temperature Newton iterations, all steps */
+    long to_solid, to_flow; /* regime switches flow -> solid, solid -> flow */
+    double jump_max;        /* largest relative stress jump at a switch [-] */
+    double fail_time;       /* first solid -> flow switch [s], -1: none */
+    double fail_angle;      /* gravity angle then [deg] */
+    double fail_fY;         /* f_Y of the failing cell's stress then [-] */
 } ekm_run_stats;
 
 ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,

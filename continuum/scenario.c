@@ -35,10 +35,11 @@ typedef struct {
     BC(side, velocity, KEY_DOUBLE, "wall"),                            \
     BC(side, slip_length, KEY_DOUBLE, "wall"),                         \
     BC(side, phi, KEY_DOUBLE, "inflow"),                               \
-    BC(side, w, KEY_DOUBLE, "inflow"),                                 \
+    BC(side, w, KEY_DOUBLE, "inflow piston"),                               \
     BC(side, u, KEY_DOUBLE, "inflow"),                                 \
     BC(side, T, KEY_DOUBLE, "inflow"),                                 \
-    BC(side, t_stop, KEY_DOUBLE, "inflow")
+    BC(side, t_stop, KEY_DOUBLE, "inflow"),                            \
+    BC(side, period, KEY_DOUBLE, "piston")
 
 static const key_spec KEYS[] = {
     {"scenario", "name", KEY_STRING, SC(name), sizeof(((ekm_scenario *)0)->name), 0, NULL},
@@ -50,11 +51,15 @@ static const key_spec KEYS[] = {
     {"domain", "cells", KEY_INT, SC(cells), 0, 1, NULL},
     {"gravity", "magnitude", KEY_DOUBLE, SC(gravity), 0, 0, NULL},
     {"gravity", "angle", KEY_DOUBLE, SC(angle_deg), 0, 0, NULL},
+    {"gravity", "angle_rate", KEY_DOUBLE, SC(angle_rate), 0, 0, NULL},
+    {"gravity", "angle_start", KEY_DOUBLE, SC(angle_start), 0, 0, NULL},
     {"initial", "phi", KEY_DOUBLE, SC(phi_init), 0, 1, NULL},
     {"initial", "T", KEY_DOUBLE, SC(T_init), 0, 0, NULL},
     {"initial", "u", KEY_DOUBLE, SC(u_init), 0, 0, NULL},
     {"initial", "shear_rate", KEY_DOUBLE, SC(shear_rate_init), 0, 0, NULL},
     {"initial", "layer_height", KEY_DOUBLE, SC(layer_height), 0, 0, NULL},
+    {"initial", "solid", KEY_INT, SC(hypo.initial_solid), 0, 0, NULL},
+    {"initial", "stress_ratio", KEY_DOUBLE, SC(hypo.initial_stress_ratio), 0, 0, NULL},
     BC_KEYS(bottom),
     BC_KEYS(top),
     {"run", "t_end", KEY_DOUBLE, SC(t_end), 0, 1, NULL},
@@ -65,10 +70,18 @@ static const key_spec KEYS[] = {
     {"numerics", "dt_max", KEY_DOUBLE, SC(numerics.dt_max), 0, 0, NULL},
     {"numerics", "dt_min", KEY_DOUBLE, SC(numerics.dt_min), 0, 0, NULL},
     {"numerics", "phi_dry", KEY_DOUBLE, SC(numerics.phi_dry), 0, 0, NULL},
+    {"numerics", "phi_vacuum", KEY_DOUBLE, SC(numerics.phi_vacuum), 0, 0, NULL},
     {"numerics", "T_floor", KEY_DOUBLE, SC(numerics.T_floor), 0, 0, NULL},
     {"numerics", "phi_step_max", KEY_DOUBLE, SC(numerics.phi_step_max), 0, 0, NULL},
     {"numerics", "newton_tol", KEY_DOUBLE, SC(numerics.newton_tol), 0, 0, NULL},
     {"numerics", "newton_max", KEY_INT, SC(numerics.newton_max), 0, 0, NULL},
+    {"hypo", "enabled", KEY_INT, SC(hypo.enabled), 0, 0, NULL},
+    {"hypo", "T_ratio", KEY_DOUBLE, SC(hypo.T_ratio), 0, 0, NULL},
+    {"hypo", "phi_margin", KEY_DOUBLE, SC(hypo.phi_margin), 0, 0, NULL},
+    {"hypo", "rest_rate", KEY_DOUBLE, SC(hypo.rest_rate), 0, 0, NULL},
+    {"hypo", "yield_tol", KEY_DOUBLE, SC(hypo.yield_tol), 0, 0, NULL},
+    {"hypo", "jump_tol", KEY_DOUBLE, SC(hypo.jump_tol), 0, 0, NULL},
+    {"hypo", "log", KEY_INT, SC(hypo.log), 0, 0, NULL},
 };
 #define N_KEYS (sizeof KEYS / sizeof KEYS[0])
 
@@ -90,8 +103,12 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->output_dt = 0.0; /* 0: t_end / 100 */
     s->numerics = (ekm_numerics){
         .cfl = 0.4, .convection = EKM_CONVECTION_UPWIND, .limiter = "vanleer",
-        .dt_max = INFINITY, .dt_min = 1e-12, .phi_dry = 1e-9, .T_floor = 1e-16,
+        .dt_max = INFINITY, .dt_min = 1e-12, .phi_dry = 1e-9, .phi_vacuum = 0.0, .T_floor = 1e-16,
         .phi_step_max = 0.05, .newton_tol = 1e-9, .newton_max = 30,
+    };
+    s->hypo = (ekm_hypo_params){
+        .enabled = 0, .T_ratio = 1e-6, .phi_margin = 0.0, .rest_rate = 1e-4, .yield_tol = 1e-4,
+        .jump_tol = 5e-4, .log = 0, .initial_solid = 0, .initial_stress_ratio = 1.0,
     };
 }
 
@@ -203,7 +220,7 @@ static int handler(void *user, const char *section, const char *key, const char 
     if (!section_known(section))
         return fail_once(c, EKM_EINPUT,
                          "[%s]%s: unknown section (ekm reads scenario material model domain gravity "
-                         "initial bottom top run numerics; skips dem compare campaign figures)%s",
+                         "initial bottom top run numerics hypo; skips dem compare campaign figures)%s",
                          section, "", "");
     size_t k;
     for (k = 0; k < N_KEYS; k++)
@@ -227,7 +244,8 @@ static int handler(void *user, const char *section, const char *key, const char 
         else if (strcmp(value, "inflow") == 0) bc->kind = EKM_BC_INFLOW;
         else if (strcmp(value, "outflow") == 0) bc->kind = EKM_BC_OUTFLOW;
         else if (strcmp(value, "free") == 0) bc->kind = EKM_BC_FREE;
-        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected one of wall inflow outflow free, got '%s'",
+        else if (strcmp(value, "piston") == 0) bc->kind = EKM_BC_PISTON;
+        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected one of wall inflow outflow free piston, got '%s'",
                               section, key, value);
     } else if (ks->type == KEY_DOUBLE) {
         if (!parse_double(value, (double *)(base + ks->offset)))
@@ -279,13 +297,23 @@ static const char *where(const parse_ctx *c, const char *section, const char *ke
         }                                                                                 \
     } while (0)
 
+/* Whether `type` is one of the space-separated words of `list`. */
+static int type_in(const char *list, const char *type)
+{
+    const size_t n = strlen(type);
+    for (const char *p = list; (p = strstr(p, type)) != NULL; p += n)
+        if ((p == list || p[-1] == ' ') && (p[n] == '\0' || p[n] == ' '))
+            return 1;
+    return 0;
+}
+
 static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char *side,
                            const ekm_bc *bc, ekm_error *err)
 {
     const char *type = ekm_bc_kind_name(bc->kind);
     for (size_t k = 0; k < N_KEYS; k++)
         if (strcmp(KEYS[k].section, side) == 0 && KEYS[k].only_for_bc && c->seen[k] &&
-            strcmp(KEYS[k].only_for_bc, type) != 0) {
+            !type_in(KEYS[k].only_for_bc, type)) {
             char w_[600];
             return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: only allowed with type = %s (this side is %s)",
                             where(c, side, KEYS[k].key, w_, sizeof w_), side, KEYS[k].key,
@@ -301,6 +329,10 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
               bottom ? "a velocity > 0 (into the domain)" : "a velocity < 0 (into the domain)", bc->w);
         RANGE(bc->T >= 0.0, side, "T", "a temperature >= 0 [m^2/s^2]", bc->T);
         RANGE(bc->t_stop > 0.0, side, "t_stop", "a time > 0 [s]", bc->t_stop);
+    }
+    if (bc->kind == EKM_BC_PISTON) {
+        RANGE(bc->w != 0.0, side, "w", "a velocity != 0 [m/s]", bc->w);
+        RANGE(bc->period > 0.0, side, "period", "a time > 0 [s]", bc->period);
     }
     return EKM_OK;
 }
@@ -331,6 +363,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(n->dt_max > 0.0, "numerics", "dt_max", "a time > 0 [s]", n->dt_max);
     RANGE(n->dt_min > 0.0 && n->dt_min < n->dt_max, "numerics", "dt_min", "a time in (0, dt_max) [s]", n->dt_min);
     RANGE(n->phi_dry > 0.0 && n->phi_dry < 1e-3, "numerics", "phi_dry", "a number in (0, 1e-3)", n->phi_dry);
+    RANGE(n->phi_vacuum >= 0.0 && n->phi_vacuum < 0.1, "numerics", "phi_vacuum", "a number in [0, 0.1)",
+          n->phi_vacuum);
     RANGE(n->T_floor > 0.0, "numerics", "T_floor", "a temperature > 0 [m^2/s^2]", n->T_floor);
     RANGE(n->phi_step_max > 0.0 && n->phi_step_max < 1.0, "numerics", "phi_step_max", "a number in (0, 1)",
           n->phi_step_max);
@@ -343,6 +377,19 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
         char w_[600];
         return EKM_FAIL(err, EKM_EINPUT, "%s: %s", where(c, "numerics", "limiter", w_, sizeof w_), lerr.message);
     }
+    const ekm_hypo_params *h = &s->hypo;
+    RANGE(h->enabled == 0 || h->enabled == 1, "hypo", "enabled", "0 or 1", h->enabled);
+    RANGE(h->log == 0 || h->log == 1, "hypo", "log", "0 or 1", h->log);
+    RANGE(h->T_ratio > 0.0, "hypo", "T_ratio", "a number > 0", h->T_ratio);
+    RANGE(h->phi_margin >= 0.0 && h->phi_margin < s->material.phi_cp - s->material.phi_co, "hypo", "phi_margin",
+          "a number in [0, phi_cp - phi_co)", h->phi_margin);
+    RANGE(h->rest_rate >= 0.0, "hypo", "rest_rate", "a rate >= 0 [1/s]", h->rest_rate);
+    RANGE(h->yield_tol > 0.0 && h->yield_tol < 0.1, "hypo", "yield_tol", "a number in (0, 0.1)", h->yield_tol);
+    RANGE(h->jump_tol > 0.0 && h->jump_tol < 1.0, "hypo", "jump_tol", "a number in (0, 1)", h->jump_tol);
+    RANGE(h->initial_solid == 0 || h->initial_solid == 1, "initial", "solid", "0 or 1", h->initial_solid);
+    RANGE(!h->initial_solid || h->enabled, "initial", "solid", "0 unless [hypo] enabled = 1", h->initial_solid);
+    RANGE(h->initial_stress_ratio >= 0.0, "initial", "stress_ratio", "a number >= 0", h->initial_stress_ratio);
+    RANGE(isfinite(s->angle_rate), "gravity", "angle_rate", "a rate [deg/s]", s->angle_rate);
     ekm_status st = check_bc(c, s, "bottom", &s->bottom, err);
     if (st != EKM_OK)
         return st;
@@ -404,6 +451,11 @@ void ekm_scenario_free(ekm_scenario *s)
     s->n_entries = 0;
 }
 
+double ekm_scenario_angle_at(const ekm_scenario *s, double t)
+{
+    return s->angle_deg + (t > s->angle_start ? s->angle_rate * (t - s->angle_start) : 0.0);
+}
+
 double ekm_scenario_gravity_x(const ekm_scenario *s)
 {
     return s->gravity * sin(s->angle_deg * DEG);
@@ -421,6 +473,7 @@ const char *ekm_bc_kind_name(ekm_bc_kind k)
     case EKM_BC_INFLOW: return "inflow";
     case EKM_BC_OUTFLOW: return "outflow";
     case EKM_BC_FREE: return "free";
+    case EKM_BC_PISTON: return "piston";
     }
     return "?";
 }

@@ -19,7 +19,8 @@ typedef enum {
     EKM_BC_WALL = 0, /* impermeable, adiabatic, tangential speed + slip length */
     EKM_BC_INFLOW,   /* prescribed phi, w, u, T; closes to a wall at t_stop */
     EKM_BC_OUTFLOW,  /* zero gradient of every field */
-    EKM_BC_FREE      /* open to vacuum: zero stress, material may leave */
+    EKM_BC_FREE,     /* open to vacuum: zero stress, material may leave */
+    EKM_BC_PISTON    /* prescribed w(t) = -w, +w alternating each half period; no slip */
 } ekm_bc_kind;
 
 typedef struct {
@@ -31,6 +32,7 @@ typedef struct {
     double u;           /* inflow: tangential velocity [m/s] */
     double T;           /* inflow: granular temperature [m^2/s^2] */
     double t_stop;      /* inflow: time it closes to a resting wall [s] */
+    double period;      /* piston: period of the velocity program [s] */
 } ekm_bc;
 
 typedef enum { EKM_CONVECTION_UPWIND = 0, EKM_CONVECTION_TVD = 1 } ekm_convection;
@@ -42,11 +44,27 @@ typedef struct {
     double dt_max;       /* largest time step [s] */
     double dt_min;       /* smallest step before giving up [s] */
     double phi_dry;      /* below this phi a cell is empty (vacuum) [-] */
+    double phi_vacuum;   /* below this phi a cell cannot compress its neighbour (step.c) [-] */
     double T_floor;      /* lowest T of a non-empty cell [m^2/s^2] */
     double phi_step_max; /* largest fraction of the gap phi_cp - phi one step may close [-] */
     double newton_tol;   /* relative tolerance of the implicit T solve [-] */
     int newton_max;      /* iterations of the implicit T solve before a retry */
 } ekm_numerics;
+
+/* Solid (hypoplastic) regime and its switching thresholds ([hypo]). */
+typedef struct {
+    int enabled;          /* 0: flow regimes only (the EKM alone) */
+    double T_ratio;       /* flow -> solid when T < T_ratio * Y (P_K/P_Y < T_ratio) [-] */
+    double phi_margin;    /* flow -> solid only when phi > phi_co + phi_margin [-] */
+    double rest_rate;     /* flow -> solid only when w' <= rest_rate (compressing or at rest) [1/s] */
+    double yield_tol;     /* solid -> flow when f_Y >= -yield_tol and the rate is not
+                           * compression-dominated [-] */
+    double jump_tol;      /* ... and when the stress differs from the flow stress of the
+                           * current rates by at most jump_tol (relative) [-] */
+    int log;              /* 1: one line per switch on stderr */
+    int initial_solid;    /* [initial] solid: material cells start solid */
+    double initial_stress_ratio; /* [initial] stress_ratio: their stress is -ratio P_Y (isotropic) [-] */
+} ekm_hypo_params;
 
 /* One key as given (file or --set), kept for provenance in the output. */
 typedef struct {
@@ -64,6 +82,8 @@ typedef struct {
     int cells;              /* number of finite-volume cells */
     double gravity;         /* magnitude G [m/s^2] */
     double angle_deg;       /* tilt of gravity in the x-z plane [deg]: g = G (sin a, -cos a) */
+    double angle_rate;      /* the tilt grows at this rate after angle_start [deg/s] */
+    double angle_start;     /* [s] */
     double phi_init;        /* initial volume fraction below layer_height [-] */
     double T_init;          /* initial granular temperature [m^2/s^2] */
     double u_init;          /* initial tangential velocity at z = 0 [m/s] */
@@ -73,6 +93,7 @@ typedef struct {
     double t_end;           /* end time [s] */
     double output_dt;       /* output interval [s] */
     ekm_numerics numerics;
+    ekm_hypo_params hypo;
     ekm_entry *entries;     /* every key read, in order (provenance) */
     size_t n_entries;
 } ekm_scenario;
@@ -89,9 +110,10 @@ ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
 
 void ekm_scenario_free(ekm_scenario *s);
 
-/* Gravity components [m/s^2]. */
+/* Gravity components [m/s^2] at the start (angle) and at time t. */
 double ekm_scenario_gravity_x(const ekm_scenario *s);
 double ekm_scenario_gravity_z(const ekm_scenario *s);
+double ekm_scenario_angle_at(const ekm_scenario *s, double t);
 
 const char *ekm_bc_kind_name(ekm_bc_kind k);
 

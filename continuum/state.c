@@ -15,7 +15,12 @@ ekm_state *ekm_state_alloc(int n, double length)
     s->T = calloc((size_t)n, sizeof *s->T);
     s->u = calloc((size_t)n, sizeof *s->u);
     s->w = calloc((size_t)n + 1, sizeof *s->w);
-    if (!s->z || !s->phi || !s->T || !s->u || !s->w) {
+    s->solid = calloc((size_t)n, 1);
+    s->sxx = calloc((size_t)n, sizeof *s->sxx);
+    s->syy = calloc((size_t)n, sizeof *s->syy);
+    s->szz = calloc((size_t)n, sizeof *s->szz);
+    s->sxz = calloc((size_t)n + 1, sizeof *s->sxz);
+    if (!s->z || !s->phi || !s->T || !s->u || !s->w || !s->solid || !s->sxx || !s->syy || !s->szz || !s->sxz) {
         ekm_state_free(s);
         return NULL;
     }
@@ -33,6 +38,11 @@ void ekm_state_free(ekm_state *s)
     free(s->T);
     free(s->u);
     free(s->w);
+    free(s->solid);
+    free(s->sxx);
+    free(s->syy);
+    free(s->szz);
+    free(s->sxz);
     free(s);
 }
 
@@ -43,6 +53,11 @@ void ekm_state_copy(ekm_state *dst, const ekm_state *src)
     memcpy(dst->T, src->T, n * sizeof *dst->T);
     memcpy(dst->u, src->u, n * sizeof *dst->u);
     memcpy(dst->w, src->w, (n + 1) * sizeof *dst->w);
+    memcpy(dst->solid, src->solid, n);
+    memcpy(dst->sxx, src->sxx, n * sizeof *dst->sxx);
+    memcpy(dst->syy, src->syy, n * sizeof *dst->syy);
+    memcpy(dst->szz, src->szz, n * sizeof *dst->szz);
+    memcpy(dst->sxz, src->sxz, (n + 1) * sizeof *dst->sxz);
     dst->t = src->t;
     dst->steps = src->steps;
     dst->mass_in = src->mass_in;
@@ -59,9 +74,14 @@ void ekm_state_init(ekm_state *s, const ekm_scenario *sc)
         s->phi[j] = sc->phi_init * cover;
         s->T[j] = s->phi[j] > sc->numerics.phi_dry ? sc->T_init : 0.0;
         s->u[j] = s->phi[j] > sc->numerics.phi_dry ? sc->u_init + sc->shear_rate_init * s->z[j] : 0.0;
+        const double PY = ekm_pressure_yield(&sc->material, s->phi[j]);
+        s->solid[j] = sc->hypo.enabled && sc->hypo.initial_solid && PY > 0.0;
+        s->sxx[j] = s->syy[j] = s->szz[j] = s->solid[j] ? -sc->hypo.initial_stress_ratio * PY : 0.0;
     }
-    for (int f = 0; f <= s->n; f++)
+    for (int f = 0; f <= s->n; f++) {
         s->w[f] = 0.0;
+        s->sxz[f] = 0.0;
+    }
     s->t = 0.0;
     s->steps = 0;
     s->mass_in = 0.0;

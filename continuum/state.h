@@ -22,6 +22,12 @@ typedef struct {
     double t;        /* time [s] */
     long steps;      /* accepted time steps */
     double mass_in;  /* net mass entered through the boundaries per area [kg/m^2] */
+    /* Solid (hypoplastic) regime, hypo.h: */
+    unsigned char *solid; /* 1: the cell is solid, n */
+    double *sxx, *syy, *szz; /* stress of solid cells [Pa], n (flow cells: unused) */
+    double *sxz;     /* shear stress at faces [Pa], n + 1: the rate law's state on faces
+                      * between two solid cells (or a solid cell and a wall), the
+                      * flow's face stress elsewhere */
 } ekm_state;
 
 ekm_state *ekm_state_alloc(int n, double length);
@@ -29,7 +35,9 @@ void ekm_state_free(ekm_state *s);
 /* Copy values (same n) from src to dst. */
 void ekm_state_copy(ekm_state *dst, const ekm_state *src);
 
-/* Initial condition of a scenario (phi, T, u below layer_height, w = 0). */
+/* Initial condition of a scenario (phi, T, u below layer_height, w = 0;
+ * [initial] solid = 1: material cells start solid with the isotropic stress
+ * -stress_ratio P_Y). */
 void ekm_state_init(ekm_state *s, const ekm_scenario *sc);
 
 /* Mass per lateral area, sum rho_p phi dz [kg/m^2]. */

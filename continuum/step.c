@@ -41,10 +41,20 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->dry_face = calloc(f, 1);
     st->wk = ekm_implicit_alloc(n);
     st->backup = ekm_state_alloc(n, sc->length);
+    st->hyp = calloc(c, sizeof *st->hyp);
+    st->u2_old = calloc(c, sizeof(double));
+    st->dw_old = calloc(c, sizeof(double));
+    st->kface = calloc(f, sizeof(double));
+    st->t0face = calloc(f, sizeof(double));
+    st->solid_face = calloc(f, 1);
+    st->dry_T = calloc(c, 1);
+    st->T_keep = calloc(c, sizeof(double));
+    st->fail_time = -1.0;
     if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P ||
         !st->eta || !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src ||
         !st->rho_face || !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face ||
-        !st->wk || !st->backup) {
+        !st->wk || !st->backup || !st->hyp || !st->u2_old || !st->dw_old || !st->kface || !st->t0face ||
+        !st->solid_face || !st->dry_T || !st->T_keep) {
         ekm_step_free(st);
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
         return NULL;
@@ -70,6 +80,8 @@ void ekm_step_free(ekm_stepper *st)
     free(st->rhs_cell); free(st->dry); free(st->dry_face);
     ekm_implicit_free(st->wk);
     ekm_state_free(st->backup);
+    free(st->hyp); free(st->u2_old); free(st->dw_old); free(st->kface); free(st->t0face);
+    free(st->solid_face); free(st->dry_T); free(st->T_keep);
     free(st);
 }
 
@@ -182,14 +194,14 @@ static void properties(ekm_stepper *st, int n)
 
 /* Squared shear rate at cells from the face gradients of u; faces next to
  * an empty cell or stress-free boundaries carry none. */
-static void shear_rates(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
-                        const ekm_bc_face *bt)
+static void shear_rates(const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
+                        const unsigned char *dry, double *u2, double *w2)
 {
     const int n = s->n;
     for (int j = 0; j < n; j++) {
         double sum = 0.0;
         int count = 0;
-        if (j > 0 && !st->dry[j - 1]) {
+        if (j > 0 && !dry[j - 1]) {
             const double g = (s->u[j] - s->u[j - 1]) / s->dz;
             sum += g * g;
             count++;
@@ -198,7 +210,7 @@ static void shear_rates(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *
             sum += g * g;
             count++;
         }
-        if (j < n - 1 && !st->dry[j + 1]) {
+        if (j < n - 1 && !dry[j + 1]) {
             const double g = (s->u[j + 1] - s->u[j]) / s->dz;
             sum += g * g;
             count++;
@@ -207,9 +219,214 @@ static void shear_rates(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *
             sum += g * g;
             count++;
         }
-        st->u2[j] = count ? sum / count : 0.0;
+        u2[j] = count ? sum / count : 0.0;
         const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
-        st->w2[j] = dw * dw;
+        w2[j] = dw * dw;
+    }
+}
+
+/* ---- solid regime (hypo.h) ---- */
+
+#define DEG (3.14159265358979323846 / 180.0)
+
+static double harmonic(double a, double b)
+{
+    return a > 0.0 && b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
+}
+
+/* Before the step: the old state's rates (lagged ||kappa||) and which faces
+ * carry a rate-law shear stress.  Returns the number of solid cells. */
+static int solid_begin(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt)
+{
+    const int n = s->n;
+    int count = 0;
+    for (int j = 0; j < n; j++) {
+        st->dry_T[j] = s->phi[j] < st->sc->numerics.phi_dry; /* scratch: old emptiness */
+        count += s->solid[j];
+    }
+    if (!count) {
+        memset(st->solid_face, 0, (size_t)n + 1);
+        return 0;
+    }
+    shear_rates(s, bb, bt, st->dry_T, st->u2_old, st->T_keep /* scratch */);
+    for (int j = 0; j < n; j++)
+        st->dw_old[j] = (s->w[j + 1] - s->w[j]) / s->dz;
+    st->solid_face[0] = s->solid[0] && bb->wall_conductance > 0.0;
+    st->solid_face[n] = s->solid[n - 1] && bt->wall_conductance > 0.0;
+    for (int f = 1; f < n; f++)
+        st->solid_face[f] = s->solid[f - 1] && s->solid[f];
+    return count;
+}
+
+/* Phase 4 for solid cells: the prepared rate-law step; the normal solve
+ * sees the known stress as P = -E_zz and the stiffness as mu_n = V_zz. */
+static void solid_properties(ekm_stepper *st, const ekm_state *s, double dt)
+{
+    const ekm_material *m = &st->sc->material;
+    for (int j = 0; j < s->n; j++) {
+        if (!s->solid[j] || st->dry[j])
+            continue;
+        const ekm_hypo_stress sig = {s->sxx[j], s->syy[j], s->szz[j], 0.0};
+        st->hyp[j] = ekm_hypo_prepare(m, st->sc->variant, st->phi_new[j], dt, &sig, sqrt(st->u2_old[j]),
+                                      st->dw_old[j]);
+        st->P[j] = -st->hyp[j].Ezz;
+        st->mu_n[j] = st->hyp[j].Vzz;
+        st->lambda[j] = 0.0;
+        st->T_star[j] = st->T_keep[j] = s->T[j];
+        st->eta[j] = ekm_transport_coefficients(m, st->sc->variant, st->phi_new[j], s->T[j]).eta;
+    }
+}
+
+static int face_solid(const ekm_stepper *st, int n, int f)
+{
+    return st->solid_face[f] && (f == 0 || !st->dry[f - 1]) && (f == n || !st->dry[f]);
+}
+
+/* Phase 6 coefficients: face stress tau_f = k_f (jump of u) + t0_f. */
+static void solid_shear_faces(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
+                              const ekm_bc_face *bt)
+{
+    const int n = s->n;
+    const double dz = s->dz;
+    for (int f = 0; f <= n; f++) {
+        double k = 0.0, t0 = 0.0;
+        if (face_solid(st, n, f)) {
+            const int a = f > 0 ? f - 1 : 0, b = f < n ? f : n - 1;
+            const double V = 0.5 * (st->hyp[a].Vxz + st->hyp[b].Vxz);
+            t0 = s->sxz[f] * 0.5 * (st->hyp[a].xz_scale + st->hyp[b].xz_scale);
+            k = f == 0 ? V * bb->wall_conductance : f == n ? V * bt->wall_conductance : V / dz;
+        } else if (f == 0) {
+            k = !st->dry[0] ? st->eta[0] * bb->wall_conductance : 0.0;
+        } else if (f == n) {
+            k = !st->dry[n - 1] ? st->eta[n - 1] * bt->wall_conductance : 0.0;
+        } else {
+            k = harmonic(st->eta[f - 1], st->eta[f]) / dz;
+        }
+        st->kface[f] = k;
+        st->t0face[f] = t0;
+    }
+}
+
+/* After the solves: the new stresses of solid cells and faces. */
+static void solid_finish(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt)
+{
+    const int n = s->n;
+    for (int j = 0; j < n; j++) {
+        if (!s->solid[j] || st->dry[j])
+            continue;
+        const ekm_hypo_stress sig = ekm_hypo_finish(&st->hyp[j], 0.0, 0.0, (s->w[j + 1] - s->w[j]) / s->dz);
+        s->sxx[j] = sig.xx;
+        s->syy[j] = sig.yy;
+        s->szz[j] = sig.zz;
+    }
+    for (int f = 0; f <= n; f++) {
+        if (!face_solid(st, n, f))
+            continue;
+        const double du = f == 0 ? s->u[0] - bb->u_wall : f == n ? bt->u_wall - s->u[n - 1] : s->u[f] - s->u[f - 1];
+        s->sxz[f] = st->t0face[f] + st->kface[f] * du;
+    }
+}
+
+/* Signed du/dz at a cell: mean of its face gradients (as shear_rates). */
+static double cell_shear(const ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
+                         const ekm_bc_face *bt, int j)
+{
+    const int n = s->n;
+    double sum = 0.0;
+    int count = 0;
+    if (j > 0 && !st->dry[j - 1]) { sum += (s->u[j] - s->u[j - 1]) / s->dz; count++; }
+    else if (j == 0 && bb->wall_conductance > 0.0) { sum += (s->u[0] - bb->u_wall) * bb->wall_conductance; count++; }
+    if (j < n - 1 && !st->dry[j + 1]) { sum += (s->u[j + 1] - s->u[j]) / s->dz; count++; }
+    else if (j == n - 1 && bt->wall_conductance > 0.0) { sum += (bt->u_wall - s->u[n - 1]) * bt->wall_conductance; count++; }
+    return count ? sum / count : 0.0;
+}
+
+/* Phase 9: the flow face stresses (the solid's initial face stress when a
+ * face turns solid) and the per-cell switches (step.h). */
+static void regimes(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt)
+{
+    const ekm_scenario *sc = st->sc;
+    const ekm_material *m = &sc->material;
+    const ekm_hypo_params *h = &sc->hypo;
+    const int n = s->n;
+    double *eta = st->eta;
+    for (int j = 0; j < n; j++)
+        eta[j] = st->dry[j] ? 0.0 : ekm_transport_coefficients(m, sc->variant, s->phi[j], s->T[j]).eta;
+    for (int f = 0; f <= n; f++) {
+        if (face_solid(st, n, f) && (f == 0 || s->solid[f - 1]) && (f == n || s->solid[f]))
+            continue;
+        if (f == 0)
+            s->sxz[0] = !st->dry[0] ? eta[0] * bb->wall_conductance * (s->u[0] - bb->u_wall) : 0.0;
+        else if (f == n)
+            s->sxz[n] = !st->dry[n - 1] ? eta[n - 1] * bt->wall_conductance * (bt->u_wall - s->u[n - 1]) : 0.0;
+        else
+            s->sxz[f] = harmonic(eta[f - 1], eta[f]) * (s->u[f] - s->u[f - 1]) / s->dz;
+    }
+    for (int j = 0; j < n; j++) {
+        const double phi = s->phi[j];
+        const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
+        const double du_abs = sqrt(st->u2[j]);
+        const int at_rest = fabs(dw) <= h->rest_rate && du_abs <= h->rest_rate;
+        const int compress = dw < 0.0 && du_abs / sqrt(2.0) <= -dw;
+        const double PY = ekm_pressure_yield(m, phi);
+        const int loose = !(PY > 0.0) || phi <= m->phi_co + h->phi_margin;
+        /* a loose cell rests on a solid one: it takes the yield temperature of that one */
+        const double Y = loose ? (j > 0 && s->solid[j - 1] ? ekm_yield_temperature(m, s->phi[j - 1]) : 0.0)
+                               : ekm_yield_temperature(m, phi);
+        if (s->solid[j]) {
+            const ekm_hypo_stress sig = {s->sxx[j], s->syy[j], s->szz[j], 0.5 * (s->sxz[j] + s->sxz[j + 1])};
+            const double fY = loose ? NAN : ekm_hypo_yield(m, sc->variant, phi, &sig);
+            /* quasi-static T of the current rates and the flow stress there */
+            const double T = st->dry[j] ? 0.0
+                : fmax(ekm_temperature_local_balance(m, sc->variant, phi, st->u2[j], dw * dw), sc->numerics.T_floor);
+            double jump = 0.0;
+            int go;
+            const char *why;
+            if (st->dry[j]) {
+                go = 1; why = "empty";
+            } else if (loose) {
+                go = !(Y > 0.0) || sig.zz >= 0.0;
+                why = "loose cell unloaded";
+            } else {
+                go = 0;
+                why = "limit surface";
+                if (fY >= -h->yield_tol && !at_rest && !compress) {
+                    const ekm_hypo_stress e = ekm_hypo_from_flow(m, sc->variant, phi, T, cell_shear(st, s, bb, bt, j), dw);
+                    jump = fmax(fabs(e.zz - sig.zz), fabs(e.xz - sig.xz)) / fmax(fabs(sig.zz), fabs(sig.xz));
+                    go = jump <= h->jump_tol;
+                }
+            }
+            if (!go)
+                continue;
+            if (!st->dry[j]) {
+                s->T[j] = T;
+                if (!loose) {
+                    st->jump_max = fmax(st->jump_max, jump);
+                    if (st->fail_time < 0.0) {
+                        st->fail_time = s->t;
+                        st->fail_angle = ekm_scenario_angle_at(sc, s->t);
+                        st->fail_fY = fY;
+                    }
+                }
+            }
+            s->solid[j] = 0;
+            st->to_flow++;
+            if (h->log)
+                fprintf(stderr, "ekm: t = %.9g s: cell %d (z = %.6g m) solid -> flow (%s): phi %.6f, f_Y %.3e, "
+                        "w' %.3e, |u'| %.3e 1/s, sigma_zz %.6g Pa, sigma_xz %.6g Pa, T := %.3e, jump %.2e\n",
+                        s->t, j, s->z[j], why, phi, fY, dw, du_abs, sig.zz, sig.xz, s->T[j], jump);
+        } else if (!st->dry[j] && Y > 0.0 && (compress || at_rest) && s->T[j] < h->T_ratio * Y) {
+            const ekm_hypo_stress e = ekm_hypo_from_flow(m, sc->variant, phi, s->T[j], 0.0, dw);
+            s->sxx[j] = e.xx;
+            s->syy[j] = e.yy;
+            s->szz[j] = e.zz;
+            s->solid[j] = 1;
+            st->to_solid++;
+            if (h->log)
+                fprintf(stderr, "ekm: t = %.9g s: cell %d (z = %.6g m) flow -> solid%s: phi %.6f, T %.3e, w' %.3e, "
+                        "|u'| %.3e 1/s, sigma_zz %.6g Pa, jump 0\n",
+                        s->t, j, s->z[j], loose ? " (loose, on a solid cell)" : "", phi, s->T[j], dw, du_abs, e.zz);
+        }
     }
 }
 
@@ -244,6 +461,10 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     const ekm_bc_face bt = ekm_bc_evaluate(&sc->top, EKM_SIDE_TOP, s->t, s);
     s->w[0] = ekm_bc_face_w(&bb, EKM_SIDE_BOTTOM, s);
     s->w[n] = ekm_bc_face_w(&bt, EKM_SIDE_TOP, s);
+    const double angle = ekm_scenario_angle_at(sc, s->t) * DEG;
+    st->g_x = sc->gravity * sin(angle);
+    st->g_z = -sc->gravity * cos(angle);
+    const int n_solid = solid_begin(st, s, &bb, &bt);
 
     /* 2. mass */
     if (!mass_update(st, s, &bb, &bt, dt)) {
@@ -254,6 +475,8 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     convection(st, s, &bb, &bt, dt);
     /* 4. properties */
     properties(st, n);
+    if (n_solid)
+        solid_properties(st, s, dt);
 
     /* 5. normal momentum */
     for (int f = 1; f < n; f++)
@@ -268,6 +491,20 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
         return EKM_OK;
     }
 
+    /* A face whose upwind cell is empty (phi < max(phi_vacuum, phi_dry))
+     * carries (almost) no mass, and vacuum cannot push: it may not compress
+     * the material cell next to it.  Without
+     * this a resting surface cell keeps a "ghost" face velocity (gravity on
+     * the face's half cell against its viscosity) that heats it forever. */
+    const double vac = fmax(sc->numerics.phi_vacuum, sc->numerics.phi_dry);
+    for (int f = 1; f < n; f++) {
+        const double below = st->phi_new[f - 1], above = st->phi_new[f];
+        if (above < vac && below >= vac && s->w[f] < s->w[f - 1])
+            s->w[f] = s->w[f - 1];
+        else if (below < vac && above >= vac && s->w[f] > s->w[f + 1])
+            s->w[f] = s->w[f + 1];
+    }
+
     /* 6. shear momentum */
     for (int j = 0; j < n; j++)
         st->rhs_cell[j] = st->rhoU[j] + dt * m->rho_p * st->phi_new[j] * st->g_x;
@@ -276,8 +513,16 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     double *rho_cell = st->qF; /* reuse: rho at cells */
     for (int j = 0; j < n; j++)
         rho_cell[j] = m->rho_p * st->phi_new[j];
-    if (ekm_implicit_shear_velocity(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->eta, st->dry,
-                                    sb, stp, s->u, &serr) != EKM_OK) {
+    ekm_status shear_rc;
+    if (n_solid) {
+        solid_shear_faces(st, s, &bb, &bt);
+        shear_rc = ekm_implicit_shear_faces(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->kface, st->t0face,
+                                            st->dry, bb.u_wall, bt.u_wall, s->u, &serr);
+    } else {
+        shear_rc = ekm_implicit_shear_velocity(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->eta, st->dry,
+                                               sb, stp, s->u, &serr);
+    }
+    if (shear_rc != EKM_OK) {
         snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s: %.400s", s->t, serr.message);
         reject(st, s, accepted);
         return EKM_OK;
@@ -285,7 +530,11 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
 
     /* 7. temperature */
     memcpy(s->phi, st->phi_new, (size_t)n * sizeof *s->phi);
-    shear_rates(st, s, &bb, &bt);
+    if (n_solid)
+        solid_finish(st, s, &bb, &bt);
+    shear_rates(s, &bb, &bt, st->dry, st->u2, st->w2);
+    for (int j = 0; j < n; j++)
+        st->dry_T[j] = st->dry[j] || (n_solid && s->solid[j]);
     for (int j = 0; j < n; j++) {
         s->T[j] = st->T_star[j];
         if (st->dry[j])
@@ -293,16 +542,19 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
         st->src[j] = ekm_temperature_source_coeffs(m, sc->variant, s->phi[j], st->u2[j], st->w2[j]);
     }
     int iterations = 0;
-    if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src, st->dry, sc->numerics.T_floor, sc->numerics.newton_tol,
+    if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src, st->dry_T, sc->numerics.T_floor, sc->numerics.newton_tol,
                                  sc->numerics.newton_max, s->T, &iterations, &serr) != EKM_OK) {
         snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s, dt = %.3g s: %.400s", s->t, dt,
                  serr.message);
         reject(st, s, accepted);
         return EKM_OK;
     }
-    for (int j = 0; j < n; j++)
+    for (int j = 0; j < n; j++) {
         if (st->dry[j])
             s->u[j] = 0.0;
+        else if (n_solid && s->solid[j])
+            s->T[j] = st->T_keep[j];
+    }
 
     /* 8. accept */
     if (!state_finite(s)) {
@@ -314,6 +566,8 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     s->mass_in += dt * m->rho_p * (st->F[0] - st->F[n]);
     s->t += dt;
     s->steps++;
+    if (sc->hypo.enabled)
+        regimes(st, s, &bb, &bt);
     st->newton_iterations = iterations;
     (void)err;
     return EKM_OK;

@@ -15,6 +15,22 @@
  *   7. temperature   heating from the new gradients, conduction and
  *                    dissipation implicit (Newton)
  *   8. accept        finite state -> t += dt; else the state is restored
+ *   9. regimes       ([hypo] enabled) per-cell switching flow <-> solid
+ *
+ * Solid cells (hypo.h) enter phases 4-7 through their linearly implicit
+ * rate law: in the normal solve as a known stress (P = -E_zz) and a
+ * viscosity mu_n = V_zz = dt f (A_h + 2 B_h)/(...); in the shear solve
+ * through their faces (k = dt f B_h/(...)/dz and a known face stress);
+ * their T is not evolved and they exchange no heat.  After the solves the
+ * new stress is E + V * gradient, the one the momentum balance used.
+ *
+ * Switching (phase 9, thresholds in [hypo], docs/model.md):
+ *   flow -> solid  phi > phi_co + phi_margin, T < T_ratio Y, and the cell
+ *                  compresses (w' < 0, |u'|/sqrt2 <= |w'|) or rests
+ *                  (|w'|, |u'| <= rest_rate); stress := the EKM stress
+ *   solid -> flow  phi <= phi_co, or f_Y >= -yield_tol while the rate is
+ *                  neither compression-dominated nor at rest; T := the
+ *                  quasi-static T of the current rates
  *
  * Empty cells (phi < phi_dry) keep their (tiny) mass but have T = u = 0 and
  * no stress; a wet cell's T never falls below T_floor.
@@ -23,6 +39,7 @@
 #define EKM_STEP_H
 
 #include "flux.h"
+#include "hypo.h"
 #include "implicit.h"
 #include "scenario.h"
 #include "state.h"
@@ -46,6 +63,18 @@ typedef struct {
     unsigned char *dry, *dry_face; /* n, n+1 */
     ekm_implicit_work *wk;
     ekm_state *backup;      /* state before the step, for rejection */
+    /* solid regime */
+    ekm_hypo_implicit *hyp; /* the prepared rate-law step of each solid cell, n */
+    double *u2_old, *dw_old;/* squared shear rate, w' at the start of the step, n */
+    double *kface, *t0face; /* shear solve face coefficients, n+1 */
+    unsigned char *solid_face; /* n+1 */
+    unsigned char *dry_T;   /* cells without a T equation (empty or solid), n */
+    double *T_keep;         /* T of solid cells, n */
+    long to_solid, to_flow; /* switches so far */
+    double jump_max;        /* largest relative stress jump at a switch [-] */
+    double fail_time;       /* time of the first solid -> flow switch [s] (-1: none) */
+    double fail_angle;      /* gravity angle then [deg] */
+    double fail_fY;         /* f_Y of the failing cell's stress then [-] */
     int newton_iterations;  /* of the last accepted step */
     char reject_reason[512];/* why the last step was rejected */
 } ekm_stepper;
