@@ -71,10 +71,76 @@ static void test_filling_ends_at_rest(void **state)
     test_run_free(&r);
 }
 
+/* ---- hypoplastic_cycle: the driven homogeneous sample (thesis 6.2.2) ---- */
+
+#define CYCLE_MAX 2048
+typedef struct {
+    int n;
+    double t[CYCLE_MAX], szz[CYCLE_MAX], PY[CYCLE_MAX], R[CYCLE_MAX], strain[CYCLE_MAX];
+    int solid_frames;
+} cycle_ctx;
+
+static ekm_status cycle_frame(void *ctx, const ekm_state *s, const ekm_stepper *st, ekm_error *err)
+{
+    (void)err;
+    cycle_ctx *c = ctx;
+    const ekm_material *m = &st->sc->material;
+    if (c->n >= CYCLE_MAX)
+        return EKM_OK;
+    c->t[c->n] = s->t;
+    c->szz[c->n] = s->szz[0];
+    c->PY[c->n] = ekm_pressure_yield(m, s->phi[0]);
+    c->R[c->n] = ekm_hypo_R(m, st->sc->variant, s->phi[0]);
+    c->strain[c->n] = log(s->phi[0]); /* volumetric strain up to a constant: -ln(phi) grows in extension */
+    c->solid_frames += s->solid[0];
+    c->n++;
+    return EKM_OK;
+}
+
+static void test_hypoplastic_cycle(void **state)
+{
+    (void)state;
+    cycle_ctx *c = calloc(1, sizeof *c);
+    assert_non_null(c);
+    test_run r;
+    assert_int_equal(test_run_scenario(&r, "scenarios/hypoplastic_cycle.ini", NULL, 0, cycle_frame, c), EKM_OK);
+    assert_int_equal(c->solid_frames, c->n);
+    assert_int_equal(r.stats.to_flow + r.stats.to_solid, 0);
+    const double half = 0.5 * r.sc.top.period;
+    int checked = 0;
+    for (int i = 2; i < c->n - 1; i++) {
+        /* frame i ends a compression half period (t = (2k+1) half) */
+        const double k = c->t[i] / half;
+        if (fabs(k - floor(k + 0.5)) > 1e-9 || ((long)floor(k + 0.5)) % 2 != 1)
+            continue;
+        const double limit = -c->PY[i] * (1.0 + c->R[i]);
+        const double err = fabs(c->szz[i] / limit - 1.0);
+        /* stiffness d(sigma)/d(strain), strain rate = -d ln(phi)/dt: loading
+         * over the last frame before the reversal, unloading over the first after */
+        const double k_load = (c->szz[i] - c->szz[i - 1]) / -(c->strain[i] - c->strain[i - 1]);
+        const double k_unload = (c->szz[i + 1] - c->szz[i]) / -(c->strain[i + 1] - c->strain[i]);
+        printf("cycle: t = %.3f s: sigma_zz = %.8g Pa, -P_Y(1+R) = %.8g Pa, rel %.2e; stiffness loading %.4g Pa, "
+               "unloading %.4g Pa\n", c->t[i], c->szz[i], limit, err, k_load, k_unload);
+        assert_true(err < 1e-3);
+        assert_true(k_unload > 10.0 * k_load);
+        assert_true(k_unload > 1.5 * r.sc.material.A_h); /* A_h (1 - q/R) -> 2 A_h at q = -R */
+        checked++;
+    }
+    assert_int_equal(checked, 4);
+    /* inside the limit surface all the time (f_Y < 0 on the unloading side too) */
+    for (int i = 0; i < c->n; i++) {
+        const double q = (c->szz[i] + c->PY[i]) / (c->R[i] * c->PY[i]);
+        assert_true(q * q - 1.0 < 1e-9);
+    }
+    test_run_free(&r);
+    free(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_filling_ends_at_rest),
+        cmocka_unit_test(test_hypoplastic_cycle),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
