@@ -78,6 +78,7 @@ static const key_spec KEYS[] = {
     {"hypo", "enabled", KEY_INT, SC(hypo.enabled), 0, 0, NULL},
     {"hypo", "T_ratio", KEY_DOUBLE, SC(hypo.T_ratio), 0, 0, NULL},
     {"hypo", "phi_margin", KEY_DOUBLE, SC(hypo.phi_margin), 0, 0, NULL},
+    {"hypo", "phi_loose", KEY_DOUBLE, SC(hypo.phi_loose), 0, 0, NULL},
     {"hypo", "rest_rate", KEY_DOUBLE, SC(hypo.rest_rate), 0, 0, NULL},
     {"hypo", "yield_tol", KEY_DOUBLE, SC(hypo.yield_tol), 0, 0, NULL},
     {"hypo", "jump_tol", KEY_DOUBLE, SC(hypo.jump_tol), 0, 0, NULL},
@@ -107,7 +108,7 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
         .phi_step_max = 0.05, .newton_tol = 1e-9, .newton_max = 30,
     };
     s->hypo = (ekm_hypo_params){
-        .enabled = 0, .T_ratio = 1e-6, .phi_margin = 0.0, .rest_rate = 1e-4, .yield_tol = 1e-4,
+        .enabled = 0, .T_ratio = 1e-6, .phi_margin = 0.0, .phi_loose = 0.1, .rest_rate = 1e-4, .yield_tol = 1e-4,
         .jump_tol = 5e-4, .log = 0, .initial_solid = 0, .initial_stress_ratio = 1.0,
     };
 }
@@ -383,6 +384,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(h->T_ratio > 0.0, "hypo", "T_ratio", "a number > 0", h->T_ratio);
     RANGE(h->phi_margin >= 0.0 && h->phi_margin < s->material.phi_cp - s->material.phi_co, "hypo", "phi_margin",
           "a number in [0, phi_cp - phi_co)", h->phi_margin);
+    RANGE(h->phi_loose > 0.0 && h->phi_loose <= s->material.phi_co, "hypo", "phi_loose", "a number in (0, phi_co]",
+          h->phi_loose);
     RANGE(h->rest_rate >= 0.0, "hypo", "rest_rate", "a rate >= 0 [1/s]", h->rest_rate);
     RANGE(h->yield_tol > 0.0 && h->yield_tol < 0.1, "hypo", "yield_tol", "a number in (0, 0.1)", h->yield_tol);
     RANGE(h->jump_tol > 0.0 && h->jump_tol < 1.0, "hypo", "jump_tol", "a number in (0, 1)", h->jump_tol);

@@ -56,6 +56,8 @@ typedef struct {
     int enabled;          /* 0: flow regimes only (the EKM alone) */
     double T_ratio;       /* flow -> solid when T < T_ratio * Y (P_K/P_Y < T_ratio) [-] */
     double phi_margin;    /* flow -> solid only when phi > phi_co + phi_margin [-] */
+    double phi_loose;     /* a loose cell (phi <= phi_co + phi_margin) on a solid one turns
+                           * solid (elastic) only when phi >= phi_loose [-] */
     double rest_rate;     /* flow -> solid only when w' <= rest_rate (compressing or at rest) [1/s] */
     double yield_tol;     /* solid -> flow when f_Y >= -yield_tol and the rate is not
                            * compression-dominated [-] */

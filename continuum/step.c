@@ -49,12 +49,13 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->solid_face = calloc(f, 1);
     st->dry_T = calloc(c, 1);
     st->T_keep = calloc(c, sizeof(double));
+    st->rhs_face0 = calloc(f, sizeof(double));
     st->fail_time = -1.0;
     if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P ||
         !st->eta || !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src ||
         !st->rho_face || !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face ||
         !st->wk || !st->backup || !st->hyp || !st->u2_old || !st->dw_old || !st->kface || !st->t0face ||
-        !st->solid_face || !st->dry_T || !st->T_keep) {
+        !st->solid_face || !st->dry_T || !st->T_keep || !st->rhs_face0) {
         ekm_step_free(st);
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
         return NULL;
@@ -81,7 +82,7 @@ void ekm_step_free(ekm_stepper *st)
     ekm_implicit_free(st->wk);
     ekm_state_free(st->backup);
     free(st->hyp); free(st->u2_old); free(st->dw_old); free(st->kface); free(st->t0face);
-    free(st->solid_face); free(st->dry_T); free(st->T_keep);
+    free(st->solid_face); free(st->dry_T); free(st->T_keep); free(st->rhs_face0);
     free(st);
 }
 
@@ -269,6 +270,11 @@ static void solid_properties(ekm_stepper *st, const ekm_state *s, double dt)
         const ekm_hypo_stress sig = {s->sxx[j], s->syy[j], s->szz[j], 0.0};
         st->hyp[j] = ekm_hypo_prepare(m, st->sc->variant, st->phi_new[j], dt, &sig, sqrt(st->u2_old[j]),
                                       st->dw_old[j]);
+        /* A dense solid cell that extends to phi_co within the step: its
+         * limit surface shrinks to the point sigma = 0 (P_Y -> 0), so it
+         * is stress-free (it switches to flow after the step). */
+        if (st->phi_new[j] <= m->phi_co + st->sc->hypo.phi_margin && s->phi[j] > m->phi_co + st->sc->hypo.phi_margin)
+            st->hyp[j] = (ekm_hypo_implicit){.xz_scale = 0.0};
         st->P[j] = -st->hyp[j].Ezz;
         st->mu_n[j] = st->hyp[j].Vzz;
         st->lambda[j] = 0.0;
@@ -415,7 +421,8 @@ static void regimes(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
                 fprintf(stderr, "ekm: t = %.9g s: cell %d (z = %.6g m) solid -> flow (%s): phi %.6f, f_Y %.3e, "
                         "w' %.3e, |u'| %.3e 1/s, sigma_zz %.6g Pa, sigma_xz %.6g Pa, T := %.3e, jump %.2e\n",
                         s->t, j, s->z[j], why, phi, fY, dw, du_abs, sig.zz, sig.xz, s->T[j], jump);
-        } else if (!st->dry[j] && Y > 0.0 && (compress || at_rest) && s->T[j] < h->T_ratio * Y) {
+        } else if (!st->dry[j] && Y > 0.0 && (compress || at_rest) && s->T[j] < h->T_ratio * Y &&
+                   phi >= h->phi_loose) {
             const ekm_hypo_stress e = ekm_hypo_from_flow(m, sc->variant, phi, s->T[j], 0.0, dw);
             s->sxx[j] = e.xx;
             s->syy[j] = e.yy;
@@ -478,54 +485,70 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     if (n_solid)
         solid_properties(st, s, dt);
 
-    /* 5. normal momentum */
-    for (int f = 1; f < n; f++)
-        st->rhs_face[f] += dt * (st->rho_face[f] * st->g_z - (st->P[f] - st->P[f - 1]) / s->dz);
-    ekm_implicit_end nb = {.follows = bb.w_follows, .value = bb.w};
-    ekm_implicit_end nt = {.follows = bt.w_follows, .value = bt.w};
     ekm_error serr;
-    if (ekm_implicit_normal_velocity(st->wk, n, dt, s->dz, st->rho_face, st->rhs_face, st->mu_n,
-                                     st->dry_face, nb, nt, s->w, &serr) != EKM_OK) {
-        snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s: %.400s", s->t, serr.message);
-        reject(st, s, accepted);
-        return EKM_OK;
-    }
+    /* Phases 5-6 run twice when solid cells exist: the second pass
+     * prepares the rate law with ||kappa|| from the first pass's rates
+     * (a fixed-point step towards backward Euler in the norm), so that a
+     * cell that starts to deform within one step already deforms
+     * plastically (with the lagged norm alone the first step of a sudden
+     * extension would be purely elastic and overshoot the limit surface). */
+    memcpy(st->rhs_face0, st->rhs_face, ((size_t)n + 1) * sizeof *st->rhs_face);
+    for (int pass = 0; pass < (n_solid ? 2 : 1); pass++) {
+        if (pass == 1) {
+            memcpy(st->rhs_face, st->rhs_face0, ((size_t)n + 1) * sizeof *st->rhs_face);
+            shear_rates(s, &bb, &bt, st->dry, st->u2_old, st->w2 /* scratch */);
+            for (int j = 0; j < n; j++)
+                st->dw_old[j] = (s->w[j + 1] - s->w[j]) / s->dz;
+            solid_properties(st, s, dt);
+        }
+        /* 5. normal momentum */
+        for (int f = 1; f < n; f++)
+            st->rhs_face[f] += dt * (st->rho_face[f] * st->g_z - (st->P[f] - st->P[f - 1]) / s->dz);
+        ekm_implicit_end nb = {.follows = bb.w_follows, .value = bb.w};
+        ekm_implicit_end nt = {.follows = bt.w_follows, .value = bt.w};
+            if (ekm_implicit_normal_velocity(st->wk, n, dt, s->dz, st->rho_face, st->rhs_face, st->mu_n,
+                                         st->dry_face, nb, nt, s->w, &serr) != EKM_OK) {
+            snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s: %.400s", s->t, serr.message);
+            reject(st, s, accepted);
+            return EKM_OK;
+        }
 
-    /* A face whose upwind cell is empty (phi < max(phi_vacuum, phi_dry))
-     * carries (almost) no mass, and vacuum cannot push: it may not compress
-     * the material cell next to it.  Without
-     * this a resting surface cell keeps a "ghost" face velocity (gravity on
-     * the face's half cell against its viscosity) that heats it forever. */
-    const double vac = fmax(sc->numerics.phi_vacuum, sc->numerics.phi_dry);
-    for (int f = 1; f < n; f++) {
-        const double below = st->phi_new[f - 1], above = st->phi_new[f];
-        if (above < vac && below >= vac && s->w[f] < s->w[f - 1])
-            s->w[f] = s->w[f - 1];
-        else if (below < vac && above >= vac && s->w[f] > s->w[f + 1])
-            s->w[f] = s->w[f + 1];
-    }
+        /* A face whose upwind cell is empty (phi < max(phi_vacuum, phi_dry))
+         * carries (almost) no mass, and vacuum cannot push: it may not compress
+         * the material cell next to it.  Without
+         * this a resting surface cell keeps a "ghost" face velocity (gravity on
+         * the face's half cell against its viscosity) that heats it forever. */
+        const double vac = fmax(sc->numerics.phi_vacuum, sc->numerics.phi_dry);
+        for (int f = 1; f < n; f++) {
+            const double below = st->phi_new[f - 1], above = st->phi_new[f];
+            if (above < vac && below >= vac && s->w[f] < s->w[f - 1])
+                s->w[f] = s->w[f - 1];
+            else if (below < vac && above >= vac && s->w[f] > s->w[f + 1])
+                s->w[f] = s->w[f + 1];
+        }
 
-    /* 6. shear momentum */
-    for (int j = 0; j < n; j++)
-        st->rhs_cell[j] = st->rhoU[j] + dt * m->rho_p * st->phi_new[j] * st->g_x;
-    ekm_implicit_end sb = {.value = bb.u_wall, .conductance = bb.wall_conductance};
-    ekm_implicit_end stp = {.value = bt.u_wall, .conductance = bt.wall_conductance};
-    double *rho_cell = st->qF; /* reuse: rho at cells */
-    for (int j = 0; j < n; j++)
-        rho_cell[j] = m->rho_p * st->phi_new[j];
-    ekm_status shear_rc;
-    if (n_solid) {
-        solid_shear_faces(st, s, &bb, &bt);
-        shear_rc = ekm_implicit_shear_faces(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->kface, st->t0face,
-                                            st->dry, bb.u_wall, bt.u_wall, s->u, &serr);
-    } else {
-        shear_rc = ekm_implicit_shear_velocity(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->eta, st->dry,
-                                               sb, stp, s->u, &serr);
-    }
-    if (shear_rc != EKM_OK) {
-        snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s: %.400s", s->t, serr.message);
-        reject(st, s, accepted);
-        return EKM_OK;
+        /* 6. shear momentum */
+        for (int j = 0; j < n; j++)
+            st->rhs_cell[j] = st->rhoU[j] + dt * m->rho_p * st->phi_new[j] * st->g_x;
+        ekm_implicit_end sb = {.value = bb.u_wall, .conductance = bb.wall_conductance};
+        ekm_implicit_end stp = {.value = bt.u_wall, .conductance = bt.wall_conductance};
+        double *rho_cell = st->qF; /* reuse: rho at cells */
+        for (int j = 0; j < n; j++)
+            rho_cell[j] = m->rho_p * st->phi_new[j];
+        ekm_status shear_rc;
+        if (n_solid) {
+            solid_shear_faces(st, s, &bb, &bt);
+            shear_rc = ekm_implicit_shear_faces(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->kface, st->t0face,
+                                                st->dry, bb.u_wall, bt.u_wall, s->u, &serr);
+        } else {
+            shear_rc = ekm_implicit_shear_velocity(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->eta, st->dry,
+                                                   sb, stp, s->u, &serr);
+        }
+        if (shear_rc != EKM_OK) {
+            snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s: %.400s", s->t, serr.message);
+            reject(st, s, accepted);
+            return EKM_OK;
+        }
     }
 
     /* 7. temperature */

@@ -70,6 +70,7 @@ typedef struct {
     unsigned char *solid_face; /* n+1 */
     unsigned char *dry_T;   /* cells without a T equation (empty or solid), n */
     double *T_keep;         /* T of solid cells, n */
+    double *rhs_face0;      /* face momentum after convection (second pass), n+1 */
     long to_solid, to_flow; /* switches so far */
     double jump_max;        /* largest relative stress jump at a switch [-] */
     double fail_time;       /* time of the first solid -> flow switch [s] (-1: none) */
