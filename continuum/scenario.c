@@ -60,6 +60,7 @@ static const key_spec KEYS[] = {
     {"initial", "layer_height", KEY_DOUBLE, SC(layer_height), 0, 0, NULL},
     {"initial", "solid", KEY_INT, SC(hypo.initial_solid), 0, 0, NULL},
     {"initial", "stress_ratio", KEY_DOUBLE, SC(hypo.initial_stress_ratio), 0, 0, NULL},
+    {"initial", "settled", KEY_INT, SC(hypo.initial_settled), 0, 0, NULL},
     BC_KEYS(bottom),
     BC_KEYS(top),
     {"run", "t_end", KEY_DOUBLE, SC(t_end), 0, 1, NULL},
@@ -391,6 +392,9 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(h->jump_tol > 0.0 && h->jump_tol < 1.0, "hypo", "jump_tol", "a number in (0, 1)", h->jump_tol);
     RANGE(h->initial_solid == 0 || h->initial_solid == 1, "initial", "solid", "0 or 1", h->initial_solid);
     RANGE(!h->initial_solid || h->enabled, "initial", "solid", "0 unless [hypo] enabled = 1", h->initial_solid);
+    RANGE(h->initial_settled == 0 || h->initial_settled == 1, "initial", "settled", "0 or 1", h->initial_settled);
+    RANGE(!h->initial_settled || h->initial_solid, "initial", "settled", "0 unless [initial] solid = 1",
+          h->initial_settled);
     RANGE(h->initial_stress_ratio >= 0.0, "initial", "stress_ratio", "a number >= 0", h->initial_stress_ratio);
     RANGE(isfinite(s->angle_rate), "gravity", "angle_rate", "a rate [deg/s]", s->angle_rate);
     ekm_status st = check_bc(c, s, "bottom", &s->bottom, err);

@@ -66,6 +66,8 @@ typedef struct {
     int log;              /* 1: one line per switch on stderr */
     int initial_solid;    /* [initial] solid: material cells start solid */
     double initial_stress_ratio; /* [initial] stress_ratio: their stress is -ratio P_Y (isotropic) [-] */
+    int initial_settled;  /* [initial] settled: instead, phi and stress of a layer at rest
+                           * under the initial gravity, at yield pressure (state.c) */
 } ekm_hypo_params;
 
 /* One key as given (file or --set), kept for provenance in the output. */

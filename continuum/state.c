@@ -1,5 +1,6 @@
 #include "state.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -63,6 +64,52 @@ void ekm_state_copy(ekm_state *dst, const ekm_state *src)
     dst->mass_in = src->mass_in;
 }
 
+/* phi with P_Y(phi) = P: P (1 - phi/phi_cp) = rho_p T0 (phi - phi_co). */
+static double phi_of_yield_pressure(const ekm_material *m, double P)
+{
+    const double K = m->rho_p * m->T0;
+    return (P + K * m->phi_co) / (K + P / m->phi_cp);
+}
+
+/* [initial] settled: a solid layer at rest under the initial gravity, every
+ * cell at its yield pressure (tr(sigma) = -3 P_Y, isotropic normal stress)
+ * with the discrete momentum balance of the solver exactly satisfied:
+ * sigma_zz(j) = sigma_zz(j+1) - rho_face G_n dz down from the top cell
+ * (sigma_zz = -rho G_n dz/2 there), phi from P_Y(phi) = -sigma_zz (a fixed
+ * point, rho depends on phi), face shear stresses summing the weight along
+ * the slope from the free top (sxz = 0 there). */
+static void settle(ekm_state *s, const ekm_scenario *sc)
+{
+    const ekm_material *m = &sc->material;
+    const double gn = -ekm_scenario_gravity_z(sc), gt = ekm_scenario_gravity_x(sc);
+    int top = s->n;
+    while (top > 0 && !s->solid[top - 1])
+        top--;
+    if (top == 0)
+        return;
+    double sig_above = 0.0, phi_above = 0.0;
+    for (int j = top - 1; j >= 0; j--) {
+        double phi = s->phi[j];
+        for (int it = 0; it < 100; it++) {
+            const double load = j == top - 1 ? m->rho_p * phi * gn * s->dz / 2
+                                             : -sig_above + m->rho_p * 0.5 * (phi + phi_above) * gn * s->dz;
+            const double next = phi_of_yield_pressure(m, load);
+            if (fabs(next - phi) < 1e-15)
+                break;
+            phi = next;
+        }
+        const double load = j == top - 1 ? m->rho_p * phi * gn * s->dz / 2
+                                         : -sig_above + m->rho_p * 0.5 * (phi + phi_above) * gn * s->dz;
+        s->phi[j] = phi;
+        s->sxx[j] = s->syy[j] = s->szz[j] = -load;
+        sig_above = -load;
+        phi_above = phi;
+    }
+    s->sxz[top] = 0.0;
+    for (int f = top - 1; f >= 0; f--)
+        s->sxz[f] = s->sxz[f + 1] + m->rho_p * s->phi[f] * gt * s->dz;
+}
+
 void ekm_state_init(ekm_state *s, const ekm_scenario *sc)
 {
     for (int j = 0; j < s->n; j++) {
@@ -85,6 +132,8 @@ void ekm_state_init(ekm_state *s, const ekm_scenario *sc)
     s->t = 0.0;
     s->steps = 0;
     s->mass_in = 0.0;
+    if (sc->hypo.initial_solid && sc->hypo.initial_settled)
+        settle(s, sc);
 }
 
 double ekm_state_mass(const ekm_state *s, double rho_p)
