@@ -3,7 +3,7 @@
  *
  * ekm owns the sections listed in docs/scenario-format.md ([scenario]
  * [material] [model] [domain] [gravity] [initial] [bottom] [top] [run]
- * [numerics]); the sections of other tools ([dem], [compare], [campaign],
+ * [numerics] [hypo]); the sections of other tools ([dem], [compare], [campaign],
  * [figures]) are skipped; any other section or key is an error that names
  * the file, line, section and key.
  */
