@@ -292,6 +292,13 @@ static ekm_status write_xdmf(const ekm_h5_writer *w, const char *xdmf_tmp, ekm_e
     return EKM_OK;
 }
 
+ekm_status ekm_h5_writer_set_attr(ekm_h5_writer *w, const char *name, double value, ekm_error *err)
+{
+    if (set_double_attr(w->file, name, value) != EKM_OK)
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the attribute %s", w->path, name);
+    return EKM_OK;
+}
+
 ekm_status ekm_h5_writer_commit(ekm_h5_writer *w, ekm_error *err)
 {
     char xdmf[1100], xdmf_tmp[1110];

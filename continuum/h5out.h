@@ -8,7 +8,10 @@
  *   every dataset has a string attribute "units";
  *   root attributes: every scenario key as "section.key" (number or
  *   string), gravity_x, gravity_z [m/s^2], variant, code_version,
- *   scenario_file, created (UTC).
+ *   scenario_file, created (UTC); with [hypo] enabled also
+ *   hypo.to_solid, hypo.to_flow (switch counts), hypo.jump_max (largest
+ *   relative stress jump at a switch), hypo.fail_time [s], hypo.fail_angle
+ *   [deg], hypo.fail_fY (first solid -> flow switch; fail_time -1: none).
  * The file is written under PATH.tmp and renamed to PATH on commit; the
  * sidecar PATH-without-.h5 + ".xdmf" lets ParaView open the time series.
  */
@@ -25,6 +28,9 @@ ekm_status ekm_h5_writer_open(ekm_h5_writer **out, const char *path, const ekm_s
                               const ekm_state *s, ekm_error *err);
 /* Append the state as one more time row. */
 ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error *err);
+/* A number as a root attribute (run statistics, e.g. the solid regime's
+ * switch counts and first failure); before commit. */
+ekm_status ekm_h5_writer_set_attr(ekm_h5_writer *w, const char *name, double value, ekm_error *err);
 /* Close, write the XDMF sidecar, rename both into place, free w. */
 ekm_status ekm_h5_writer_commit(ekm_h5_writer *w, ekm_error *err);
 /* Close and delete the temporary file, free w (NULL is harmless). */

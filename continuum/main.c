@@ -112,6 +112,15 @@ static int cmd_run(int argc, char **argv)
     if (st == EKM_OK) {
         ekm_run_hooks hooks = {.frame = write_frame, .ctx = &fc, .progress = !quiet && isatty(STDERR_FILENO)};
         st = ekm_run(&sc, s, stepper, &hooks, &stats, &err);
+        if (st == EKM_OK && sc.hypo.enabled) {
+            const struct { const char *name; double value; } attrs[] = {
+                {"hypo.to_solid", (double)stats.to_solid}, {"hypo.to_flow", (double)stats.to_flow},
+                {"hypo.jump_max", stats.jump_max}, {"hypo.fail_time", stats.fail_time},
+                {"hypo.fail_angle", stats.fail_angle}, {"hypo.fail_fY", stats.fail_fY},
+            };
+            for (size_t i = 0; i < sizeof attrs / sizeof attrs[0] && st == EKM_OK; i++)
+                st = ekm_h5_writer_set_attr(fc.writer, attrs[i].name, attrs[i].value, &err);
+        }
         if (st == EKM_OK)
             st = ekm_h5_writer_commit(fc.writer, &err);
         else

@@ -66,6 +66,15 @@ check "unknown limiter" 2 "--set numerics.limiter: \[numerics\] limiter: unknown
 check "inflow key on a wall" 2 "\[bottom\] phi: only allowed with type = inflow" \
     run "$base" -o out.h5 --set bottom.phi=0.3
 
+check "solid without hypo" 2 "--set initial.solid.*\[initial\] solid: expected 0 unless \[hypo\] enabled = 1" \
+    run "$base" -o out.h5 --set initial.solid=1
+
+check "hypo yield_tol out of range" 2 "--set hypo.yield_tol.*\[hypo\] yield_tol: expected a number in \(0, 0.1\)" \
+    run "$base" -o out.h5 --set hypo.enabled=1 --set hypo.yield_tol=0.5
+
+check "piston without period" 2 "\[top\] period: expected a time > 0" \
+    run "$base" -o out.h5 --set top.type=piston --set top.w=-1e-6
+
 check "missing argument" 1 "missing scenario file" run -o out.h5
 
 check "unknown command" 1 "unknown command 'walk'" walk "$base"
