@@ -517,9 +517,12 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
          * carries (almost) no mass, and vacuum cannot push: it may not compress
          * the material cell next to it.  Without
          * this a resting surface cell keeps a "ghost" face velocity (gravity on
-         * the face's half cell against its viscosity) that heats it forever. */
+         * the face's half cell against its viscosity) that heats it forever.
+         * Active with the solid regime or phi_vacuum > 0 (flow-only runs
+         * are unchanged). */
         const double vac = fmax(sc->numerics.phi_vacuum, sc->numerics.phi_dry);
-        for (int f = 1; f < n; f++) {
+        const int vacuum_rule = sc->hypo.enabled || sc->numerics.phi_vacuum > 0.0;
+        for (int f = 1; vacuum_rule && f < n; f++) {
             const double below = st->phi_new[f - 1], above = st->phi_new[f];
             if (above < vac && below >= vac && s->w[f] < s->w[f - 1])
                 s->w[f] = s->w[f - 1];

@@ -138,10 +138,10 @@ static void test_hypoplastic_cycle(void **state)
 
 /* ---- thesis_column_incline (thesis 6.5.3) ----
  * The column leaves its solid state, flows out, and the outflow equals the
- * mass lost.  Known limitation: the lowest 8 cells never turn to flow;
- * they slide out rigidly (no base friction in the 1D model, and the
- * zero-gradient outflow lets the edge cell keep its stress), and a plug
- * re-solidifies at the outflow by t = 0.6 s: 58% of the mass has left. */
+ * mass lost.  Known limitation: the lowest 8 cells never turn to flow:
+ * the zero-gradient outflow lets the edge cell keep its stress, the lower
+ * column is pushed against it and stays at the compression limit, and a
+ * plug re-solidifies at the outflow by t = 0.6 s: 58% of the mass left. */
 
 typedef struct {
     double w_max;
