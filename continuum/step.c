@@ -325,6 +325,14 @@ static void solid_finish(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, c
         s->syy[j] = sig.yy;
         s->szz[j] = sig.zz;
     }
+    /* Outflow ends: zero gradient of the stress too (as of phi, u, T), so
+     * a solid edge cell does not act as a support for the material inside. */
+    if (n > 1 && st->sc->bottom.kind == EKM_BC_OUTFLOW && s->solid[0] && s->solid[1] && !st->dry[1]) {
+        s->sxx[0] = s->sxx[1]; s->syy[0] = s->syy[1]; s->szz[0] = s->szz[1];
+    }
+    if (n > 1 && st->sc->top.kind == EKM_BC_OUTFLOW && s->solid[n - 1] && s->solid[n - 2] && !st->dry[n - 2]) {
+        s->sxx[n - 1] = s->sxx[n - 2]; s->syy[n - 1] = s->syy[n - 2]; s->szz[n - 1] = s->szz[n - 2];
+    }
     for (int f = 0; f <= n; f++) {
         if (!face_solid(st, n, f))
             continue;

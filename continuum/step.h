@@ -22,7 +22,9 @@
  * viscosity mu_n = V_zz = dt f (A_h + 2 B_h)/(...); in the shear solve
  * through their faces (k = dt f B_h/(...)/dz and a known face stress);
  * their T is not evolved and they exchange no heat.  After the solves the
- * new stress is E + V * gradient, the one the momentum balance used.
+ * new stress is E + V * gradient, the one the momentum balance used; at an
+ * outflow end the solid edge cell then takes its neighbour's stress (zero
+ * gradient).
  *
  * Switching (phase 9, thresholds in [hypo], docs/model.md):
  *   flow -> solid  phi > phi_co + phi_margin, T < T_ratio Y, and the cell

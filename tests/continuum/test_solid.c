@@ -137,11 +137,9 @@ static void test_hypoplastic_cycle(void **state)
 }
 
 /* ---- thesis_column_incline (thesis 6.5.3) ----
- * The column leaves its solid state, flows out, and the outflow equals the
- * mass lost.  Known limitation: the lowest 8 cells never turn to flow:
- * the zero-gradient outflow lets the edge cell keep its stress, the lower
- * column is pushed against it and stays at the compression limit, and a
- * plug re-solidifies at the outflow by t = 0.6 s: 58% of the mass left. */
+ * The column leaves its solid state (every cell flows at some output
+ * time), flows out through the outflow (all of it by t = 0.6 s), and the
+ * outflow equals the mass lost to round-off. */
 
 typedef struct {
     double w_max;
@@ -185,12 +183,13 @@ static void test_column_incline(void **state)
         left += c.ever_flow[j];
     for (int j = 0; j < r.s->n; j++)
         remain += r.s->solid[j];
-    printf("column: %d of the 40 initially solid cells flowed at some output time; %d cells solid at the end "
-           "(a plug at the outflow)\n", left, remain);
+    printf("column: %d of the 40 initially solid cells flowed at some output time; %d cells solid at the end\n",
+           left, remain);
     assert_true(c.solid_first == 40);
-    assert_true(left >= 30);                /* measured 32 of 40 */
+    assert_int_equal(left, 40);             /* every cell left the solid state */
+    assert_true(c.solid_min == 0);
     assert_true(c.w_max > 0.5);             /* it flows */
-    assert_true(out > 0.5 * m0);            /* most of it leaves */
+    assert_true(out > 0.99 * m0);           /* it leaves (measured 99.998%) */
     assert_true(fabs(balance) < 1e-13);     /* outflow = mass lost, to round-off */
     assert_true(r.stats.jump_max < 1e-3);
     test_run_free(&r);
