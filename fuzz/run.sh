@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # fuzz/run.sh: build the dump-reader fuzz target with clang's libFuzzer and
 # ASan/UBSan, and fuzz for SECONDS (default 20; `make fuzz-compare` runs an
-# hour). New interesting inputs go to fuzz/corpus (commit the small ones);
+# hour). New interesting inputs go to fuzz/corpus (not committed; crashes found
+# there become regression seeds in fuzz/seeds);
 # a crash leaves crash-* files in OUTDIR and a non-zero exit.
 # usage: fuzz/run.sh [SECONDS] [OUTDIR]   (exit 77 = skipped: no clang)
 # env CORPUS: where new inputs go (default fuzz/corpus; ctest uses a scratch
@@ -23,8 +24,13 @@ seeds=$(mktemp -d)
 trap 'rm -rf "$seeds"' EXIT
 cp "$root"/tests/compare/fixtures/* "$here"/seeds/* "$seeds"/
 cd "$out"
+# libFuzzer exits when a listed corpus directory is missing: list only the
+# ones that exist (fuzz/corpus is not in a fresh clone).
+dirs=("$corpus")
+[ "$corpus" != "$here/corpus" ] && [ -d "$here/corpus" ] && dirs+=("$here/corpus")
+dirs+=("$seeds")
 "$exe" -max_total_time="$secs" -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
-  -print_final_stats=1 "$corpus" "$here/corpus" "$seeds" 2> "$out/fuzz.log" || {
+  -print_final_stats=1 "${dirs[@]}" 2> "$out/fuzz.log" || {
   tail -40 "$out/fuzz.log" >&2
   echo "fuzz/run.sh: the fuzzer found a problem (see $out/fuzz.log, crash-* in $out)" >&2
   exit 1
