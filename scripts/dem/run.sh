@@ -205,8 +205,14 @@ json_escape() { sed -e 's/\\/\\\\/g' -e 's/"/\\"/g' | tr -d '\n'; }
 run_case() { # run_case TAG "name value ..."
   local tag=$1 extra=$2 dir st=ok msg="" rc
   dir=$outroot/$scen/$engine-$size${tag:+/$tag}
-  if [ -f "$dir/run.json" ] && grep -q '"status": "ok"' "$dir/run.json" && [ $force -eq 0 ]; then
-    echo "$prog: $dir is done (status ok); FORCE=1 (-f) to redo"; return 0
+  # A finished run (ok, or complete but not steady) is kept unless forced;
+  # its exit status is reported again so that callers see the same result.
+  if [ -f "$dir/run.json" ] && [ $force -eq 0 ]; then
+    if grep -q '"status": "ok"' "$dir/run.json"; then
+      echo "$prog: $dir is done (status ok); FORCE=1 (-f) to redo"; return 0
+    elif grep -q '"status": "not_steady"' "$dir/run.json"; then
+      echo "$prog: $dir is done (status not_steady); FORCE=1 (-f) to redo" >&2; return 4
+    fi
   fi
   rm -rf "$dir"; mkdir -p "$dir" || { echo "$prog: cannot create $dir" >&2; return 1; }
   cp "$deck" "$dir/deck.in"
