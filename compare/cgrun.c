@@ -17,7 +17,7 @@
 /* Selected dump columns. */
 enum {
   C_POS = 0,        /* 3 x flavour (plain, u, s, su) + dim: x y z xu ... */
-  C_VX = 12, C_VY, C_VZ, C_MASS, C_RADIUS, C_DIAMETER, C_STRESS, C_ID = C_STRESS + 6, C_NCOL
+  C_VX = 12, C_VY, C_VZ, C_MASS, C_RADIUS, C_DIAMETER, C_STRESS, C_ID = C_STRESS + 6, C_TYPE, C_NCOL
 };
 static const char *const base_cols[C_STRESS] = {
   "x", "y", "z", "xu", "yu", "zu", "xs", "ys", "zs", "xsu", "ysu", "zsu",
@@ -97,6 +97,7 @@ static void source_init(source *src, const cg_run_opts *o)
   }
   for (size_t j = 0; j < 6; j++) want[C_STRESS + j] = j < o->nstress ? o->stress[j] : NULL;
   want[C_ID] = idmode ? "id" : NULL;
+  want[C_TYPE] = o->ntypes ? "type" : NULL;
   /* only the needed columns are asked for: fewer conversions, and a
    * compact snapshot row */
   src->ncols = 0;
@@ -184,6 +185,7 @@ static int source_convert(source *src, cg_error *err)
       snprintf(what, sizeof what, "'%s' (--stress)", o->stress[j]);
       return missing(sn, what, err);
     }
+  if (o->ntypes && !PR(C_TYPE)) return missing(sn, "'type' (--types)", err);
   size_t n = (size_t)sn->natoms;
   int rc = source_grow(src, n, err);
   if (rc) return rc;
@@ -230,12 +232,25 @@ static int source_convert(source *src, cg_error *err)
     if (!(m > 0.0))
       return CG_ERROR(err, CG_EINPUT, "%s: atom %zu: expected a positive mass, got %g",
                       sn->where, i + 1, m);
-    src->m[i] = m;
+    /* an atom of a type not kept (--types: e.g. frozen wall grains)
+     * stays in the arrays, so that pair dumps still find it by index, but
+     * with zero mass, volume and stress it adds nothing to any field */
+    int keep = 1;
+    if (o->ntypes) {
+      double ty = AT(row, C_TYPE);
+      keep = 0;
+      for (size_t k = 0; k < o->ntypes; k++)
+        if (ty == (double)o->types[k]) keep = 1;
+    }
+    src->m[i] = keep ? m : 0.0;
     src->rad[i] = r;
-    src->dsum += 2.0 * r;
-    src->dcount += 1.0;
+    if (!keep) src->vol[i] = 0.0;
+    if (keep) {
+      src->dsum += 2.0 * r;
+      src->dcount += 1.0;
+    }
     if (o->nstress)
-      for (int c = 0; c < 6; c++) src->S[6 * i + c] = AT(row, C_STRESS + c);
+      for (int c = 0; c < 6; c++) src->S[6 * i + c] = keep ? AT(row, C_STRESS + c) : 0.0;
   }
   src->pt.n = n;
   src->pt.s = src->s;
@@ -624,6 +639,13 @@ static int write_h5(const cg_run_opts *o, const cg_grid *g, const results *r,
   if (!rc) rc = cg_h5w_attr_str(w, "temperature",
                                 o->tmode == CG_T_PARTICLE ? "particle" : "consistent", err);
   if (!rc) rc = cg_h5w_attr_str(w, "stress", info->stress, err);
+  if (!rc) {
+    char types[16 * CG_MAXTYPES + 8] = "all";
+    size_t len = 0;
+    for (size_t k = 0; k < o->ntypes; k++)
+      len += (size_t)snprintf(types + len, sizeof types - len, "%s%d", k ? "," : "", o->types[k]);
+    rc = cg_h5w_attr_str(w, "atom_types", types, err);
+  }
   if (!rc) rc = cg_h5w_attr_double(w, "mean_diameter", info->d, err);
   if (!rc) rc = cg_h5w_attr_double(w, "lateral_area", info->area, err);
   if (!rc) rc = cg_h5w_attr_double(w, "rho_p", o->rho_p, err);

@@ -18,6 +18,8 @@
 #include "cg.h"
 #include "error.h"
 
+#define CG_MAXTYPES 16  /* most atom types --types may list */
+
 typedef struct {
   const char *const *inputs; /* dump files, in time order */
   size_t ninputs;
@@ -47,6 +49,8 @@ typedef struct {
   size_t npairs;
   size_t npaircols;          /* 9: x1 y1 z1 x2 y2 z2 fx fy fz; 5: id1 id2 fx fy fz */
   const char *paircols[9];   /* their column names (force on 1 by 2) */
+  size_t ntypes;             /* > 0: only atoms of these types count */
+  int types[CG_MAXTYPES];    /* atom types kept (dump column `type`) */
   FILE *log;                 /* notes and warnings, or NULL */
 } cg_run_opts;
 

@@ -43,6 +43,8 @@ static const char usage_text[] =
   "  --pair-columns L     its columns: x1,y1,z1,x2,y2,z2,fx,fy,fz (positions) or\n"
   "                       id1,id2,fx,fy,fz (atom ids; positions from the atom dump);\n"
   "                       f is the force on atom 1 by atom 2\n"
+  "  --types L            only atoms of these types count (e.g. 1, or 1,3; column `type`):\n"
+  "                       frozen wall grains are left out of every field\n"
   "  --quiet              no notes on stderr\n"
   "\n"
   "score: interpolate ekm's output onto the DEM grid and times; per field the relative L2\n"
@@ -123,6 +125,24 @@ static int get_paircols(const char *s, pair_names *pn, cg_run_opts *o, cg_error 
   }
   return usage_error(err, "--pair-columns: expected 9 names (x1,y1,z1,x2,y2,z2,fx,fy,fz) or 5 "
                      "(id1,id2,fx,fy,fz), got '%s'", s);
+}
+
+/* --types 1,3: the atom types that count (column `type`). */
+static int get_types(const char *s, cg_run_opts *o, cg_error *err)
+{
+  const char *p = s;
+  o->ntypes = 0;
+  for (;;) {
+    char *end;
+    long t = strtol(p, &end, 10);
+    if (end == p || t < 0 || t > 1000000 || (*end && *end != ','))
+      return usage_error(err, "--types: expected comma-separated atom types (integers), got '%s'", s);
+    if (o->ntypes == CG_MAXTYPES)
+      return usage_error(err, "--types: at most 16 types, got '%s'", s);
+    o->types[o->ntypes++] = (int)t;
+    if (!*end) return CG_OK;
+    p = end + 1;
+  }
 }
 
 static int get_stress(const char *s, stress_names *sn, cg_run_opts *o, cg_error *err)
@@ -215,6 +235,7 @@ static int cmd_cg(int argc, char **argv, cg_error *err)
     else if (!strcmp(a, "--stress")) { ARG(); rc = get_stress(v, &sn, &o, err); }
     else if (!strcmp(a, "--pairs")) { ARG(); pairs[npairs++] = v; }
     else if (!strcmp(a, "--pair-columns")) { ARG(); rc = get_paircols(v, &pn, &o, err); }
+    else if (!strcmp(a, "--types")) { ARG(); rc = get_types(v, &o, err); }
     else if (!strcmp(a, "--quiet")) o.log = NULL;
     else rc = usage_error(err, "cg: unknown option '%s' (see ekmcompare --help)", a);
 #undef ARG

@@ -82,6 +82,21 @@ expect 2 "expected --stress or --pairs, not both" -- \
   "$ekmc" cg "$fx/chute_lammps_atoms.dump.gz" --pairs "$fx/chute_lammps_pairs.dump.gz" --pair-columns "$pc" --stress c_sa -o bad.h5
 expect 0 "" -- "$ekmc" cg "$fx/chute_lammps_atoms.dump.gz" --pairs "$fx/chute_lammps_pairs.dump.gz" --pair-columns "$pc" -o chute.h5 --quiet
 h5dump -H -d mu chute.h5 > /dev/null || fail "chute.h5: no mu with pair-dump stress"
+# --types 1: frozen base grains (type 2) are left out: the profile's solid
+# volume per area is that of the type-1 grains (exact with the bins kernel)
+expect 0 "" -- "$ekmc" cg "$fx/chute_lammps_atoms.dump.gz" --types 1 --kernel bins --csv types1.csv --quiet
+expect 2 "\-\-types: expected comma-separated atom types" -- "$ekmc" cg a.dump --types 1,x -o bad.h5
+sed 's/^ITEM: ATOMS id type /ITEM: ATOMS id kind /' "$fx/lammps_time.dump" > notype.dump
+expect 1 "notype.dump:[0-9]+: ITEM: ATOMS has no column 'type' \(--types\)" -- "$ekmc" cg notype.dump --types 1 -o bad.h5
+vdem=$(zcat "$fx/chute_lammps_atoms.dump.gz" | awk '
+  /^ITEM: ATOMS/ { for (i = 3; i <= NF; i++) c[$i] = i - 2; a = 1; ns++; next }
+  /^ITEM:/ { a = 0; next }
+  a && $c["type"] == 1 { v += 4 / 3 * 3.141592653589793 * $c["radius"]^3 }
+  END { printf "%.10g", v / ns / (0.016 * 0.012) }')
+vcg=$(awk -F, 'NR > 1 { if (NR == 3) dz = $2 - z; z = $2; s[$1] += $3 }
+  END { for (t in s) { tot += s[t]; n++ } printf "%.10g", tot / n * dz }' types1.csv)
+awk -v a="$vdem" -v b="$vcg" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(a > 0 && d <= 1e-6 * a) }' ||
+  fail "--types 1: solid volume per area $vcg, expected $vdem (type-1 grains)"
 [ -e bad.h5 ] && fail "an output file was left behind by a failed run"
 ls ./*.tmp.* > /dev/null 2>&1 && fail "temporary files left behind"
 # an existing output is not touched by a failed run
