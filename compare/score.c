@@ -87,7 +87,7 @@ static int write_json(const cg_score_opts *o, const cg_score_field *res, size_t 
     json_num(fp, res[i].rel_l2);
     fputs(", \"noise_normalised\": ", fp);
     json_num(fp, res[i].noise);
-    fputc('}', fp);
+    fprintf(fp, ", \"se\": \"%s\"}", res[i].se_both ? "both, in quadrature" : "dem");
   }
   fputs("\n  }\n}\n", fp);
   int bad = ferror(fp);
@@ -191,8 +191,8 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
       for (size_t j = 0; j < ax.ntd; j++) { tin[j] = 1; ti[j] = ax.nte - 1; ta[j] = 0.0; }
   }
   for (size_t f = 0; f < nf && !rc; f++) {
-    double *fd = NULL, *sd = NULL, *fe = NULL;
-    size_t nt1, n1, nt2 = 0, n2 = 0, nt3, n3;
+    double *fd = NULL, *sd = NULL, *fe = NULL, *fse = NULL;
+    size_t nt1, n1, nt2 = 0, n2 = 0, nt3, n3, nt4, n4;
     char sename[48];
     snprintf(sename, sizeof sename, "%s_se", names[f]);
     if (!cg_h5r_has(dem, names[f])) rc = CG_ERROR(err, CG_EINPUT, "%s: expected a dataset %s", o->dem, names[f]);
@@ -208,6 +208,13 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
     if (!rc) rc = cg_h5r_read(ekm, names[f], &fe, &nt3, &n3, err);
     if (!rc && (nt3 != ax.nte || n3 != ax.nze))
       rc = CG_ERROR(err, CG_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, names[f], ax.nte, ax.nze);
+    /* a second coarse-grained DEM run in place of the EKM (engine against
+     * engine) carries its own standard error: the two add in quadrature */
+    if (!rc && cg_h5r_has(ekm, sename)) {
+      rc = cg_h5r_read(ekm, sename, &fse, &nt4, &n4, err);
+      if (!rc && (nt4 != ax.nte || n4 != ax.nze))
+        rc = CG_ERROR(err, CG_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, sename, ax.nte, ax.nze);
+    }
     if (!rc) {
       double sd2 = 0, se2 = 0, sn2 = 0;
       size_t np = 0, npse = 0;
@@ -229,6 +236,13 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
           sd2 += d * d;
           se2 += (e - d) * (e - d);
           double s = sd ? sd[j * ax.nzd + k] : NAN;
+          if (fse) {
+            const double *q0 = fse + i0 * ax.nze, *q1 = fse + i1 * ax.nze;
+            double s0 = q0[zi] + az * (q0[z1] - q0[zi]);
+            double s1 = q1[zi] + az * (q1[z1] - q1[zi]);
+            double s2 = s0 + at * (s1 - s0);
+            s = sqrt(s * s + s2 * s2);
+          }
           if (isfinite(s) && s > 0) {
             npse++;
             sn2 += (e - d) * (e - d) / (s * s);
@@ -241,11 +255,13 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
       r->points_se = npse;
       r->rel_l2 = (np && sd2 > 0) ? sqrt(se2 / sd2) : NAN;
       r->noise = npse ? sqrt(sn2 / (double)npse) : NAN;
+      r->se_both = fse != NULL;
       (*nres)++;
     }
     free(fd);
     free(sd);
     free(fe);
+    free(fse);
   }
   if (!rc && o->table) {
     fprintf(o->table, "| field | points | rel. L2 error | noise-normalised error |\n|---|---:|---:|---:|\n");

@@ -8,6 +8,9 @@
  * both values finite), per field:
  *   rel_l2 = ||f_EKM - f_DEM|| / ||f_DEM||
  *   noise  = sqrt(mean(((f_EKM - f_DEM) / SE_DEM)^2))   (points with SE > 0)
+ * When the second file is itself coarse-grained DEM (engine against engine:
+ * it has FIELD_se), SE_DEM is replaced by the two standard errors added in
+ * quadrature.
  * With --ekm-time last (or automatically, with a note, when no DEM time is
  * inside the EKM's), every DEM time is compared with the EKM's last output
  * (a steady state).
@@ -39,6 +42,8 @@ typedef struct {
   size_t points_se;    /* of which with a positive standard error */
   double rel_l2;       /* relative L2 error (NAN if undefined) */
   double noise;        /* noise-normalised error (NAN if undefined) */
+  int se_both;         /* 1: the --ekm file had FIELD_se too (a second DEM
+                          run): SE = sqrt(SE_dem^2 + SE_other^2) */
 } cg_score_field;
 
 /* Score; results (up to 16 fields) in res/nres when res != NULL. */

@@ -12,6 +12,8 @@
 #   -f        overwrite a finished run (FORCE=1 in make)
 #   -s k=v    override a [dem] key for this run (repeatable)
 #   -o DIR    output root (default runs/)
+#   -l        list the sweep points, one "TAG|name value ..." per line (TAG
+#             empty: a single case in the top directory), and run nothing
 #
 # The scenario file is the single source of truth: shared values (geometry,
 # gravity, wall speeds, inflow) come from its continuum sections, DEM-only
@@ -31,10 +33,11 @@ prog=run.sh
 
 die() { echo "$prog: $*" >&2; exit 2; }
 
-force=0; np=1; outroot="$root/runs"; sets=(); cfile=""
-while getopts "fn:s:o:c:h" opt; do
+force=0; np=1; outroot="$root/runs"; sets=(); cfile=""; list=0
+while getopts "fln:s:o:c:h" opt; do
   case $opt in
     f) force=1 ;;
+    l) list=1 ;;
     n) np=$OPTARG ;;
     s) sets+=("$OPTARG") ;;
     o) outroot=$OPTARG ;;
@@ -105,13 +108,13 @@ case $engine in   # LIGGGHTS_EXE, LAMMPS_EXE override the binaries
   liggghts) exe=${LIGGGHTS_EXE:-liggghts} ;;
   lammps)   exe=${LAMMPS_EXE:-lmp} ;;
 esac
-command -v "$exe" >/dev/null ||
+[ $list -eq 1 ] || command -v "$exe" >/dev/null ||
   { echo "$prog: engine '$exe' not found (run scripts/deps.sh dem)" >&2; exit 3; }
-if [ "$np" -gt 1 ]; then
+if [ "$np" -gt 1 ] && [ $list -eq 0 ]; then
   command -v mpirun >/dev/null ||
     { echo "$prog: NP=$np needs mpirun (openmpi-bin)" >&2; exit 3; }
 fi
-version=$("$exe" -h 2>/dev/null | grep -m1 -oE '(LIGGGHTS-PUBLIC [0-9.]+|[0-9]+ [A-Z][a-z]{2} [0-9]{4}( - Update [0-9]+)?)')
+[ $list -eq 1 ] || version=$("$exe" -h 2>/dev/null | grep -m1 -oE '(LIGGGHTS-PUBLIC [0-9.]+|[0-9]+ [A-Z][a-z]{2} [0-9]{4}( - Update [0-9]+)?)')
 
 # --- variables common to every deck ------------------------------------
 declare -a vars=()
@@ -195,6 +198,7 @@ case $scen in
     done; done; set +f ;;
   *) die "no variable mapping for scenario '$scen' (see docs/dem.md)" ;;
 esac
+if [ $list -eq 1 ]; then printf '%s\n' "${points[@]}"; exit 0; fi
 timeout_s=$(dem timeout 900)
 require_steady=$(dem require_steady 0)
 steady_tol=$(dem steady_tol 0.05)

@@ -118,6 +118,33 @@ static void test_known_errors(void **state)
   assert_non_null(strstr(buf, "\"noise_normalised\": 0.5"));
 }
 
+/* Engine against engine: the second file is coarse-grained DEM with its
+ * own standard errors, which add in quadrature. */
+static void test_dem_against_dem(void **state)
+{
+  (void)state;
+  char a[512], b[512];
+  tmp_path(a, sizeof a, "score_dem_a.h5");
+  tmp_path(b, sizeof b, "score_dem_b.h5");
+  double t[2] = {0.5, 1.5};
+  write_dem(a, 10, 0.0, 1.0, 2, t, 1.0, 2.0, 0.5, 0.02);
+  write_dem(b, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 0.02);
+  cg_score_opts o = cg_score_opts_default();
+  o.dem = a;
+  o.ekm = b;
+  cg_score_field r[16];
+  size_t n;
+  cg_error err;
+  if (cg_score(&o, r, &n, &err)) fail_msg("%s", err.msg);
+  assert_int_equal(n, 3);
+  for (size_t i = 0; i < n; i++) {
+    assert_int_equal(r[i].se_both, 1);
+    /* same grid: all 10 x 2 points compared */
+    assert_int_equal(r[i].points, 20);
+    assert_close(r[i].noise, 0.5 / sqrt(2.0), 1e-9);
+  }
+}
+
 /* Region: DEM points outside the EKM's z range are left out; DEM times
  * outside the EKM's fall back to the EKM's last output. */
 static void test_region_and_last(void **state)
@@ -178,6 +205,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_known_errors),
     cmocka_unit_test(test_region_and_last),
+    cmocka_unit_test(test_dem_against_dem),
     cmocka_unit_test(test_bad_inputs),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
