@@ -215,6 +215,9 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
       if (!rc && (nt4 != ax.nte || n4 != ax.nze))
         rc = CG_ERROR(err, CG_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, sename, ax.nte, ax.nze);
     }
+    double *pd = NULL, *ps = NULL; /* per point: difference, standard error */
+    if (!rc && (!(pd = malloc(ax.ntd * ax.nzd * sizeof *pd)) || !(ps = malloc(ax.ntd * ax.nzd * sizeof *ps))))
+      rc = CG_ERROR(err, CG_ESYS, "out of memory");
     if (!rc) {
       double sd2 = 0, se2 = 0, sn2 = 0;
       size_t np = 0, npse = 0;
@@ -232,7 +235,6 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
           double e1 = r1[zi] + az * (r1[z1] - r1[zi]);
           double e = e0 + at * (e1 - e0), d = fd[j * ax.nzd + k];
           if (!isfinite(e) || !isfinite(d)) continue;
-          np++;
           sd2 += d * d;
           se2 += (e - d) * (e - d);
           double s = sd ? sd[j * ax.nzd + k] : NAN;
@@ -243,12 +245,20 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
             double s2 = s0 + at * (s1 - s0);
             s = sqrt(s * s + s2 * s2);
           }
-          if (isfinite(s) && s > 0) {
-            npse++;
-            sn2 += (e - d) * (e - d) / (s * s);
-          }
+          pd[np] = e - d;
+          ps[np] = s;
+          np++;
         }
       }
+      /* the noise-normalised error uses the points whose standard error is
+       * meaningful: SE > 1e-6 of the field's RMS (a bin that one grain
+       * crossed once has an SE of round-off size, and would swamp it) */
+      double floor_se = np ? 1e-6 * sqrt(sd2 / (double)np) : 0.0;
+      for (size_t q = 0; q < np; q++)
+        if (isfinite(ps[q]) && ps[q] > floor_se) {
+          npse++;
+          sn2 += pd[q] * pd[q] / (ps[q] * ps[q]);
+        }
       cg_score_field *r = &res[*nres];
       snprintf(r->name, sizeof r->name, "%s", names[f]);
       r->points = np;
@@ -262,6 +272,8 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
     free(sd);
     free(fe);
     free(fse);
+    free(pd);
+    free(ps);
   }
   if (!rc && o->table) {
     fprintf(o->table, "| field | points | rel. L2 error | noise-normalised error |\n|---|---:|---:|---:|\n");

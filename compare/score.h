@@ -7,7 +7,9 @@
  * inside the EKM cell-centre range, DEM time inside the EKM output times,
  * both values finite), per field:
  *   rel_l2 = ||f_EKM - f_DEM|| / ||f_DEM||
- *   noise  = sqrt(mean(((f_EKM - f_DEM) / SE_DEM)^2))   (points with SE > 0)
+ *   noise  = sqrt(mean(((f_EKM - f_DEM) / SE_DEM)^2))
+ *            over the points with SE_DEM > 1e-6 RMS(f_DEM) (smaller SEs are
+ *            round-off: a bin one grain crossed once)
  * When the second file is itself coarse-grained DEM (engine against engine:
  * it has FIELD_se), SE_DEM is replaced by the two standard errors added in
  * quadrature.

@@ -209,9 +209,27 @@ json_escape() { sed -e 's/\\/\\\\/g' -e 's/"/\\"/g' | tr -d '\n'; }
 run_case() { # run_case TAG "name value ..."
   local tag=$1 extra=$2 dir st=ok msg="" rc
   dir=$outroot/$scen/$engine-$size${tag:+/$tag}
-  # A finished run (ok, or complete but not steady) is kept unless forced;
-  # its exit status is reported again so that callers see the same result.
-  if [ -f "$dir/run.json" ] && [ $force -eq 0 ]; then
+  local -a all=("${vars[@]}") args=()
+  set -f; all+=($extra); set +f
+  local i newvars=""
+  for ((i = 0; i < ${#all[@]}; i += 2)); do
+    newvars+=$(printf '%s = %s' "${all[i]}" "${all[i+1]}")$'\n'
+    args+=(-var "${all[i]}" "${all[i+1]}")
+  done
+  # A finished run (ok, or complete but not steady) is kept unless forced
+  # or its inputs changed (deck, includes, variables: compared by content,
+  # so editing a comment or another section of the scenario file does not
+  # redo an hour of DEM); its exit status is reported again.
+  local same=1 f
+  if [ -f "$dir/run.json" ]; then
+    cmp -s "$deck" "$dir/deck.in" || same=0
+    for f in "$root/dem_inputs/$engine/"*.inc; do
+      [ -e "$f" ] && { cmp -s "$f" "$dir/${f##*/}" || same=0; }
+    done
+    [ "$newvars" = "$(cat "$dir/vars.txt" 2>/dev/null)"$'\n' ] || same=0
+    [ $same -eq 0 ] && [ $force -eq 0 ] && echo "$prog: $dir: inputs changed (deck or variables): running again"
+  fi
+  if [ -f "$dir/run.json" ] && [ $force -eq 0 ] && [ $same -eq 1 ]; then
     if grep -q '"status": "ok"' "$dir/run.json"; then
       echo "$prog: $dir is done (status ok); FORCE=1 (-f) to redo"; return 0
     elif grep -q '"status": "not_steady"' "$dir/run.json"; then
@@ -221,14 +239,7 @@ run_case() { # run_case TAG "name value ..."
   rm -rf "$dir"; mkdir -p "$dir" || { echo "$prog: cannot create $dir" >&2; return 1; }
   cp "$deck" "$dir/deck.in"
   cp "$root/dem_inputs/$engine/"*.inc "$dir/" 2>/dev/null
-  local -a all=("${vars[@]}") args=()
-  set -f; all+=($extra); set +f
-  : > "$dir/vars.txt"
-  local i
-  for ((i = 0; i < ${#all[@]}; i += 2)); do
-    printf '%s = %s\n' "${all[i]}" "${all[i+1]}" >> "$dir/vars.txt"
-    args+=(-var "${all[i]}" "${all[i+1]}")
-  done
+  printf '%s' "$newvars" > "$dir/vars.txt"
   local -a cmd=()
   [ "$np" -gt 1 ] && cmd+=(mpirun --allow-run-as-root --oversubscribe -np "$np")
   cmd+=(stdbuf -o0 "$exe" -in deck.in -log log.txt -echo screen "${args[@]}")

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# table.sh: the campaign's score table from the per-point score files.
+#   table.sh SIZE RES "ENGINES"
+# Writes RES/scores.json and RES/scores.md (atomically) and prints the
+# markdown table. One row per scenario x sweep point x scored field, with
+# the relative L2 error and the noise-normalised error (MODEL.md section 9)
+# of EKM vs LIGGGHTS, EKM vs LAMMPS and LIGGGHTS vs LAMMPS (the floor).
+# A comparison that cannot exist (engine cannot run the scenario, or not in
+# ENGINES) is "n/a"; one whose score file is missing (failed step) is
+# "missing" (with a warning; the campaign's exit status reports the failed
+# step itself).
+set -uo pipefail
+prog=table.sh
+. "$(dirname "$0")/lib.sh"
+[ $# -eq 3 ] || die "usage: table.sh SIZE RES \"ENGINES\""
+size=$1 res=$2 engines=$3
+command -v jq > /dev/null || die "jq not installed (scripts/deps.sh)"
+cd "$root" || exit 2
+rows=$(mktemp); trap 'rm -f "$rows" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
+missing=0
+# cell FILE FIELD USABLE: JSON for one comparison
+cell() {
+  if [ "$3" != 1 ]; then echo '{"status": "n/a"}'
+  elif [ ! -f "$1" ]; then echo "{\"status\": \"missing\", \"file\": \"$1\"}"; missing=1
+  else jq -c --arg f "$2" --arg file "$1" \
+      '.fields[$f] as $r | if $r == null then {status: "missing", file: $file}
+       else {status: "ok", rel_l2: $r.rel_l2, noise_normalised: $r.noise_normalised, points: $r.points, file: $file} end' "$1"
+  fi
+}
+for ini in scenarios/*.ini; do
+  s=$(basename "$ini" .ini)
+  grep -q '^\[dem\]' "$ini" && grep -q '^\[compare\]' "$ini" || continue
+  ok_l=0 ok_m=0
+  case " $engines " in *" liggghts "*) supported "$s" liggghts && ok_l=1 ;; esac
+  case " $engines " in *" lammps "*) supported "$s" lammps && ok_m=1 ;; esac
+  [ $ok_l = 1 ] || [ $ok_m = 1 ] || continue
+  e0=$([ $ok_m = 1 ] && echo lammps || echo liggghts)
+  fields=$(cmpkey "$ini" "$e0" "$size" fields) || exit 2
+  both=$(( ok_l & ok_m ))
+  while IFS= read -r line; do
+    tag=${line%%|*}
+    d=$res/$s${tag:+/$tag}
+    for f in ${fields//,/ }; do
+      jq -cn --arg s "$s" --arg p "$tag" --arg f "$f" \
+        --argjson a "$(cell "$d/score_ekm_liggghts.json" "$f" $ok_l)" \
+        --argjson b "$(cell "$d/score_ekm_lammps.json" "$f" $ok_m)" \
+        --argjson c "$(cell "$d/score_liggghts_lammps.json" "$f" $both)" \
+        '{scenario: $s, point: $p, field: $f, ekm_vs_liggghts: $a, ekm_vs_lammps: $b, liggghts_vs_lammps: $c}' >> "$rows"
+    done
+  done <<< "$(scripts/dem/run.sh -l "$s" "$e0" "$size")"
+done
+# missing is set inside command substitutions: recount from the rows
+grep -q '"status":"missing"' "$rows" && missing=1
+mkdir -p "$res"
+jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%m-%dT%H:%M:%SZ)" \
+  --arg version "$(git describe --always --dirty 2>/dev/null || echo unknown)" \
+  '{size: $size, engines: ($engines | split(" ")), created: $created, code_version: $version,
+    definitions: {rel_l2: "||f_model - f_DEM|| / ||f_DEM|| over the points both cover (MODEL.md 9)",
+                  noise_normalised: "sqrt(mean(((f_model - f_DEM) / SE)^2)); 1 = as close as the DEM noise; SE of both engines in quadrature for engine vs engine"},
+    rows: .}' "$rows" > "$res/scores.json.tmp" || exit 1
+{
+  echo "# Campaign scores ($size size)"
+  echo
+  echo "Each cell: relative L2 error / noise-normalised error (1 = as close as the"
+  echo "DEM's own noise). LIGGGHTS vs LAMMPS is the floor no model can beat."
+  echo "Made $(date -u +%Y-%m-%d) by \`make campaign SIZE=$size\` ($(git describe --always --dirty 2>/dev/null || echo unknown))."
+  echo
+  echo "| scenario | point | field | EKM vs LIGGGHTS | EKM vs LAMMPS | LIGGGHTS vs LAMMPS |"
+  echo "|---|---|---|---:|---:|---:|"
+  jq -r 'def c: if .status == "ok" then
+             "\(if .rel_l2 == null then "-" else (.rel_l2 * 1000 | round / 1000 | tostring) end) / \(if .noise_normalised == null then "-" else (.noise_normalised * 100 | round / 100 | tostring) end)"
+           else .status end;
+         .rows[] | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.field) | \(.ekm_vs_liggghts | c) | \(.ekm_vs_lammps | c) | \(.liggghts_vs_lammps | c) |"' "$res/scores.json.tmp"
+} > "$res/scores.md.tmp" || exit 1
+mv "$res/scores.json.tmp" "$res/scores.json" && mv "$res/scores.md.tmp" "$res/scores.md"
+cat "$res/scores.md"
+[ $missing = 0 ] || echo "$prog: some comparisons are missing (failed steps above); the table marks them" >&2
+exit 0
