@@ -42,7 +42,7 @@ test-sanitize: $(BUILD_SAN)/CMakeCache.txt
 	  ctest --output-on-failure -j $(JOBS) -LE dem
 
 demo: deps build
-	@scripts/demo.sh $(BUILD)
+	@JOBS=$(JOBS) scripts/demo.sh $(BUILD)
 
 bench: deps build
 	@scripts/bench.sh $(BUILD)

@@ -7,6 +7,7 @@
 #        the figures; results in results/ (SIZE=ref, committed) or
 #        results/smoke/ (SIZE=smoke, the default; not committed)
 #   make figures [SIZE=...]      only the figures, from existing results
+#   RES=DIR, RUNS=DIR            other results / DEM-run folders (tests)
 #   make campaign-table [SIZE=...]   print the score table
 #
 # Each step is a make rule in a generated makefile (RES/.plan.mk, from
@@ -18,7 +19,8 @@
 CAMPAIGN_SIZE = $(or $(SIZE),smoke)
 ENGINES      ?= liggghts lammps
 CAMPAIGN_NP   = $(or $(NP),1)
-CAMPAIGN_RES  = $(if $(filter ref,$(CAMPAIGN_SIZE)),results,results/smoke)
+CAMPAIGN_RES  = $(or $(RES),$(if $(filter ref,$(CAMPAIGN_SIZE)),results,results/smoke))
+CAMPAIGN_RUNS = $(or $(RUNS),runs)
 CAMPAIGN_PLAN = $(CAMPAIGN_RES)/.plan.mk
 
 .PHONY: campaign campaign-plan campaign-deps campaign-table figures
@@ -28,7 +30,7 @@ campaign-deps:
 
 campaign-plan:
 	@mkdir -p $(CAMPAIGN_RES)
-	@scripts/campaign/plan.sh $(CAMPAIGN_SIZE) $(CAMPAIGN_RES) "$(ENGINES)" $(CAMPAIGN_NP) $(BUILD) > $(CAMPAIGN_PLAN).tmp
+	@scripts/campaign/plan.sh $(CAMPAIGN_SIZE) $(CAMPAIGN_RES) "$(ENGINES)" $(CAMPAIGN_NP) $(BUILD) $(CAMPAIGN_RUNS) > $(CAMPAIGN_PLAN).tmp
 	@if cmp -s $(CAMPAIGN_PLAN).tmp $(CAMPAIGN_PLAN); then rm $(CAMPAIGN_PLAN).tmp; \
 	  else mv $(CAMPAIGN_PLAN).tmp $(CAMPAIGN_PLAN); fi
 

@@ -1,14 +1,26 @@
 #!/usr/bin/env bash
-# make demo: run every shipped continuum scenario with ekm into
-# runs/demo/continuum/ and print one summary line each.
-# (The DEM and comparison parts of the smoke campaign join it in mk/ targets.)
+# make demo: the smoke version of everything, on a fresh machine in a few
+# minutes: (1) every shipped continuum scenario through ekm (one summary
+# line each, into runs/demo/continuum/), then (2) the smoke validation
+# campaign (make campaign SIZE=smoke: DEM in both engines, coarse-graining,
+# EKM, scores) ending with the score table and the figures in
+# results/smoke/.
+# usage: scripts/demo.sh BUILD_DIR   (called by make demo after deps and build)
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
 out="$root/runs/demo/continuum"
 mkdir -p "$out"
-echo "ekm: continuum scenarios -> runs/demo/continuum/"
+echo "== 1. ekm: every continuum scenario -> runs/demo/continuum/"
 for ini in "$root"/scenarios/*.ini; do
   name=$(basename "$ini" .ini)
   "$root/$build/continuum/ekm" run "$ini" -o "$out/$name.h5"
 done
+echo
+echo "== 2. the smoke validation campaign (make campaign SIZE=smoke) -> results/smoke/"
+make -s -C "$root" campaign SIZE=smoke BUILD="$build" JOBS="${JOBS:-2}" -j "${JOBS:-2}"
+figs=$root/results/smoke/figures/figures.txt
+if [ -s "$figs" ]; then
+  echo
+  echo "figures ($(wc -l < "$figs")) in results/smoke/figures/, e.g. $(grep -m1 'png$' "$figs")"
+fi
