@@ -31,11 +31,11 @@ bench-cg: build
 
 demo-compare: build
 	@mkdir -p $(CG_OUT)
-	$(BUILD)/compare/ekmcompare cg $(CG_FX)/chute_liggghts_atoms.dump.gz --dt 1e-5 \
+	$(BUILD)/compare/ekmcompare cg $(CG_FX)/chute_liggghts_atoms.dump.gz --dt 1e-5 --types 1 \
 	  --pairs $(CG_FX)/chute_liggghts_pairs.dump.gz \
 	  --pair-columns 'c_pc[1],c_pc[2],c_pc[3],c_pc[4],c_pc[5],c_pc[6],c_pc[10],c_pc[11],c_pc[12]' \
 	  -o $(CG_OUT)/chute_liggghts.h5
-	$(BUILD)/compare/ekmcompare cg $(CG_FX)/chute_lammps_atoms.dump.gz \
+	$(BUILD)/compare/ekmcompare cg $(CG_FX)/chute_lammps_atoms.dump.gz --types 1 \
 	  --pairs $(CG_FX)/chute_lammps_pairs.dump.gz \
 	  --pair-columns 'c_pid[1],c_pid[2],c_pl[2],c_pl[3],c_pl[4]' -o $(CG_OUT)/chute_lammps.h5
 	@echo "LAMMPS vs LIGGGHTS (chute smoke runs, t = 0.25..0.3 s):"
