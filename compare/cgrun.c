@@ -1,4 +1,5 @@
 /* cgrun.c: the `ekmcompare cg` pipeline (see cgrun.h). */
+#include "ekm_version.h"
 #include "cgrun.h"
 
 #include <math.h>

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "ekm_version.h"
 #include "cgrun.h"
 #include "error.h"
 #include "h5io.h"

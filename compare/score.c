@@ -1,4 +1,5 @@
 /* score.c: the EKM against coarse-grained DEM (see score.h). */
+#include "ekm_version.h"
 #include "score.h"
 
 #include <math.h>

@@ -1,4 +1,5 @@
 #include "h5out.h"
+#include "ekm_version.h"
 
 #include <hdf5.h>
 #include <math.h>

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "ekm_version.h"
 #include "h5out.h"
 #include "run.h"
 #include "scenario.h"
