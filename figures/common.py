@@ -1,0 +1,434 @@
+"""common.py: style, loading and checking of a campaign results folder, and
+atomic figure output for figures/make_figures.py.
+
+A results folder RES (docs: mk/campaign.mk, scripts/campaign/plan.sh):
+    RES/scores.json                  the score table: scenarios, sweep points,
+                                     scored fields, engines (the index here)
+    RES/S[/P]/cg_<engine>.h5         coarse-grained DEM profiles (docs/compare.md)
+    RES/S[/P]/ekm.h5                 the EKM run (docs/output-format.md)
+    RES/S[/P]/dem_<engine>.json      the DEM run manifest (wall_time_s)
+Everything is read and checked before any figure is drawn: a missing file
+or dataset stops the program with one line naming it (InputError).
+"""
+import configparser
+import json
+import os
+import re
+
+import numpy as np
+
+PROG = "make_figures.py"
+ENGINES = ("liggghts", "lammps")
+ENGINE_LABEL = {"liggghts": "DEM LIGGGHTS", "lammps": "DEM LAMMPS"}
+EKM_LABEL = "EKM"
+# Okabe-Ito colours (colour-blind safe); EKM black
+ENGINE_COLOUR = {"liggghts": "#0072B2", "lammps": "#D55E00"}
+EKM_COLOUR = "black"
+POINT_COLOURS = ["#0072B2", "#009E73", "#D55E00", "#CC79A7", "#E69F00", "#56B4E9"]
+
+COLUMN_W = 3.4   # in, single journal column
+PAGE_W = 7.0     # in, two columns
+
+# a DEM bin is plotted for v and T only where phi is above this (empty bins
+# are NaN anyway; the dilute edge is noise); the same for EKM cells
+PHI_VISIBLE = 1e-3
+
+FIELD_LABEL = {
+    "phi": r"$\phi$",
+    "vx": r"$v_x$",
+    "vz": r"$v_z$",
+    "T": r"$T$",
+    "P": r"$P$",
+    "sxz": r"$\sigma_{xz}$",
+    "szz": r"$\sigma_{zz}$",
+}
+FIELD_UNIT = {"phi": "", "vx": "m/s", "vz": "m/s", "T": r"m$^2$/s$^2$",
+              "P": "Pa", "sxz": "Pa", "szz": "Pa"}
+FIELD_ORDER = ("phi", "vx", "vz", "T", "P", "sxz", "szz")
+
+
+class InputError(Exception):
+    """A missing or malformed input: one line for stderr."""
+
+
+def style():
+    """Journal style: Agg, 8 pt, no titles, deterministic PDF."""
+    import matplotlib
+    matplotlib.use("Agg")
+    matplotlib.rcParams.update({
+        "font.size": 8,
+        "axes.labelsize": 8,
+        "xtick.labelsize": 7,
+        "ytick.labelsize": 7,
+        "legend.fontsize": 7,
+        "legend.frameon": False,
+        "axes.linewidth": 0.6,
+        "xtick.major.width": 0.6,
+        "ytick.major.width": 0.6,
+        "xtick.minor.width": 0.4,
+        "ytick.minor.width": 0.4,
+        "xtick.direction": "in",
+        "ytick.direction": "in",
+        "xtick.top": True,
+        "ytick.right": True,
+        "lines.linewidth": 1.0,
+        "lines.markersize": 3.5,
+        "errorbar.capsize": 1.5,
+        "pdf.fonttype": 42,
+        "ps.fonttype": 42,
+        "savefig.dpi": 300,
+        "figure.dpi": 100,
+        "axes.formatter.use_mathtext": True,
+        "svg.hashsalt": "ekmbench",
+    })
+
+
+def field_axis_label(name, scale_exp=0):
+    """'T [10^-4 m^2/s^2]' style label, with the scale factor folded in."""
+    unit = FIELD_UNIT[name]
+    if scale_exp:
+        unit = (r"$10^{%d}$ " % scale_exp) + unit
+    return FIELD_LABEL[name] + (" [%s]" % unit if unit else "")
+
+
+def scale_exponent(values):
+    """Power of ten to divide by so the largest |value| is between 1 and
+    1e3; 0 when it already is (or there is nothing finite)."""
+    a = np.asarray(values, dtype=float)
+    a = np.abs(a[np.isfinite(a)])
+    if a.size == 0 or a.max() == 0:
+        return 0
+    e = int(np.floor(np.log10(a.max())))
+    return e if (e < -2 or e > 3) else 0
+
+
+# --- paths and messages -------------------------------------------------------
+
+def rel(path):
+    """A path as the user gave it (relative to the working directory when
+    that is shorter): messages name files the way the user can find them."""
+    r = os.path.relpath(path)
+    return r if not r.startswith("../..") else path
+
+
+def missing(path, what):
+    return InputError("%s: missing (%s)" % (rel(path), what))
+
+
+# --- scores.json: the index ------------------------------------------------------
+
+class Point:
+    """One scenario x sweep point: its folder and the data found there."""
+
+    def __init__(self, scenario, name, folder):
+        self.scenario = scenario
+        self.name = name            # '' for a single case
+        self.folder = folder
+        self.status = {}            # engine -> 'ok' | 'missing' (score status)
+        self.cg = {}                # engine -> CgData
+        self.dem_json = {}          # engine -> dict
+        self.ekm = None             # EkmRun
+
+    def label(self):
+        return self.name if self.name else "-"
+
+
+class Scenario:
+    def __init__(self, name):
+        self.name = name
+        self.fields = []            # scored fields, table order
+        self.points = []            # Point, table order
+        self.engines = []           # engines that can run it (not n/a)
+        self.shift = 0.0            # [compare] shift [m]
+        self.steady = True          # [compare] ekm_time = last
+
+    def velocity(self):
+        return "vz" if "vz" in self.fields else "vx"
+
+    def plotted_fields(self):
+        """The profile fields of figure 1: the scored ones, in a fixed order."""
+        return [f for f in FIELD_ORDER if f in self.fields]
+
+
+def read_json(path, what):
+    if not os.path.isfile(path):
+        raise missing(path, what)
+    try:
+        with open(path) as fh:
+            return json.load(fh)
+    except (OSError, ValueError) as e:
+        raise InputError("%s: cannot read as JSON (%s): %s" % (rel(path), what, e))
+
+
+def load_index(res):
+    """Scenarios, points, fields and engines from RES/scores.json."""
+    path = os.path.join(res, "scores.json")
+    js = read_json(path, "the campaign's score table, which lists the scenarios, "
+                         "sweep points and engines to plot")
+    if not isinstance(js, dict) or not isinstance(js.get("rows"), list):
+        raise InputError("%s: expected an object with a 'rows' list (the score table)" % rel(path))
+    scen = {}
+    for i, row in enumerate(js["rows"]):
+        try:
+            s, p, f = row["scenario"], row["point"], row["field"]
+            st = {e: row["ekm_vs_" + e]["status"] for e in ENGINES}
+        except (KeyError, TypeError):
+            raise InputError("%s: rows[%d]: expected scenario, point, field, ekm_vs_liggghts.status "
+                             "and ekm_vs_lammps.status" % (rel(path), i))
+        if not (isinstance(s, str) and re.fullmatch(r"[A-Za-z0-9_.-]+", s)
+                and isinstance(p, str) and re.fullmatch(r"[A-Za-z0-9_.-]*", p)):
+            raise InputError("%s: rows[%d]: bad scenario or point name %r/%r" % (rel(path), i, s, p))
+        sc = scen.setdefault(s, Scenario(s))
+        if f not in sc.fields:
+            if f not in FIELD_LABEL:
+                raise InputError("%s: rows[%d]: unknown field %r" % (rel(path), i, f))
+            sc.fields.append(f)
+        pt = next((q for q in sc.points if q.name == p), None)
+        if pt is None:
+            pt = Point(s, p, os.path.join(res, s, p) if p else os.path.join(res, s))
+            sc.points.append(pt)
+        for e, v in st.items():
+            if v != "n/a":
+                pt.status[e] = "ok" if (v == "ok" and pt.status.get(e, "ok") == "ok") else "missing"
+                if e not in sc.engines:
+                    sc.engines.append(e)
+    sc_list = list(scen.values())
+    for sc in sc_list:
+        sc.engines = [e for e in ENGINES if e in sc.engines]
+    return sc_list
+
+
+# --- scenario file: [compare] shift and ekm_time ---------------------------------
+
+def compare_keys(root, sc, size):
+    """[compare] shift and ekm_time of scenarios/S.ini, looked up like
+    scripts/campaign/lib.sh cmpkey (<engine>.<size>.k, <size>.k,
+    <engine>.k, k). Defaults when the scenario file is not there: no shift;
+    steady when the DEM has a single profile (decided later)."""
+    ini = os.path.join(root, "scenarios", sc.name + ".ini")
+    sc.shift, sc.steady = 0.0, None
+    if not os.path.isfile(ini):
+        return
+    cp = configparser.ConfigParser(interpolation=None, strict=False,
+                                   inline_comment_prefixes=(";", "#"),
+                                   comment_prefixes=(";", "#"))
+    try:
+        cp.read(ini)
+    except configparser.Error as e:
+        raise InputError("%s: cannot parse (%s)" % (rel(ini), str(e).splitlines()[0]))
+    if not cp.has_section("compare"):
+        return
+    eng = sc.engines[-1] if sc.engines else "lammps"
+
+    def key(k):
+        for cand in ("%s.%s.%s" % (eng, size, k), "%s.%s" % (size, k), "%s.%s" % (eng, k), k):
+            if cp.has_option("compare", cand):
+                return cp.get("compare", cand).strip()
+        return None
+    v = key("shift")
+    if v is not None:
+        try:
+            sc.shift = float(v)
+        except ValueError:
+            raise InputError("%s: [compare] shift: expected a number, got '%s'" % (rel(ini), v))
+    v = key("ekm_time")
+    if v is not None:
+        sc.steady = (v == "last")
+
+
+# --- HDF5 -------------------------------------------------------------------------
+
+def _attr(f, path, name, what, kind=float):
+    if name not in f.attrs:
+        raise InputError("%s: root attribute '%s': missing (%s)" % (rel(path), name, what))
+    v = f.attrs[name]
+    if isinstance(v, bytes):
+        v = v.decode()
+    if kind is float:
+        try:
+            v = float(np.asarray(v).reshape(-1)[0])
+        except (TypeError, ValueError, IndexError):
+            raise InputError("%s: root attribute '%s': expected a number, got %r" % (rel(path), name, v))
+    return v
+
+
+def _open(path, what):
+    import h5py
+    if not os.path.isfile(path):
+        raise missing(path, what)
+    try:
+        return h5py.File(path, "r")
+    except OSError as e:
+        raise InputError("%s: cannot read as HDF5 (%s): %s" % (rel(path), what, e))
+
+
+def _profiles(f, path, names, what):
+    """z [nz], t [nt] and the named [nt][nz] datasets, checked."""
+    out = {}
+    for d in ("z", "t"):
+        if d not in f:
+            raise InputError("%s: dataset /%s: missing (%s)" % (rel(path), d, what))
+        a = np.asarray(f[d][()], dtype=float)
+        if a.ndim != 1 or a.size == 0:
+            raise InputError("%s: dataset /%s: expected a non-empty 1-D array, got shape %s"
+                             % (rel(path), d, a.shape))
+        out[d] = a
+    nz, nt = out["z"].size, out["t"].size
+    for n in names:
+        if n not in f:
+            raise InputError("%s: dataset /%s: missing (%s)" % (rel(path), n, what))
+        a = np.asarray(f[n][()], dtype=float)
+        if a.shape != (nt, nz):
+            raise InputError("%s: dataset /%s: expected shape [nt][nz] = (%d, %d), got %s"
+                             % (rel(path), n, nt, nz, a.shape))
+        out[n] = a
+    return out
+
+
+class CgData:
+    """Coarse-grained DEM profiles (docs/compare.md)."""
+
+    def __init__(self, path, engine, fields, what):
+        self.path, self.engine = path, engine
+        with _open(path, what) as f:
+            need = []
+            for n in fields:
+                need += [n, n + "_se"]
+            d = _profiles(f, path, need, what)
+            self.d = _attr(f, path, "mean_diameter", "the grain diameter d that scales z")
+        self.z, self.t = d["z"], d["t"]
+        self.val = {n: d[n] for n in fields}
+        self.se = {n: d[n + "_se"] for n in fields}
+
+
+class EkmRun:
+    """The EKM run (docs/output-format.md): profiles and root attributes."""
+
+    def __init__(self, path, fields, what):
+        self.path = path
+        with _open(path, what) as f:
+            d = _profiles(f, path, list(fields), what)
+            self.attrs = {}
+            for k, v in f.attrs.items():
+                if isinstance(v, bytes):
+                    v = v.decode()
+                elif isinstance(v, np.ndarray) and v.size == 1:
+                    v = v.reshape(-1)[0]
+                self.attrs[k] = v
+            self.wall_time = _attr(f, path, "stats.wall_time_s", "the EKM wall time for the cost chart")
+        self.z, self.t = d["z"], d["t"]
+        self.val = {n: d[n] for n in fields}
+        if self.z.size > 1:
+            self.top = self.z[-1] + 0.5 * (self.z[-1] - self.z[-2])
+        else:
+            self.top = 2 * self.z[0]
+
+    def number(self, name, what):
+        if name not in self.attrs:
+            raise InputError("%s: root attribute '%s': missing (%s)" % (rel(self.path), name, what))
+        try:
+            return float(self.attrs[name])
+        except (TypeError, ValueError):
+            raise InputError("%s: root attribute '%s': expected a number, got %r"
+                             % (rel(self.path), name, self.attrs[name]))
+
+    def at(self, name, t):
+        """The field at time t, linear between the bracketing outputs
+        (as `ekmcompare score` does); the last output past the end."""
+        ts, v = self.t, self.val[name]
+        if t >= ts[-1]:
+            return v[-1]
+        if t <= ts[0]:
+            return v[0]
+        j = int(np.searchsorted(ts, t))
+        w = (t - ts[j - 1]) / (ts[j] - ts[j - 1])
+        return (1 - w) * v[j - 1] + w * v[j]
+
+
+def load_campaign(res, size, root):
+    """Read and check everything the figures need; returns the scenarios.
+    Rules: a comparison scored 'ok' needs its cg_<engine>.h5 and
+    dem_<engine>.json; a 'missing' one (a failed step) uses the cg file if
+    it is there and is skipped with a note if not; any cg file needs the
+    point's ekm.h5."""
+    notes = []
+    scenarios = load_index(res)
+    for sc in scenarios:
+        compare_keys(root, sc, size)
+        fields = sc.plotted_fields()
+        for pt in sc.points:
+            where = sc.name + (" " + pt.name if pt.name else "")
+            for e in sc.engines:
+                st = pt.status.get(e)
+                if st is None:
+                    continue
+                cg = os.path.join(pt.folder, "cg_%s.h5" % e)
+                dj = os.path.join(pt.folder, "dem_%s.json" % e)
+                name = ENGINE_LABEL[e]
+                if st == "missing" and not os.path.isfile(cg):
+                    notes.append("%s: no %s profiles (%s missing: a failed step): left out"
+                                 % (where, name, rel(cg)))
+                else:
+                    pt.cg[e] = CgData(cg, e, fields, "the coarse-grained %s profiles of %s, "
+                                      "plotted against the EKM" % (name, where))
+                if st == "ok" or os.path.isfile(dj):
+                    js = read_json(dj, "the %s run manifest of %s: its wall time for the cost chart"
+                                   % (name, where))
+                    w = js.get("wall_time_s") if isinstance(js, dict) else None
+                    if isinstance(w, (int, float)) and not isinstance(w, bool) and w >= 0:
+                        pt.dem_json[e] = js
+                    elif st == "missing":
+                        notes.append("%s: %s has no wall_time_s: left out of the cost chart"
+                                     % (where, rel(dj)))
+                    else:
+                        raise InputError("%s: 'wall_time_s': expected a number >= 0 (the cost "
+                                         "chart), got %r" % (rel(dj), w))
+            ekm = os.path.join(pt.folder, "ekm.h5")
+            if pt.cg:
+                pt.ekm = EkmRun(ekm, fields, "the EKM run of %s, plotted against its DEM profiles "
+                                "%s" % (where, " and ".join(rel(c.path) for c in pt.cg.values())))
+            elif os.path.isfile(ekm):
+                pt.ekm = EkmRun(ekm, fields, "the EKM run of %s" % where)
+                notes.append("%s: no DEM profiles: EKM in the cost chart only" % where)
+            else:
+                notes.append("%s: neither DEM profiles nor an EKM run: left out" % where)
+        if sc.steady is None:
+            nts = [c.t.size for p in sc.points for c in p.cg.values()]
+            sc.steady = bool(nts) and max(nts) == 1
+    return scenarios, notes
+
+
+# --- output -----------------------------------------------------------------------
+
+class Writer:
+    """Saves figures as PDF and PNG under RES/figures/, each under a
+    temporary name renamed when complete, and keeps the list."""
+
+    def __init__(self, outdir):
+        self.outdir = outdir
+        self.written = []
+
+    def save(self, fig, stem):
+        import matplotlib.pyplot as plt
+        os.makedirs(self.outdir, exist_ok=True)
+        for ext in ("pdf", "png"):
+            path = os.path.join(self.outdir, "%s.%s" % (stem, ext))
+            tmp = os.path.join(self.outdir, ".%s.%s.tmp" % (stem, ext))
+            meta = {"CreationDate": None} if ext == "pdf" else {}
+            try:
+                fig.savefig(tmp, format=ext, dpi=300, metadata=meta)
+                os.replace(tmp, path)
+            finally:
+                if os.path.exists(tmp):
+                    os.remove(tmp)
+            self.written.append(path)
+        plt.close(fig)
+
+    def finish(self, listname="figures.txt"):
+        path = os.path.join(self.outdir, listname)
+        tmp = os.path.join(self.outdir, "." + listname + ".tmp")
+        with open(tmp, "w") as fh:
+            for p in self.written:
+                fh.write(p + "\n")
+        os.replace(tmp, path)
+        return path

@@ -1,0 +1,214 @@
+#!/usr/bin/python3
+"""figures_test.py: tests of figures/make_figures.py on synthetic results
+folders (make_synthetic.py), written under WORK (the build directory).
+
+    /usr/bin/python3 figures_test.py SOURCE_DIR WORK CASE
+
+CASE:
+  complete-ref    ref layout (sweep points): every expected figure, PDF and
+                  PNG non-empty, exactly those listed in figures.txt
+  complete-smoke  the same for the smoke layout (single cases)
+  missing         one input file removed at a time (an EKM run next to its
+                  DEM profiles, a DEM manifest, scores.json): exit status 1,
+                  one line on stderr naming the file, no figures.txt, no
+                  figure at all
+  failed-step     a DEM step that failed (comparison 'missing' in the table,
+                  no CG file): a note, every figure still made
+  bad-data        a dataset removed / of the wrong shape: exit status 1,
+                  the message names file and dataset
+Exit status 77 (skipped) when /usr/bin/python3 lacks matplotlib or h5py.
+"""
+import os
+import shutil
+import subprocess
+import sys
+
+EXPECTED = {
+    "ref": ["profiles_chute", "profiles_filling", "profiles_shear_cell",
+            "profiles_simple_shear_phi0.50-rate5", "profiles_simple_shear_phi0.50-rate10",
+            "profiles_simple_shear_phi0.53-rate5", "profiles_simple_shear_phi0.53-rate10",
+            "filling_phi_map", "filling_bed_height", "rheology_simple_shear", "cost"],
+    "smoke": ["profiles_chute", "profiles_filling", "profiles_shear_cell", "profiles_simple_shear",
+              "filling_phi_map", "filling_bed_height", "rheology_simple_shear", "cost"],
+}
+
+failures = []
+
+
+def check(cond, msg):
+    if not cond:
+        failures.append(msg)
+        print("FAIL: " + msg, file=sys.stderr)
+
+
+def synth(src, out, layout):
+    if os.path.exists(out):
+        shutil.rmtree(out)
+    subprocess.run([sys.executable, os.path.join(src, "tests", "figures", "make_synthetic.py"),
+                    "--layout", layout, out], check=True)
+
+
+def figures(src, res, size):
+    p = subprocess.run([sys.executable, os.path.join(src, "figures", "make_figures.py"),
+                        "--size", size, res], capture_output=True, text=True)
+    return p.returncode, p.stdout, p.stderr
+
+
+def complete(src, work, layout):
+    res = os.path.join(work, "complete-" + layout)
+    synth(src, res, layout)
+    rc, out, err = figures(src, res, layout)
+    check(rc == 0, "%s: exit status %d, stderr: %s" % (layout, rc, err.strip()))
+    listing = os.path.join(res, "figures", "figures.txt")
+    check(os.path.isfile(listing), "%s: no %s" % (layout, listing))
+    if not os.path.isfile(listing):
+        return
+    with open(listing) as fh:
+        listed = [l.strip() for l in fh if l.strip()]
+    want = sorted(os.path.join(res, "figures", "%s.%s" % (s, e))
+                  for s in EXPECTED[layout] for e in ("pdf", "png"))
+    check(sorted(listed) == want, "%s: figures.txt lists %s, expected %s"
+          % (layout, sorted(os.path.basename(p) for p in listed),
+             sorted(os.path.basename(p) for p in want)))
+    for p in want:
+        check(os.path.isfile(p) and os.path.getsize(p) > 1000, "%s: %s missing or empty" % (layout, p))
+        if p.endswith(".png") and os.path.isfile(p):
+            with open(p, "rb") as fh:
+                check(fh.read(8) == b"\x89PNG\r\n\x1a\n", "%s: %s is not a PNG" % (layout, p))
+        if p.endswith(".pdf") and os.path.isfile(p):
+            with open(p, "rb") as fh:
+                body = fh.read()
+            check(body.startswith(b"%PDF"), "%s: %s is not a PDF" % (layout, p))
+            check(b"CreationDate" not in body, "%s: %s has a CreationDate" % (layout, p))
+    leftovers = [f for f in os.listdir(os.path.join(res, "figures")) if f.endswith(".tmp")]
+    check(not leftovers, "%s: temporary files left: %s" % (layout, leftovers))
+    # a second run writes the same figures (deterministic output)
+    with open(os.path.join(res, "figures", "cost.pdf"), "rb") as fh:
+        first = fh.read()
+    rc, _, err = figures(src, res, layout)
+    with open(os.path.join(res, "figures", "cost.pdf"), "rb") as fh:
+        check(rc == 0 and fh.read() == first, "%s: a second run wrote a different cost.pdf" % layout)
+
+
+def failed_step(src, work):
+    """A failed DEM step (the table marks the comparison 'missing', its CG
+    file and manifest were never made): left out with a note, the rest drawn."""
+    import json
+    res = os.path.join(work, "failed")
+    synth(src, res, "smoke")
+    js_path = os.path.join(res, "scores.json")
+    with open(js_path) as fh:
+        js = json.load(fh)
+    for row in js["rows"]:
+        if row["scenario"] == "chute":
+            row["ekm_vs_liggghts"] = {"status": "missing", "file": "chute/score_ekm_liggghts.json"}
+            row["liggghts_vs_lammps"] = {"status": "missing"}
+    with open(js_path, "w") as fh:
+        json.dump(js, fh)
+    os.remove(os.path.join(res, "chute", "cg_liggghts.h5"))
+    os.remove(os.path.join(res, "chute", "dem_liggghts.json"))
+    rc, out, err = figures(src, res, "smoke")
+    check(rc == 0, "failed step: exit status %d, stderr: %s" % (rc, err.strip()))
+    check("chute" in err and "cg_liggghts.h5" in err and "note" in err,
+          "failed step: no note naming chute/cg_liggghts.h5: %s" % err.strip())
+    listing = os.path.join(res, "figures", "figures.txt")
+    listed = open(listing).read().split() if os.path.isfile(listing) else []
+    want = [os.path.join(res, "figures", "%s.%s" % (s, e)) for s in EXPECTED["smoke"] for e in ("pdf", "png")]
+    check(sorted(listed) == sorted(want), "failed step: figures.txt lists %s" % listed)
+
+
+def expect_failure(src, res, size, needle, what):
+    rc, out, err = figures(src, res, size)
+    lines = err.strip().splitlines()
+    check(rc == 1, "%s: exit status %d, expected 1 (stderr: %s)" % (what, rc, err.strip()))
+    check(len(lines) == 1, "%s: expected one line on stderr, got %d: %r" % (what, len(lines), err))
+    for n in needle:
+        check(n in err, "%s: stderr does not name %r: %s" % (what, n, err.strip()))
+    figdir = os.path.join(res, "figures")
+    check(not os.path.exists(os.path.join(figdir, "figures.txt")), "%s: figures.txt written" % what)
+    made = os.listdir(figdir) if os.path.isdir(figdir) else []
+    check(not made, "%s: files written in %s: %s" % (what, figdir, made))
+
+
+def missing(src, work):
+    base = os.path.join(work, "missing-base")
+    synth(src, base, "ref")
+    cases = [
+        ("chute/theta24/ekm.h5", ["chute/theta24/ekm.h5", "missing", "EKM run"]),
+        ("filling/dem_lammps.json", ["filling/dem_lammps.json", "missing", "wall time"]),
+        ("scores.json", ["scores.json", "missing", "score table"]),
+        ("simple_shear/phi0.53-rate10/cg_lammps.h5",
+         ["simple_shear/phi0.53-rate10/cg_lammps.h5", "missing"]),
+    ]
+    for i, (rm, needle) in enumerate(cases):
+        res = os.path.join(work, "missing-%d" % i)
+        if os.path.exists(res):
+            shutil.rmtree(res)
+        shutil.copytree(base, res)
+        os.remove(os.path.join(res, rm))
+        expect_failure(src, res, "ref", needle, "without " + rm)
+
+
+def bad_data(src, work):
+    import h5py
+    import numpy as np
+    base = os.path.join(work, "bad-base")
+    synth(src, base, "smoke")
+    res = os.path.join(work, "bad-0")
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res)
+    with h5py.File(os.path.join(res, "shear_cell", "cg_liggghts.h5"), "a") as f:
+        del f["sxz_se"]
+    expect_failure(src, res, "smoke", ["shear_cell/cg_liggghts.h5", "/sxz_se", "missing"],
+                   "without dataset /sxz_se")
+    res = os.path.join(work, "bad-1")
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res)
+    with h5py.File(os.path.join(res, "filling", "ekm.h5"), "a") as f:
+        a = f["phi"][()]
+        del f["phi"]
+        f["phi"] = np.asarray(a)[:, :-1]
+    expect_failure(src, res, "smoke", ["filling/ekm.h5", "/phi", "shape"], "phi of the wrong shape")
+    res = os.path.join(work, "bad-2")
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res)
+    with h5py.File(os.path.join(res, "chute", "ekm.h5"), "a") as f:
+        del f.attrs["stats.wall_time_s"]
+    expect_failure(src, res, "smoke", ["chute/ekm.h5", "stats.wall_time_s"], "without stats.wall_time_s")
+
+
+def main():
+    if len(sys.argv) != 4:
+        print("usage: figures_test.py SOURCE_DIR WORK CASE", file=sys.stderr)
+        return 2
+    src, work, case = sys.argv[1:]
+    try:
+        import matplotlib  # noqa: F401
+        import h5py  # noqa: F401
+        import numpy  # noqa: F401
+    except ImportError as e:
+        print("figures_test: %s: skipped" % e)
+        return 77
+    os.makedirs(work, exist_ok=True)
+    if case == "complete-ref":
+        complete(src, work, "ref")
+    elif case == "complete-smoke":
+        complete(src, work, "smoke")
+    elif case == "missing":
+        missing(src, work)
+    elif case == "failed-step":
+        failed_step(src, work)
+    elif case == "bad-data":
+        bad_data(src, work)
+    else:
+        print("figures_test: unknown case %r" % case, file=sys.stderr)
+        return 2
+    if failures:
+        print("figures_test %s: %d failure(s)" % (case, len(failures)), file=sys.stderr)
+        return 1
+    print("figures_test %s: all passed" % case)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
