@@ -85,6 +85,8 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
         stats->steps++;
         stats->newton_iterations += st->newton_iterations;
         stats->cell_updates += s->n;
+        if (hooks && hooks->step && (rc = hooks->step(hooks->ctx, s, st, err)) != EKM_OK)
+            return rc;
         if (s->t >= t_next_out * (1.0 - 1e-12)) {
             frame++;
             track_phi(stats, s);
@@ -109,5 +111,8 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
     stats->fail_time = st->fail_time;
     stats->fail_angle = st->fail_angle;
     stats->fail_fY = st->fail_fY;
+    stats->fail_cell = st->fail_cell;
+    stats->fail_phi = st->fail_phi;
+    stats->fail_stress = st->fail_stress;
     return EKM_OK;
 }

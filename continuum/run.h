@@ -11,6 +11,9 @@
 typedef struct {
     /* Called at t = 0, every output_dt and at t_end. */
     ekm_status (*frame)(void *ctx, const ekm_state *s, const ekm_stepper *st, ekm_error *err);
+    /* Called after every accepted step (may be NULL), with the same ctx:
+     * e.g. to watch the regime switches of each step (tests). */
+    ekm_status (*step)(void *ctx, const ekm_state *s, const ekm_stepper *st, ekm_error *err);
     void *ctx;
     int progress; /* 1: a progress line with ETA on stderr */
 } ekm_run_hooks;
@@ -31,6 +34,9 @@ typedef struct {
     double fail_time;       /* first solid -> flow switch [s], -1: none */
     double fail_angle;      /* gravity angle then [deg] */
     double fail_fY;         /* f_Y of the failing cell's stress then [-] */
+    int fail_cell;          /* the failing cell (-1: none) */
+    double fail_phi;        /* its phi then [-] */
+    ekm_hypo_stress fail_stress; /* its stress then [Pa] */
 } ekm_run_stats;
 
 ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,

@@ -110,7 +110,7 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     };
     s->hypo = (ekm_hypo_params){
         .enabled = 0, .T_ratio = 1e-6, .phi_margin = 0.0, .phi_loose = 0.1, .rest_rate = 1e-4, .yield_tol = 1e-4,
-        .jump_tol = 5e-4, .log = 0, .initial_solid = 0, .initial_stress_ratio = 1.0,
+        .jump_tol = 5e-4, .log = 0, .carry_over = 1, .initial_solid = 0, .initial_stress_ratio = 1.0,
     };
 }
 

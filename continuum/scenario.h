@@ -64,6 +64,11 @@ typedef struct {
     double jump_tol;      /* ... and when the stress differs from the flow stress of the
                            * current rates by at most jump_tol (relative) [-] */
     int log;              /* 1: one line per switch on stderr */
+    int carry_over;       /* 1 (always, not a scenario key): the stress (flow -> solid) and T
+                           * (solid -> flow) carry over and solid -> flow waits for the
+                           * jump_tol match; 0 only for tests that show a real stress jump is
+                           * detected: the solid starts at -P_Y (isotropic), T stays frozen,
+                           * no jump_tol gate */
     int initial_solid;    /* [initial] solid: material cells start solid */
     double initial_stress_ratio; /* [initial] stress_ratio: their stress is -ratio P_Y (isotropic) [-] */
     int initial_settled;  /* [initial] settled: instead, phi and stress of a layer at rest

@@ -68,6 +68,7 @@ typedef struct {
     /* solid regime */
     ekm_hypo_implicit *hyp; /* the prepared rate-law step of each solid cell, n */
     double *u2_old, *dw_old;/* squared shear rate, w' at the start of the step, n */
+    double *du_face_old;    /* u' at faces at the start of the step (lagged norm of solid faces), n+1 */
     double *kface, *t0face; /* shear solve face coefficients, n+1 */
     unsigned char *solid_face; /* n+1 */
     unsigned char *dry_T;   /* cells without a T equation (empty or solid), n */
@@ -78,6 +79,9 @@ typedef struct {
     double fail_time;       /* time of the first solid -> flow switch [s] (-1: none) */
     double fail_angle;      /* gravity angle then [deg] */
     double fail_fY;         /* f_Y of the failing cell's stress then [-] */
+    int fail_cell;          /* the failing cell (-1: none) */
+    double fail_phi;        /* its phi [-] and its stress then [Pa] (sigma_xz: mean of its faces) */
+    ekm_hypo_stress fail_stress;
     int newton_iterations;  /* of the last accepted step */
     char reject_reason[512];/* why the last step was rejected */
 } ekm_stepper;

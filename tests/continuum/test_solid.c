@@ -14,6 +14,131 @@
 #include "hypo.h"
 #include "testutil.h"
 
+/* ---- continuity: every switch, measured from the states ----
+ * A per-step hook compares each cell's regime flag with the previous
+ * step's.  At a switch it evaluates the cell's normal and shear stress in
+ * both regimes on the same state, with the definitions of the output
+ * (fields.h, what ekm writes): the flow law at the cell's phi, T and
+ * velocity gradients (face shear stresses with the harmonic mean
+ * viscosity) and the solid's stress state (its sigma_xz the mean of its
+ * face stresses).  The solid -> flow jump is the flow stress after (T as
+ * set by the switch) minus the solid stress before; flow -> solid the
+ * solid stress after minus the flow stress before.  Nothing here uses the
+ * stepper's own jump measure or its jump_tol gate. */
+typedef struct {
+    int n;
+    unsigned char prev[256];
+    int have_prev;
+    ekm_state *copy;
+    double vx[256], vz[256], P[256], sxz[256], szz[256];
+    int regime[256];
+    const ekm_scenario *sc;
+    long to_solid, to_flow, dense_switches;
+    double jump_max, jump_max_t;  /* largest relative jump and when */
+    int jump_max_cell, jump_max_dir;
+    int verbose;
+} switch_watch;
+
+static void cell_stress(switch_watch *w, const ekm_state *s, int j, int solid, double *zz, double *xz)
+{
+    ekm_state_copy(w->copy, s);
+    w->copy->solid[j] = (unsigned char)solid;
+    ekm_fields f = {w->vx, w->vz, w->P, w->sxz, w->szz, w->regime};
+    ekm_fields_compute(w->sc, w->copy, s->t, &f);
+    *zz = w->szz[j];
+    *xz = w->sxz[j];
+}
+
+static ekm_status watch_step(void *ctx, const ekm_state *s, const ekm_stepper *st, ekm_error *err)
+{
+    (void)err;
+    switch_watch *w = ctx;
+    const ekm_material *m = &st->sc->material;
+    w->sc = st->sc;
+    if (!w->copy)
+        w->copy = ekm_state_alloc(s->n, st->sc->length);
+    if (w->have_prev) {
+        for (int j = 0; j < s->n; j++) {
+            if (s->solid[j] == w->prev[j] || s->phi[j] < st->sc->numerics.phi_dry)
+                continue;
+            const int to_solid = s->solid[j];
+            double zz_solid, xz_solid, zz_flow, xz_flow;
+            cell_stress(w, s, j, 1, &zz_solid, &xz_solid);
+            cell_stress(w, s, j, 0, &zz_flow, &xz_flow);
+            const double zz_before = to_solid ? zz_flow : zz_solid, xz_before = to_solid ? xz_flow : xz_solid;
+            const double scale = fmax(fabs(zz_before), fabs(xz_before));
+            const double jump = fmax(fabs(zz_solid - zz_flow), fabs(xz_solid - xz_flow)) / scale;
+            if (to_solid)
+                w->to_solid++;
+            else
+                w->to_flow++;
+            if (s->phi[j] > m->phi_co + st->sc->hypo.phi_margin)
+                w->dense_switches++;
+            if (w->verbose)
+                printf("    switch t %.9g cell %d %s phi %.6f: sigma_zz %.8g -> %.8g, sigma_xz %.8g -> %.8g Pa, jump %.2e\n",
+                       s->t, j, to_solid ? "flow->solid" : "solid->flow", s->phi[j], zz_before,
+                       to_solid ? zz_solid : zz_flow, xz_before, to_solid ? xz_solid : xz_flow, jump);
+            if (!(jump <= w->jump_max)) {
+                w->jump_max = jump;
+                w->jump_max_t = s->t;
+                w->jump_max_cell = j;
+                w->jump_max_dir = to_solid;
+            }
+        }
+    }
+    memcpy(w->prev, s->solid, (size_t)s->n);
+    w->have_prev = 1;
+    return EKM_OK;
+}
+
+static void watch_free(switch_watch *w)
+{
+    ekm_state_free(w->copy);
+    w->copy = NULL;
+}
+
+static void no_carry_over(ekm_scenario *sc, void *ctx)
+{
+    (void)ctx;
+    sc->hypo.carry_over = 0;
+}
+
+static void run_watched(const char *scenario, const char *const *sets, size_t n_sets, int carry_over,
+                        switch_watch *w, test_run *r)
+{
+    memset(w, 0, sizeof *w);
+    w->verbose = getenv("EKM_TEST_VERBOSE") != NULL;
+    const ekm_run_hooks hooks = {.step = watch_step, .ctx = w};
+    assert_int_equal(test_run_scenario_hooks(r, scenario, sets, n_sets, &hooks, carry_over ? NULL : no_carry_over,
+                                             NULL), EKM_OK);
+    printf("%s%s: %ld switches flow -> solid, %ld solid -> flow (%ld of dense cells); largest jump %.2e (t = %.6g s, "
+           "cell %d, %s)\n", scenario, carry_over ? "" : " without carry-over", w->to_solid, w->to_flow,
+           w->dense_switches, w->jump_max, w->jump_max_t, w->jump_max_cell,
+           w->jump_max_dir ? "flow -> solid" : "solid -> flow");
+    assert_true(w->to_solid + w->to_flow == r->stats.to_solid + r->stats.to_flow);
+}
+
+static void test_switches_continuous(void **state)
+{
+    (void)state;
+    const char *scen[] = {"scenarios/filling.ini", "scenarios/thesis_column_incline.ini",
+                          "scenarios/tilting_layer.ini", "scenarios/hypoplastic_cycle.ini"};
+    for (int k = 0; k < 4; k++) {
+        switch_watch w;
+        test_run r;
+        run_watched(scen[k], NULL, 0, 1, &w, &r);
+        watch_free(&w);
+        test_run_free(&r);
+    }
+    for (int k = 0; k < 3; k++) {
+        switch_watch w;
+        test_run r;
+        run_watched(scen[k], NULL, 0, 0, &w, &r);
+        watch_free(&w);
+        test_run_free(&r);
+    }
+}
+
 /* Filling: the inflow stops at 0.5 s; by t = 10 s every cell of the bed
  * (from the floor up to the first cell with phi < 0.01) is solid, |w| <
  * 1e-9 m/s on every face of the bed, and the bottom normal stress carries
@@ -271,6 +396,7 @@ static void test_tilting_layer(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_switches_continuous),
         cmocka_unit_test(test_filling_ends_at_rest),
         cmocka_unit_test(test_hypoplastic_cycle),
         cmocka_unit_test(test_column_incline),

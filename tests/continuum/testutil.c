@@ -12,13 +12,15 @@ const char *test_path(const char *relative)
     return buf[k];
 }
 
-ekm_status test_run_scenario(test_run *r, const char *scenario, const char *const *sets, size_t n_sets,
-                             test_frame_fn frame, void *ctx)
+ekm_status test_run_scenario_hooks(test_run *r, const char *scenario, const char *const *sets, size_t n_sets,
+                                   const ekm_run_hooks *hooks, test_setup_fn setup, void *setup_ctx)
 {
     memset(r, 0, sizeof *r);
     ekm_status st = ekm_scenario_load(&r->sc, test_path(scenario), sets, n_sets, &r->err);
     if (st != EKM_OK)
         return st;
+    if (setup)
+        setup(&r->sc, setup_ctx);
     r->s = ekm_state_alloc(r->sc.cells, r->sc.length);
     if (!r->s)
         return EKM_ENOMEM;
@@ -26,11 +28,17 @@ ekm_status test_run_scenario(test_run *r, const char *scenario, const char *cons
     if (!r->st)
         return EKM_ENOMEM;
     ekm_state_init(r->s, &r->sc);
-    ekm_run_hooks hooks = {.frame = frame, .ctx = ctx, .progress = 0};
-    st = ekm_run(&r->sc, r->s, r->st, &hooks, &r->stats, &r->err);
+    st = ekm_run(&r->sc, r->s, r->st, hooks, &r->stats, &r->err);
     if (st != EKM_OK)
         fprintf(stderr, "run of %s failed: %s\n", scenario, r->err.message);
     return st;
+}
+
+ekm_status test_run_scenario(test_run *r, const char *scenario, const char *const *sets, size_t n_sets,
+                             test_frame_fn frame, void *ctx)
+{
+    const ekm_run_hooks hooks = {.frame = frame, .ctx = ctx, .progress = 0};
+    return test_run_scenario_hooks(r, scenario, sets, n_sets, &hooks, NULL, NULL);
 }
 
 void test_run_free(test_run *r)

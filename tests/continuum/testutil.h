@@ -27,6 +27,12 @@ const char *test_path(const char *relative);
  * r must be released with test_run_free() in every case. */
 ekm_status test_run_scenario(test_run *r, const char *scenario, const char *const *sets, size_t n_sets,
                              test_frame_fn frame, void *ctx);
+/* The same with every hook of ekm_run (frame and/or per-step) and an
+ * optional setup called on the loaded scenario before the state is
+ * initialised (e.g. to set fields that are not scenario keys). */
+typedef void (*test_setup_fn)(ekm_scenario *sc, void *ctx);
+ekm_status test_run_scenario_hooks(test_run *r, const char *scenario, const char *const *sets, size_t n_sets,
+                                   const ekm_run_hooks *hooks, test_setup_fn setup, void *setup_ctx);
 void test_run_free(test_run *r);
 
 #endif
