@@ -8,6 +8,17 @@ static double harmonic(double a, double b)
     return a > 0.0 && b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
 }
 
+double ekm_face_viscosity(double eta_a, int solid_a, double eta_b, int solid_b)
+{
+    if (!(eta_a > 0.0) || !(eta_b > 0.0))
+        return 0.0;
+    if (solid_a && !solid_b)
+        return eta_b;
+    if (solid_b && !solid_a)
+        return eta_a;
+    return harmonic(eta_a, eta_b);
+}
+
 void ekm_fields_compute(const ekm_scenario *sc, const ekm_state *s, double t, ekm_fields *out)
 {
     const ekm_material *m = &sc->material;
@@ -34,11 +45,11 @@ void ekm_fields_compute(const ekm_scenario *sc, const ekm_state *s, double t, ek
         if (j == 0)
             tau_below = bb.wall_conductance > 0.0 ? c.eta * (s->u[0] - bb.u_wall) * bb.wall_conductance : 0.0;
         else
-            tau_below = harmonic(eta_prev, c.eta) * (s->u[j] - s->u[j - 1]) / s->dz;
+            tau_below = ekm_face_viscosity(eta_prev, s->solid[j - 1], c.eta, s->solid[j]) * (s->u[j] - s->u[j - 1]) / s->dz;
         if (j == n - 1)
             tau_above = bt.wall_conductance > 0.0 ? c.eta * (bt.u_wall - s->u[j]) * bt.wall_conductance : 0.0;
         else
-            tau_above = harmonic(c.eta, eta_next) * (s->u[j + 1] - s->u[j]) / s->dz;
+            tau_above = ekm_face_viscosity(c.eta, s->solid[j], eta_next, s->solid[j + 1]) * (s->u[j + 1] - s->u[j]) / s->dz;
         const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
         const double p_eq = ekm_pressure_kinetic(m, phi, s->T[j]) + ekm_pressure_yield(m, phi);
         out->sxz[j] = 0.5 * (tau_below + tau_above);

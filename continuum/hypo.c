@@ -105,6 +105,21 @@ ekm_hypo_stress ekm_hypo_from_flow(const ekm_material *m, ekm_variant v, double 
     return s;
 }
 
+double ekm_hypo_flow_T_for_stress(const ekm_material *m, ekm_variant v, double phi, double dw_dz,
+                                  double sigma_zz)
+{
+    if (phi > m->phi_co || !(phi > 0.0))
+        return -1.0;
+    const double P0 = ekm_pressure_kinetic(m, phi, 1.0);
+    const double b = ekm_transport_coefficients(m, v, phi, 1.0).mu_n * dw_dz;
+    /* P0 x^2 - b x + sigma_zz = 0, x = sqrt(T) */
+    const double disc = b * b - 4.0 * P0 * sigma_zz;
+    if (!(disc >= 0.0) || !(P0 > 0.0))
+        return -1.0;
+    const double x = (b + sqrt(disc)) / (2.0 * P0);
+    return x >= 0.0 ? x * x : -1.0;
+}
+
 ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double phi, double dt,
                                    const ekm_hypo_stress *s, double du_dz_old, double dw_dz_old)
 {

@@ -80,6 +80,15 @@ double ekm_hypo_yield(const ekm_material *m, ekm_variant v, double phi, const ek
 ekm_hypo_stress ekm_hypo_from_flow(const ekm_material *m, ekm_variant v, double phi, double T,
                                    double du_dz, double dw_dz);
 
+/* Below phi_co (no yield part, Y = 0) the EKM normal stress is
+ * -P_K0 T + mu_n0 sqrt(T) w' (P_K, mu_n at T = 1 times T, sqrt(T)): the
+ * temperature T >= 0 at which it equals sigma_zz (the larger root), or -1
+ * if there is none (or phi > phi_co).  A solid cell that leaves the solid
+ * state below phi_co (it has no limit surface there) restarts its flow
+ * with this T, so that its normal stress is continuous. */
+double ekm_hypo_flow_T_for_stress(const ekm_material *m, ekm_variant v, double phi, double dw_dz,
+                                  double sigma_zz);
+
 /* One linearly implicit step of length dt: with ||kappa^n|| from the
  * gradients at the start of the step (lagged), the new stress is
  *   zz = Ezz + Vzz w',  xx = Exx + Vxx w',  yy = Exx + Vxx w',

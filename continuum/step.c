@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "bc.h"
+#include "fields.h"
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
 {
@@ -45,6 +46,7 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->u2_old = calloc(c, sizeof(double));
     st->dw_old = calloc(c, sizeof(double));
     st->du_face_old = calloc(f, sizeof(double));
+    st->rate_prev = calloc(c, sizeof(double));
     st->kface = calloc(f, sizeof(double));
     st->t0face = calloc(f, sizeof(double));
     st->solid_face = calloc(f, 1);
@@ -56,7 +58,7 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P ||
         !st->eta || !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src ||
         !st->rho_face || !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face ||
-        !st->wk || !st->backup || !st->hyp || !st->u2_old || !st->dw_old || !st->du_face_old || !st->kface || !st->t0face ||
+        !st->wk || !st->backup || !st->hyp || !st->u2_old || !st->dw_old || !st->du_face_old || !st->rate_prev || !st->kface || !st->t0face ||
         !st->solid_face || !st->dry_T || !st->T_keep || !st->rhs_face0) {
         ekm_step_free(st);
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
@@ -83,7 +85,7 @@ void ekm_step_free(ekm_stepper *st)
     free(st->rhs_cell); free(st->dry); free(st->dry_face);
     ekm_implicit_free(st->wk);
     ekm_state_free(st->backup);
-    free(st->hyp); free(st->u2_old); free(st->dw_old); free(st->du_face_old); free(st->kface); free(st->t0face);
+    free(st->hyp); free(st->u2_old); free(st->dw_old); free(st->du_face_old); free(st->rate_prev); free(st->kface); free(st->t0face);
     free(st->solid_face); free(st->dry_T); free(st->T_keep); free(st->rhs_face0);
     free(st);
 }
@@ -232,11 +234,6 @@ static void shear_rates(const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_
 
 #define DEG (3.14159265358979323846 / 180.0)
 
-static double harmonic(double a, double b)
-{
-    return a > 0.0 && b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
-}
-
 /* The rates the solid step lags its norm ||kappa|| on: u'^2 and w' at
  * cells, u' at faces. */
 static void lagged_rates(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
@@ -323,7 +320,8 @@ static void solid_shear_faces(ekm_stepper *st, const ekm_state *s, const ekm_bc_
              * cells next to it, as the stress it carries is */
             const int in = f == 0 ? 1 : n - 2;
             if ((f == 0 || f == n) && in >= 0 && in < n && !st->dry[in])
-                phi_f = fmin(1.5 * st->phi_new[a] - 0.5 * st->phi_new[in], 0.5 * (st->phi_new[a] + st->sc->material.phi_cp));
+                phi_f = fmax(fmin(1.5 * st->phi_new[a] - 0.5 * st->phi_new[in],
+                                  0.5 * (st->phi_new[a] + st->sc->material.phi_cp)), 0.5 * st->phi_new[a]);
             const ekm_hypo_stress none = {0};
             ekm_hypo_implicit c = ekm_hypo_prepare(&st->sc->material, st->sc->variant, phi_f, dt, &none,
                                                    st->du_face_old[f], 0.5 * (st->dw_old[a] + st->dw_old[b]));
@@ -336,7 +334,7 @@ static void solid_shear_faces(ekm_stepper *st, const ekm_state *s, const ekm_bc_
         } else if (f == n) {
             k = !st->dry[n - 1] ? st->eta[n - 1] * bt->wall_conductance : 0.0;
         } else {
-            k = harmonic(st->eta[f - 1], st->eta[f]) / dz;
+            k = ekm_face_viscosity(st->eta[f - 1], s->solid[f - 1], st->eta[f], s->solid[f]) / dz;
         }
         st->kface[f] = k;
         st->t0face[f] = t0;
@@ -371,18 +369,24 @@ static void solid_finish(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, c
     }
 }
 
-/* Signed du/dz at a cell: mean of its face gradients (as shear_rates). */
-static double cell_shear(const ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
-                         const ekm_bc_face *bt, int j)
+/* The shear stress cell j would have as a flowing cell with viscosity
+ * eta_j: the mean of its two face stresses of the flow law (as the output,
+ * fields.h, and the shear solve: next to a solid cell the face takes eta_j,
+ * next to a flowing one the harmonic mean, st->eta of the neighbours). */
+static double flow_cell_shear(const ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
+                              const ekm_bc_face *bt, int j, double eta_j)
 {
     const int n = s->n;
-    double sum = 0.0;
-    int count = 0;
-    if (j > 0 && !st->dry[j - 1]) { sum += (s->u[j] - s->u[j - 1]) / s->dz; count++; }
-    else if (j == 0 && bb->wall_conductance > 0.0) { sum += (s->u[0] - bb->u_wall) * bb->wall_conductance; count++; }
-    if (j < n - 1 && !st->dry[j + 1]) { sum += (s->u[j + 1] - s->u[j]) / s->dz; count++; }
-    else if (j == n - 1 && bt->wall_conductance > 0.0) { sum += (bt->u_wall - s->u[n - 1]) * bt->wall_conductance; count++; }
-    return count ? sum / count : 0.0;
+    double below = 0.0, above = 0.0;
+    if (j == 0)
+        below = eta_j * (s->u[0] - bb->u_wall) * bb->wall_conductance;
+    else
+        below = ekm_face_viscosity(st->eta[j - 1], s->solid[j - 1], eta_j, 0) * (s->u[j] - s->u[j - 1]) / s->dz;
+    if (j == n - 1)
+        above = eta_j * (bt->u_wall - s->u[n - 1]) * bt->wall_conductance;
+    else
+        above = ekm_face_viscosity(eta_j, 0, st->eta[j + 1], s->solid[j + 1]) * (s->u[j + 1] - s->u[j]) / s->dz;
+    return 0.5 * (below + above);
 }
 
 /* Phase 9: the flow face stresses (the solid's initial face stress when a
@@ -404,13 +408,15 @@ static void regimes(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
         else if (f == n)
             s->sxz[n] = !st->dry[n - 1] ? eta[n - 1] * bt->wall_conductance * (bt->u_wall - s->u[n - 1]) : 0.0;
         else
-            s->sxz[f] = harmonic(eta[f - 1], eta[f]) * (s->u[f] - s->u[f - 1]) / s->dz;
+            s->sxz[f] = ekm_face_viscosity(eta[f - 1], s->solid[f - 1], eta[f], s->solid[f]) * (s->u[f] - s->u[f - 1]) / s->dz;
     }
     for (int j = 0; j < n; j++) {
         const double phi = s->phi[j];
         const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
         const double du_abs = sqrt(st->u2[j]);
         const int at_rest = fabs(dw) <= h->rest_rate && du_abs <= h->rest_rate;
+        const double rate = sqrt(st->u2[j] + dw * dw), rate_before = st->rate_prev[j];
+        st->rate_prev[j] = rate;
         const int compress = dw < 0.0 && du_abs / sqrt(2.0) <= -dw;
         const double PY = ekm_pressure_yield(m, phi);
         const int loose = !(PY > 0.0) || phi <= m->phi_co + h->phi_margin;
@@ -435,7 +441,8 @@ static void regimes(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
                 go = 0;
                 why = "limit surface";
                 if (fY >= -h->yield_tol && !compress) {
-                    const ekm_hypo_stress e = ekm_hypo_from_flow(m, sc->variant, phi, T, cell_shear(st, s, bb, bt, j), dw);
+                    ekm_hypo_stress e = ekm_hypo_from_flow(m, sc->variant, phi, T, 0.0, dw);
+                    e.xz = flow_cell_shear(st, s, bb, bt, j, ekm_transport_coefficients(m, sc->variant, phi, T).eta);
                     jump = fmax(fabs(e.zz - sig.zz), fabs(e.xz - sig.xz)) / fmax(fabs(sig.zz), fabs(sig.xz));
                     go = jump <= h->jump_tol || !h->carry_over;
                 }
@@ -443,8 +450,12 @@ static void regimes(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
             if (!go)
                 continue;
             if (!st->dry[j]) {
-                if (h->carry_over)
-                    s->T[j] = T;
+                if (h->carry_over) {
+                    /* no limit surface below phi_co: T from stress continuity */
+                    const double Tm = loose ? ekm_hypo_flow_T_for_stress(m, sc->variant, phi, dw, sig.zz) : -1.0;
+                    s->T[j] = Tm >= 0.0 ? fmax(Tm, sc->numerics.T_floor) : T;
+                    eta[j] = ekm_transport_coefficients(m, sc->variant, phi, s->T[j]).eta;
+                }
                 if (!loose) {
                     st->jump_max = fmax(st->jump_max, jump);
                     if (st->fail_time < 0.0) {
@@ -466,6 +477,16 @@ static void regimes(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
         } else if (!st->dry[j] && Y > 0.0 && (compress || at_rest) && s->T[j] < h->T_ratio * Y &&
                    phi >= h->phi_loose) {
             ekm_hypo_stress e = ekm_hypo_from_flow(m, sc->variant, phi, s->T[j], 0.0, dw);
+            /* At rest (not compressing) near the limit surface (f_Y >= -10
+             * yield_tol) only while the rates do not grow: a cell that has
+             * just failed under a growing load flows quasi-statically on the
+             * surface at tiny, growing rates; turned solid it would fail again
+             * at once, step after step.  One that comes to rest decelerates. */
+            if (!compress && !loose && rate > rate_before) {
+                e.xz = 0.5 * (s->sxz[j] + s->sxz[j + 1]);
+                if (!(ekm_hypo_yield(m, sc->variant, phi, &e) < -10.0 * h->yield_tol))
+                    continue;
+            }
             if (!h->carry_over) /* tests only (scenario.h) */
                 e.xx = e.yy = e.zz = -PY;
             s->sxx[j] = e.xx;

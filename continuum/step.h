@@ -20,19 +20,29 @@
  * Solid cells (hypo.h) enter phases 4-7 through their linearly implicit
  * rate law: in the normal solve as a known stress (P = -E_zz) and a
  * viscosity mu_n = V_zz = dt f (A_h + 2 B_h)/(...); in the shear solve
- * through their faces (k = dt f B_h/(...)/dz and a known face stress);
- * their T is not evolved and they exchange no heat.  After the solves the
- * new stress is E + V * gradient, the one the momentum balance used; at an
- * outflow end the solid edge cell then takes its neighbour's stress (zero
- * gradient).
+ * through their faces (k = dt f B_h/(...)/dz and a known face stress; a
+ * solid face is the material point of sigma_xz: its rate law uses the
+ * face's rate and P_Y at the face, phi the mean of the two cells or, at a
+ * wall, extrapolated); their T is not evolved and they exchange no heat.
+ * After the solves the new stress is E + V * gradient, the one the momentum
+ * balance used; at an outflow end the solid edge cell then takes its
+ * neighbour's stress (zero gradient).  Gravity (a tilting base) is taken
+ * at the end of the step.  A face between a flowing and a solid cell
+ * carries the flowing cell's viscosity (ekm_face_viscosity).
  *
  * Switching (phase 9, thresholds in [hypo], docs/model.md):
  *   flow -> solid  phi > phi_co + phi_margin, T < T_ratio Y, and the cell
  *                  compresses (w' < 0, |u'|/sqrt2 <= |w'|) or rests
- *                  (|w'|, |u'| <= rest_rate); stress := the EKM stress
+ *                  (|w'|, |u'| <= rest_rate; near the limit surface,
+ *                  f_Y >= -10 yield_tol, only while its rates do not grow);
+ *                  stress := the EKM stress
  *   solid -> flow  phi <= phi_co, or f_Y >= -yield_tol while the rate is
- *                  neither compression-dominated nor at rest; T := the
- *                  quasi-static T of the current rates
+ *                  not compression-dominated and the cell's stress equals
+ *                  its flow stress (output definitions, fields.h) at the
+ *                  quasi-static T of the current rates within jump_tol;
+ *                  T := that quasi-static T (below phi_co, where the solid
+ *                  has no limit surface: the T that gives the solid's
+ *                  sigma_zz, ekm_hypo_flow_T_for_stress)
  *
  * Empty cells (phi < phi_dry) keep their (tiny) mass but have T = u = 0 and
  * no stress; a wet cell's T never falls below T_floor.
@@ -69,6 +79,7 @@ typedef struct {
     ekm_hypo_implicit *hyp; /* the prepared rate-law step of each solid cell, n */
     double *u2_old, *dw_old;/* squared shear rate, w' at the start of the step, n */
     double *du_face_old;    /* u' at faces at the start of the step (lagged norm of solid faces), n+1 */
+    double *rate_prev;      /* sqrt(u'^2 + w'^2) of each cell after the previous step [1/s], n */
     double *kface, *t0face; /* shear solve face coefficients, n+1 */
     unsigned char *solid_face; /* n+1 */
     unsigned char *dry_T;   /* cells without a T equation (empty or solid), n */
