@@ -76,5 +76,6 @@ rule "@$C/table.sh $size $res '$engines' > /dev/null"
 # the table): figures/make_figures.py lists what it wrote in figures.txt
 echo ".PHONY: figures"
 echo "figures: $res/figures/figures.txt"
-echo "$res/figures/figures.txt: $res/scores.json \$(wildcard $res/*/*.h5 $res/*/*/*.h5 $res/*/dem_*.json $res/*/*/dem_*.json) \$(wildcard figures/*.py)"
+# (the scenarios' own folders only: results/smoke/ sits inside results/)
+echo "$res/figures/figures.txt: $res/scores.json \$(foreach s,\$(CAMPAIGN_SCENARIOS),\$(wildcard $res/\$(s)/*.h5 $res/\$(s)/*/*.h5 $res/\$(s)/dem_*.json $res/\$(s)/*/dem_*.json)) \$(wildcard figures/*.py)"
 rule "@echo 'campaign: figures -> $res/figures/'" "@/usr/bin/python3 figures/make_figures.py --size $size $res"
