@@ -16,6 +16,13 @@ prog=table.sh
 size=$1 res=$2 engines=$3
 command -v jq > /dev/null || die "jq not installed (scripts/deps.sh)"
 cd "$root" || exit 2
+# code version as in the tools' outputs (cmake/version.cmake): -dirty when
+# tracked sources other than results/ differ from the commit
+version() {
+  local v; v=$(git describe --always --abbrev=12 2>/dev/null) || { echo unknown; return; }
+  [ -n "$(git status --porcelain --untracked-files=no -- . ':(exclude)results' 2>/dev/null)" ] && v=$v-dirty
+  echo "$v"
+}
 rows=$(mktemp); trap 'rm -f "$rows" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
 missing=0
 # cell FILE FIELD USABLE: JSON for one comparison
@@ -53,7 +60,7 @@ done
 grep -q '"status":"missing"' "$rows" && missing=1
 mkdir -p "$res"
 jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%m-%dT%H:%M:%SZ)" \
-  --arg version "$(git describe --always --dirty 2>/dev/null || echo unknown)" \
+  --arg version "$(version)" \
   '{size: $size, engines: ($engines | split(" ")), created: $created, code_version: $version,
     definitions: {rel_l2: "||f_model - f_DEM|| / ||f_DEM|| over the points both cover (MODEL.md 9)",
                   noise_normalised: "sqrt(mean(((f_model - f_DEM) / SE)^2)); 1 = as close as the DEM noise; SE of both engines in quadrature for engine vs engine"},
@@ -63,7 +70,7 @@ jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%
   echo
   echo "Each cell: relative L2 error / noise-normalised error (1 = as close as the"
   echo "DEM's own noise). LIGGGHTS vs LAMMPS is the floor no model can beat."
-  echo "Made $(date -u +%Y-%m-%d) by \`make campaign SIZE=$size\` ($(git describe --always --dirty 2>/dev/null || echo unknown))."
+  echo "Made $(date -u +%Y-%m-%d) by \`make campaign SIZE=$size\` ($(version))."
   echo
   echo "| scenario | point | field | EKM vs LIGGGHTS | EKM vs LAMMPS | LIGGGHTS vs LAMMPS |"
   echo "|---|---|---|---:|---:|---:|"
