@@ -4,6 +4,10 @@
 #   make test       build, run every test; then again under ASan+UBSan
 #   make demo       install missing packages, build, run the smoke campaign
 #   make bench      benchmarks: prints a table, writes results/bench.{md,json}
+#   make campaign [SIZE=smoke|ref] [ENGINES="liggghts lammps"] [NP=n] [-jN]
+#                   DEM, coarse-graining, EKM, scores, table, figures
+#   make figures    the paper figures from existing campaign results
+#   make dem SCENARIO=.. ENGINE=.. SIZE=..   one DEM run (docs/dem.md)
 #
 # Components add targets in mk/*.mk (DEM runs, comparison, campaign).
 
@@ -51,6 +55,6 @@ clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
 
 help:
-	@sed -n '1,12p' Makefile
+	@sed -n '1,16p' Makefile
 
 -include mk/*.mk
