@@ -145,6 +145,40 @@ static void test_dem_against_dem(void **state)
   }
 }
 
+/* Standard errors of round-off size (a bin one grain crossed once) are not
+ * noise: points with SE below 1e-6 of the field's RMS are left out of the
+ * noise-normalised error, but still count in the relative L2 error. */
+static void test_se_floor(void **state)
+{
+  (void)state;
+  char ekm[512], dem[512];
+  tmp_path(ekm, sizeof ekm, "score_floor_ekm.h5");
+  tmp_path(dem, sizeof dem, "score_floor_dem.h5");
+  write_ekm(ekm, 50, 0.0, 1.0, 5, 2.0, 1.0, 2.0, 0.5);
+  double t[2] = {0.5, 1.5};
+  write_dem(dem, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 1e-12);
+  cg_score_opts o = cg_score_opts_default();
+  o.dem = dem;
+  o.ekm = ekm;
+  cg_score_field r[16];
+  size_t n;
+  cg_error err;
+  if (cg_score(&o, r, &n, &err)) fail_msg("%s", err.msg);
+  for (size_t i = 0; i < n; i++) {
+    assert_int_equal(r[i].points, 20);
+    assert_int_equal(r[i].points_se, 0);
+    assert_true(isnan(r[i].noise));
+    assert_true(r[i].rel_l2 > 0.0);
+  }
+  /* just above the floor (RMS of the DEM field is about 2.5): counted */
+  write_dem(dem, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 1e-5);
+  if (cg_score(&o, r, &n, &err)) fail_msg("%s", err.msg);
+  for (size_t i = 0; i < n; i++) {
+    assert_int_equal(r[i].points_se, 20);
+    assert_close(r[i].noise, 0.01 / 1e-5, 1e-6);
+  }
+}
+
 /* Region: DEM points outside the EKM's z range are left out; DEM times
  * outside the EKM's fall back to the EKM's last output. */
 static void test_region_and_last(void **state)
@@ -206,6 +240,7 @@ int main(void)
     cmocka_unit_test(test_known_errors),
     cmocka_unit_test(test_region_and_last),
     cmocka_unit_test(test_dem_against_dem),
+    cmocka_unit_test(test_se_floor),
     cmocka_unit_test(test_bad_inputs),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

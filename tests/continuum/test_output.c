@@ -93,6 +93,14 @@ static void test_hdf5_layout(void **state)
     assert_true(fabs(read_double_attr(f, "gravity_x") - 9.81 * sin(24 * 3.14159265358979323846 / 180)) < 1e-12);
     assert_true(fabs(read_double_attr(f, "gravity_z") + 9.81 * cos(24 * 3.14159265358979323846 / 180)) < 1e-12);
     assert_true(fabs(read_double_attr(f, "run.t_end") - 0.2) < 1e-15); /* the --set value */
+    /* run statistics (stats.*): counts consistent, the mass balance closes */
+    const double steps = read_double_attr(f, "stats.steps");
+    assert_true(steps > 0 && steps == floor(steps));
+    assert_true(read_double_attr(f, "stats.cell_updates") == 60.0 * steps);
+    assert_true(read_double_attr(f, "stats.wall_time_s") > 0.0);
+    assert_true(read_double_attr(f, "stats.rejected_steps") >= 0.0);
+    const double m0 = read_double_attr(f, "stats.mass_initial"), m1 = read_double_attr(f, "stats.mass_final");
+    assert_true(m0 > 0.0 && fabs(m1 - m0 - read_double_attr(f, "stats.mass_in")) < 1e-12 * m0);
     char buf[256];
     read_string_attr(f, "variant", buf, sizeof buf);
     assert_string_equal(buf, "full");
