@@ -22,16 +22,14 @@
 #SBATCH --job-name=ekmbench-dem
 #SBATCH --output=runs/slurm-%A_%a.out
 set -euo pipefail
-root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+. "$(dirname "${BASH_SOURCE[0]}")/../scripts/campaign/lib.sh"   # root, campaign_scenarios, supported
 list=0
 if [ "${1:-}" = --list ]; then list=1; shift; fi
 size=${1:-ref}
 tasks=()
-for ini in "$root"/scenarios/*.ini; do
-  s=$(basename "$ini" .ini)
-  grep -q '^\[dem\]' "$ini" && grep -q '^\[compare\]' "$ini" || continue
+for s in $(campaign_scenarios); do
   for e in liggghts lammps; do
-    [ -r "$root/dem_inputs/$e/$s.in" ] && [ ! -e "$root/dem_inputs/$e/$s.unsupported" ] && tasks+=("$s $e")
+    if supported "$s" "$e"; then tasks+=("$s $e"); fi
   done
 done
 if [ $list -eq 1 ]; then

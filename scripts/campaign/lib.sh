@@ -17,5 +17,14 @@ cmpkey() {
 }
 # inikey INI SECTION KEY: a key of any section (empty and status 1 if absent)
 inikey() { awk -v sec="$2" -v key="$3" -f "$root/scripts/dem/ini.awk" "$1"; }
+# campaign_scenarios: the scenarios of the campaign, one name per line:
+# every scenarios/*.ini with both a [dem] and a [compare] section
+campaign_scenarios() {
+  local ini
+  for ini in "$root"/scenarios/*.ini; do
+    grep -q '^\[dem\]' "$ini" && grep -q '^\[compare\]' "$ini" && basename "$ini" .ini
+  done
+  return 0
+}
 # engines that can run scenario S (no dem_inputs/<engine>/S.unsupported)
 supported() { [ -r "$root/dem_inputs/$2/$1.in" ] && [ ! -e "$root/dem_inputs/$2/$1.unsupported" ]; }

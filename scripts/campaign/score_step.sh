@@ -17,4 +17,4 @@ shift_m=$(cmpkey "$ini" "$engine" "$size" shift 0) || exit 2
 case $(basename "$other") in cg_*) shift_m=0 ;; esac
 case $etime in last|interp) ;; *) die "$ini: [compare] ekm_time: expected last or interp, got '$etime'" ;; esac
 "$ekmc" score --dem "$dem" --ekm "$other" --fields "$fields" --ekm-time "$etime" \
-  --shift "$shift_m" -o "$out" --quiet > "${out%.json}.md"
+  --shift "$shift_m" -o "$out" --quiet > /dev/null

@@ -24,19 +24,17 @@ version() {
   echo "$v"
 }
 rows=$(mktemp); trap 'rm -f "$rows" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
-missing=0
 # cell FILE FIELD USABLE: JSON for one comparison
 cell() {
   if [ "$3" != 1 ]; then echo '{"status": "n/a"}'
-  elif [ ! -f "$1" ]; then echo "{\"status\": \"missing\", \"file\": \"$1\"}"; missing=1
+  elif [ ! -f "$1" ]; then echo "{\"status\": \"missing\", \"file\": \"$1\"}"
   else jq -c --arg f "$2" --arg file "$1" \
       '.fields[$f] as $r | if $r == null then {status: "missing", file: $file}
        else {status: "ok", rel_l2: $r.rel_l2, noise_normalised: $r.noise_normalised, points: $r.points, file: $file} end' "$1"
   fi
 }
-for ini in scenarios/*.ini; do
-  s=$(basename "$ini" .ini)
-  grep -q '^\[dem\]' "$ini" && grep -q '^\[compare\]' "$ini" || continue
+for s in $(campaign_scenarios); do
+  ini=scenarios/$s.ini
   ok_l=0 ok_m=0
   case " $engines " in *" liggghts "*) supported "$s" liggghts && ok_l=1 ;; esac
   case " $engines " in *" lammps "*) supported "$s" lammps && ok_m=1 ;; esac
@@ -56,7 +54,7 @@ for ini in scenarios/*.ini; do
     done
   done <<< "$(scripts/dem/run.sh -l "$s" "$e0" "$size")"
 done
-# missing is set inside command substitutions: recount from the rows
+missing=0
 grep -q '"status":"missing"' "$rows" && missing=1
 mkdir -p "$res"
 jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%m-%dT%H:%M:%SZ)" \
