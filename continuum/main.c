@@ -114,24 +114,22 @@ static int cmd_run(int argc, char **argv)
         ekm_run_hooks hooks = {.frame = write_frame, .ctx = &fc, .progress = !quiet && isatty(STDERR_FILENO)};
         st = ekm_run(&sc, s, stepper, &hooks, &stats, &err);
         if (st == EKM_OK) {
-            /* run statistics: cost (the campaign's DEM/EKM wall-time ratio)
-             * and the mass balance, for provenance */
+            /* run statistics as root attributes: cost (the campaign's
+             * DEM/EKM wall-time ratio) and the mass balance, for
+             * provenance; with the solid regime also its switches and
+             * first failure (the last six) */
             const struct { const char *name; double value; } attrs[] = {
                 {"stats.wall_time_s", stats.wall_s}, {"stats.steps", (double)stats.steps},
                 {"stats.rejected_steps", (double)stats.rejected}, {"stats.cell_updates", stats.cell_updates},
                 {"stats.mass_initial", stats.mass_initial}, {"stats.mass_final", stats.mass_final},
                 {"stats.mass_in", stats.mass_in},
-            };
-            for (size_t i = 0; i < sizeof attrs / sizeof attrs[0] && st == EKM_OK; i++)
-                st = ekm_h5_writer_set_attr(fc.writer, attrs[i].name, attrs[i].value, &err);
-        }
-        if (st == EKM_OK && sc.hypo.enabled) {
-            const struct { const char *name; double value; } attrs[] = {
                 {"hypo.to_solid", (double)stats.to_solid}, {"hypo.to_flow", (double)stats.to_flow},
                 {"hypo.jump_max", stats.jump_max}, {"hypo.fail_time", stats.fail_time},
                 {"hypo.fail_angle", stats.fail_angle}, {"hypo.fail_fY", stats.fail_fY},
             };
-            for (size_t i = 0; i < sizeof attrs / sizeof attrs[0] && st == EKM_OK; i++)
+            const size_t n_all = sizeof attrs / sizeof attrs[0];
+            const size_t n = sc.hypo.enabled ? n_all : n_all - 6;
+            for (size_t i = 0; i < n && st == EKM_OK; i++)
                 st = ekm_h5_writer_set_attr(fc.writer, attrs[i].name, attrs[i].value, &err);
         }
         if (st == EKM_OK)
