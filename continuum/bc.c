@@ -51,16 +51,17 @@ static ekm_bc_face bc_free(const ekm_bc *bc, ekm_side side, const ekm_state *s)
     return b;
 }
 
-/* Piston: the face moves with w(t) = +w in the first half of each period,
- * -w in the second; the material at the face follows it (zero gradient of
- * phi, u, T, as the face of a deforming sample); no slip. */
+/* Piston: the face moves with w(t) = w in the first half of each period,
+ * w_return (default -w) in the second; the material at the face follows it
+ * (zero gradient of phi, u, T, as the face of a deforming sample); no slip. */
 static ekm_bc_face bc_piston(const ekm_bc *bc, ekm_side side, const ekm_state *s, double t)
 {
     const int j = adjacent_cell(side, s);
     ekm_bc_face b = {0};
     const double phase = t / bc->period - floor(t / bc->period);
     /* a step that ends exactly at a half period belongs to the half before it */
-    b.w = phase < 0.5 - 1e-12 || phase > 1.0 - 1e-12 ? bc->w : -bc->w;
+    b.w = phase < 0.5 - 1e-12 || phase > 1.0 - 1e-12 ? bc->w
+                                                                  : isnan(bc->w_return) ? -bc->w : bc->w_return;
     b.phi_in = s->phi[j];
     b.u_in = s->u[j];
     b.T_in = s->T[j];

@@ -11,7 +11,7 @@
  *            after t_stop it is a resting wall
  *   outflow  zero gradient of w, phi, u, T; no conduction, no shear
  *   free     open to vacuum: zero gradient of w, nothing enters, zero stress
- *   piston   w = +w, -w alternating each half period (a driven sample);
+ *   piston   w = w, w_return alternating each half period (a driven sample);
  *            zero gradient of phi, u, T; no slip
  */
 #ifndef EKM_BC_H

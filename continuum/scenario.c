@@ -39,7 +39,8 @@ typedef struct {
     BC(side, u, KEY_DOUBLE, "inflow"),                                 \
     BC(side, T, KEY_DOUBLE, "inflow"),                                 \
     BC(side, t_stop, KEY_DOUBLE, "inflow"),                            \
-    BC(side, period, KEY_DOUBLE, "piston")
+    BC(side, period, KEY_DOUBLE, "piston"),                            \
+    BC(side, w_return, KEY_DOUBLE, "piston")
 
 static const key_spec KEYS[] = {
     {"scenario", "name", KEY_STRING, SC(name), sizeof(((ekm_scenario *)0)->name), 0, NULL},
@@ -83,6 +84,7 @@ static const key_spec KEYS[] = {
     {"hypo", "rest_rate", KEY_DOUBLE, SC(hypo.rest_rate), 0, 0, NULL},
     {"hypo", "yield_tol", KEY_DOUBLE, SC(hypo.yield_tol), 0, 0, NULL},
     {"hypo", "jump_tol", KEY_DOUBLE, SC(hypo.jump_tol), 0, 0, NULL},
+    {"hypo", "phi_fixed", KEY_DOUBLE, SC(hypo.phi_fixed), 0, 0, NULL},
     {"hypo", "log", KEY_INT, SC(hypo.log), 0, 0, NULL},
 };
 #define N_KEYS (sizeof KEYS / sizeof KEYS[0])
@@ -102,6 +104,7 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->layer_height = INFINITY;
     s->bottom.kind = s->top.kind = EKM_BC_WALL;
     s->bottom.t_stop = s->top.t_stop = INFINITY;
+    s->bottom.w_return = s->top.w_return = NAN; /* piston: -w */
     s->output_dt = 0.0; /* 0: t_end / 100 */
     s->numerics = (ekm_numerics){
         .cfl = 0.4, .convection = EKM_CONVECTION_UPWIND, .limiter = "vanleer",
@@ -390,6 +393,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(h->rest_rate >= 0.0, "hypo", "rest_rate", "a rate >= 0 [1/s]", h->rest_rate);
     RANGE(h->yield_tol > 0.0 && h->yield_tol < 0.1, "hypo", "yield_tol", "a number in (0, 0.1)", h->yield_tol);
     RANGE(h->jump_tol > 0.0 && h->jump_tol < 1.0, "hypo", "jump_tol", "a number in (0, 1)", h->jump_tol);
+    RANGE(h->phi_fixed == 0.0 || (h->phi_fixed > s->material.phi_co && h->phi_fixed < s->material.phi_cp), "hypo",
+          "phi_fixed", "0 (the cell's phi) or a number in (phi_co, phi_cp)", h->phi_fixed);
     RANGE(h->initial_solid == 0 || h->initial_solid == 1, "initial", "solid", "0 or 1", h->initial_solid);
     RANGE(!h->initial_solid || h->enabled, "initial", "solid", "0 unless [hypo] enabled = 1", h->initial_solid);
     RANGE(h->initial_settled == 0 || h->initial_settled == 1, "initial", "settled", "0 or 1", h->initial_settled);
@@ -461,6 +466,11 @@ void ekm_scenario_free(ekm_scenario *s)
 double ekm_scenario_angle_at(const ekm_scenario *s, double t)
 {
     return s->angle_deg + (t > s->angle_start ? s->angle_rate * (t - s->angle_start) : 0.0);
+}
+
+double ekm_scenario_law_phi(const ekm_scenario *s, double phi)
+{
+    return s->hypo.phi_fixed > 0.0 ? s->hypo.phi_fixed : phi;
 }
 
 double ekm_scenario_gravity_x(const ekm_scenario *s)

@@ -20,7 +20,7 @@ typedef enum {
     EKM_BC_INFLOW,   /* prescribed phi, w, u, T; closes to a wall at t_stop */
     EKM_BC_OUTFLOW,  /* zero gradient of every field */
     EKM_BC_FREE,     /* open to vacuum: zero stress, material may leave */
-    EKM_BC_PISTON    /* prescribed w(t) = -w, +w alternating each half period; no slip */
+    EKM_BC_PISTON    /* prescribed w(t) = w, w_return alternating each half period; no slip */
 } ekm_bc_kind;
 
 typedef struct {
@@ -33,6 +33,7 @@ typedef struct {
     double T;           /* inflow: granular temperature [m^2/s^2] */
     double t_stop;      /* inflow: time it closes to a resting wall [s] */
     double period;      /* piston: period of the velocity program [s] */
+    double w_return;    /* piston: w in the second half of each period, NAN: -w [m/s] */
 } ekm_bc;
 
 typedef enum { EKM_CONVECTION_UPWIND = 0, EKM_CONVECTION_TVD = 1 } ekm_convection;
@@ -63,6 +64,10 @@ typedef struct {
                            * compression-dominated [-] */
     double jump_tol;      /* ... and when the stress differs from the flow stress of the
                            * current rates by at most jump_tol (relative) [-] */
+    double phi_fixed;     /* 0: the rate law's density-dependent constants (P_Y, R, f, a1,
+                           * a2) and its limit surface at the cell's phi; > 0: at this phi
+                           * instead (thesis 6.2.2, "material constants independent of the
+                           * density": an element test of the law) [-] */
     int log;              /* 1: one line per switch on stderr */
     int carry_over;       /* 1 (always, not a scenario key): the stress (flow -> solid) and T
                            * (solid -> flow) carry over and solid -> flow waits for the
@@ -123,6 +128,10 @@ void ekm_scenario_free(ekm_scenario *s);
 double ekm_scenario_gravity_x(const ekm_scenario *s);
 double ekm_scenario_gravity_z(const ekm_scenario *s);
 double ekm_scenario_angle_at(const ekm_scenario *s, double t);
+
+/* The phi at which the hypoplastic law of a cell at phi takes its
+ * density-dependent constants: phi, or [hypo] phi_fixed when set. */
+double ekm_scenario_law_phi(const ekm_scenario *s, double phi);
 
 const char *ekm_bc_kind_name(ekm_bc_kind k);
 

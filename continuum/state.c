@@ -123,7 +123,8 @@ void ekm_state_init(ekm_state *s, const ekm_scenario *sc)
         s->u[j] = s->phi[j] > sc->numerics.phi_dry ? sc->u_init + sc->shear_rate_init * s->z[j] : 0.0;
         const double PY = ekm_pressure_yield(&sc->material, s->phi[j]);
         s->solid[j] = sc->hypo.enabled && sc->hypo.initial_solid && PY > 0.0;
-        s->sxx[j] = s->syy[j] = s->szz[j] = s->solid[j] ? -sc->hypo.initial_stress_ratio * PY : 0.0;
+        const double PY_law = ekm_pressure_yield(&sc->material, ekm_scenario_law_phi(sc, s->phi[j]));
+        s->sxx[j] = s->syy[j] = s->szz[j] = s->solid[j] ? -sc->hypo.initial_stress_ratio * PY_law : 0.0;
     }
     for (int f = 0; f <= s->n; f++) {
         s->w[f] = 0.0;

@@ -280,7 +280,7 @@ static void solid_properties(ekm_stepper *st, const ekm_state *s, double dt)
         if (!s->solid[j] || st->dry[j])
             continue;
         const ekm_hypo_stress sig = {s->sxx[j], s->syy[j], s->szz[j], 0.0};
-        st->hyp[j] = ekm_hypo_prepare(m, st->sc->variant, st->phi_new[j], dt, &sig, sqrt(st->u2_old[j]),
+        st->hyp[j] = ekm_hypo_prepare(m, st->sc->variant, ekm_scenario_law_phi(st->sc, st->phi_new[j]), dt, &sig, sqrt(st->u2_old[j]),
                                       st->dw_old[j]);
         /* A dense solid cell that extends to phi_co within the step: its
          * limit surface shrinks to the point sigma = 0 (P_Y -> 0), so it
@@ -323,7 +323,8 @@ static void solid_shear_faces(ekm_stepper *st, const ekm_state *s, const ekm_bc_
                 phi_f = fmax(fmin(1.5 * st->phi_new[a] - 0.5 * st->phi_new[in],
                                   0.5 * (st->phi_new[a] + st->sc->material.phi_cp)), 0.5 * st->phi_new[a]);
             const ekm_hypo_stress none = {0};
-            ekm_hypo_implicit c = ekm_hypo_prepare(&st->sc->material, st->sc->variant, phi_f, dt, &none,
+            ekm_hypo_implicit c = ekm_hypo_prepare(&st->sc->material, st->sc->variant,
+                                                   ekm_scenario_law_phi(st->sc, phi_f), dt, &none,
                                                    st->du_face_old[f], 0.5 * (st->dw_old[a] + st->dw_old[b]));
             if (st->hyp[a].xz_scale == 0.0 || st->hyp[b].xz_scale == 0.0)
                 c.xz_scale = c.Vxz = 0.0; /* a cell extends to phi_co: stress-free (solid_properties) */
@@ -425,7 +426,7 @@ static void regimes(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
                                : ekm_yield_temperature(m, phi);
         if (s->solid[j]) {
             const ekm_hypo_stress sig = {s->sxx[j], s->syy[j], s->szz[j], 0.5 * (s->sxz[j] + s->sxz[j + 1])};
-            const double fY = loose ? NAN : ekm_hypo_yield(m, sc->variant, phi, &sig);
+            const double fY = loose ? NAN : ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &sig);
             /* quasi-static T of the current rates and the flow stress there */
             const double T = st->dry[j] ? 0.0
                 : fmax(ekm_temperature_local_balance(m, sc->variant, phi, st->u2[j], dw * dw), sc->numerics.T_floor);
@@ -484,7 +485,7 @@ static void regimes(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
              * at once, step after step.  One that comes to rest decelerates. */
             if (!compress && !loose && rate > rate_before) {
                 e.xz = 0.5 * (s->sxz[j] + s->sxz[j + 1]);
-                if (!(ekm_hypo_yield(m, sc->variant, phi, &e) < -10.0 * h->yield_tol))
+                if (!(ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &e) < -10.0 * h->yield_tol))
                     continue;
             }
             if (!h->carry_over) /* tests only (scenario.h) */

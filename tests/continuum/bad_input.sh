@@ -72,6 +72,12 @@ check "solid without hypo" 2 "--set initial.solid.*\[initial\] solid: expected 0
 check "hypo yield_tol out of range" 2 "--set hypo.yield_tol.*\[hypo\] yield_tol: expected a number in \(0, 0.1\)" \
     run "$base" -o out.h5 --set hypo.enabled=1 --set hypo.yield_tol=0.5
 
+check "hypo phi_fixed out of range" 2 "--set hypo.phi_fixed.*\[hypo\] phi_fixed: expected 0 \(the cell's phi\) or a number in \(phi_co, phi_cp\)" \
+    run "$base" -o out.h5 --set hypo.enabled=1 --set hypo.phi_fixed=0.7
+
+check "piston key on a wall" 2 "\[bottom\] w_return: only allowed with type = piston" \
+    run "$base" -o out.h5 --set bottom.w_return=1e-6
+
 check "piston without period" 2 "\[top\] period: expected a time > 0" \
     run "$base" -o out.h5 --set top.type=piston --set top.w=-1e-6
 
