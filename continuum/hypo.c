@@ -120,6 +120,19 @@ double ekm_hypo_flow_T_for_stress(const ekm_material *m, ekm_variant v, double p
     return x >= 0.0 ? x * x : -1.0;
 }
 
+double ekm_hypo_relaxation_rate(const ekm_material *m, ekm_variant v, double phi, double du_dz, double dw_dz)
+{
+    const double PY = ekm_pressure_yield(m, phi);
+    if (!(PY > 0.0))
+        return 0.0;
+    const double f = ekm_hypo_density_factor(m, phi), k = norm_full(m, du_dz, dw_dz);
+    const double dev = f * 2.0 * m->B_h * coeff_a2(m, phi) * k / PY;
+    const double vol = v == EKM_VARIANT_THESIS
+        ? f * m->A_h * fabs(dw_dz) / (ekm_hypo_R(m, v, phi) * PY)
+        : f * 3.0 * (3.0 * m->A_h + 2.0 * m->B_h) * coeff_a1(m, phi) * k / PY;
+    return dev > vol ? dev : vol;
+}
+
 ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double phi, double dt,
                                    const ekm_hypo_stress *s, double du_dz_old, double dw_dz_old)
 {

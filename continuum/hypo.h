@@ -104,6 +104,13 @@ typedef struct {
 ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double phi, double dt,
                                    const ekm_hypo_stress *s, double du_dz_old, double dw_dz_old);
 
+/* Relaxation rate [1/s] of the law's plastic part N ||kappa|| at phi for
+ * the gradients (the largest of its volumetric and deviatoric parts, per
+ * unit stress): dt times it is the relaxation of one step, which the
+ * lagged ||kappa|| makes first-order accurate only while it is small (the
+ * stepper's accuracy limit for solid cells).  0 for a loose cell. */
+double ekm_hypo_relaxation_rate(const ekm_material *m, ekm_variant v, double phi, double du_dz, double dw_dz);
+
 /* Apply a prepared step: the new stress for the end-of-step gradients. */
 ekm_hypo_stress ekm_hypo_finish(const ekm_hypo_implicit *c, double sigma_xz_old, double du_dz,
                                 double dw_dz);

@@ -75,6 +75,7 @@ static const key_spec KEYS[] = {
     {"numerics", "phi_vacuum", KEY_DOUBLE, SC(numerics.phi_vacuum), 0, 0, NULL},
     {"numerics", "T_floor", KEY_DOUBLE, SC(numerics.T_floor), 0, 0, NULL},
     {"numerics", "phi_step_max", KEY_DOUBLE, SC(numerics.phi_step_max), 0, 0, NULL},
+    {"numerics", "solid_relax_step", KEY_DOUBLE, SC(numerics.solid_relax_step), 0, 0, NULL},
     {"numerics", "newton_tol", KEY_DOUBLE, SC(numerics.newton_tol), 0, 0, NULL},
     {"numerics", "newton_max", KEY_INT, SC(numerics.newton_max), 0, 0, NULL},
     {"hypo", "enabled", KEY_INT, SC(hypo.enabled), 0, 0, NULL},
@@ -109,7 +110,7 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->numerics = (ekm_numerics){
         .cfl = 0.4, .convection = EKM_CONVECTION_UPWIND, .limiter = "vanleer",
         .dt_max = INFINITY, .dt_min = 1e-12, .phi_dry = 1e-9, .phi_vacuum = 0.0, .T_floor = 1e-16,
-        .phi_step_max = 0.05, .newton_tol = 1e-9, .newton_max = 30,
+        .phi_step_max = 0.05, .solid_relax_step = 1e-4, .newton_tol = 1e-9, .newton_max = 30,
     };
     s->hypo = (ekm_hypo_params){
         .enabled = 0, .T_ratio = 1e-6, .phi_margin = 0.0, .phi_loose = 0.1, .rest_rate = 1e-4, .yield_tol = 1e-4,
@@ -373,6 +374,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(n->T_floor > 0.0, "numerics", "T_floor", "a temperature > 0 [m^2/s^2]", n->T_floor);
     RANGE(n->phi_step_max > 0.0 && n->phi_step_max < 1.0, "numerics", "phi_step_max", "a number in (0, 1)",
           n->phi_step_max);
+    RANGE(n->solid_relax_step > 0.0 && n->solid_relax_step <= 1.0, "numerics", "solid_relax_step",
+          "a number in (0, 1]", n->solid_relax_step);
     RANGE(n->newton_tol > 0.0 && n->newton_tol < 1e-2, "numerics", "newton_tol", "a number in (0, 1e-2)",
           n->newton_tol);
     RANGE(n->newton_max >= 1, "numerics", "newton_max", "an integer >= 1", n->newton_max);

@@ -48,6 +48,8 @@ typedef struct {
     double phi_vacuum;   /* below this phi a cell cannot compress its neighbour (step.c) [-] */
     double T_floor;      /* lowest T of a non-empty cell [m^2/s^2] */
     double phi_step_max; /* largest fraction of the gap phi_cp - phi one step may close [-] */
+    double solid_relax_step; /* largest relaxation of the hypoplastic law in one step (dt times
+                              * its relaxation rate, hypo.h) [-] */
     double newton_tol;   /* relative tolerance of the implicit T solve [-] */
     int newton_max;      /* iterations of the implicit T solve before a retry */
 } ekm_numerics;

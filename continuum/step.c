@@ -92,6 +92,41 @@ void ekm_step_free(ekm_stepper *st)
 
 static inline double max2(double a, double b) { return a > b ? a : b; }
 
+/* u' [1/s] at face f of the state (walls: through the wall's conductance). */
+static double face_shear_rate(const ekm_stepper *st, const ekm_state *s, int f)
+{
+    const int n = s->n;
+    if (f > 0 && f < n)
+        return (s->u[f] - s->u[f - 1]) / s->dz;
+    const ekm_bc_face bf = ekm_bc_evaluate(f == 0 ? &st->sc->bottom : &st->sc->top,
+                                           f == 0 ? EKM_SIDE_BOTTOM : EKM_SIDE_TOP, s->t, s);
+    return f == 0 ? (s->u[0] - bf.u_wall) * bf.wall_conductance : (bf.u_wall - s->u[n - 1]) * bf.wall_conductance;
+}
+
+/* The largest relaxation rate of the hypoplastic law [1/s] over the solid
+ * cells and their faces (each at its own rates and phi, as the step
+ * integrates them), from the state at the start of the step: the rates the
+ * step will lag its norm on. */
+static double solid_relaxation_max(const ekm_stepper *st, const ekm_state *s)
+{
+    const ekm_scenario *sc = st->sc;
+    const ekm_material *m = &sc->material;
+    const int n = s->n;
+    double relax = 0.0, du_below = face_shear_rate(st, s, 0);
+    for (int j = 0; j < n; j++) {
+        const double du_above = face_shear_rate(st, s, j + 1);
+        if (s->solid[j] && s->phi[j] >= sc->numerics.phi_dry) {
+            const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
+            const double phi = ekm_scenario_law_phi(sc, s->phi[j]);
+            relax = max2(relax, ekm_hypo_relaxation_rate(m, sc->variant, phi, 0.5 * (du_below + du_above), dw));
+            relax = max2(relax, ekm_hypo_relaxation_rate(m, sc->variant, phi, du_below, dw));
+            relax = max2(relax, ekm_hypo_relaxation_rate(m, sc->variant, phi, du_above, dw));
+        }
+        du_below = du_above;
+    }
+    return relax;
+}
+
 double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
 {
     const ekm_scenario *sc = st->sc;
@@ -100,7 +135,7 @@ double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
         speed = max2(speed, fabs(s->w[f]));
     speed = max2(speed, sc->bottom.kind == EKM_BC_INFLOW ? fabs(sc->bottom.w) : 0.0);
     speed = max2(speed, sc->top.kind == EKM_BC_INFLOW ? fabs(sc->top.w) : 0.0);
-    double c2_max = 0.0;
+    double c2_max = 0.0, c2_solid = 0.0;
     /* Compression limit: predicted dphi/dt = -phi dw/dz must not close more
      * than half of phi_step_max of the gap to phi_cp in one step (the
      * step is rejected beyond phi_step_max; this avoids most rejections). */
@@ -108,16 +143,45 @@ double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
     const double phi_cp = sc->material.phi_cp;
     for (int j = 0; j < s->n; j++)
         if (s->phi[j] >= sc->numerics.phi_dry) {
-            c2_max = max2(c2_max, ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]));
+            const double c2 = ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]);
+            if (s->solid[j])
+                c2_solid = max2(c2_solid, c2);
+            else
+                c2_max = max2(c2_max, c2);
             const double compression = -s->phi[j] * (s->w[j + 1] - s->w[j]) / s->dz;
             if (compression > 0.0)
                 rate_max = max2(rate_max, compression / (phi_cp - s->phi[j]));
         }
-    speed += sqrt(c2_max);
-    double dt = speed > 0.0 ? sc->numerics.cfl * s->dz / speed : sc->numerics.dt_max;
+    double dt = speed + sqrt(c2_max) > 0.0 ? sc->numerics.cfl * s->dz / (speed + sqrt(c2_max)) : INFINITY;
+    /* Solid cells: their stress is implicit in the momentum solves (hypo.h),
+     * so the EKM's sound speed does not limit them; the accuracy of the law's
+     * lagged norm does (solid_relax_step, solid_relaxation_max).  Never
+     * below the acoustic limit they had as flow cells: at that step the
+     * linearly implicit law is accurate enough (and a cell flowing
+     * plastically on the limit surface relaxes fast but to its fixed point). */
+    if (c2_solid > 0.0) {
+        const double relax = solid_relaxation_max(st, s);
+        const double dt_relax = relax > 0.0 ? sc->numerics.solid_relax_step / relax : INFINITY;
+        dt = fmin(dt, fmax(dt_relax, sc->numerics.cfl * s->dz / (speed + sqrt(c2_solid))));
+    }
+    if (!isfinite(dt))
+        dt = sc->numerics.dt_max;
     if (rate_max > 0.0)
         dt = fmin(dt, 0.5 * sc->numerics.phi_step_max / rate_max);
     return fmin(dt, sc->numerics.dt_max);
+}
+
+double ekm_step_restart_dt(const ekm_stepper *st, const ekm_state *s)
+{
+    const ekm_scenario *sc = st->sc;
+    double speed = 0.0, c2 = 0.0;
+    for (int f = 0; f <= s->n; f++)
+        speed = max2(speed, fabs(s->w[f]));
+    for (int j = 0; j < s->n; j++)
+        if (s->phi[j] >= sc->numerics.phi_dry)
+            c2 = max2(c2, ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]));
+    const double dt = speed + sqrt(c2) > 0.0 ? sc->numerics.cfl * s->dz / (speed + sqrt(c2)) : INFINITY;
+    return fmin(fmin(dt, ekm_step_max_dt(st, s)), sc->numerics.dt_max);
 }
 
 /* Phase 2: face fluxes and the new volume fractions; 0 = reject. */

@@ -100,8 +100,17 @@ typedef struct {
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err);
 void ekm_step_free(ekm_stepper *st);
 
-/* Largest stable step for the state: cfl dz / max(|w| + c). */
+/* Largest step for the state: cfl dz / max(|w| + c) over the flowing
+ * cells, the solid cells' accuracy limit ([numerics] solid_relax_step,
+ * never below their own acoustic step), the compression limit and dt_max. */
 double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s);
+
+/* The step to restart from after a change of the driving (an inflow
+ * closes, the base starts tilting, a piston reverses): the acoustic step
+ * cfl dz / max(|w| + c) over every cell, solid ones included, so that the
+ * lagged rates of the solid law follow the new load within a few short
+ * steps before the step grows again (at most 1.5x per step). */
+double ekm_step_restart_dt(const ekm_stepper *st, const ekm_state *s);
 
 /* Advance s by dt.  *accepted = 0 means the step was rejected (reason in
  * st->reject_reason, s unchanged): retry with a smaller dt.  A non-OK

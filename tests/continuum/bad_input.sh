@@ -75,6 +75,9 @@ check "hypo yield_tol out of range" 2 "--set hypo.yield_tol.*\[hypo\] yield_tol:
 check "hypo phi_fixed out of range" 2 "--set hypo.phi_fixed.*\[hypo\] phi_fixed: expected 0 \(the cell's phi\) or a number in \(phi_co, phi_cp\)" \
     run "$base" -o out.h5 --set hypo.enabled=1 --set hypo.phi_fixed=0.7
 
+check "solid_relax_step out of range" 2 "--set numerics.solid_relax_step.*\[numerics\] solid_relax_step: expected a number in \(0, 1\]" \
+    run "$base" -o out.h5 --set numerics.solid_relax_step=0
+
 check "piston key on a wall" 2 "\[bottom\] w_return: only allowed with type = piston" \
     run "$base" -o out.h5 --set bottom.w_return=1e-6
 

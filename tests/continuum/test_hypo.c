@@ -236,6 +236,44 @@ static void test_flow_stress_on_limit_surface(void **state)
     }
 }
 
+/* The stepper's accuracy limit for solid cells, ekm_hypo_relaxation_rate,
+ * is the relaxation of the linearly implicit step per unit time: dt times
+ * it equals the largest of the step's relaxation factors (c_d deviatoric,
+ * c_p or c_z volumetric, recovered from the prepared coefficients), for
+ * compression, extension, shear and mixed rates in both variants; it is
+ * linear in the rate, 0 at rest and 0 below phi_co (no plastic part). */
+static void test_relaxation_rate(void **state)
+{
+    (void)state;
+    const double rates[4][2] = {{0.0, -1.0}, {0.0, 0.5}, {2.0, 0.0}, {1.0, -0.3}};
+    for (int v = 0; v < 2; v++) {
+        law L = thesis_law((ekm_variant)v);
+        const double PY = ekm_pressure_yield(&L.m, L.phi), dt = 1e-9;
+        const double fdt = ekm_hypo_density_factor(&L.m, L.phi) * dt;
+        const ekm_hypo_stress s = isotropic(-PY);
+        for (int k = 0; k < 4; k++) {
+            const double du = rates[k][0], dw = rates[k][1];
+            const ekm_hypo_implicit c = ekm_hypo_prepare(&L.m, L.v, L.phi, dt, &s, du, dw);
+            const double c_d = 1.0 / c.xz_scale - 1.0;
+            double c_vol;
+            if (L.v == EKM_VARIANT_THESIS) {
+                c_vol = fdt * L.m.A_h / c.Vzz - 1.0;
+            } else {
+                const double Viso = c.Vxx + fdt * 2.0 * L.m.B_h / (3.0 * (1.0 + c_d));
+                c_vol = fdt * (3.0 * L.m.A_h + 2.0 * L.m.B_h) / (3.0 * Viso) - 1.0;
+            }
+            const double r = ekm_hypo_relaxation_rate(&L.m, L.v, L.phi, du, dw);
+            printf("%s: u' = %g, w' = %g: relaxation rate %.4e 1/s; step factors c_d %.4e, volumetric %.4e\n",
+                   v ? "thesis" : "full", du, dw, r, c_d / dt, c_vol / dt);
+            assert_true(r > 0.0);
+            assert_true(fabs(r * dt / fmax(c_d, c_vol) - 1.0) < 1e-6);
+            assert_true(fabs(ekm_hypo_relaxation_rate(&L.m, L.v, L.phi, 3.0 * du, 3.0 * dw) / (3.0 * r) - 1.0) < 1e-12);
+        }
+        assert_true(ekm_hypo_relaxation_rate(&L.m, L.v, L.phi, 0.0, 0.0) == 0.0);
+        assert_true(ekm_hypo_relaxation_rate(&L.m, L.v, L.m.phi_co - 0.01, 1.0, -1.0) == 0.0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -245,6 +283,7 @@ int main(void)
         cmocka_unit_test(test_shear_critical_state),
         cmocka_unit_test(test_implicit_step),
         cmocka_unit_test(test_flow_stress_on_limit_surface),
+        cmocka_unit_test(test_relaxation_rate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
