@@ -41,7 +41,8 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
     const double started = now_s();
     double last_progress = started;
     long frame = 0;
-    double dt_prev = INFINITY;
+    /* the run starts (the load is applied) like a change of the driving */
+    double dt_prev = ekm_step_restart_dt(st, s) / 1.5;
     /* Times the driving changes: the inflows close, the base starts to
      * tilt (and a piston reverses, below). Steps end exactly there and the
      * step restarts from ekm_step_restart_dt. */
