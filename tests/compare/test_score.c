@@ -75,6 +75,16 @@ static void write_dem(const char *path, size_t nz, double z0, double z1, size_t 
   free(z); free(f); free(s);
 }
 
+/* Scores o into r (at most 16 fields); fails the test with the tool's
+ * message on any error.  Returns the number of fields. */
+static size_t score_ok(const cg_score_opts *o, cg_score_field *r)
+{
+  size_t n;
+  cg_error err;
+  if (cg_score(o, r, &n, &err)) fail_msg("%s", err.msg);
+  return n;
+}
+
 static void test_known_errors(void **state)
 {
   (void)state;
@@ -91,9 +101,7 @@ static void test_known_errors(void **state)
   o.ekm = ekm;
   o.json = tmp_path(js, sizeof js, "score.json");
   cg_score_field r[16];
-  size_t n;
-  cg_error err;
-  if (cg_score(&o, r, &n, &err)) fail_msg("%s", err.msg);
+  size_t n = score_ok(&o, r);
   assert_int_equal(n, 3); /* phi, vx, T: in both files */
   /* DEM centres 0.05..0.95; EKM centres 0.01..0.99: all 10 x 2 inside */
   double sd2 = 0;
@@ -133,9 +141,7 @@ static void test_dem_against_dem(void **state)
   o.dem = a;
   o.ekm = b;
   cg_score_field r[16];
-  size_t n;
-  cg_error err;
-  if (cg_score(&o, r, &n, &err)) fail_msg("%s", err.msg);
+  size_t n = score_ok(&o, r);
   assert_int_equal(n, 3);
   for (size_t i = 0; i < n; i++) {
     assert_int_equal(r[i].se_both, 1);
@@ -161,9 +167,7 @@ static void test_se_floor(void **state)
   o.dem = dem;
   o.ekm = ekm;
   cg_score_field r[16];
-  size_t n;
-  cg_error err;
-  if (cg_score(&o, r, &n, &err)) fail_msg("%s", err.msg);
+  size_t n = score_ok(&o, r);
   for (size_t i = 0; i < n; i++) {
     assert_int_equal(r[i].points, 20);
     assert_int_equal(r[i].points_se, 0);
@@ -172,7 +176,7 @@ static void test_se_floor(void **state)
   }
   /* just above the floor (RMS of the DEM field is about 2.5): counted */
   write_dem(dem, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 1e-5);
-  if (cg_score(&o, r, &n, &err)) fail_msg("%s", err.msg);
+  n = score_ok(&o, r);
   for (size_t i = 0; i < n; i++) {
     assert_int_equal(r[i].points_se, 20);
     assert_close(r[i].noise, 0.01 / 1e-5, 1e-6);
@@ -195,9 +199,7 @@ static void test_region_and_last(void **state)
   o.ekm = ekm;
   o.fields = "phi";
   cg_score_field r[16];
-  size_t n;
-  cg_error err;
-  if (cg_score(&o, r, &n, &err)) fail_msg("%s", err.msg);
+  size_t n = score_ok(&o, r);
   assert_int_equal(n, 1);
   assert_int_equal(r[0].points, 5); /* DEM centres 0.05 .. 0.45 */
   assert_close(r[0].rel_l2, 0.0, 1e-14);
