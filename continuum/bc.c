@@ -60,8 +60,8 @@ static ekm_bc_face bc_piston(const ekm_bc *bc, ekm_side side, const ekm_state *s
     ekm_bc_face b = {0};
     const double phase = t / bc->period - floor(t / bc->period);
     /* a step that ends exactly at a half period belongs to the half before it */
-    b.w = phase < 0.5 - 1e-12 || phase > 1.0 - 1e-12 ? bc->w
-                                                                  : isnan(bc->w_return) ? -bc->w : bc->w_return;
+    const double w_return = isnan(bc->w_return) ? -bc->w : bc->w_return;
+    b.w = phase < 0.5 - 1e-12 || phase > 1.0 - 1e-12 ? bc->w : w_return;
     b.phi_in = s->phi[j];
     b.u_in = s->u[j];
     b.T_in = s->T[j];

@@ -35,7 +35,7 @@ typedef struct {
     double fail_angle;      /* gravity angle then [deg] */
     double fail_fY;         /* f_Y of the failing cell's stress then [-] */
     int fail_cell;          /* the failing cell (-1: none) */
-    double fail_phi;        /* its phi then [-] */
+    double fail_phi;        /* its phi then (the law's, as fail_fY) [-] */
     ekm_hypo_stress fail_stress; /* its stress then [Pa] */
 } ekm_run_stats;
 

@@ -127,15 +127,38 @@ static double solid_relaxation_max(const ekm_stepper *st, const ekm_state *s)
     return relax;
 }
 
+/* Largest convective speed [m/s] (faces and inflows) and the largest EKM
+ * sound speeds squared [m^2/s^2] of the flowing and of the solid cells. */
+static void wave_speeds(const ekm_stepper *st, const ekm_state *s, double *speed, double *c2_flow,
+                        double *c2_solid)
+{
+    const ekm_scenario *sc = st->sc;
+    double v = 0.0;
+    for (int f = 0; f <= s->n; f++)
+        v = max2(v, fabs(s->w[f]));
+    v = max2(v, sc->bottom.kind == EKM_BC_INFLOW ? fabs(sc->bottom.w) : 0.0);
+    v = max2(v, sc->top.kind == EKM_BC_INFLOW ? fabs(sc->top.w) : 0.0);
+    *speed = v;
+    *c2_flow = *c2_solid = 0.0;
+    for (int j = 0; j < s->n; j++)
+        if (s->phi[j] >= sc->numerics.phi_dry) {
+            const double c2 = ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]);
+            double *c2_max = s->solid[j] ? c2_solid : c2_flow;
+            *c2_max = max2(*c2_max, c2);
+        }
+}
+
+/* cfl dz / (speed + sqrt(c2)), INFINITY when nothing moves. */
+static double acoustic_dt(const ekm_stepper *st, const ekm_state *s, double speed, double c2)
+{
+    return speed + sqrt(c2) > 0.0 ? st->sc->numerics.cfl * s->dz / (speed + sqrt(c2)) : INFINITY;
+}
+
 double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
 {
     const ekm_scenario *sc = st->sc;
-    double speed = 0.0;
-    for (int f = 0; f <= s->n; f++)
-        speed = max2(speed, fabs(s->w[f]));
-    speed = max2(speed, sc->bottom.kind == EKM_BC_INFLOW ? fabs(sc->bottom.w) : 0.0);
-    speed = max2(speed, sc->top.kind == EKM_BC_INFLOW ? fabs(sc->top.w) : 0.0);
-    double c2_max = 0.0, c2_solid = 0.0;
+    double speed, c2_max, c2_solid;
+    wave_speeds(st, s, &speed, &c2_max, &c2_solid);
     /* Compression limit: predicted dphi/dt = -phi dw/dz must not close more
      * than half of phi_step_max of the gap to phi_cp in one step (the
      * step is rejected beyond phi_step_max; this avoids most rejections). */
@@ -143,16 +166,11 @@ double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
     const double phi_cp = sc->material.phi_cp;
     for (int j = 0; j < s->n; j++)
         if (s->phi[j] >= sc->numerics.phi_dry) {
-            const double c2 = ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]);
-            if (s->solid[j])
-                c2_solid = max2(c2_solid, c2);
-            else
-                c2_max = max2(c2_max, c2);
             const double compression = -s->phi[j] * (s->w[j + 1] - s->w[j]) / s->dz;
             if (compression > 0.0)
                 rate_max = max2(rate_max, compression / (phi_cp - s->phi[j]));
         }
-    double dt = speed + sqrt(c2_max) > 0.0 ? sc->numerics.cfl * s->dz / (speed + sqrt(c2_max)) : INFINITY;
+    double dt = acoustic_dt(st, s, speed, c2_max);
     /* Solid cells: their stress is implicit in the momentum solves (hypo.h),
      * so the EKM's sound speed does not limit them; the accuracy of the law's
      * lagged norm does (solid_relax_step, solid_relaxation_max).  Never
@@ -162,7 +180,7 @@ double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
     if (c2_solid > 0.0) {
         const double relax = solid_relaxation_max(st, s);
         const double dt_relax = relax > 0.0 ? sc->numerics.solid_relax_step / relax : INFINITY;
-        dt = fmin(dt, fmax(dt_relax, sc->numerics.cfl * s->dz / (speed + sqrt(c2_solid))));
+        dt = fmin(dt, fmax(dt_relax, acoustic_dt(st, s, speed, c2_solid)));
     }
     if (!isfinite(dt))
         dt = sc->numerics.dt_max;
@@ -173,15 +191,9 @@ double ekm_step_max_dt(const ekm_stepper *st, const ekm_state *s)
 
 double ekm_step_restart_dt(const ekm_stepper *st, const ekm_state *s)
 {
-    const ekm_scenario *sc = st->sc;
-    double speed = 0.0, c2 = 0.0;
-    for (int f = 0; f <= s->n; f++)
-        speed = max2(speed, fabs(s->w[f]));
-    for (int j = 0; j < s->n; j++)
-        if (s->phi[j] >= sc->numerics.phi_dry)
-            c2 = max2(c2, ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]));
-    const double dt = speed + sqrt(c2) > 0.0 ? sc->numerics.cfl * s->dz / (speed + sqrt(c2)) : INFINITY;
-    return fmin(fmin(dt, ekm_step_max_dt(st, s)), sc->numerics.dt_max);
+    double speed, c2_flow, c2_solid;
+    wave_speeds(st, s, &speed, &c2_flow, &c2_solid);
+    return fmin(acoustic_dt(st, s, speed, max2(c2_flow, c2_solid)), ekm_step_max_dt(st, s));
 }
 
 /* Phase 2: face fluxes and the new volume fractions; 0 = reject. */
@@ -344,8 +356,8 @@ static void solid_properties(ekm_stepper *st, const ekm_state *s, double dt)
         if (!s->solid[j] || st->dry[j])
             continue;
         const ekm_hypo_stress sig = {s->sxx[j], s->syy[j], s->szz[j], 0.0};
-        st->hyp[j] = ekm_hypo_prepare(m, st->sc->variant, ekm_scenario_law_phi(st->sc, st->phi_new[j]), dt, &sig, sqrt(st->u2_old[j]),
-                                      st->dw_old[j]);
+        st->hyp[j] = ekm_hypo_prepare(m, st->sc->variant, ekm_scenario_law_phi(st->sc, st->phi_new[j]), dt, &sig,
+                                      sqrt(st->u2_old[j]), st->dw_old[j]);
         /* A dense solid cell that extends to phi_co within the step: its
          * limit surface shrinks to the point sigma = 0 (P_Y -> 0), so it
          * is stress-free (it switches to flow after the step). */
@@ -528,7 +540,7 @@ static void regimes(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
                         st->fail_angle = ekm_scenario_angle_at(sc, s->t);
                         st->fail_fY = fY;
                         st->fail_cell = j;
-                        st->fail_phi = phi;
+                        st->fail_phi = ekm_scenario_law_phi(sc, phi); /* the phi of fY */
                         st->fail_stress = sig;
                     }
                 }

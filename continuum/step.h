@@ -91,7 +91,7 @@ typedef struct {
     double fail_angle;      /* gravity angle then [deg] */
     double fail_fY;         /* f_Y of the failing cell's stress then [-] */
     int fail_cell;          /* the failing cell (-1: none) */
-    double fail_phi;        /* its phi [-] and its stress then [Pa] (sigma_xz: mean of its faces) */
+    double fail_phi;        /* its phi (the law's: [hypo] phi_fixed when set) [-] and its stress then [Pa] (sigma_xz: mean of its faces) */
     ekm_hypo_stress fail_stress;
     int newton_iterations;  /* of the last accepted step */
     char reject_reason[512];/* why the last step was rejected */
