@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # check_run.sh: assert that a finished DEM case is complete and usable.
 #
-#   scripts/dem/check_run.sh [--filling] DIR
+#   scripts/dem/check_run.sh [--filling | --pressure] DIR
 #
 # Checks: run.json has status "ok"; atoms.dump exists, has at least two
 # frames and its ITEM: ATOMS header names the columns the comparison tool
@@ -9,13 +9,19 @@
 # log and deck copies exist. With --filling also the mass balance: mass in
 # the box at the end equals the mass inserted (to 1e-9 relative) and the
 # scenario's target rho phi |w| A t_stop to 1%, and the bed is at rest
-# (kinetic energy per unit mass below [dem] rest_ke). Exit 0 if all pass.
+# (kinetic energy per unit mass below [dem] rest_ke). With --pressure
+# (simple_shear_p) the barostat: the mean normal stress Pzz over the last
+# half of monitor.txt equals the target `pressure` of vars.txt within 3
+# block standard errors (monitor_stats.sh). Exit 0 if all pass.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-filling=0
-[ "${1:-}" = --filling ] && { filling=1; shift; }
-[ $# -eq 1 ] || { echo "usage: check_run.sh [--filling] DIR" >&2; exit 2; }
+filling=0; pressure=0
+case ${1:-} in
+  --filling) filling=1; shift ;;
+  --pressure) pressure=1; shift ;;
+esac
+[ $# -eq 1 ] || { echo "usage: check_run.sh [--filling | --pressure] DIR" >&2; exit 2; }
 dir=$1; fail=0
 bad() { echo "check_run: $dir: $*" >&2; fail=1; }
 
@@ -48,6 +54,15 @@ if [ $filling -eq 1 ]; then
     if (e2 > 0.01) { print "check_run: " dir ": final mass differs from the inflow target by more than 1%" > "/dev/stderr"; f = 1 }
     if (ke + 0 > rest + 0) { print "check_run: " dir ": bed not at rest" > "/dev/stderr"; f = 1 }
     exit f }' || fail=1
+fi
+if [ $pressure -eq 1 ]; then
+  target=$(awk '$1 == "pressure" { print $3 }' "$dir/vars.txt")
+  [ -n "$target" ] || { bad "no pressure in vars.txt"; exit 1; }
+  "$here/monitor_stats.sh" "$dir" | awk -v t="$target" -v dir="$dir" '$1 == "v_Pzz" {
+    m = $2; se = $4; dev = m - t; if (dev < 0) dev = -dev
+    printf "pressure control: mean Pzz %.5g +- %.2g Pa, target %s Pa, |mean - target| = %.2f SE\n", m, se, t, (se > 0 ? dev / se : 0)
+    found = 1; if (dev > 3 * se) { print "check_run: " dir ": mean Pzz differs from the target by more than 3 standard errors" > "/dev/stderr"; exit 1 } }
+    END { if (!found) { print "check_run: " dir ": monitor.txt has no v_Pzz column" > "/dev/stderr"; exit 1 } }' || fail=1
 fi
 [ $fail -eq 0 ] && echo "check_run: $dir: ok"
 exit $fail

@@ -137,7 +137,9 @@ nextprime() { awk -v s="$1" 'BEGIN { for (n = s + 1; ; n++) { p = 1
   if (p) { print n; exit } } }'; }
 seed2=$(nextprime "$seed"); addv seed2 "$seed2"; addv seed3 "$(nextprime "$seed2")"
 addv thermo_every "$(dem thermo_every 1000)"
-addv dump_every "$(dem dump_every 5000)"
+# simple_shear_p dumps every [dem] dump_strain of shear instead (per point:
+# its rates span 100x, a fixed step count would give 100x the frames).
+[ "$scen" = simple_shear_p ] || addv dump_every "$(dem dump_every 5000)"
 lateral() { # lx, ly: [dem] lx, ly are in grain diameters
   local x y; x=$(dem lx) && y=$(dem ly) || exit 2
   num lx "$x"; num ly "$y"
@@ -195,6 +197,21 @@ case $scen in
       num phi "$p"; num rate "$r"
       if [ "$n" -eq 1 ]; then points+=("|phi $p rate $r")
       else points+=("phi${p}-rate${r}|phi $p rate $r"); fi
+    done; done; set +f ;;
+  simple_shear_p)
+    addv L "$(get domain length)"
+    addv phi0 "$(get initial phi)"
+    addv t_compress "$(dem t_compress)"
+    addv strain "$(dem strain)"
+    addv p_gain "$(dem p_gain)"
+    ds=$(dem dump_strain); num dump_strain "$ds"; dts=$(dem dt)
+    pressures=$(dem pressures); rates=$(dem rates)
+    set -f; n=$(( $(echo $pressures | wc -w) * $(echo $rates | wc -w) ))
+    for p in $pressures; do for r in $rates; do
+      num pressure "$p"; num rate "$r"
+      de=$(awk -v s="$ds" -v r="$r" -v dt="$dts" 'BEGIN { n = int(s / (r * dt) + 0.5); print (n < 1 ? 1 : n) }')
+      if [ "$n" -eq 1 ]; then points+=("|pressure $p rate $r dump_every $de")
+      else points+=("p${p}-rate${r}|pressure $p rate $r dump_every $de"); fi
     done; done; set +f ;;
   *) die "no variable mapping for scenario '$scen' (see docs/dem.md)" ;;
 esac

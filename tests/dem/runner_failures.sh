@@ -42,6 +42,7 @@ expect 1 "timeout" "$run" -f -o "$out" -s timeout=1 -s t_flow=100 chute lammps s
 grep -q '"status": "timeout"' "$out/chute/lammps-smoke/run.json" || { echo "FAIL: run.json status is not timeout"; fail=1; }
 # unsupported engine/scenario: exit 5
 expect 5 "simple_shear in LIGGGHTS is unsupported" "$run" -o "$out" simple_shear liggghts smoke
+expect 5 "simple_shear_p in LIGGGHTS is unsupported" "$run" -o "$out" simple_shear_p liggghts smoke
 # a finished run is not redone without -f
 expect 0 "collision (good run)" "$run" -f -o "$out" collision lammps smoke
 expect 0 "finished run kept" "$run" -o "$out" collision lammps smoke
