@@ -7,7 +7,8 @@
 #
 # For each point with status ok (or not_steady: flagged): means and block
 # standard errors (monitor_stats.sh: last half of monitor.txt, 5 blocks) of
-# phi (the box's, pressure control; the set value, volume control), the mean
+# phi (from the grains' actual volumes: the box's under pressure control; the
+# set value times about 0.999 under volume control), the mean
 # pressure P = -tr(sigma)/3, the normal stress Pzz = -szz, mu = sxz/P, the
 # granular temperature T; the inertial number I = rate d / sqrt(P / rho_p);
 # the runner's steadiness verdict and drift; the run's wall time and the CPU
@@ -33,7 +34,7 @@ for p in "$dir"/*-rate*/; do
       -v steady="$steady" -v drift="$drift" -v wall="$wall" -v cpu="$cpu" '
     { m[$1] = $2; e[$1] = $4 }
     END {
-      if (tag ~ /^p/) ph = sprintf("%.4f", m["v_phig"]); else ph = phi
+      if ("v_phig" in m) ph = sprintf("%.4f", m["v_phig"]); else ph = phi
       P = m["v_P"]
       printf "%-14s %6s %6s %9.4g +- %-5.2g %9.4g +- %-5.2g %9.4g +- %-5.2g %6.4f +- %-5.2g %9.3g +- %-7.2g %8.4g %6s %7s %7.0f %7s\n",
         tag, ph, rate, P, e["v_P"], m["v_Pzz"], e["v_Pzz"], m["v_sxz"], e["v_sxz"], m["v_fric"], e["v_fric"],
