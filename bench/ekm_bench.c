@@ -12,6 +12,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "control.h"
 #include "run.h"
 #include "scenario.h"
 #include "state.h"
@@ -57,7 +58,7 @@ static double throughput(const char *src, const char *name, int cells)
         const double t0 = now_s();
         double elapsed = 0;
         while (elapsed < 1.0 || steps < 20) {
-            double dt = ekm_step_max_dt(st, s);
+            double dt = ekm_control_max_dt(&sc, s);
             int accepted = 0;
             while (!accepted) {
                 if (ekm_step_apply(st, s, dt, &accepted, &err) != EKM_OK || dt < sc.numerics.dt_min) {
