@@ -6,7 +6,6 @@
 #include <string.h>
 
 #include "bc.h"
-#include "fields.h"
 #include "regime.h"
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)

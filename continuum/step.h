@@ -54,7 +54,7 @@ typedef struct {
     unsigned char *dry, *dry_face; /* n, n+1 */
     ekm_implicit_work *wk;
     ekm_state *backup;      /* state before the step, for rejection */
-    /* solid regime */
+    /* solid regime (regime.h) */
     ekm_hypo_implicit *hyp; /* the prepared rate-law step of each solid cell, n */
     double *u2_old, *dw_old;/* squared shear rate, w' at the start of the step, n */
     double *du_face_old;    /* u' at faces at the start of the step (lagged norm of solid faces), n+1 */
