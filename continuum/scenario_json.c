@@ -65,8 +65,30 @@ static json_t *resolved_object(const ekm_scenario *s, const ekm_resolved *r, int
     return root;
 }
 
+/* JSON strings are UTF-8: a value that is not is bad input, named by key. */
+static ekm_status check_utf8(const ekm_scenario *s, const ekm_resolved *r, ekm_error *err)
+{
+    for (size_t i = 0; i < r->n_keys; i++) {
+        json_t *v = json_string(r->keys[i].value);
+        if (!v) {
+            const char *name = r->keys[i].name, *dot = strchr(name, '.');
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [%.*s] %s: expected UTF-8 text", r->keys[i].from,
+                            (int)(dot - name), name, dot + 1);
+        }
+        json_decref(v);
+    }
+    json_t *v = json_string(s->source);
+    if (!v)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: expected a file name in UTF-8", s->source);
+    json_decref(v);
+    return EKM_OK;
+}
+
 ekm_status ekm_json_write_resolved(FILE *out, const ekm_scenario *s, const ekm_resolved *r, ekm_error *err)
 {
+    ekm_status st = check_utf8(s, r, err);
+    if (st != EKM_OK)
+        return st;
     int failed = 0;
     json_t *root = resolved_object(s, r, &failed);
     char *text = failed ? NULL : json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_ENSURE_ASCII);

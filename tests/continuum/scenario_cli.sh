@@ -115,6 +115,10 @@ error "unknown [dem] key in ekm run" 2 "unknown.ini:$n: \[dem\] ref.lxx: unknown
 error "bad [compare] value" 2 "--set:1: \[compare\] ekm_time: expected one of last interp, got 'now'" \
     scenario "$chute" --set compare.ekm_time=now --json
 
+{ cat "$src/scenarios/cooling.ini"; printf '[scenario]\ndescription = caf\xe9\n'; } > latin1.ini
+n=$(wc -l < latin1.ini)
+error "not UTF-8" 2 "latin1.ini:$n: \[scenario\] description: expected UTF-8 text" scenario latin1.ini --json
+
 if "$ekm" --help | grep -q "ekm scenario FILE.ini"; then ok "ekm --help documents ekm scenario"; else bad "ekm --help"; fi
 
 echo "$passed passed, $failures failed"
