@@ -15,11 +15,13 @@
 #include <unistd.h>
 #include <cmocka.h>
 
+#include "cgrun.h"
 #include "fit.h"
 #include "fit_data.h"
 #include "h5io.h"
 #include "homogeneous.h"
 #include "scenario.h"
+#include "synth.h"
 #include "test_util.h"
 
 #define REL_SE 0.02 /* stated SE of every synthetic observable: 2% of its value */
@@ -296,15 +298,64 @@ static void test_profile_reduction(void **state)
                                    "two snapshots)");
 }
 
+/* A real `ekmcompare cg` output (synthetic dump: uniform density,
+ * vx = gdot (z - lz/2) + thermal noise, contact stress P0, S0) reads as
+ * the point it describes. */
+static void test_real_cg_output(void **state)
+{
+  (void)state;
+  synth_opts o = synth_default();
+  o.nsnap = 12;
+  o.gdot = 10.0;
+  o.with_stress = 1;
+  o.P0 = 1000.0;
+  o.S0 = 300.0;
+  char dump[512], out[512];
+  assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "fit_shear.dump"), &o), 0);
+  cg_run_opts ro = cg_run_opts_default();
+  const char *in[1] = {dump};
+  ro.inputs = in;
+  ro.ninputs = 1;
+  ro.out = tmp_path(out, sizeof out, "fit_shear.h5");
+  ro.width = 0.002;
+  ro.bins = 8;
+  ro.have_range = 1; /* the interior: no wall reflection of vx */
+  ro.range_lo = 0.008;
+  ro.range_hi = 0.032;
+  ro.nstress = 6;
+  const char *names[6] = {"c_s[1]", "c_s[2]", "c_s[3]", "c_s[4]", "c_s[5]", "c_s[6]"};
+  for (int c = 0; c < 6; c++) ro.stress[c] = names[c];
+  cg_error ce;
+  if (cg_run(&ro, &ce)) fail_msg("%s", ce.msg);
+  cg_fit_point pt;
+  ekm_error err;
+  const unsigned all = 1u << CG_FIT_P | 1u << CG_FIT_SXZ | 1u << CG_FIT_T | 1u << CG_FIT_MU;
+  if (cg_fit_point_read(out, all, &pt, &err) != EKM_OK) fail_msg("%s", err.message);
+  printf("cg output: phi %.4f +- %.4f  gdot %.4f +- %.4f (R^2 %.5f)  P %.1f +- %.1f  sxz %.1f +- %.1f  T %.3g +- %.2g\n",
+         pt.phi, pt.phi_se, pt.gdot, pt.gdot_se, pt.r2, pt.value[CG_FIT_P], pt.se[CG_FIT_P], pt.value[CG_FIT_SXZ],
+         pt.se[CG_FIT_SXZ], pt.value[CG_FIT_T], pt.se[CG_FIT_T]);
+  assert_int_equal(pt.nbins, 8);
+  assert_true(pt.r2 > CG_FIT_MIN_R2);
+  assert_close(pt.gdot, o.gdot, 4.0 * pt.gdot_se);
+  assert_close(pt.value[CG_FIT_P], o.P0 * pt.phi + o.rho_p * pt.phi * o.T0, 4.0 * pt.se[CG_FIT_P]);
+  assert_close(pt.value[CG_FIT_SXZ], o.S0 * pt.phi, 4.0 * pt.se[CG_FIT_SXZ]);
+  assert_close(pt.value[CG_FIT_T], o.T0, 4.0 * pt.se[CG_FIT_T]);
+}
+
 /* ---- end to end through files and the ekmcompare binary ---- */
 
-static void write_cg(const char *path, const profiles *p)
+/* A CG-like file: one window ([1][NB]), or two (a time series) with
+ * time_series set (phi written twice). */
+static void write_cg_windows(const char *path, const profiles *p, int time_series)
 {
   cg_h5w *w;
   cg_error ce;
+  double phi2[2 * NB];
+  memcpy(phi2, p->phi, sizeof p->phi);
+  memcpy(phi2 + NB, p->phi, sizeof p->phi);
   assert_int_equal(cg_h5w_create(&w, path, &ce), CG_OK);
   assert_int_equal(cg_h5w_dataset(w, "z", p->z, 0, NB, "m", &ce), CG_OK);
-  assert_int_equal(cg_h5w_dataset(w, "phi", p->phi, 1, NB, "1", &ce), CG_OK);
+  assert_int_equal(cg_h5w_dataset(w, "phi", phi2, time_series ? 2 : 1, NB, "1", &ce), CG_OK);
   assert_int_equal(cg_h5w_dataset(w, "phi_se", p->phi_se, 1, NB, "1", &ce), CG_OK);
   assert_int_equal(cg_h5w_dataset(w, "vx", p->vx, 1, NB, "m/s", &ce), CG_OK);
   assert_int_equal(cg_h5w_dataset(w, "vx_se", p->vx_se, 1, NB, "m/s", &ce), CG_OK);
@@ -317,6 +368,11 @@ static void write_cg(const char *path, const profiles *p)
   }
   assert_int_equal(cg_h5w_attr_str(w, "axis", "z", &ce), CG_OK);
   assert_int_equal(cg_h5w_commit(w, &ce), CG_OK);
+}
+
+static void write_cg(const char *path, const profiles *p)
+{
+  write_cg_windows(path, p, 0);
 }
 
 /* Run the binary; returns its exit code, stderr into errbuf. */
@@ -424,17 +480,19 @@ static void test_end_to_end(void **state)
   /* bad inputs: one error line, the documented exit code, no output */
   unlink(out);
   unlink(ini);
-  char first[512], bagnold[512];
+  char first[512], bagnold[512], series[512];
   tmp_path(first, sizeof first, "fit_cg_0_0.h5");
   profiles p;
   make_profiles(&p, 0.55, 12.5, 1);
   write_cg(tmp_path(bagnold, sizeof bagnold, "fit_cg_bagnold.h5"), &p);
+  make_profiles(&p, 0.55, 12.5, 0);
+  write_cg_windows(tmp_path(series, sizeof series, "fit_cg_series.h5"), &p, 1);
   struct {
     const char *what;
     char args[8192];
     int code;
     const char *message;
-  } bad[5];
+  } bad[6];
   snprintf(bad[0].args, sizeof bad[0].args, "--rheology%s %s --params T0,eta0 -o %s --ini %s", files, bagnold, out,
            ini);
   bad[0].what = "not simple shear", bad[0].code = 2, bad[0].message = "vx is not linear";
@@ -447,7 +505,9 @@ static void test_end_to_end(void **state)
   bad[3].what = "missing file", bad[3].code = 3, bad[3].message = "missing.h5: cannot open: No such file";
   snprintf(bad[4].args, sizeof bad[4].args, "--rheology%s --params T0 --ini %s", files, ini);
   bad[4].what = "no -o", bad[4].code = 1, bad[4].message = "expected -o FIT.json";
-  for (int k = 0; k < 5; k++) {
+  snprintf(bad[5].args, sizeof bad[5].args, "--rheology%s %s --params T0 -o %s --ini %s", files, series, out, ini);
+  bad[5].what = "time series", bad[5].code = 2, bad[5].message = "fit_cg_series.h5: dataset phi has 2 windows";
+  for (int k = 0; k < 6; k++) {
     const int rc = run_fit(bad[k].args, errbuf, sizeof errbuf);
     printf("bad input (%s): exit %d: %s", bad[k].what, rc, errbuf);
     assert_int_equal(rc, bad[k].code);
@@ -467,6 +527,7 @@ int main(void)
     cmocka_unit_test(test_correlated_and_absent),
     cmocka_unit_test(test_fewer_points_than_params),
     cmocka_unit_test(test_profile_reduction),
+    cmocka_unit_test(test_real_cg_output),
     cmocka_unit_test(test_end_to_end),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
