@@ -8,6 +8,7 @@
 #include "ekm_version.h"
 #include "cgrun.h"
 #include "error.h"
+#include "fit_cli.h"
 #include "h5io.h"
 #include "score.h"
 
@@ -16,6 +17,8 @@
 static const char usage_text[] =
   "usage: ekmcompare cg [options] DUMP... (-o OUT.h5 | --csv OUT.csv)\n"
   "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [-o SCORE.json]\n"
+  "       ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu [--start FILE.ini]\n"
+  "                      [--fields P,sxz,T] -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
   "       ekmcompare --help | --version\n"
   "\n"
   "cg: coarse-grain LAMMPS/LIGGGHTS dumps (text, gzip, binary) into slab profiles\n"
@@ -307,9 +310,10 @@ int main(int argc, char **argv)
     printf("ekmcompare %s\n", EKMBENCH_VERSION);
     return 0;
   }
+  if (!strcmp(argv[1], "fit")) return cg_fit_main(argc - 2, argv + 2); /* exit codes of docs/exit-codes.md */
   if (!strcmp(argv[1], "cg")) rc = cmd_cg(argc - 2, argv + 2, &err);
   else if (!strcmp(argv[1], "score")) rc = cmd_score(argc - 2, argv + 2, &err);
-  else rc = CG_ERROR(&err, CG_EUSAGE, "ekmcompare: unknown command '%s': expected cg or score (see --help)", argv[1]);
+  else rc = CG_ERROR(&err, CG_EUSAGE, "ekmcompare: unknown command '%s': expected cg, score or fit (see --help)", argv[1]);
   if (rc) {
     fprintf(stderr, "%s\n", err.msg);
     if (getenv("EKMCOMPARE_DEBUG")) fprintf(stderr, "  (raised at %s:%d)\n", err.src, err.src_line);
