@@ -33,17 +33,20 @@ ekm_status ekm_error_set_at(ekm_error *err, ekm_status code, const char *input_f
 {
     if (!err)
         return code;
-    char text[sizeof err->message];
+    /* the prefix, then the text after it (truncated to fit) */
+    int prefix = 0;
+    if (input_file && input_line > 0)
+        prefix = snprintf(err->message, sizeof err->message, "%s:%d: ", input_file, input_line);
+    else if (input_file)
+        prefix = snprintf(err->message, sizeof err->message, "%s: ", input_file);
+    if (prefix < 0)
+        prefix = 0;
+    if ((size_t)prefix >= sizeof err->message)
+        prefix = (int)sizeof err->message - 1;
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
+    vsnprintf(err->message + prefix, sizeof err->message - (size_t)prefix, fmt, ap);
     va_end(ap);
-    if (!input_file)
-        snprintf(err->message, sizeof err->message, "%s", text);
-    else if (input_line > 0)
-        snprintf(err->message, sizeof err->message, "%s:%d: %s", input_file, input_line, text);
-    else
-        snprintf(err->message, sizeof err->message, "%s: %s", input_file, text);
     snprintf(err->input_file, sizeof err->input_file, "%s", input_file ? input_file : "");
     err->input_line = input_file && input_line > 0 ? input_line : 0;
     record_source(err, code, src_file, src_line);
