@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -181,6 +182,39 @@ static void test_sighup_removes_temporary(void **state)
     kill_while_writing(SIGHUP);
 }
 
+/* SIGXFSZ: the file-size limit is hit while writing; the kernel's signal
+ * removes the temporary like the others. */
+static void test_sigxfsz_removes_temporary(void **state)
+{
+    (void)state;
+    char dir[1024], path[1100];
+    assert_int_equal(tu_fresh_dir("sigxfsz", dir, sizeof dir), 0);
+    snprintf(path, sizeof path, "%s/big.csv", dir);
+    fflush(NULL);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        signal(SIGXFSZ, SIG_DFL);
+        struct rlimit lim = {4096, 4096}, no_core = {0, 0};
+        setrlimit(RLIMIT_CORE, &no_core); /* SIGXFSZ's default action dumps core */
+        ekm_error err = {0};
+        ekm_atomic a;
+        if (setrlimit(RLIMIT_FSIZE, &lim) != 0 || ekm_atomic_install_signal_cleanup(&err) != EKM_OK ||
+            ekm_atomic_open(&a, path, &err) != EKM_OK)
+            _exit(90);
+        for (int i = 0; i < 10000; i++)
+            fprintf(a.fp, "%d,%d\n", i, i * i);
+        ekm_atomic_commit(&a, &err); /* not reached: the signal ends us */
+        _exit(92);
+    }
+    int status;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    assert_true(WIFSIGNALED(status));
+    assert_int_equal(WTERMSIG(status), SIGXFSZ);
+    assert_int_equal(tu_count_temporaries(dir), 0);
+    assert_false(tu_exists(path));
+}
+
 /* A signal ignored by whoever started the program stays ignored. */
 static void test_ignored_signal_stays_ignored(void **state)
 {
@@ -258,6 +292,7 @@ int main(void)
         cmocka_unit_test(test_sigterm_removes_temporary),
         cmocka_unit_test(test_sigint_removes_temporary),
         cmocka_unit_test(test_sighup_removes_temporary),
+        cmocka_unit_test(test_sigxfsz_removes_temporary),
         cmocka_unit_test(test_ignored_signal_stays_ignored),
         cmocka_unit_test(test_refuse_input),
     };
