@@ -52,6 +52,16 @@ static void json_num(FILE *fp, double v)
   else fputs("null", fp);
 }
 
+/* A number that reads back to the same double (an option to be reused). */
+static void json_exact(FILE *fp, double v)
+{
+  char buf[32];
+  if (!isfinite(v)) { fputs("null", fp); return; }
+  snprintf(buf, sizeof buf, "%.15g", v);
+  if (strtod(buf, NULL) != v) snprintf(buf, sizeof buf, "%.17g", v);
+  fputs(buf, fp);
+}
+
 static void json_str(FILE *fp, const char *s)
 {
   fputc('"', fp);
@@ -81,6 +91,21 @@ static int write_json(const cg_score_opts *o, const cg_score_field *res, size_t 
   json_str(fp, o->ekm);
   fprintf(fp, ",\n  \"time\": \"%s\",\n  \"code_version\": ", mode);
   json_str(fp, EKMBENCH_VERSION);
+  /* every option that produced the numbers, so that a reader (the figures,
+   * the regression test) needs no scenario file to know or redo them */
+  int other_dem = 0;
+  for (size_t i = 0; i < nres; i++) other_dem |= res[i].se_both;
+  fputs(",\n  \"options\": {\n    \"fields\": [", fp);
+  for (size_t i = 0; i < nres; i++) {
+    if (i) fputs(", ", fp);
+    json_str(fp, res[i].name);
+  }
+  fprintf(fp, "],\n    \"ekm_time\": \"%s\",\n    \"shift_m\": ", o->ekm_last ? "last" : "interp");
+  json_exact(fp, o->shift);
+  fprintf(fp, ",\n    \"model\": \"%s\",\n    \"se\": \"%s\",\n    \"se_floor_rel_rms\": ",
+          other_dem ? "dem" : "ekm", other_dem ? "dem and model in quadrature" : "dem");
+  json_exact(fp, CG_SCORE_SE_FLOOR);
+  fputs("\n  }", fp);
   fputs(",\n  \"fields\": {", fp);
   for (size_t i = 0; i < nres; i++) {
     fprintf(fp, "%s\n    \"%s\": {\"points\": %zu, \"points_with_se\": %zu, \"rel_l2\": ",
@@ -254,7 +279,7 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
       /* the noise-normalised error uses the points whose standard error is
        * meaningful: SE > 1e-6 of the field's RMS (a bin that one grain
        * crossed once has an SE of round-off size, and would swamp it) */
-      double floor_se = np ? 1e-6 * sqrt(sd2 / (double)np) : 0.0;
+      double floor_se = np ? CG_SCORE_SE_FLOOR * sqrt(sd2 / (double)np) : 0.0;
       for (size_t q = 0; q < np; q++)
         if (isfinite(ps[q]) && ps[q] > floor_se) {
           npse++;

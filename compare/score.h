@@ -35,6 +35,11 @@ typedef struct {
   FILE *log;           /* notes, or NULL */
 } cg_score_opts;
 
+/* Standard errors at or below this fraction of the DEM field's RMS are
+ * round-off (a bin one grain crossed once), not noise: those points are left
+ * out of the noise-normalised error. */
+#define CG_SCORE_SE_FLOOR 1e-6
+
 cg_score_opts cg_score_opts_default(void);
 
 /* Per-field result. */

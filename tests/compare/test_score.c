@@ -124,6 +124,11 @@ static void test_known_errors(void **state)
   fclose(fp);
   assert_non_null(strstr(buf, "\"phi\": {\"points\": 20"));
   assert_non_null(strstr(buf, "\"noise_normalised\": 0.5"));
+  /* the options that produced it: the fields found in both, the default
+   * time matching, no shift, an EKM run as the model */
+  assert_non_null(strstr(buf, "\"options\": {\n    \"fields\": [\"phi\", \"vx\", \"T\"],\n"
+                              "    \"ekm_time\": \"interp\",\n    \"shift_m\": 0,\n    \"model\": \"ekm\",\n"
+                              "    \"se\": \"dem\",\n    \"se_floor_rel_rms\": 1e-06\n  }"));
 }
 
 /* Engine against engine: the second file is coarse-grained DEM with its
@@ -137,6 +142,7 @@ static void test_dem_against_dem(void **state)
   double t[2] = {0.5, 1.5};
   write_dem(a, 10, 0.0, 1.0, 2, t, 1.0, 2.0, 0.5, 0.02);
   write_dem(b, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 0.02);
+  char js[512];
   cg_score_opts o = cg_score_opts_default();
   o.dem = a;
   o.ekm = b;
@@ -149,6 +155,22 @@ static void test_dem_against_dem(void **state)
     assert_int_equal(r[i].points, 20);
     assert_close(r[i].noise, 0.5 / sqrt(2.0), 1e-9);
   }
+  /* the options as given, the shift as it reads back; the model side is a
+   * second DEM run */
+  o.fields = "T,phi";
+  o.ekm_last = 1;
+  o.shift = 0.1;
+  o.json = tmp_path(js, sizeof js, "score_dd.json");
+  assert_int_equal(score_ok(&o, r), 2);
+  FILE *fp = fopen(js, "r");
+  assert_non_null(fp);
+  char buf[2048];
+  size_t len = fread(buf, 1, sizeof buf - 1, fp);
+  buf[len] = '\0';
+  fclose(fp);
+  assert_non_null(strstr(buf, "\"fields\": [\"T\", \"phi\"],\n    \"ekm_time\": \"last\",\n"
+                              "    \"shift_m\": 0.1,\n    \"model\": \"dem\",\n"
+                              "    \"se\": \"dem and model in quadrature\","));
 }
 
 /* Standard errors of round-off size (a bin one grain crossed once) are not
