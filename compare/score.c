@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "h5io.h"
+#include "metric.h"
 
 #define MAXF 16
 static const char *const default_fields[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
@@ -241,12 +242,15 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
       if (!rc && (nt4 != ax.nte || n4 != ax.nze))
         rc = CG_ERROR(err, CG_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, sename, ax.nte, ax.nze);
     }
-    double *pd = NULL, *ps = NULL; /* per point: difference, standard error */
-    if (!rc && (!(pd = malloc(ax.ntd * ax.nzd * sizeof *pd)) || !(ps = malloc(ax.ntd * ax.nzd * sizeof *ps))))
+    /* the points both cover, in DEM order (time, then coordinate): the
+     * model interpolated onto them, the DEM value and its standard error */
+    double *pm = NULL, *pdem = NULL, *ps = NULL;
+    size_t ncand = ax.ntd * ax.nzd;
+    if (!rc && (!(pm = malloc(ncand * sizeof *pm)) || !(pdem = malloc(ncand * sizeof *pdem)) ||
+                !(ps = malloc(ncand * sizeof *ps))))
       rc = CG_ERROR(err, CG_ESYS, "out of memory");
     if (!rc) {
-      double sd2 = 0, se2 = 0, sn2 = 0;
-      size_t np = 0, npse = 0;
+      size_t np = 0;
       for (size_t j = 0; j < ax.ntd; j++) {
         if (!tin[j]) continue;
         size_t i0 = ti[j], i1 = i0 + 1 < ax.nte ? i0 + 1 : i0;
@@ -260,9 +264,6 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
           double e0 = r0[zi] + az * (r0[z1] - r0[zi]);
           double e1 = r1[zi] + az * (r1[z1] - r1[zi]);
           double e = e0 + at * (e1 - e0), d = fd[j * ax.nzd + k];
-          if (!isfinite(e) || !isfinite(d)) continue;
-          sd2 += d * d;
-          se2 += (e - d) * (e - d);
           double s = sd ? sd[j * ax.nzd + k] : NAN;
           if (fse) {
             const double *q0 = fse + i0 * ax.nze, *q1 = fse + i1 * ax.nze;
@@ -271,26 +272,19 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
             double s2 = s0 + at * (s1 - s0);
             s = sqrt(s * s + s2 * s2);
           }
-          pd[np] = e - d;
+          pm[np] = e;
+          pdem[np] = d;
           ps[np] = s;
           np++;
         }
       }
-      /* the noise-normalised error uses the points whose standard error is
-       * meaningful: SE > 1e-6 of the field's RMS (a bin that one grain
-       * crossed once has an SE of round-off size, and would swamp it) */
-      double floor_se = np ? CG_SCORE_SE_FLOOR * sqrt(sd2 / (double)np) : 0.0;
-      for (size_t q = 0; q < np; q++)
-        if (isfinite(ps[q]) && ps[q] > floor_se) {
-          npse++;
-          sn2 += pd[q] * pd[q] / (ps[q] * ps[q]);
-        }
+      cg_metric m = cg_metric_compute(pm, pdem, ps, np, CG_SCORE_SE_FLOOR);
       cg_score_field *r = &res[*nres];
       snprintf(r->name, sizeof r->name, "%s", names[f]);
-      r->points = np;
-      r->points_se = npse;
-      r->rel_l2 = (np && sd2 > 0) ? sqrt(se2 / sd2) : NAN;
-      r->noise = npse ? sqrt(sn2 / (double)npse) : NAN;
+      r->points = m.points;
+      r->points_se = m.points_se;
+      r->rel_l2 = m.rel_l2;
+      r->noise = m.noise;
       r->se_both = fse != NULL;
       (*nres)++;
     }
@@ -298,7 +292,8 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
     free(sd);
     free(fe);
     free(fse);
-    free(pd);
+    free(pm);
+    free(pdem);
     free(ps);
   }
   if (!rc && o->table) {

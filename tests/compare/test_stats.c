@@ -73,28 +73,11 @@ static void test_se_ar1(void **state)
   gsl_rng_free(r);
 }
 
-static void test_mser(void **state)
-{
-  (void)state;
-  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(r, 2);
-  double x[400];
-  /* transient: exponential approach over ~60 samples, then noise */
-  for (int i = 0; i < 400; i++) x[i] = 5.0 * exp(-i / 20.0) + gsl_ran_gaussian(r, 0.1);
-  size_t k = cg_stats_mser(x, 400);
-  assert_true(k >= 40 && k <= 150);
-  for (int i = 0; i < 400; i++) x[i] = gsl_ran_gaussian(r, 0.1);
-  assert_true(cg_stats_mser(x, 400) <= 100);
-  assert_int_equal(cg_stats_mser(x, 7), 0);
-  gsl_rng_free(r);
-}
-
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_blocks),
     cmocka_unit_test(test_se_ar1),
-    cmocka_unit_test(test_mser),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
