@@ -10,12 +10,14 @@
 #include "error.h"
 #include "h5io.h"
 #include "score.h"
+#include "steady.h"
 
 #define MAX_STRESS_NAME 64
 
 static const char usage_text[] =
   "usage: ekmcompare cg [options] DUMP... (-o OUT.h5 | --csv OUT.csv)\n"
   "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [-o SCORE.json]\n"
+  "       ekmcompare steady MONITOR.txt [--column N] [--tol X]\n"
   "       ekmcompare --help | --version\n"
   "\n"
   "cg: coarse-grain LAMMPS/LIGGGHTS dumps (text, gzip, binary) into slab profiles\n"
@@ -55,6 +57,12 @@ static const char usage_text[] =
   "  -o FILE              JSON output\n"
   "  --ekm-time last      compare with the EKM's last output (steady state)\n"
   "  --shift DZ           add DZ [m] to the DEM coordinate\n"
+  "\n"
+  "steady: is a run steady? The drift criterion on a monitor series (column N, default 2,\n"
+  "of the lines not starting with #): the relative change of the mean from the quarter\n"
+  "before the last to the last quarter, to 4 digits, against --tol (default 0.05).\n"
+  "Prints one JSON line {\"steady\": true|false|null, \"drift\": x, \"tol\": x, \"samples\": n}\n"
+  "(null below 8 samples).\n"
   "\n"
   "Exit status: 0 success; 1 bad input file or data; 2 bad command line;\n"
   "3 system error (out of memory, cannot write). Errors are one line: file:line: message.\n";
@@ -288,6 +296,57 @@ static int cmd_score(int argc, char **argv, cg_error *err)
   return rc;
 }
 
+/* A number for JSON that reads back to the same double. */
+static void print_exact(double v)
+{
+  char buf[32];
+  snprintf(buf, sizeof buf, "%.15g", v);
+  if (strtod(buf, NULL) != v) snprintf(buf, sizeof buf, "%.17g", v);
+  fputs(buf, stdout);
+}
+
+static int cmd_steady(int argc, char **argv, cg_error *err)
+{
+  const char *path = NULL;
+  int column = 2;
+  double tol = 0.05;
+  int rc = CG_OK;
+  for (int i = 0; i < argc && !rc; i++) {
+    const char *a = argv[i], *v = NULL;
+#define ARG() do { if (i + 1 >= argc) { rc = usage_error(err, "%s: expected a value", a); break; } v = argv[++i]; } while (0)
+    if (!strcmp(a, "--column")) {
+      ARG();
+      size_t c;
+      rc = get_size(a, v, &c, err);
+      if (!rc && c > 64) rc = usage_error(err, "--column: expected at most 64, got '%s'", v);
+      column = (int)c;
+    }
+    else if (!strcmp(a, "--tol")) { ARG(); rc = get_double(a, v, &tol, err);
+      if (!rc && !(tol >= 0)) rc = usage_error(err, "--tol: expected a tolerance >= 0, got '%s'", v); }
+    else if (a[0] == '-' && a[1]) rc = usage_error(err, "steady: unknown option '%s' (see ekmcompare --help)", a);
+    else if (path) rc = usage_error(err, "steady: expected one monitor file, got a second one '%s'", a);
+    else path = a;
+#undef ARG
+  }
+  if (!rc && !path) rc = CG_ERROR(err, CG_EUSAGE, "steady: expected a monitor file (see ekmcompare --help)");
+  double *v = NULL;
+  size_t n = 0;
+  if (!rc) rc = cg_steady_monitor_read(path, column, &v, &n, err);
+  if (rc) return rc;
+  cg_steady_verdict r = cg_steady_drift(v, n, tol);
+  free(v);
+  fputs("{\"steady\": ", stdout);
+  fputs(!r.known ? "null" : r.steady ? "true" : "false", stdout);
+  fputs(", \"drift\": ", stdout);
+  if (r.known) printf("%.4g", r.drift);
+  else fputs("null", stdout);
+  fputs(", \"tol\": ", stdout);
+  print_exact(tol);
+  printf(", \"samples\": %zu}\n", r.samples);
+  if (fflush(stdout) != 0 || ferror(stdout)) return CG_ERROR(err, CG_ESYS, "steady: cannot write the result");
+  return CG_OK;
+}
+
 int main(int argc, char **argv)
 {
   gsl_set_error_handler_off();
@@ -309,7 +368,8 @@ int main(int argc, char **argv)
   }
   if (!strcmp(argv[1], "cg")) rc = cmd_cg(argc - 2, argv + 2, &err);
   else if (!strcmp(argv[1], "score")) rc = cmd_score(argc - 2, argv + 2, &err);
-  else rc = CG_ERROR(&err, CG_EUSAGE, "ekmcompare: unknown command '%s': expected cg or score (see --help)", argv[1]);
+  else if (!strcmp(argv[1], "steady")) rc = cmd_steady(argc - 2, argv + 2, &err);
+  else rc = CG_ERROR(&err, CG_EUSAGE, "ekmcompare: unknown command '%s': expected cg, score or steady (see --help)", argv[1]);
   if (rc) {
     fprintf(stderr, "%s\n", err.msg);
     if (getenv("EKMCOMPARE_DEBUG")) fprintf(stderr, "  (raised at %s:%d)\n", err.src, err.src_line);

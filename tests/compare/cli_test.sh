@@ -55,6 +55,48 @@ expect 0 "" -- "$ekmc" score --dem series.h5 --ekm series.h5 -o score.json --qui
 grep -q "| phi | " out.txt || fail "score: no markdown table"
 jq -e '.fields.phi.rel_l2 == 0' score.json > /dev/null || fail "score.json: rel_l2 of a file against itself"
 
+# steady: the drift criterion gives, on the same file, what the awk of
+# scripts/dem/run.sh gave (kept here as the oracle: mean of the last quarter
+# of column 2 against the quarter before, %.4g, then "drift <= tol")
+drift_awk() {
+  awk '!/^#/ && NF>=2 {v[n++]=$2} END {
+        if (n < 8) { print "null"; exit }
+        q = int(n/4); a = 0; b = 0
+        for (i = n-2*q; i < n-q; i++) a += v[i]
+        for (i = n-q; i < n; i++) b += v[i]
+        a /= q; b /= q; s = (a < 0 ? -a : a) + (b < 0 ? -b : b)
+        if (s == 0) { print 0; exit }
+        dd = (b - a) / (0.5 * s); printf "%.4g", (dd < 0 ? -dd : dd) }' "$1"
+}
+# n seed base trend noise tol: n samples base + trend i + noise (rand - 1/2)
+for spec in "3 1 1 0 0.1 0.05" "7 2 1 0.01 0.1 0.05" "8 3 1 0 0.01 0.05" "9 4 2 0.001 0.5 0.1" \
+            "10 5 -3 0.01 0.2 0.05" "11 6 1e-5 1e-8 1e-6 0.05" "50 7 0 0 0 0.05" "203 8 0.5 -0.002 0.3 0.2" \
+            "1000 9 100 0.001 5 0.001" "64 10 0 0 1 0.5"; do
+  set -- $spec
+  awk -v n="$1" -v seed="$2" -v base="$3" -v trend="$4" -v noise="$5" 'BEGIN { srand(seed)
+    print "# step value"
+    for (i = 0; i < n; i++) { printf "%d %.17g\n", 100 * i, base + trend * i + noise * (rand() - 0.5)
+      if (i % 7 == 3) print "# a comment line"; if (i % 11 == 5) print "" } }' > mon.txt
+  want_d=$(drift_awk mon.txt) want_s=null
+  if [ "$want_d" != null ]; then
+    if awk "BEGIN { exit !($want_d <= $6) }"; then want_s=true; else want_s=false; fi
+  fi
+  want="{\"steady\": $want_s, \"drift\": $want_d, \"tol\": $6, \"samples\": $1}"
+  got=$("$ekmc" steady mon.txt --tol "$6") || fail "steady ($spec): non-zero exit"
+  [ "$got" = "$want" ] || fail "steady ($spec): got $got, expected $want"
+done
+# the verdict is on the printed drift: 0.0487804... prints as 0.04878 <= 0.04878
+printf '0 9\n1 9\n2 9\n3 9\n4 1.0\n5 1.0\n6 1.05\n7 1.05\n' > mon.txt
+expect 0 "" -- "$ekmc" steady mon.txt --tol 0.04878
+grep -qx '{"steady": true, "drift": 0.04878, "tol": 0.04878, "samples": 8}' out.txt || fail "steady at the tolerance: $(cat out.txt)"
+expect 0 "" -- "$ekmc" steady mon.txt --column 1
+grep -qx '{"steady": false, "drift": 0.3636, "tol": 0.05, "samples": 8}' out.txt || fail "steady --column 1: $(cat out.txt)"
+printf '0 1\n1 x\n' > bad_mon.txt
+expect 1 "bad_mon.txt:2: column 2: expected a finite number, got 'x'" -- "$ekmc" steady bad_mon.txt
+expect 1 "nonexistent.txt: cannot open" -- "$ekmc" steady nonexistent.txt
+expect 2 "steady: expected a monitor file" -- "$ekmc" steady
+expect 2 "\-\-tol: expected a tolerance >= 0" -- "$ekmc" steady mon.txt --tol -1
+
 # bad inputs: exit 1, one line file:line, no output file
 mk() { sed "$2" "$fx/lammps_time.dump" > "$1"; }
 mk bad_num.dump '15s/^\([0-9]* 1\) [^ ]*/\1 1.2.3/'
