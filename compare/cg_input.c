@@ -47,9 +47,9 @@ void cg_input_init(cg_input *src, const cg_run_opts *o)
   }
 }
 
-static int input_grow(cg_input *src, size_t n, cg_error *err)
+static ekm_status input_grow(cg_input *src, size_t n, ekm_error *err)
 {
-  if (n <= src->cap) return CG_OK;
+  if (n <= src->cap) return EKM_OK;
   size_t c = src->cap ? src->cap : 1024;
   while (c < n) c *= 2;
   double *p[6] = {
@@ -66,21 +66,21 @@ static int input_grow(cg_input *src, size_t n, cg_error *err)
   p[5] = realloc(src->S, 6 * c * sizeof(double));
   if (p[5]) src->S = p[5];
   for (int i = 0; i < 6; i++)
-    if (!p[i]) return CG_ERROR(err, CG_ESYS, "out of memory (%zu atoms)", n);
+    if (!p[i]) return EKM_FAIL(err, EKM_ENOMEM, "out of memory (%zu atoms)", n);
   src->cap = c;
-  return CG_OK;
+  return EKM_OK;
 }
 
-static int missing(const cg_snapshot *s, const char *what, cg_error *err)
+static ekm_status missing(const cg_snapshot *s, const char *what, ekm_error *err)
 {
-  return CG_ERROR(err, CG_EINPUT, "%s: ITEM: ATOMS has no column %s", s->where, what);
+  return EKM_FAIL(err, EKM_EINPUT, "%s: ITEM: ATOMS has no column %s", s->where, what);
 }
 
 /* Snapshot columns -> particle arrays. */
 #define PR(c) (src->col[c] >= 0 && pr[src->col[c]])
 #define AT(row, c) ((row)[src->col[c]])
 
-static int input_convert(cg_input *src, cg_error *err)
+static ekm_status input_convert(cg_input *src, ekm_error *err)
 {
   const cg_run_opts *o = src->o;
   const cg_snapshot *sn = &src->snap;
@@ -112,11 +112,11 @@ static int input_convert(cg_input *src, cg_error *err)
   if (!has_mass && !(has_rad || has_diam))
     return missing(sn, "'mass', 'radius' or 'diameter'", err);
   if (!has_mass && !(o->rho_p > 0))
-    return CG_ERROR(err, CG_EUSAGE,
+    return EKM_FAIL(err, EKM_EUSAGE,
                     "%s: ITEM: ATOMS has no column 'mass': give --rho-p (material density, kg/m^3)",
                     sn->where);
   if (!has_rad && !has_diam && !(o->rho_p > 0))
-    return CG_ERROR(err, CG_EUSAGE,
+    return EKM_FAIL(err, EKM_EUSAGE,
                     "%s: ITEM: ATOMS has no column 'radius' or 'diameter' (needed for phi): "
                     "give --rho-p (material density, kg/m^3)", sn->where);
   for (size_t j = 0; j < o->nstress; j++)
@@ -127,7 +127,7 @@ static int input_convert(cg_input *src, cg_error *err)
     }
   if (o->ntypes && !PR(CG_IN_TYPE)) return missing(sn, "'type' (--types)", err);
   size_t n = (size_t)sn->natoms;
-  int rc = input_grow(src, n, err);
+  ekm_status rc = input_grow(src, n, err);
   if (rc) return rc;
   double L[3];
   for (int c = 0; c < 3; c++) L[c] = sn->hi[c] - sn->lo[c];
@@ -158,19 +158,19 @@ static int input_convert(cg_input *src, cg_error *err)
     double m = has_mass ? AT(row, CG_IN_MASS) : 0.0;
     if (r >= 0.0) {
       if (!(r > 0.0))
-        return CG_ERROR(err, CG_EINPUT, "%s: atom %zu: expected a positive radius, got %g",
+        return EKM_FAIL(err, EKM_EINPUT, "%s: atom %zu: expected a positive radius, got %g",
                         sn->where, i + 1, r);
       src->vol[i] = 4.0 / 3.0 * PI * r * r * r;
       if (!has_mass) m = o->rho_p * src->vol[i];
     } else {
       if (!(m > 0.0))
-        return CG_ERROR(err, CG_EINPUT, "%s: atom %zu: expected a positive mass, got %g",
+        return EKM_FAIL(err, EKM_EINPUT, "%s: atom %zu: expected a positive mass, got %g",
                         sn->where, i + 1, m);
       src->vol[i] = m / o->rho_p;
       r = cbrt(src->vol[i] * 3.0 / (4.0 * PI));
     }
     if (!(m > 0.0))
-      return CG_ERROR(err, CG_EINPUT, "%s: atom %zu: expected a positive mass, got %g",
+      return EKM_FAIL(err, EKM_EINPUT, "%s: atom %zu: expected a positive mass, got %g",
                       sn->where, i + 1, m);
     /* an atom of a type not kept (--types: e.g. frozen wall grains)
      * stays in the arrays, so that pair dumps still find it by index, but
@@ -201,20 +201,20 @@ static int input_convert(cg_input *src, cg_error *err)
   src->pt.S = o->nstress ? src->S : NULL;
   src->pt.area = L[0] * L[1] * L[2] / L[ax];
   src->pt.nc = 0;
-  return CG_OK;
+  return EKM_OK;
 }
 
-int cg_input_next(cg_input *src, cg_error *err)
+ekm_status cg_input_next(cg_input *src, ekm_error *err)
 {
   const cg_run_opts *o = src->o;
   for (;;) {
     if (!src->d) {
-      if (src->ifile >= o->ninputs) return CG_EOF;
-      int rc = cg_dump_open(&src->d, o->inputs[src->ifile++], src->cols, src->ncols, err);
+      if (src->ifile >= o->ninputs) return EKM_EOF;
+      ekm_status rc = cg_dump_open(&src->d, o->inputs[src->ifile++], src->cols, src->ncols, err);
       if (rc) return rc;
     }
-    int rc = cg_dump_next(src->d, &src->snap, err);
-    if (rc == CG_EOF) {
+    ekm_status rc = cg_dump_next(src->d, &src->snap, err);
+    if (rc == EKM_EOF) {
       if (cg_dump_truncated(src->d) && o->log)
         fprintf(o->log, "warning: %s\n", cg_dump_warning(src->d));
       cg_dump_close(src->d);
@@ -231,7 +231,7 @@ int cg_input_next(cg_input *src, cg_error *err)
     if (sn->has_time) src->t = sn->time;
     else if (o->dt > 0) src->t = (double)sn->step * o->dt;
     else
-      return CG_ERROR(err, CG_EUSAGE,
+      return EKM_FAIL(err, EKM_EUSAGE,
                       "%s: the dump has no ITEM: TIME: give --dt (the engine's time step, s)",
                       sn->where);
     src->have_last = 1;
@@ -239,7 +239,7 @@ int cg_input_next(cg_input *src, cg_error *err)
     if (o->have_steps && (sn->step < o->step_a || sn->step > o->step_b)) continue;
     if (o->have_from && src->t < o->from) continue;
     if (o->have_to && src->t > o->to) continue;
-    int crc = input_convert(src, err);
+    ekm_status crc = input_convert(src, err);
     if (crc || !o->npairs || src->skip_pairs) return crc;
     const int pos_col[3] = {src->col[CG_IN_POS], src->col[CG_IN_POS + 1], src->col[CG_IN_POS + 2]};
     return cg_contacts_match(&src->pairs, o, sn, src->col[CG_IN_ID], pos_col, &src->pt, err);

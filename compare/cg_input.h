@@ -22,7 +22,7 @@
 #include "cgrun.h"
 #include "contacts.h"
 #include "dump.h"
-#include "error.h"
+#include "status.h"
 
 /* Dump columns the reader is asked for. */
 enum {
@@ -58,9 +58,9 @@ typedef struct {
 /* Start reading the inputs of o (nothing is opened yet). */
 void cg_input_init(cg_input *src, const cg_run_opts *o);
 
-/* Next selected snapshot, converted (src->pt, src->t); CG_EOF after the
+/* Next selected snapshot, converted (src->pt, src->t); EKM_EOF after the
  * last file. */
-int cg_input_next(cg_input *src, cg_error *err);
+ekm_status cg_input_next(cg_input *src, ekm_error *err);
 
 /* Close the files and free the buffers (src itself is the caller's). */
 void cg_input_close(cg_input *src);

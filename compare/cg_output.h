@@ -11,7 +11,7 @@
 
 #include "cg.h"
 #include "cgrun.h"
-#include "error.h"
+#include "status.h"
 #include "kernel.h"
 #include "window.h"
 
@@ -29,8 +29,10 @@ typedef struct {
   const char *wall;       /* the boundary treatment, in words */
 } cg_run_info;
 
-int cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
-                 const cg_kernel *k, const cg_run_info *info, cg_error *err);
-int cg_output_csv(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r, cg_error *err);
+/* Field units from the field schema (common/schema.h). */
+ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
+                        const cg_kernel *k, const cg_run_info *info, ekm_error *err);
+ekm_status cg_output_csv(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
+                         ekm_error *err);
 
 #endif

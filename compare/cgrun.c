@@ -9,6 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "atomic.h"
 #include "cg_input.h"
 #include "cg_output.h"
 #include "kernel.h"
@@ -25,13 +26,13 @@ cg_run_opts cg_run_opts_default(void)
   return o;
 }
 
-static int make_grid(const cg_run_opts *o, const cg_input *src, double width, cg_grid *g,
-                     cg_error *err)
+static ekm_status make_grid(const cg_run_opts *o, const cg_input *src, double width, cg_grid *g,
+                     ekm_error *err)
 {
   g->lo = o->have_range ? o->range_lo : src->lo;
   g->hi = o->have_range ? o->range_hi : src->hi;
   if (!(g->hi > g->lo))
-    return CG_ERROR(err, CG_EUSAGE, "--range: expected lo < hi, got %g:%g", g->lo, g->hi);
+    return EKM_FAIL(err, EKM_EUSAGE, "--range: expected lo < hi, got %g:%g", g->lo, g->hi);
   g->axis = o->axis;
   g->periodic = src->periodic && !o->have_range;
   g->reflect = !src->periodic && !o->have_range;
@@ -40,21 +41,40 @@ static int make_grid(const cg_run_opts *o, const cg_input *src, double width, cg
   else {
     double dz = o->dz > 0 ? o->dz : 0.5 * width;
     if (!(dz > 0))
-      return CG_ERROR(err, CG_EUSAGE, "%s: no particles to size the grid: give --bins or --dz",
+      return EKM_FAIL(err, EKM_EUSAGE, "%s: no particles to size the grid: give --bins or --dz",
                       src->snap.where);
     double nb = ceil(L / dz - 1e-9);
     if (nb < 1) nb = 1;
-    if (nb > 1e7) return CG_ERROR(err, CG_EUSAGE, "--dz: expected at most 1e7 bins, got %.3g", nb);
+    if (nb > 1e7) return EKM_FAIL(err, EKM_EUSAGE, "--dz: expected at most 1e7 bins, got %.3g", nb);
     g->n = (size_t)nb;
   }
   g->dz = L / (double)g->n;
-  return CG_OK;
+  return EKM_OK;
 }
 
-int cg_run(const cg_run_opts *o, cg_error *err)
+/* No output may replace an input (dumps and pair dumps), nor the HDF5
+ * output the CSV: refused before any work. */
+static ekm_status refuse_inputs(const cg_run_opts *o, ekm_error *err)
 {
-  if (o->ninputs == 0) return CG_ERROR(err, CG_EUSAGE, "cg: expected at least one dump file");
-  if (!o->out && !o->csv) return CG_ERROR(err, CG_EUSAGE, "cg: expected -o OUT.h5 and/or --csv OUT.csv");
+  size_t n = o->ninputs + o->npairs;
+  const char **in = malloc((n + 1) * sizeof *in);
+  if (!in) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+  for (size_t i = 0; i < o->ninputs; i++) in[i] = o->inputs[i];
+  for (size_t i = 0; i < o->npairs; i++) in[o->ninputs + i] = o->pairs[i];
+  ekm_status rc = EKM_OK;
+  if (o->out) rc = ekm_atomic_refuse_input(o->out, in, n, err);
+  if (!rc && o->csv) {
+    if (o->out) in[n++] = o->out;
+    rc = ekm_atomic_refuse_input(o->csv, in, n, err);
+  }
+  free(in);
+  return rc;
+}
+
+ekm_status cg_run(const cg_run_opts *o, ekm_error *err)
+{
+  if (o->ninputs == 0) return EKM_FAIL(err, EKM_EUSAGE, "cg: expected at least one dump file");
+  if (!o->out && !o->csv) return EKM_FAIL(err, EKM_EUSAGE, "cg: expected -o OUT.h5 and/or --csv OUT.csv");
   cg_run_info info;
   memset(&info, 0, sizeof info);
   size_t used = 0;
@@ -65,9 +85,9 @@ int cg_run(const cg_run_opts *o, cg_error *err)
   for (size_t i = 0; i < o->npairs && used + 2 < sizeof info.pairs; i++)
     used += (size_t)snprintf(info.pairs + used, sizeof info.pairs - used, "%s%s", i ? "\n" : "", o->pairs[i]);
   if (o->nstress && o->npairs)
-    return CG_ERROR(err, CG_EUSAGE, "cg: expected --stress or --pairs, not both (the contact stress would count twice)");
+    return EKM_FAIL(err, EKM_EUSAGE, "cg: expected --stress or --pairs, not both (the contact stress would count twice)");
   if (o->npairs && o->npaircols != 9 && o->npaircols != 5)
-    return CG_ERROR(err, CG_EUSAGE, "--pairs: expected --pair-columns with 9 (x1,y1,z1,x2,y2,z2,fx,fy,fz) "
+    return EKM_FAIL(err, EKM_EUSAGE, "--pairs: expected --pair-columns with 9 (x1,y1,z1,x2,y2,z2,fx,fy,fz) "
                     "or 5 (id1,id2,fx,fy,fz) names");
   if (o->nstress)
     snprintf(info.stress, sizeof info.stress, "kinetic + per-atom %s %s %s %s %s %s",
@@ -77,7 +97,8 @@ int cg_run(const cg_run_opts *o, cg_error *err)
              o->npaircols == 9 ? "positions" : "atom ids");
   else
     snprintf(info.stress, sizeof info.stress, "kinetic only");
-  int rc = CG_OK;
+  ekm_status rc = refuse_inputs(o, err);
+  if (rc) return rc;
   double t_start = -INFINITY;
   if (o->steady && (rc = cg_steady_start(o, &t_start, err))) return rc;
   info.steady = o->steady;
@@ -97,12 +118,12 @@ int cg_run(const cg_run_opts *o, cg_error *err)
   long cur_w = -1;
   double t0 = 0, tw0 = 0, tw1 = 0, tsel0 = 0, tsel1 = 0;
   size_t count = 0, nout = 0;
-  while ((rc = cg_input_next(&src, err)) == CG_OK) {
+  while ((rc = cg_input_next(&src, err)) == EKM_OK) {
     if (src.t < t_start) continue;
     if (!prof) {
       double width = o->width > 0 ? o->width : (src.dcount > 0 ? src.dsum / src.dcount : 0.0);
       if (!(width > 0) && strcmp(o->kernel, "bins")) {
-        rc = CG_ERROR(err, CG_EUSAGE, "%s: the first snapshot has no atoms: give --width", src.snap.where);
+        rc = EKM_FAIL(err, EKM_EUSAGE, "%s: the first snapshot has no atoms: give --width", src.snap.where);
         break;
       }
       info.width = width;
@@ -113,7 +134,7 @@ int cg_run(const cg_run_opts *o, cg_error *err)
       prim = malloc(CG_NPRIM * g.n * sizeof(double));
       r.n = g.n;
       if (!prim) {
-        rc = CG_ERROR(err, CG_ESYS, "out of memory");
+        rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
         break;
       }
       info.area = src.pt.area;
@@ -136,10 +157,10 @@ int cg_run(const cg_run_opts *o, cg_error *err)
     cg_window_add(&fz, prim);
     count++;
   }
-  if (rc == CG_EOF) {
-    rc = CG_OK;
+  if (rc == EKM_EOF) {
+    rc = EKM_OK;
     if (count == 0)
-      rc = CG_ERROR(err, CG_EINPUT, "%s: no snapshots selected (%zu read)", o->inputs[0], src.nread);
+      rc = EKM_FAIL(err, EKM_EINPUT, "%s: no snapshots selected (%zu read)", o->inputs[0], src.nread);
   }
   info.d = src.dcount > 0 ? src.dsum / src.dcount : info.width;
   if (!rc) rc = cg_window_finish(&fz, &r, 0.5 * (tw0 + tw1), info.d, o->rho_p, err);

@@ -21,7 +21,7 @@
 #include <stdio.h>
 
 #include "cg.h"
-#include "error.h"
+#include "status.h"
 
 #define CG_MAXTYPES 16  /* most atom types --types may list */
 
@@ -61,6 +61,6 @@ typedef struct {
 
 cg_run_opts cg_run_opts_default(void);
 
-int cg_run(const cg_run_opts *o, cg_error *err);
+ekm_status cg_run(const cg_run_opts *o, ekm_error *err);
 
 #endif

@@ -54,21 +54,21 @@ static void min_image(const cg_snapshot *sn, double b[3])
   if (sn->periodic[0]) b[0] -= L[0] * nearbyint(b[0] / L[0]);
 }
 
-int cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *sn, int id_col,
-                      const int pos_col[3], cg_particles *pt, cg_error *err)
+ekm_status cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *sn, int id_col,
+                      const int pos_col[3], cg_particles *pt, ekm_error *err)
 {
-  int rc;
+  ekm_status rc;
   for (;;) {
     if (!c->have_pair) {
       if (!c->pd) {
         if (c->ipair >= o->npairs)
-          return CG_ERROR(err, CG_EINPUT, "%s: no pair-dump snapshot for step %lld (the pair dumps end before)",
+          return EKM_FAIL(err, EKM_EINPUT, "%s: no pair-dump snapshot for step %lld (the pair dumps end before)",
                           sn->where, (long long)sn->step);
         if ((rc = cg_dump_open(&c->pd, o->pairs[c->ipair++], o->paircols, o->npaircols, err)))
           return rc;
       }
       rc = cg_dump_next(c->pd, &c->psnap, err);
-      if (rc == CG_EOF) {
+      if (rc == EKM_EOF) {
         if (cg_dump_truncated(c->pd) && o->log)
           fprintf(o->log, "warning: %s\n", cg_dump_warning(c->pd));
         cg_dump_close(c->pd);
@@ -80,7 +80,7 @@ int cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *s
     }
     if (c->psnap.step < sn->step) { c->have_pair = 0; continue; }
     if (c->psnap.step > sn->step)
-      return CG_ERROR(err, CG_EINPUT, "%s: no pair-dump snapshot for step %lld (the next one is step %lld)",
+      return EKM_FAIL(err, EKM_EINPUT, "%s: no pair-dump snapshot for step %lld (the next one is step %lld)",
                       sn->where, (long long)sn->step, (long long)c->psnap.step);
     break;
   }
@@ -88,7 +88,7 @@ int cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *s
   const cg_snapshot *ps = &c->psnap;
   for (size_t j = 0; j < o->npaircols; j++)
     if (!ps->present[j])
-      return CG_ERROR(err, CG_EINPUT, "%s: ITEM: ENTRIES has no column '%s' (--pair-columns)", ps->where,
+      return EKM_FAIL(err, EKM_EINPUT, "%s: ITEM: ENTRIES has no column '%s' (--pair-columns)", ps->where,
                       o->paircols[j]);
   size_t nc = (size_t)ps->natoms, w = ps->nsel;
   if (nc > c->ccap) {
@@ -98,7 +98,7 @@ int cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *s
     if (b) c->cb = b;
     double *f = realloc(c->cf, 3 * nc * sizeof *f);
     if (f) c->cf = f;
-    if (!a || !b || !f) return CG_ERROR(err, CG_ESYS, "out of memory (%zu contacts)", nc);
+    if (!a || !b || !f) return EKM_FAIL(err, EKM_ENOMEM, "out of memory (%zu contacts)", nc);
     c->ccap = nc;
   }
   int ax = o->axis;
@@ -116,7 +116,7 @@ int cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *s
     size_t n = pt->n;
     if (n > c->idcap) {
       double *p = realloc(c->ids, 2 * n * sizeof *p);
-      if (!p) return CG_ERROR(err, CG_ESYS, "out of memory");
+      if (!p) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
       c->ids = p;
       c->idcap = n;
     }
@@ -131,7 +131,7 @@ int cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *s
       const double *row = ps->data + k * w;
       long i = find_id(c, n, row[0]), j = find_id(c, n, row[1]);
       if (i < 0 || j < 0)
-        return CG_ERROR(err, CG_EINPUT, "%s: entry %zu: no atom with id %.0f in %s", ps->where, k + 1,
+        return EKM_FAIL(err, EKM_EINPUT, "%s: entry %zu: no atom with id %.0f in %s", ps->where, k + 1,
                         i < 0 ? row[0] : row[1], sn->where);
       for (int d = 0; d < 3; d++) {
         c->cb[3 * k + d] = (ad + (size_t)i * aw)[pos_col[d]] - (ad + (size_t)j * aw)[pos_col[d]];
@@ -145,5 +145,5 @@ int cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *s
   pt->cs = c->cs;
   pt->cb = c->cb;
   pt->cf = c->cf;
-  return CG_OK;
+  return EKM_OK;
 }

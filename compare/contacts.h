@@ -19,7 +19,7 @@
 #include "cg.h"
 #include "cgrun.h"
 #include "dump.h"
-#include "error.h"
+#include "status.h"
 
 typedef struct {
   size_t ipair;           /* next pair file to open */
@@ -36,8 +36,8 @@ typedef struct {
  * (pt->nc, cs, cb, cf point into c). o: pair files and columns, the axis.
  * Id mode (5 columns): id_col and pos_col[3] are the columns of the atom
  * ids and of x, y, z in sn->data; pt->s and pt->n are the atoms'. */
-int cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *sn, int id_col,
-                      const int pos_col[3], cg_particles *pt, cg_error *err);
+ekm_status cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *sn, int id_col,
+                      const int pos_col[3], cg_particles *pt, ekm_error *err);
 
 /* Close the pair dump and free the buffers (c itself is the caller's). */
 void cg_contacts_close(cg_contacts *c);

@@ -22,7 +22,7 @@
 
 #include <stdio.h>
 
-#include "error.h"
+#include "status.h"
 
 typedef struct {
   const char *dem;     /* cg HDF5 file */
@@ -54,6 +54,6 @@ typedef struct {
 } cg_score_field;
 
 /* Score; results (up to 16 fields) in res/nres when res != NULL. */
-int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error *err);
+ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err);
 
 #endif

@@ -7,12 +7,12 @@
 
 #define SE_MIN_BLOCKS 8  /* fewest blocks for a level to count in the SE */
 
-int cg_blocks_alloc(cg_blocks **out, size_t m, size_t bmax, cg_error *err)
+ekm_status cg_blocks_alloc(cg_blocks **out, size_t m, size_t bmax, ekm_error *err)
 {
   *out = NULL;
-  if (bmax < 2 || bmax % 2) return CG_ERROR(err, CG_EUSAGE, "blocks: expected an even bmax >= 2");
+  if (bmax < 2 || bmax % 2) return EKM_FAIL(err, EKM_EINTERNAL, "blocks: expected an even bmax >= 2");
   cg_blocks *b = calloc(1, sizeof *b);
-  if (!b) return CG_ERROR(err, CG_ESYS, "out of memory");
+  if (!b) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   b->m = m;
   b->bmax = bmax;
   b->blocks = calloc(bmax * m, sizeof *b->blocks);
@@ -20,11 +20,11 @@ int cg_blocks_alloc(cg_blocks **out, size_t m, size_t bmax, cg_error *err)
   b->total = calloc(m, sizeof *b->total);
   if (!b->blocks || !b->cur || !b->total) {
     cg_blocks_free(b);
-    return CG_ERROR(err, CG_ESYS, "out of memory");
+    return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   }
   cg_blocks_reset(b);
   *out = b;
-  return CG_OK;
+  return EKM_OK;
 }
 
 void cg_blocks_free(cg_blocks *b)

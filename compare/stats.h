@@ -21,7 +21,7 @@
 
 #include <stddef.h>
 
-#include "error.h"
+#include "status.h"
 
 typedef struct {
   size_t m;        /* values per snapshot */
@@ -35,7 +35,7 @@ typedef struct {
   double *total;   /* m: sum of all snapshots */
 } cg_blocks;
 
-int cg_blocks_alloc(cg_blocks **b, size_t m, size_t bmax, cg_error *err);
+ekm_status cg_blocks_alloc(cg_blocks **b, size_t m, size_t bmax, ekm_error *err);
 void cg_blocks_free(cg_blocks *b);
 void cg_blocks_reset(cg_blocks *b);
 void cg_blocks_add(cg_blocks *b, const double *x);

@@ -3,6 +3,7 @@
 #include "steady.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,28 +71,29 @@ size_t cg_steady_mser(const double *x, size_t n)
   return best_d * MSER_BATCH;
 }
 
-static int push(double **a, size_t *n, size_t *cap, double v, cg_error *err)
+static ekm_status push(double **a, size_t *n, size_t *cap, double v, ekm_error *err)
 {
   if (*n == *cap) {
     size_t c = *cap ? 2 * *cap : 256;
     double *p = realloc(*a, c * sizeof *p);
-    if (!p) return CG_ERROR(err, CG_ESYS, "out of memory");
+    if (!p) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
     *a = p;
     *cap = c;
   }
   (*a)[(*n)++] = v;
-  return CG_OK;
+  return EKM_OK;
 }
 
-int cg_steady_start(const cg_run_opts *o, double *t_start, cg_error *err)
+ekm_status cg_steady_start(const cg_run_opts *o, double *t_start, ekm_error *err)
 {
   cg_input src;
   cg_input_init(&src, o);
   src.skip_pairs = 1;
   double *ke = NULL, *com = NULL, *ts = NULL;
   size_t nke = 0, ncom = 0, nts = 0, cke = 0, ccom = 0, cts = 0;
-  int rc, periodic = 0;
-  while ((rc = cg_input_next(&src, err)) == CG_OK) {
+  ekm_status rc;
+  int periodic = 0;
+  while ((rc = cg_input_next(&src, err)) == EKM_OK) {
     const cg_particles *pt = &src.pt;
     double msum = 0, e = 0, c = 0;
     for (size_t i = 0; i < pt->n; i++) {
@@ -107,10 +109,10 @@ int cg_steady_start(const cg_run_opts *o, double *t_start, cg_error *err)
       break;
   }
   cg_input_close(&src);
-  if (rc == CG_EOF) {
-    rc = CG_OK;
+  if (rc == EKM_EOF) {
+    rc = EKM_OK;
     if (nts == 0) {
-      rc = CG_ERROR(err, CG_EINPUT, "%s: no snapshots selected", o->inputs[0]);
+      rc = EKM_FAIL(err, EKM_EINPUT, "%s: no snapshots selected", o->inputs[0]);
     } else {
       size_t k = cg_steady_mser(ke, nke);
       if (!periodic) {
@@ -154,23 +156,23 @@ static size_t split_fields(char *line, char **field, size_t max)
   }
 }
 
-int cg_steady_monitor_read(const char *path, int column, double **v, size_t *n, cg_error *err)
+ekm_status cg_steady_monitor_read(const char *path, int column, double **v, size_t *n, ekm_error *err)
 {
   *v = NULL;
   *n = 0;
-  if (column < 1) return CG_ERROR(err, CG_EUSAGE, "--column: expected a column number >= 1, got %d", column);
+  if (column < 1) return EKM_FAIL(err, EKM_EUSAGE, "--column: expected a column number >= 1, got %d", column);
   FILE *fp = fopen(path, "r");
-  if (!fp) return CG_ERROR(err, CG_EINPUT, "%s: cannot open: %s", path, strerror(errno));
+  if (!fp) return EKM_FAIL(err, EKM_EIO, "%s: cannot open: %s", path, strerror(errno));
   char *line = NULL;
   size_t lcap = 0, cap = 0, need = column > 2 ? (size_t)column : 2;
   long lineno = 0;
-  int rc = CG_OK;
+  ekm_status rc = EKM_OK;
   char *field[64];
   while (!rc) {
     errno = 0;
     ssize_t len = getline(&line, &lcap, fp);
     if (len < 0) {
-      if (ferror(fp)) rc = CG_ERROR(err, CG_EINPUT, "%s: cannot read: %s", path, strerror(errno));
+      if (ferror(fp)) rc = EKM_FAIL(err, EKM_EIO, "%s: cannot read: %s", path, strerror(errno));
       break;
     }
     lineno++;
@@ -179,22 +181,22 @@ int cg_steady_monitor_read(const char *path, int column, double **v, size_t *n, 
     size_t nf = split_fields(line, field, sizeof field / sizeof *field);
     if (nf < need) continue;
     if ((size_t)column > sizeof field / sizeof *field) {
-      rc = CG_ERROR(err, CG_EUSAGE, "--column: expected at most %zu, got %d", sizeof field / sizeof *field, column);
+      rc = EKM_FAIL(err, EKM_EUSAGE, "--column: expected at most %zu, got %d", sizeof field / sizeof *field, column);
       break;
     }
     const char *tok = field[column - 1];
     char *end;
     double x = strtod(tok, &end);
     if (end == tok || *end || !isfinite(x)) {
-      rc = CG_ERROR(err, CG_EINPUT, "%s:%ld: column %d: expected a finite number, got '%s'", path, lineno,
-                    column, tok);
+      rc = EKM_FAIL_AT(err, EKM_EINPUT, path, lineno > INT_MAX ? 0 : (int)lineno,
+                       "column %d: expected a finite number, got '%s'", column, tok);
       break;
     }
     if (*n == cap) {
       size_t c = cap ? 2 * cap : 256;
       double *p = realloc(*v, c * sizeof *p);
       if (!p) {
-        rc = CG_ERROR(err, CG_ESYS, "out of memory");
+        rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
         break;
       }
       *v = p;

@@ -27,7 +27,7 @@
 #include <stddef.h>
 
 #include "cgrun.h"
-#include "error.h"
+#include "status.h"
 
 #define CG_STEADY_MIN_SAMPLES 8  /* fewest samples the drift criterion judges */
 
@@ -49,11 +49,11 @@ size_t cg_steady_mser(const double *x, size_t n);
  * of the lines of path that do not start with '#' and have at least
  * max(2, column) blank-separated fields; every such value must be a
  * finite number. *v is malloc'ed (free() it), *n its length. */
-int cg_steady_monitor_read(const char *path, int column, double **v, size_t *n, cg_error *err);
+ekm_status cg_steady_monitor_read(const char *path, int column, double **v, size_t *n, ekm_error *err);
 
 /* `cg --steady`: read the selection of o once and return the time at
  * which the steady window starts (MSER-5, see above; notes and a warning
  * on o->log). */
-int cg_steady_start(const cg_run_opts *o, double *t_start, cg_error *err);
+ekm_status cg_steady_start(const cg_run_opts *o, double *t_start, ekm_error *err);
 
 #endif

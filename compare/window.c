@@ -4,9 +4,9 @@
 #include <math.h>
 #include <stdlib.h>
 
-int cg_window_alloc(cg_window *fz, const cg_grid *g, cg_error *err)
+ekm_status cg_window_alloc(cg_window *fz, const cg_grid *g, ekm_error *err)
 {
-  int rc = cg_blocks_alloc(&fz->b, CG_NPRIM * g->n, CG_WINDOW_BLOCKS, err);
+  ekm_status rc = cg_blocks_alloc(&fz->b, CG_NPRIM * g->n, CG_WINDOW_BLOCKS, err);
   if (rc) return rc;
   fz->g = g;
   fz->mean = malloc(CG_NPRIM * g->n * sizeof(double));
@@ -15,8 +15,8 @@ int cg_window_alloc(cg_window *fz, const cg_grid *g, cg_error *err)
   fz->series = malloc(CG_WINDOW_BLOCKS * sizeof(double));
   fz->work = malloc(CG_WINDOW_BLOCKS * sizeof(double));
   if (!fz->mean || !fz->fld || !fz->bf || !fz->series || !fz->work)
-    return CG_ERROR(err, CG_ESYS, "out of memory");
-  return CG_OK;
+    return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+  return EKM_OK;
 }
 
 void cg_window_free(cg_window *fz)
@@ -37,29 +37,29 @@ void cg_window_results_free(cg_window_results *r)
   for (int f = 0; f < CG_NFIELD; f++) { free(r->f[f]); free(r->se[f]); }
 }
 
-static int results_grow(cg_window_results *r, cg_error *err)
+static ekm_status results_grow(cg_window_results *r, ekm_error *err)
 {
-  if (r->nt < r->cap) return CG_OK;
+  if (r->nt < r->cap) return EKM_OK;
   size_t c = r->cap ? 2 * r->cap : 8;
   double *p = realloc(r->t, c * sizeof *p);
-  if (!p) return CG_ERROR(err, CG_ESYS, "out of memory");
+  if (!p) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   r->t = p;
-  if (!(p = realloc(r->nsnap, c * sizeof *p))) return CG_ERROR(err, CG_ESYS, "out of memory");
+  if (!(p = realloc(r->nsnap, c * sizeof *p))) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   r->nsnap = p;
   for (int f = 0; f < CG_NFIELD; f++) {
-    if (!(p = realloc(r->f[f], c * r->n * sizeof *p))) return CG_ERROR(err, CG_ESYS, "out of memory");
+    if (!(p = realloc(r->f[f], c * r->n * sizeof *p))) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
     r->f[f] = p;
-    if (!(p = realloc(r->se[f], c * r->n * sizeof *p))) return CG_ERROR(err, CG_ESYS, "out of memory");
+    if (!(p = realloc(r->se[f], c * r->n * sizeof *p))) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
     r->se[f] = p;
   }
   r->cap = c;
-  return CG_OK;
+  return EKM_OK;
 }
 
-int cg_window_finish(cg_window *fz, cg_window_results *r, double t_mid, double d, double rho_p,
-                     cg_error *err)
+ekm_status cg_window_finish(cg_window *fz, cg_window_results *r, double t_mid, double d, double rho_p,
+                     ekm_error *err)
 {
-  int rc = results_grow(r, err);
+  ekm_status rc = results_grow(r, err);
   if (rc) return rc;
   size_t n = fz->g->n, nf = CG_NFIELD * n, nb = fz->b->nblocks;
   cg_blocks_mean(fz->b, fz->mean);
@@ -79,5 +79,5 @@ int cg_window_finish(cg_window *fz, cg_window_results *r, double t_mid, double d
   r->nsnap[r->nt] = (double)fz->b->nsnap;
   r->nt++;
   cg_blocks_reset(fz->b);
-  return CG_OK;
+  return EKM_OK;
 }

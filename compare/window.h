@@ -11,7 +11,7 @@
 #include <stddef.h>
 
 #include "cg.h"
-#include "error.h"
+#include "status.h"
 #include "stats.h"
 
 #define CG_WINDOW_BLOCKS 64  /* block store size (cg_blocks bmax) */
@@ -38,7 +38,7 @@ typedef struct {
 } cg_window;
 
 /* Block store and scratch for the grid g (kept by pointer). */
-int cg_window_alloc(cg_window *fz, const cg_grid *g, cg_error *err);
+ekm_status cg_window_alloc(cg_window *fz, const cg_grid *g, ekm_error *err);
 void cg_window_free(cg_window *fz);
 
 /* Add one snapshot's primary sums (CG_NPRIM x n). */
@@ -47,8 +47,8 @@ void cg_window_add(cg_window *fz, const double *prim);
 /* Close the window: mean fields and their standard errors, appended to r
  * (d: mean particle diameter [m], rho_p: material density [kg/m^3] or 0,
  * as cg_profile_derive); the window is emptied for the next one. */
-int cg_window_finish(cg_window *fz, cg_window_results *r, double t_mid, double d, double rho_p,
-                     cg_error *err);
+ekm_status cg_window_finish(cg_window *fz, cg_window_results *r, double t_mid, double d, double rho_p,
+                     ekm_error *err);
 
 void cg_window_results_free(cg_window_results *r);
 

@@ -15,8 +15,8 @@ static void test_blocks(void **state)
 {
   (void)state;
   cg_blocks *b;
-  cg_error err;
-  assert_int_equal(cg_blocks_alloc(&b, 1, 8, &err), CG_OK);
+  ekm_error err;
+  assert_int_equal(cg_blocks_alloc(&b, 1, 8, &err), EKM_OK);
   for (int i = 1; i <= 37; i++) {
     double x = i;
     cg_blocks_add(b, &x);
@@ -47,8 +47,8 @@ static void test_se_ar1(void **state)
   const size_t N = 1 << 16;
   const double a = 0.8;
   cg_blocks *b;
-  cg_error err;
-  assert_int_equal(cg_blocks_alloc(&b, 1, 64, &err), CG_OK);
+  ekm_error err;
+  assert_int_equal(cg_blocks_alloc(&b, 1, 64, &err), EKM_OK);
   double x = 0;
   double ses[20];
   for (int rep = 0; rep < 20; rep++) {

@@ -62,22 +62,22 @@ static void test_monitor_read(void **state)
   write_text(path, "# step ke\n100 1.5\n\n7\n200\t2.5 x\r\n  300   3e0\n#400 9\n");
   double *v;
   size_t n;
-  cg_error err;
-  assert_int_equal(cg_steady_monitor_read(path, 2, &v, &n, &err), CG_OK);
+  ekm_error err;
+  assert_int_equal(cg_steady_monitor_read(path, 2, &v, &n, &err), EKM_OK);
   assert_int_equal(n, 3);
   assert_true(v[0] == 1.5 && v[1] == 2.5 && v[2] == 3.0);
   free(v);
-  assert_int_equal(cg_steady_monitor_read(path, 1, &v, &n, &err), CG_OK);
+  assert_int_equal(cg_steady_monitor_read(path, 1, &v, &n, &err), EKM_OK);
   assert_int_equal(n, 3); /* "7" alone is still left out (fewer than 2 fields) */
   assert_true(v[0] == 100 && v[1] == 200 && v[2] == 300);
   free(v);
-  assert_int_equal(cg_steady_monitor_read(path, 3, &v, &n, &err), CG_EINPUT);
-  assert_non_null(strstr(err.msg, "monitor.txt:5: column 3: expected a finite number, got 'x'"));
+  assert_int_equal(cg_steady_monitor_read(path, 3, &v, &n, &err), EKM_EINPUT);
+  assert_non_null(strstr(err.message, "monitor.txt:5: column 3: expected a finite number, got 'x'"));
   write_text(path, "1 2\n2 nan\n");
-  assert_int_equal(cg_steady_monitor_read(path, 2, &v, &n, &err), CG_EINPUT);
-  assert_non_null(strstr(err.msg, "monitor.txt:2: column 2: expected a finite number, got 'nan'"));
-  assert_int_equal(cg_steady_monitor_read("/nonexistent/monitor.txt", 2, &v, &n, &err), CG_EINPUT);
-  assert_non_null(strstr(err.msg, "/nonexistent/monitor.txt: cannot open"));
+  assert_int_equal(cg_steady_monitor_read(path, 2, &v, &n, &err), EKM_EINPUT);
+  assert_non_null(strstr(err.message, "monitor.txt:2: column 2: expected a finite number, got 'nan'"));
+  assert_int_equal(cg_steady_monitor_read("/nonexistent/monitor.txt", 2, &v, &n, &err), EKM_EIO);
+  assert_non_null(strstr(err.message, "/nonexistent/monitor.txt: cannot open"));
 }
 
 static void test_mser(void **state)
