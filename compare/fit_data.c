@@ -8,8 +8,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "error.h"
-#include "h5io.h"
+#include "h5.h"
 
 static const char *const field_names[CG_FIT_NFIELD] = {"P", "sxz", "T", "mu"};
 
@@ -98,20 +97,25 @@ ekm_status cg_fit_point_from_profiles(const char *file, const cg_fit_profiles *p
 
 /* The profile of one field: [nt][n] with nt == 1 or [n]; NULL if absent
  * and not required. */
-static ekm_status read_profile(cg_h5r *r, const char *file, const char *name, int required, size_t n_expect,
+static ekm_status read_profile(ekm_h5_file *r, const char *file, const char *name, int required, size_t n_expect,
                                double **out, size_t *n_out, ekm_error *err)
 {
   *out = NULL;
-  if (!cg_h5r_has(r, name)) {
+  if (!ekm_h5_exists(r, name)) {
     if (required)
       return EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s (an ekmcompare cg output)", file, name);
     return EKM_OK;
   }
-  cg_error ce;
-  cg_error_clear(&ce);
-  size_t nt, n;
-  if (cg_h5r_read(r, name, out, &nt, &n, &ce) != CG_OK)
-    return EKM_FAIL(err, ce.status == CG_ESYS ? EKM_ENOMEM : EKM_EINPUT, "%s", ce.msg);
+  int rank;
+  size_t dims[EKM_H5_MAX_RANK];
+  ekm_status rc = ekm_h5_read_double(r, name, &rank, dims, out, err);
+  if (rc != EKM_OK) return rc;
+  if (rank > 2) {
+    free(*out);
+    *out = NULL;
+    return EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected 1 or 2 dimensions", file, name);
+  }
+  const size_t nt = rank == 2 ? dims[0] : 1, n = rank == 2 ? dims[1] : dims[0];
   if (nt > 1) {
     free(*out);
     *out = NULL;
@@ -135,14 +139,14 @@ ekm_status cg_fit_point_read(const char *file, unsigned fields, cg_fit_point *pt
     return EKM_FAIL(err, EKM_EIO, "%s: cannot open: %s", file, strerror(errno));
   if (!S_ISREG(sb.st_mode))
     return EKM_FAIL(err, EKM_EIO, "%s: cannot open: not a regular file", file);
-  cg_h5r *r;
-  cg_error ce;
-  cg_error_clear(&ce);
-  if (cg_h5r_open(&r, file, &ce) != CG_OK)
-    return EKM_FAIL(err, ce.status == CG_ESYS ? EKM_ENOMEM : EKM_EINPUT, "%s", ce.msg);
+  ekm_h5_file *r;
+  ekm_status ost = ekm_h5_open(&r, file, err);
+  if (ost != EKM_OK) return ost;
   char axis[16] = "z";
-  if (cg_h5r_attr_str(r, "axis", axis, sizeof axis) != 0 || (strcmp(axis, "x") && strcmp(axis, "y") &&
-                                                             strcmp(axis, "z")))
+  ekm_error aerr = {0};
+  if (!ekm_h5_attr_exists(r, NULL, "axis") ||
+      ekm_h5_attr_get_string(r, NULL, "axis", axis, sizeof axis, &aerr) != EKM_OK ||
+      (strcmp(axis, "x") && strcmp(axis, "y") && strcmp(axis, "z")))
     snprintf(axis, sizeof axis, "z");
   enum { Z, PHI, PHI_SE, VX, VX_SE, NBASE };
   const char *base_names[NBASE] = {axis, "phi", "phi_se", "vx", "vx_se"};
@@ -159,7 +163,7 @@ ekm_status cg_fit_point_read(const char *file, unsigned fields, cg_fit_point *pt
     st = read_profile(r, file, field_names[f], 0, n, &fv[f], NULL, err);
     if (st == EKM_OK) st = read_profile(r, file, se_name, 0, n, &fse[f], NULL, err);
   }
-  cg_h5r_close(r);
+  ekm_h5_close(r);
   if (st == EKM_OK) {
     cg_fit_profiles pr = {.n = n, .z = base[Z], .phi = base[PHI], .phi_se = base[PHI_SE], .vx = base[VX],
                           .vx_se = base[VX_SE]};
