@@ -8,8 +8,10 @@
 
 #include "ekm_version.h"
 #include "h5out.h"
+#include "resolve.h"
 #include "run.h"
 #include "scenario.h"
+#include "scenario_json.h"
 #include "state.h"
 #include "step.h"
 
@@ -17,6 +19,8 @@ static void usage(FILE *fp)
 {
     fprintf(fp,
         "usage: ekm run FILE.ini [-o OUT.h5] [--set section.key=value ...] [--quiet]\n"
+        "       ekm scenario FILE.ini [--engine liggghts|lammps] [--size smoke|ref]\n"
+        "                    [--point TAG] [--set section.key=value ...] --json\n"
         "       ekm --help | --version\n"
         "\n"
         "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
@@ -27,6 +31,16 @@ static void usage(FILE *fp)
         "  --set S.K=V      override key K of section S (repeatable), e.g.\n"
         "                   --set domain.cells=200 --set model.variant=thesis\n"
         "  --quiet          no progress line and no summary\n"
+        "\n"
+        "ekm scenario prints the resolved scenario as one JSON object on stdout\n"
+        "(docs/resolved-scenario.md): every key of every section with its value as\n"
+        "written and where it came from (FILE:LINE, --set or default), [dem] and\n"
+        "[compare] looked up for the engine and size, and the sweep points with\n"
+        "their tags and the --set overrides of `ekm run` for each.\n"
+        "  --engine E       liggghts or lammps: choose the <engine>.k variants\n"
+        "  --size S         smoke or ref: choose the <size>.k variants and the sweep\n"
+        "  --point TAG      keep only that sweep point\n"
+        "  --json           the output format (required)\n"
         "\n"
         "Exit codes: 0 success; 1 usage error; 2 bad scenario or command line value;\n"
         "3 file could not be read or written; 4 the solver could not continue\n"
@@ -163,6 +177,50 @@ static int cmd_run(int argc, char **argv)
     return code;
 }
 
+static int cmd_scenario(int argc, char **argv)
+{
+    const char *ini = NULL, *engine = NULL, *size = NULL, *point = NULL;
+    int json = 0;
+    const char **sets = calloc((size_t)argc + 1, sizeof *sets);
+    size_t n_sets = 0;
+    if (!sets) {
+        fprintf(stderr, "ekm: out of memory\n");
+        return 5;
+    }
+    for (int i = 0; i < argc; i++) {
+        if (strcmp(argv[i], "--engine") == 0 && i + 1 < argc) engine = argv[++i];
+        else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc) size = argv[++i];
+        else if (strcmp(argv[i], "--point") == 0 && i + 1 < argc) point = argv[++i];
+        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc) sets[n_sets++] = argv[++i];
+        else if (strcmp(argv[i], "--json") == 0) json = 1;
+        else if (argv[i][0] == '-' || ini) {
+            fprintf(stderr, "ekm scenario: unexpected argument '%s' (see ekm --help)\n", argv[i]);
+            free(sets);
+            return 1;
+        } else ini = argv[i];
+    }
+    if (!ini || !json) {
+        fprintf(stderr, "ekm scenario: %s (see ekm --help)\n",
+                !ini ? "missing scenario file" : "missing --json (the output format)");
+        free(sets);
+        return 1;
+    }
+    ekm_error err = {0};
+    ekm_scenario sc;
+    ekm_resolved res = {0};
+    ekm_status st = ekm_scenario_load(&sc, ini, sets, n_sets, &err);
+    free(sets);
+    if (st == EKM_OK)
+        st = ekm_resolve(&sc, engine, size, &res, &err);
+    if (st == EKM_OK && point)
+        st = ekm_resolve_keep_point(&res, point, &err);
+    if (st == EKM_OK)
+        st = ekm_json_write_resolved(stdout, &sc, &res, &err);
+    ekm_resolve_free(&res);
+    ekm_scenario_free(&sc);
+    return st == EKM_OK ? 0 : fail(&err, st);
+}
+
 int main(int argc, char **argv)
 {
     gsl_set_error_handler_off();
@@ -180,6 +238,8 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "run") == 0)
         return cmd_run(argc - 2, argv + 2);
+    if (strcmp(argv[1], "scenario") == 0)
+        return cmd_scenario(argc - 2, argv + 2);
     fprintf(stderr, "ekm: unknown command '%s' (see ekm --help)\n", argv[1]);
     return 1;
 }

@@ -41,11 +41,11 @@ sed 's/^eps0 .*/eps0 = 5x0/' "$base" > malformed.ini
 check "malformed number" 2 "malformed.ini:[0-9]+: \[material\] eps0: expected a number, got '5x0'" \
     run malformed.ini -o out.h5
 
-check "unreadable file" 2 "nonexistent.ini: cannot open scenario file" run nonexistent.ini -o out.h5
+check "unreadable file" 3 "nonexistent.ini: cannot open scenario file" run nonexistent.ini -o out.h5
 
 cp "$base" unreadable.ini && chmod 000 unreadable.ini
 if [ "$(id -u)" -ne 0 ]; then
-    check "permission denied" 2 "unreadable.ini: cannot open" run unreadable.ini -o out.h5
+    check "permission denied" 3 "unreadable.ini: cannot open" run unreadable.ini -o out.h5
 fi
 
 printf '[materal]\nrho_p = 1\n' | cat - "$base" > section.ini
