@@ -21,11 +21,13 @@ expect 2 "malformed number" "$run" -o "$out" -s dt=1e-5x chute lammps smoke
 grep -q "dt.*1e-5x" "$out/last.txt" || { echo "FAIL: message does not name the key and value"; fail=1; }
 expect 2 "unknown [dem] key" "$run" -o "$out" -s no_such_key=1 chute lammps smoke
 grep -q "no_such_key" "$out/last.txt" || { echo "FAIL: message does not name the unknown key"; fail=1; }
-printf '[scenario]\nname = x\n' > "$out/nodem.ini"
+# chute.ini without its [dem] section (the rest is a valid scenario)
+sed '/^\[dem\]/,/^\[compare\]/{/^\[compare\]/!d}' "$root/scenarios/chute.ini" > "$out/nodem.ini"
 expect 2 "scenario file without [dem]" "$run" -o "$out" -c "$out/nodem.ini" collision lammps smoke
-sed '/^restitution *=/d; /^friction *=/d' "$root/scenarios/chute.ini" > "$out/nokey.ini"
+grep -q "nodem.ini: no \[dem\] section" "$out/last.txt" || { echo "FAIL: message does not say there is no [dem]"; fail=1; }
+sed '/^friction *=/d' "$root/scenarios/chute.ini" > "$out/nokey.ini"
 expect 2 "missing [dem] key" "$run" -o "$out" -c "$out/nokey.ini" collision lammps smoke
-grep -q "restitution: missing key" "$out/last.txt" || { echo "FAIL: message does not name the missing key"; fail=1; }
+grep -q "nokey.ini: \[dem\] friction: missing key" "$out/last.txt" || { echo "FAIL: message does not name the missing key"; fail=1; }
 # engine or ekm missing: exit 7
 expect 7 "ekm not built" env EKM=$out/no-such-ekm "$run" -o "$out" chute lammps smoke
 grep -q "ekm not built: run make build" "$out/last.txt" || { echo "FAIL: no 'ekm not built' line"; fail=1; }
