@@ -19,9 +19,11 @@ command -v snakemake > /dev/null || { echo "campaign.sh: snakemake not installed
 # mtime: a step is redone when one of its inputs (scenario file, deck,
 # binaries, scripts) is newer than its outputs; the other triggers would
 # also redo steps for Snakefile edits that change no result
+# (--config, --quiet and --rerun-triggers take lists: each ends at the next
+# option, and the last option is a flag, so that targets can follow)
 smk=(snakemake --snakefile workflow/Snakefile -j "$jobs"
      --config "size=$size" "engines=$engines" "np=$np" "res=$res" "runs=$runs" "build=$build"
-     --rerun-triggers mtime --rerun-incomplete --keep-going --quiet progress rules)
+     --quiet progress rules --rerun-triggers mtime --rerun-incomplete --keep-going)
 # Snakemake's scheduler chatter off; its errors and summaries stay
 quiet() { grep -v -E '^(Select jobs to execute\.\.\.|Building DAG of jobs\.\.\.|Using shell: |Provided cores: |Rules claiming more threads will be scaled down\.|Complete log: )'; return 0; }
 smk() { "${smk[@]}" "$@" 2>&1 | quiet; return "${PIPESTATUS[0]}"; }
