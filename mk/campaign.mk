@@ -10,9 +10,9 @@
 #   RES=DIR, RUNS=DIR            other results / DEM-run folders (tests)
 #   make campaign-table [SIZE=...]   print the score table
 #
-# Snakemake decides what is redone (--rerun-triggers mtime: a step whose
-# inputs, i.e. scenario file, deck, binaries, scripts, are newer than its
-# outputs), resumes an interrupted campaign (--rerun-incomplete), runs
+# Snakemake decides what is redone (--rerun-triggers mtime --drop-metadata:
+# as make, a step whose inputs, i.e. scenario file, deck, binaries, scripts,
+# are newer than its outputs), resumes an interrupted campaign (--rerun-incomplete), runs
 # independent steps in parallel (-j from make's -jN, or JOBS=N) and goes
 # on after a failed step (--keep-going), which it reports with its log.
 

@@ -16,14 +16,15 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root" || exit 3
 command -v snakemake > /dev/null || { echo "campaign.sh: snakemake not installed (scripts/deps.sh campaign)" >&2; exit 7; }
 [[ $jobs =~ ^[1-9][0-9]*$ ]] || { echo "campaign.sh: JOBS must be a positive integer, got '$jobs'" >&2; exit 1; }
-# mtime: a step is redone when one of its inputs (scenario file, deck,
-# binaries, scripts) is newer than its outputs; the other triggers would
-# also redo steps for Snakefile edits that change no result
+# mtime, as make: a step is redone when one of its inputs (scenario file,
+# deck, binaries, scripts) is newer than its outputs; --drop-metadata: no
+# recorded checksums, which would make Snakemake skip a newer input with the
+# content it last ran with (docs/campaign.md)
 # (--config, --quiet and --rerun-triggers take lists: each ends at the next
 # option, and the last option is a flag, so that targets can follow)
 smk=(snakemake --snakefile workflow/Snakefile -j "$jobs"
      --config "size=$size" "engines=$engines" "np=$np" "res=$res" "runs=$runs" "build=$build"
-     --quiet progress rules --rerun-triggers mtime --rerun-incomplete --keep-going)
+     --quiet progress rules --rerun-triggers mtime --drop-metadata --rerun-incomplete --keep-going)
 # Snakemake's scheduler chatter off; its errors and summaries stay
 quiet() { grep -v -E '^(Select jobs to execute\.\.\.|Building DAG of jobs\.\.\.|Using shell: |Provided cores: |Rules claiming more threads will be scaled down\.|Complete log: )'; return 0; }
 smk() { "${smk[@]}" "$@" 2>&1 | quiet; return "${PIPESTATUS[0]}"; }
