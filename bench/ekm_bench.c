@@ -12,6 +12,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "atomic.h"
+#include "control.h"
 #include "run.h"
 #include "scenario.h"
 #include "state.h"
@@ -57,7 +59,7 @@ static double throughput(const char *src, const char *name, int cells)
         const double t0 = now_s();
         double elapsed = 0;
         while (elapsed < 1.0 || steps < 20) {
-            double dt = ekm_step_max_dt(st, s);
+            double dt = ekm_control_max_dt(&sc, s);
             int accepted = 0;
             while (!accepted) {
                 if (ekm_step_apply(st, s, dt, &accepted, &err) != EKM_OK || dt < sc.numerics.dt_min) {
@@ -115,9 +117,14 @@ int main(int argc, char **argv)
 {
     if (argc != 3) {
         fprintf(stderr, "usage: ekm_bench SOURCE_DIR OUT.json\n");
-        return 1;
+        return ekm_status_exit_code(EKM_EUSAGE);
     }
     gsl_set_error_handler_off();
+    ekm_error setup_err = {0};
+    if (ekm_atomic_install_signal_cleanup(&setup_err) != EKM_OK) {
+        ekm_error_print("ekm_bench", &setup_err);
+        return ekm_status_exit_code(EKM_EINTERNAL);
+    }
     const char *src = argv[1];
     const char *names[] = {"shear_cell", "filling"};
     const int sizes[] = {100, 1000, 10000};
@@ -131,13 +138,14 @@ int main(int argc, char **argv)
     if (wall < 0)
         return 4;
     fprintf(stderr, "  thesis_filling (30 cells, 40 s): %ld steps, %.3f s\n", steps, wall);
-    char tmp[1100];
-    snprintf(tmp, sizeof tmp, "%s.tmp", argv[2]);
-    FILE *fp = fopen(tmp, "w");
-    if (!fp) {
-        fprintf(stderr, "ekm_bench: %s: cannot write\n", tmp);
-        return 3;
+    ekm_error err = {0};
+    ekm_atomic out;
+    ekm_status st = ekm_atomic_open(&out, argv[2], &err);
+    if (st != EKM_OK) {
+        ekm_error_print("ekm_bench", &err);
+        return ekm_status_exit_code(st);
     }
+    FILE *fp = out.fp;
     fprintf(fp, "{\"rows\": [\n");
     for (int i = 0; i < 2; i++)
         for (int k = 0; k < 3; k++) {
@@ -151,9 +159,10 @@ int main(int argc, char **argv)
                 "\"unit\": \"s wall\", \"target\": \"< 1\", \"status\": \"%s\"}\n",
             steps, wall, wall < 1.0 ? "ok" : "MISSED");
     fprintf(fp, "], \"keys\": {\"ekm_cell_updates_per_s\": %.6g, \"thesis_filling_wall_s\": %.6g}}\n", rates[0][1], wall);
-    if (fclose(fp) != 0 || rename(tmp, argv[2]) != 0) {
-        fprintf(stderr, "ekm_bench: %s: cannot write\n", argv[2]);
-        return 3;
+    st = ekm_atomic_commit(&out, &err);
+    if (st != EKM_OK) {
+        ekm_error_print("ekm_bench", &err);
+        return ekm_status_exit_code(st);
     }
     return 0;
 }

@@ -7,14 +7,10 @@
 
 static const char *const field_names[CG_NFIELD] = {
   "phi", "rho", "vx", "vy", "vz", "T", "P", "sxz", "szz", "mu", "I"};
-static const char *const field_units[CG_NFIELD] = {
-  "1", "kg/m^3", "m/s", "m/s", "m/s", "m^2/s^2", "Pa", "Pa", "Pa", "1", "1"};
-
 const char *cg_field_name(int f) { return field_names[f]; }
-const char *cg_field_units(int f) { return field_units[f]; }
 
 /* Sub-grid nodes and their bin weights (CSR). */
-static int build_subgrid(cg_profile *p, cg_error *err)
+static ekm_status build_subgrid(cg_profile *p, ekm_error *err)
 {
   const cg_grid *g = &p->g;
   double c = cg_kernel_support(p->k, 0.0);
@@ -34,28 +30,28 @@ static int build_subgrid(cg_profile *p, cg_error *err)
   p->nwt = malloc(p->nnode * maxw * sizeof *p->nwt);
   p->node = malloc(p->nnode * CG_NPRIM * sizeof *p->node);
   if (!p->noff || !p->nbin || !p->nwt || !p->node)
-    return CG_ERROR(err, CG_ESYS, "out of memory (sub-grid)");
+    return EKM_FAIL(err, EKM_ENOMEM, "out of memory (sub-grid)");
   size_t used = 0;
   for (size_t j = 0; j < p->nnode; j++) {
     p->noff[j] = used;
     used += cg_kernel_weights(p->k, g, p->x0 + (double)j * p->h, 0.0, p->nbin + used, p->nwt + used);
   }
   p->noff[p->nnode] = used;
-  return CG_OK;
+  return EKM_OK;
 }
 
-int cg_profile_alloc(cg_profile **out, const cg_kernel *k, const cg_grid *g,
-                     cg_tmode tmode, int exact, cg_error *err)
+ekm_status cg_profile_alloc(cg_profile **out, const cg_kernel *k, const cg_grid *g,
+                     cg_tmode tmode, int exact, ekm_error *err)
 {
   *out = NULL;
   if (g->n < 1 || !(g->hi > g->lo))
-    return CG_ERROR(err, CG_EUSAGE, "grid: expected at least one bin and lo < hi");
+    return EKM_FAIL(err, EKM_EUSAGE, "grid: expected at least one bin and lo < hi");
   double L = g->hi - g->lo;
   if ((g->periodic || g->reflect) && k->type != CG_KERNEL_BINS && k->cutoff > L)
-    return CG_ERROR(err, CG_EUSAGE,
+    return EKM_FAIL(err, EKM_EUSAGE,
                     "--width: kernel support %g m is longer than the box (%g m)", k->cutoff, L);
   cg_profile *p = calloc(1, sizeof *p);
-  if (!p) return CG_ERROR(err, CG_ESYS, "out of memory");
+  if (!p) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   p->k = k;
   p->g = *g;
   p->tmode = tmode;
@@ -67,18 +63,18 @@ int cg_profile_alloc(cg_profile **out, const cg_kernel *k, const cg_grid *g,
   p->acc = malloc(CG_NPRIM * g->n * sizeof *p->acc);
   if (!p->bin || !p->w || !p->vel || !p->acc) {
     cg_profile_free(p);
-    return CG_ERROR(err, CG_ESYS, "out of memory");
+    return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   }
   p->sub = !exact && k->type != CG_KERNEL_BINS;
   if (p->sub) {
-    int rc = build_subgrid(p, err);
+    ekm_status rc = build_subgrid(p, err);
     if (rc) {
       cg_profile_free(p);
       return rc;
     }
   }
   *out = p;
-  return CG_OK;
+  return EKM_OK;
 }
 
 void cg_profile_free(cg_profile *p)
@@ -124,19 +120,19 @@ static void velocity_at(const cg_profile *p, const double *rho, double s, double
 
 /* Room for `more` weights after `used` ones (the weight store grows with
  * the largest snapshot, not with the number of snapshots). */
-static int reserve_weights(cg_profile *p, size_t used, size_t more, cg_error *err)
+static ekm_status reserve_weights(cg_profile *p, size_t used, size_t more, ekm_error *err)
 {
-  if (used + more <= p->cap) return CG_OK;
+  if (used + more <= p->cap) return EKM_OK;
   size_t c = p->cap;
   while (c < used + more) c *= 2;
   size_t *b = realloc(p->bin, c * sizeof *b);
-  if (!b) return CG_ERROR(err, CG_ESYS, "out of memory (kernel weights)");
+  if (!b) return EKM_FAIL(err, EKM_ENOMEM, "out of memory (kernel weights)");
   p->bin = b;
   double *w = realloc(p->w, c * sizeof *w);
-  if (!w) return CG_ERROR(err, CG_ESYS, "out of memory (kernel weights)");
+  if (!w) return EKM_FAIL(err, EKM_ENOMEM, "out of memory (kernel weights)");
   p->w = w;
   p->cap = c;
-  return CG_OK;
+  return EKM_OK;
 }
 
 /* Node and fraction of a particle on the sub-grid; 0 if it is too far
@@ -311,16 +307,16 @@ static int snapshot_subgrid(cg_profile *p, const cg_particles *pt, double *prim)
   double inv = 1.0 / pt->area;
   for (size_t k = 0; k < n; k++)
     for (size_t c = 0; c < CG_NPRIM; c++) prim[c * n + k] = acc[k * CG_NPRIM + c] * inv;
-  return CG_OK;
+  return EKM_OK;
 }
 
-int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_error *err)
+ekm_status cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, ekm_error *err)
 {
   size_t n = p->g.n;
   if (p->sub) return snapshot_subgrid(p, pt, prim);
   if (pt->n > p->ncap) {
     unsigned *nw = realloc(p->nw, pt->n * sizeof *nw);
-    if (!nw) return CG_ERROR(err, CG_ESYS, "out of memory (kernel weights)");
+    if (!nw) return EKM_FAIL(err, EKM_ENOMEM, "out of memory (kernel weights)");
     p->nw = nw;
     p->ncap = pt->n;
   }
@@ -333,7 +329,7 @@ int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_
    * weights are kept for pass 2 */
   size_t used = 0;
   for (size_t i = 0; i < pt->n; i++) {
-    int rc = reserve_weights(p, used, p->maxw, err);
+    ekm_status rc = reserve_weights(p, used, p->maxw, err);
     if (rc) return rc;
     size_t *bin = p->bin + used;
     double *wt = p->w + used;
@@ -404,7 +400,7 @@ int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim, cg_
   double inv = 1.0 / pt->area;
   for (size_t k = 0; k < n; k++)
     for (size_t c = 0; c < CG_NPRIM; c++) prim[c * n + k] = acc[k * CG_NPRIM + c] * inv;
-  return CG_OK;
+  return EKM_OK;
 }
 
 void cg_profile_derive(const double *prim, const cg_grid *g, double d, double rho_p,

@@ -27,7 +27,7 @@
 
 #include <stddef.h>
 
-#include "error.h"
+#include "status.h"
 #include "kernel.h"
 
 /* Primary (snapshot-additive) quantities, stored quantity-major: q*n + k. */
@@ -46,9 +46,9 @@ enum cg_field {
 
 typedef enum { CG_T_PARTICLE, CG_T_CONSISTENT } cg_tmode;
 
-/* Name and units of output field f ("phi", "1"). */
+/* Name of output field f ("phi"); its units and description are in the
+ * field schema (common/schema.h). */
 const char *cg_field_name(int f);
-const char *cg_field_units(int f);
 
 /* One snapshot's particles, already reduced to what the CG needs. */
 typedef struct {
@@ -97,13 +97,13 @@ typedef struct {
  * particle at fraction a between nodes (with dz <= w/2, <= w^2/4096). The
  * bins kernel depends on each particle's radius and is always exact. */
 #define CG_SUBGRID 16
-int cg_profile_alloc(cg_profile **p, const cg_kernel *k, const cg_grid *g,
-                     cg_tmode tmode, int exact, cg_error *err);
+ekm_status cg_profile_alloc(cg_profile **p, const cg_kernel *k, const cg_grid *g,
+                     cg_tmode tmode, int exact, ekm_error *err);
 void cg_profile_free(cg_profile *p);
 
 /* Primary sums of one snapshot into prim (CG_NPRIM x n, overwritten). */
-int cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim,
-                        cg_error *err);
+ekm_status cg_profile_snapshot(cg_profile *p, const cg_particles *pt, double *prim,
+                        ekm_error *err);
 
 /* Fields (CG_NFIELD x n) from (averaged) primaries. d: particle diameter
  * for I [m]; rho_p: material density [kg/m^3] for I, or 0 for rho/phi. */

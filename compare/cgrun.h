@@ -8,6 +8,11 @@
  * otherwise step x dt (--dt). --steady reads the selection twice: first to
  * find the steady start by MSER-5 on the kinetic energy per unit mass and
  * (on a non-periodic axis) the centre of mass, then to average.
+ *
+ * The steps, one module each: cg_input.h (dumps -> selected snapshots ->
+ * particles), contacts.h (pair dumps -> contacts), steady.h (the steady
+ * start), cg.h (kernel sums of one snapshot), window.h (averaging windows
+ * and standard errors), cg_output.h (HDF5 and CSV writers).
  */
 #ifndef CG_CGRUN_H
 #define CG_CGRUN_H
@@ -16,7 +21,7 @@
 #include <stdio.h>
 
 #include "cg.h"
-#include "error.h"
+#include "status.h"
 
 #define CG_MAXTYPES 16  /* most atom types --types may list */
 
@@ -56,6 +61,6 @@ typedef struct {
 
 cg_run_opts cg_run_opts_default(void);
 
-int cg_run(const cg_run_opts *o, cg_error *err);
+ekm_status cg_run(const cg_run_opts *o, ekm_error *err);
 
 #endif

@@ -219,13 +219,13 @@ static int mark_truncated(cg_dump *d, const char *what)
     snprintf(d->warning, sizeof d->warning,
              "%s:%lld: truncated snapshot (%s): skipped, earlier snapshots kept",
              d->path, d->lineno, what);
-  return CG_EOF;
+  return EKM_EOF;
 }
 
 /* Read up to n more bytes into the buffer end; sets eof. */
-static int fill(cg_dump *d, size_t want, cg_error *err)
+static ekm_status fill(cg_dump *d, size_t want, ekm_error *err)
 {
-  if (d->eof) return CG_OK;
+  if (d->eof) return EKM_OK;
   if (want > d->cap - d->end) want = d->cap - d->end;
   int n = gzread(d->gz, d->buf + d->end, (unsigned)want);
   if (n < 0) {
@@ -235,37 +235,37 @@ static int fill(cg_dump *d, size_t want, cg_error *err)
       /* compressed stream cut short: keep what we have */
       d->gz_short = 1;
       d->eof = 1;
-      return CG_OK;
+      return EKM_OK;
     }
-    return CG_ERROR(err, CG_EINPUT, "%s: cannot read: %s", d->path,
+    return EKM_FAIL(err, EKM_EIO, "%s: cannot read: %s", d->path,
                     zerr == Z_ERRNO ? strerror(errno) : msg);
   }
   if (n == 0) d->eof = 1;
   d->end += (size_t)n;
-  return CG_OK;
+  return EKM_OK;
 }
 
-int cg_dump_open(cg_dump **out, const char *path, const char *const *cols,
-                 size_t ncols, cg_error *err)
+ekm_status cg_dump_open(cg_dump **out, const char *path, const char *const *cols,
+                 size_t ncols, ekm_error *err)
 {
   *out = NULL;
   if (ncols > CG_DUMP_MAXCOL)
-    return CG_ERROR(err, CG_EUSAGE, "%s: too many columns selected (%zu > %d)",
+    return EKM_FAIL(err, EKM_EUSAGE, "%s: too many columns selected (%zu > %d)",
                     path, ncols, CG_DUMP_MAXCOL);
   cg_dump *d = calloc(1, sizeof *d);
-  if (!d) return CG_ERROR(err, CG_ESYS, "%s: out of memory", path);
+  if (!d) return EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory", path);
   d->path = strdup(path);
   d->cap = TEXT_BLOCK;
   d->buf = calloc(d->cap + 16, 1); /* 16 bytes of slack: SWAR reads */
   if (!d->path || !d->buf) {
     cg_dump_close(d);
-    return CG_ERROR(err, CG_ESYS, "%s: out of memory", path);
+    return EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory", path);
   }
   for (size_t j = 0; j < ncols; j++) {
     d->sel[j] = strdup(cols[j]);
     if (!d->sel[j]) {
       cg_dump_close(d);
-      return CG_ERROR(err, CG_ESYS, "%s: out of memory", path);
+      return EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory", path);
     }
     d->nsel = j + 1;
   }
@@ -273,11 +273,11 @@ int cg_dump_open(cg_dump **out, const char *path, const char *const *cols,
   if (!d->gz) {
     int e = errno;
     cg_dump_close(d);
-    return CG_ERROR(err, CG_EINPUT, "%s: cannot open: %s", path,
+    return EKM_FAIL(err, EKM_EIO, "%s: cannot open: %s", path,
                     e ? strerror(e) : "zlib error");
   }
   gzbuffer(d->gz, 1u << 18);
-  int rc = fill(d, 64, err);
+  ekm_status rc = fill(d, 64, err);
   if (rc) { cg_dump_close(d); return rc; }
   /* sniff: text dumps start with "ITEM:" (maybe after blanks); binary
    * dumps with a negative int64 (the magic string length). */
@@ -293,7 +293,7 @@ int cg_dump_open(cg_dump **out, const char *path, const char *const *cols,
     d->binary = !printable;
   }
   *out = d;
-  return CG_OK;
+  return EKM_OK;
 }
 
 void cg_dump_close(cg_dump *d)
@@ -321,22 +321,22 @@ const char *cg_dump_warning(const cg_dump *d) { return d->warning; }
 
 /* ---------- shared helpers ---------- */
 
-static int grow_rows(cg_snapshot *s, size_t rows, size_t nsel, const char *path,
-                     cg_error *err)
+static ekm_status grow_rows(cg_snapshot *s, size_t rows, size_t nsel, const char *path,
+                     ekm_error *err)
 {
-  if (rows <= s->cap) return CG_OK;
+  if (rows <= s->cap) return EKM_OK;
   size_t ncap = s->cap ? s->cap : 1024;
   while (ncap < rows) ncap *= 2;
   size_t w = nsel ? nsel : 1;
   double *p = realloc(s->data, ncap * w * sizeof *p);
-  if (!p) return CG_ERROR(err, CG_ESYS, "%s: out of memory (%zu atoms)", path, rows);
+  if (!p) return EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory (%zu atoms)", path, rows);
   s->data = p;
   s->cap = ncap;
-  return CG_OK;
+  return EKM_OK;
 }
 
 /* Map the column names of a header to the selection. names: blank-separated. */
-static int set_columns(cg_dump *d, cg_snapshot *s, const char *names, cg_error *err,
+static ekm_status set_columns(cg_dump *d, cg_snapshot *s, const char *names, ekm_error *err,
                        const char *where)
 {
   d->ncols = 0;
@@ -350,7 +350,7 @@ static int set_columns(cg_dump *d, cg_snapshot *s, const char *names, cg_error *
     if (d->ncols == d->colmap_cap) {
       size_t nc = d->colmap_cap ? 2 * d->colmap_cap : 32;
       int *m = realloc(d->colmap, nc * sizeof *m);
-      if (!m) return CG_ERROR(err, CG_ESYS, "%s: out of memory", where);
+      if (!m) return EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory", where);
       d->colmap = m;
       d->colmap_cap = nc;
     }
@@ -364,8 +364,8 @@ static int set_columns(cg_dump *d, cg_snapshot *s, const char *names, cg_error *
     p = q;
   }
   if (d->ncols == 0)
-    return CG_ERROR(err, CG_EINPUT, "%s: ITEM: ATOMS names no columns", where);
-  return CG_OK;
+    return EKM_FAIL(err, EKM_EINPUT, "%s: ITEM: ATOMS names no columns", where);
+  return EKM_OK;
 }
 
 static void box_from_bounds(cg_snapshot *s, double b[3][2])
@@ -391,9 +391,9 @@ static void box_from_bounds(cg_snapshot *s, double b[3][2])
 /* ---------- text ---------- */
 
 /* Next line (NUL-terminated, without '\n' or '\r'). 1: line, 0: EOF. */
-static int text_line(cg_dump *d, char **line, int *rc, cg_error *err)
+static int text_line(cg_dump *d, char **line, ekm_status *rc, ekm_error *err)
 {
-  *rc = CG_OK;
+  *rc = EKM_OK;
   for (;;) {
     char *base = d->buf + d->pos;
     char *nl = memchr(base, '\n', d->end - d->pos);
@@ -424,12 +424,12 @@ static int text_line(cg_dump *d, char **line, int *rc, cg_error *err)
     }
     if (d->end == d->cap) {
       if (d->cap >= TEXT_MAXBUF) {
-        *rc = CG_ERROR(err, CG_EINPUT, "%s:%lld: line longer than %u bytes",
+        *rc = EKM_FAIL(err, EKM_EINPUT, "%s:%lld: line longer than %u bytes",
                        d->path, d->lineno + 1, TEXT_MAXBUF);
         return 0;
       }
       char *nb = realloc(d->buf, 2 * d->cap + 16);
-      if (!nb) { *rc = CG_ERROR(err, CG_ESYS, "%s: out of memory", d->path); return 0; }
+      if (!nb) { *rc = EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory", d->path); return 0; }
       memset(nb + d->cap, 0, d->cap + 16);
       d->buf = nb;
       d->cap *= 2;
@@ -463,14 +463,14 @@ static int item_starts(const char *item, const char *word, const char **rest)
 }
 
 /* The value line after an ITEM: line; returns 1, or 0 (EOF or error in rc). */
-static int value_line(cg_dump *d, char **line, int *rc, cg_error *err)
+static int value_line(cg_dump *d, char **line, ekm_status *rc, ekm_error *err)
 {
   if (text_line(d, line, rc, err)) return 1;
-  if (*rc == CG_OK) *rc = mark_truncated(d, "end of file inside the header");
+  if (*rc == EKM_OK) *rc = mark_truncated(d, "end of file inside the header");
   return 0;
 }
 
-static int parse_box(cg_dump *d, cg_snapshot *s, const char *flags, cg_error *err)
+static ekm_status parse_box(cg_dump *d, cg_snapshot *s, const char *flags, ekm_error *err)
 {
   const char *p = flags;
   int nflag = 0;
@@ -488,7 +488,7 @@ static int parse_box(cg_dump *d, cg_snapshot *s, const char *flags, cg_error *er
     } else if (n == 2 && nflag < 3 && strchr("pfsm", p[0]) && strchr("pfsm", p[1])) {
       s->periodic[nflag++] = (p[0] == 'p');
     } else {
-      return CG_ERROR(err, CG_EINPUT,
+      return EKM_FAIL(err, EKM_EINPUT,
                       "%s:%lld: ITEM: BOX BOUNDS: expected 'xy xz yz' or boundary flags "
                       "like 'pp ff', got '%.*s'", d->path, d->lineno, (int)n, p);
     }
@@ -497,7 +497,7 @@ static int parse_box(cg_dump *d, cg_snapshot *s, const char *flags, cg_error *er
   double b[3][2];
   for (int k = 0; k < 3; k++) {
     char *line;
-    int rc;
+    ekm_status rc;
     if (!value_line(d, &line, &rc, err)) return rc;
     const char *q = line;
     int nv = s->triclinic ? 3 : 2;
@@ -506,30 +506,30 @@ static int parse_box(cg_dump *d, cg_snapshot *s, const char *flags, cg_error *er
       q = skip_blank(q);
       int pr = parse_number(&q, &v[j]);
       if (pr)
-        return CG_ERROR(err, CG_EINPUT, "%s:%lld: ITEM: BOX BOUNDS: expected %d numbers, got '%.60s'",
+        return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: ITEM: BOX BOUNDS: expected %d numbers, got '%.60s'",
                         d->path, d->lineno, nv, line);
     }
     q = skip_blank(q);
     if (*q)
-      return CG_ERROR(err, CG_EINPUT, "%s:%lld: ITEM: BOX BOUNDS: expected %d numbers, got '%.60s'",
+      return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: ITEM: BOX BOUNDS: expected %d numbers, got '%.60s'",
                       d->path, d->lineno, nv, line);
     if (!(v[1] > v[0]))
-      return CG_ERROR(err, CG_EINPUT, "%s:%lld: ITEM: BOX BOUNDS: expected lo < hi, got '%.60s'",
+      return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: ITEM: BOX BOUNDS: expected lo < hi, got '%.60s'",
                       d->path, d->lineno, line);
     b[k][0] = v[0];
     b[k][1] = v[1];
     s->tilt[k] = v[2];
   }
   box_from_bounds(s, b);
-  return CG_OK;
+  return EKM_OK;
 }
 
-static int text_atoms(cg_dump *d, cg_snapshot *s, cg_error *err)
+static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
 {
   size_t nsel = d->nsel, ncols = d->ncols;
   int64_t n = s->natoms;
   size_t reserve = (size_t)(n < (1 << 16) ? n : (1 << 16)); /* grows as lines come */
-  int rc = grow_rows(s, reserve, nsel, d->path, err);
+  ekm_status rc = grow_rows(s, reserve, nsel, d->path, err);
   if (rc) return rc;
   for (int64_t i = 0; i < n; i++) {
     char *line;
@@ -545,7 +545,7 @@ static int text_atoms(cg_dump *d, cg_snapshot *s, cg_error *err)
     double *row = s->data + (size_t)i * nsel;
     const char *p = line;
     if (p[0] == 'I' && !strncmp(p, "ITEM:", 5))
-      return CG_ERROR(err, CG_EINPUT,
+      return EKM_FAIL(err, EKM_EINPUT,
                       "%s:%lld: expected %lld atoms (ITEM: NUMBER OF ATOMS), got %lld",
                       d->path, d->lineno, (long long)n, (long long)i);
     for (size_t c = 0; c < ncols; c++) {
@@ -553,7 +553,7 @@ static int text_atoms(cg_dump *d, cg_snapshot *s, cg_error *err)
       if (!*p) {
         if (d->eof && d->last_no_newline && d->pos == d->end)
           return mark_truncated(d, "last line cut short");
-        return CG_ERROR(err, CG_EINPUT, "%s:%lld: expected %zu columns, got %zu",
+        return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: expected %zu columns, got %zu",
                         d->path, d->lineno, ncols, c);
       }
       int j = d->colmap[c];
@@ -566,9 +566,9 @@ static int text_atoms(cg_dump *d, cg_snapshot *s, cg_error *err)
           const char *q = tok;
           while (!is_end(*q)) q++;
           if (pr == 2)
-            return CG_ERROR(err, CG_EINPUT, "%s:%lld: column '%s': expected a finite number, got '%.*s'",
+            return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: column '%s': expected a finite number, got '%.*s'",
                             d->path, d->lineno, d->sel[j], (int)(q - tok), tok);
-          return CG_ERROR(err, CG_EINPUT, "%s:%lld: column '%s': expected a number, got '%.*s'",
+          return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: column '%s': expected a number, got '%.*s'",
                           d->path, d->lineno, d->sel[j], (int)(q - tok > 40 ? 40 : q - tok), tok);
         }
       } else {
@@ -577,13 +577,13 @@ static int text_atoms(cg_dump *d, cg_snapshot *s, cg_error *err)
     }
     p = skip_blank(p);
     if (*p)
-      return CG_ERROR(err, CG_EINPUT, "%s:%lld: expected %zu columns, got more ('%.40s')",
+      return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: expected %zu columns, got more ('%.40s')",
                       d->path, d->lineno, ncols, p);
   }
-  return CG_OK;
+  return EKM_OK;
 }
 
-static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
+static ekm_status text_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
 {
   int have_step = 0, have_n = 0, have_box = 0, started = 0, rc;
   for (;;) {
@@ -592,7 +592,7 @@ static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
       if (rc) return rc;
       if (!started) {
         if (d->gz_short) return mark_truncated(d, "compressed stream ends early");
-        return CG_EOF;
+        return EKM_EOF;
       }
       return mark_truncated(d, "end of file inside the header");
     }
@@ -603,7 +603,7 @@ static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
       started = 1;
     }
     if (strncmp(line, "ITEM:", 5))
-      return CG_ERROR(err, CG_EINPUT, "%s:%lld: expected an ITEM: line%s, got '%.40s'",
+      return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: expected an ITEM: line%s, got '%.40s'",
                       d->path, d->lineno,
                       have_step ? "" : " (more atom lines than ITEM: NUMBER OF ATOMS?)", line);
     const char *item = skip_blank(line + 5), *rest;
@@ -611,14 +611,14 @@ static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
     if (item_is(item, "TIMESTEP")) {
       if (!value_line(d, &v, &rc, err)) return rc;
       if (parse_int64(v, &s->step))
-        return CG_ERROR(err, CG_EINPUT, "%s:%lld: ITEM: TIMESTEP: expected an integer, got '%.40s'",
+        return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: ITEM: TIMESTEP: expected an integer, got '%.40s'",
                         d->path, d->lineno, v);
       have_step = 1;
     } else if (item_is(item, "TIME")) {
       if (!value_line(d, &v, &rc, err)) return rc;
       const char *q = skip_blank(v);
       if (parse_number(&q, &s->time) || *skip_blank(q))
-        return CG_ERROR(err, CG_EINPUT, "%s:%lld: ITEM: TIME: expected a finite number, got '%.40s'",
+        return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: ITEM: TIME: expected a finite number, got '%.40s'",
                         d->path, d->lineno, v);
       s->has_time = 1;
     } else if (item_is(item, "UNITS")) {
@@ -626,7 +626,7 @@ static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
     } else if (item_is(item, "NUMBER OF ATOMS") || item_is(item, "NUMBER OF ENTRIES")) {
       if (!value_line(d, &v, &rc, err)) return rc;
       if (parse_int64(v, &s->natoms) || s->natoms < 0)
-        return CG_ERROR(err, CG_EINPUT,
+        return EKM_FAIL(err, EKM_EINPUT,
                         "%s:%lld: ITEM: NUMBER OF ATOMS: expected a non-negative integer, got '%.40s'",
                         d->path, d->lineno, v);
       have_n = 1;
@@ -637,12 +637,12 @@ static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
       snprintf(s->where, sizeof s->where, "%s:%lld", d->path, d->lineno);
       const char *miss = !have_step ? "TIMESTEP" : !have_n ? "NUMBER OF ATOMS" : !have_box ? "BOX BOUNDS" : NULL;
       if (miss)
-        return CG_ERROR(err, CG_EINPUT, "%s: expected ITEM: %s before ITEM: ATOMS", s->where, miss);
+        return EKM_FAIL(err, EKM_EINPUT, "%s: expected ITEM: %s before ITEM: ATOMS", s->where, miss);
       if ((rc = set_columns(d, s, rest, err, s->where))) return rc;
       s->nsel = d->nsel;
       return text_atoms(d, s, err);
     } else {
-      return CG_ERROR(err, CG_EINPUT,
+      return EKM_FAIL(err, EKM_EINPUT,
                       "%s:%lld: expected ITEM: TIMESTEP, TIME, UNITS, NUMBER OF ATOMS (ENTRIES), "
                       "BOX BOUNDS or ATOMS (ENTRIES), got '%.40s'", d->path, d->lineno, line);
     }
@@ -652,11 +652,11 @@ static int text_next(cg_dump *d, cg_snapshot *s, cg_error *err)
 /* ---------- binary ---------- */
 
 /* Read n bytes; returns bytes read (< n only at the end of the data). */
-static size_t bin_read(cg_dump *d, void *dst, size_t n, int *rc, cg_error *err)
+static size_t bin_read(cg_dump *d, void *dst, size_t n, ekm_status *rc, ekm_error *err)
 {
   char *out = dst;
   size_t got = 0;
-  *rc = CG_OK;
+  *rc = EKM_OK;
   while (got < n) {
     if (d->pos == d->end) {
       if (d->eof) break;
@@ -680,20 +680,20 @@ static size_t bin_read(cg_dump *d, void *dst, size_t n, int *rc, cg_error *err)
       return rc ? rc : mark_truncated(d, what);                  \
   } while (0)
 
-static int bin_fail(cg_dump *d, cg_error *err, const char *what)
+static ekm_status bin_fail(cg_dump *d, ekm_error *err, const char *what)
 {
-  return CG_ERROR(err, CG_EINPUT, "%s:@%llu: %s", d->path, d->offset, what);
+  return EKM_FAIL(err, EKM_EINPUT, "%s:@%llu: %s", d->path, d->offset, what);
 }
 
-static int bin_next(cg_dump *d, cg_snapshot *s, cg_error *err)
+static ekm_status bin_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
 {
-  int rc;
+  ekm_status rc;
   int64_t first;
   size_t got = bin_read(d, &first, 8, &rc, err);
   if (rc) return rc;
   if (got == 0) {
     if (d->gz_short) return mark_truncated(d, "compressed stream ends early");
-    return CG_EOF;
+    return EKM_EOF;
   }
   if (got < 8) return mark_truncated(d, "end of file inside the header");
   if (first >= 0)
@@ -746,7 +746,7 @@ static int bin_next(cg_dump *d, cg_snapshot *s, cg_error *err)
   BREAD(&len, 4, "end of file inside the header");
   if (len < 1 || len > 1000000) return bin_fail(d, err, "expected a column-name string of 1..1e6 bytes");
   char *names = malloc((size_t)len + 1);
-  if (!names) return CG_ERROR(err, CG_ESYS, "%s: out of memory", d->path);
+  if (!names) return EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory", d->path);
   if (bin_read(d, names, (size_t)len, &rc, err) != (size_t)len) {
     free(names);
     return rc ? rc : mark_truncated(d, "end of file inside the header");
@@ -767,7 +767,7 @@ static int bin_next(cg_dump *d, cg_snapshot *s, cg_error *err)
   BREAD(&nchunk, 4, "end of file inside the header");
   if (nchunk < 0) return bin_fail(d, err, "expected a non-negative chunk count");
   if (!d->chunk && !(d->chunk = malloc(BIN_BUF * sizeof(double))))
-    return CG_ERROR(err, CG_ESYS, "%s: out of memory", d->path);
+    return EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory", d->path);
   size_t per = BIN_BUF / (size_t)size_one, nsel = d->nsel;
   if (per == 0) return bin_fail(d, err, "expected fewer values per atom");
   int64_t atom = 0;
@@ -809,12 +809,12 @@ static int bin_next(cg_dump *d, cg_snapshot *s, cg_error *err)
              (long long)s->natoms, (long long)atom);
     return bin_fail(d, err, what);
   }
-  return CG_OK;
+  return EKM_OK;
 }
 
-int cg_dump_next(cg_dump *d, cg_snapshot *s, cg_error *err)
+ekm_status cg_dump_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
 {
-  if (d->truncated) return CG_EOF;
+  if (d->truncated) return EKM_EOF;
   s->nsel = d->nsel;
   return d->binary ? bin_next(d, s, err) : text_next(d, s, err);
 }

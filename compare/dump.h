@@ -21,7 +21,7 @@
  *
  * Errors name the input and its line ("run.dump:120: ..."; binary files name
  * the byte offset, "run.bin:@4096: ..."). A snapshot cut short by the end of
- * the file (a killed run) is not an error: cg_dump_next returns CG_EOF and
+ * the file (a killed run) is not an error: cg_dump_next returns EKM_EOF and
  * sets `truncated` and `warning`.
  */
 #ifndef CG_DUMP_H
@@ -30,7 +30,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "error.h"
+#include "status.h"
 
 #define CG_DUMP_MAXCOL 64  /* most columns one may select */
 
@@ -54,16 +54,16 @@ typedef struct {
 typedef struct cg_dump cg_dump;
 
 /* Open a dump (text, gzip or binary) and select columns by name. */
-int cg_dump_open(cg_dump **d, const char *path, const char *const *cols,
-                 size_t ncols, cg_error *err);
+ekm_status cg_dump_open(cg_dump **d, const char *path, const char *const *cols,
+                 size_t ncols, ekm_error *err);
 
 /* Read the next snapshot into s (its buffers are reused and grown). At a
  * clean end of data s is left as it was; after an error or a truncated
  * snapshot its contents are undefined.
- * Returns CG_OK, CG_EOF at the end (check cg_dump_truncated), or an error. */
-int cg_dump_next(cg_dump *d, cg_snapshot *s, cg_error *err);
+ * Returns EKM_OK, EKM_EOF at the end (check cg_dump_truncated), or an error. */
+ekm_status cg_dump_next(cg_dump *d, cg_snapshot *s, ekm_error *err);
 
-/* After CG_EOF: non-zero if the last snapshot was incomplete and skipped;
+/* After EKM_EOF: non-zero if the last snapshot was incomplete and skipped;
  * the warning text ("file:line: truncated snapshot ... skipped"). */
 int cg_dump_truncated(const cg_dump *d);
 const char *cg_dump_warning(const cg_dump *d);

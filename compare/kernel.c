@@ -21,7 +21,7 @@ static inline double gauss_tab(const cg_kernel *k, double f)
          t[2] * (3 * a2 - 2 * a3) + t[3] * (a3 - a2);
 }
 
-int cg_kernel_alloc(cg_kernel **out, const char *name, double width, cg_error *err)
+ekm_status cg_kernel_alloc(cg_kernel **out, const char *name, double width, ekm_error *err)
 {
   *out = NULL;
   cg_kernel_type type;
@@ -29,11 +29,11 @@ int cg_kernel_alloc(cg_kernel **out, const char *name, double width, cg_error *e
   else if (!strcmp(name, "lucy")) type = CG_KERNEL_LUCY;
   else if (!strcmp(name, "bins")) type = CG_KERNEL_BINS;
   else
-    return CG_ERROR(err, CG_EUSAGE, "--kernel: expected gauss, lucy or bins, got '%s'", name);
+    return EKM_FAIL(err, EKM_EUSAGE, "--kernel: expected gauss, lucy or bins, got '%s'", name);
   if (type != CG_KERNEL_BINS && !(width > 0.0 && isfinite(width)))
-    return CG_ERROR(err, CG_EUSAGE, "--width: expected a positive width, got %g", width);
+    return EKM_FAIL(err, EKM_EUSAGE, "--width: expected a positive width, got %g", width);
   cg_kernel *k = calloc(1, sizeof *k);
-  if (!k) return CG_ERROR(err, CG_ESYS, "out of memory");
+  if (!k) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   k->type = type;
   k->width = width;
   if (type == CG_KERNEL_GAUSS) {
@@ -42,7 +42,7 @@ int cg_kernel_alloc(cg_kernel **out, const char *name, double width, cg_error *e
     k->tab = malloc(2 * k->ntab * sizeof *k->tab);
     if (!k->tab) {
       cg_kernel_free(k);
-      return CG_ERROR(err, CG_ESYS, "out of memory");
+      return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
     }
     /* pairs (F_i, h F'_i), h the table step in u: cubic Hermite
      * interpolation, error < 1e-10, 9.6 kB (stays in L1 cache) */
@@ -61,7 +61,7 @@ int cg_kernel_alloc(cg_kernel **out, const char *name, double width, cg_error *e
     k->cutoff = LUCY_C * width;
   }
   *out = k;
-  return CG_OK;
+  return EKM_OK;
 }
 
 void cg_kernel_free(cg_kernel *k)

@@ -22,7 +22,7 @@
 
 #include <stddef.h>
 
-#include "error.h"
+#include "status.h"
 
 typedef enum { CG_KERNEL_GAUSS, CG_KERNEL_LUCY, CG_KERNEL_BINS } cg_kernel_type;
 
@@ -46,7 +46,7 @@ typedef struct {
 } cg_grid;
 
 /* Kernel by name ("gauss", "lucy", "bins"); width w > 0 [m]. */
-int cg_kernel_alloc(cg_kernel **k, const char *name, double width, cg_error *err);
+ekm_status cg_kernel_alloc(cg_kernel **k, const char *name, double width, ekm_error *err);
 void cg_kernel_free(cg_kernel *k);
 
 /* Name of a kernel type. */

@@ -7,15 +7,21 @@
 
 #include "ekm_version.h"
 #include "cgrun.h"
-#include "error.h"
-#include "h5io.h"
+#include "status.h"
+#include "atomic.h"
+#include "fit_cli.h"
+#include "h5.h"
 #include "score.h"
+#include "steady.h"
 
 #define MAX_STRESS_NAME 64
 
 static const char usage_text[] =
   "usage: ekmcompare cg [options] DUMP... (-o OUT.h5 | --csv OUT.csv)\n"
   "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [-o SCORE.json]\n"
+  "       ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu [--start FILE.ini]\n"
+  "                      [--fields P,sxz,T] -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
+  "       ekmcompare steady MONITOR.txt [--column N] [--tol X]\n"
   "       ekmcompare --help | --version\n"
   "\n"
   "cg: coarse-grain LAMMPS/LIGGGHTS dumps (text, gzip, binary) into slab profiles\n"
@@ -56,35 +62,43 @@ static const char usage_text[] =
   "  --ekm-time last      compare with the EKM's last output (steady state)\n"
   "  --shift DZ           add DZ [m] to the DEM coordinate\n"
   "\n"
-  "Exit status: 0 success; 1 bad input file or data; 2 bad command line;\n"
-  "3 system error (out of memory, cannot write). Errors are one line: file:line: message.\n";
+  "steady: is a run steady? The drift criterion on a monitor series (column N, default 2,\n"
+  "of the lines not starting with #): the relative change of the mean from the quarter\n"
+  "before the last to the last quarter, to 4 digits, against --tol (default 0.05).\n"
+  "Prints one JSON line {\"steady\": true|false|null, \"drift\": x, \"tol\": x, \"samples\": n}\n"
+  "(null below 8 samples).\n"
+  "\n"
+  "Exit status (docs/exit-codes.md): 0 success; 1 bad command line; 2 bad input file or\n"
+  "data; 3 a file could not be opened, read or written (or an output would overwrite an\n"
+  "input); 5 internal error or out of memory; 128+N stopped by signal N (temporary files\n"
+  "removed). Errors are one line: ekmcompare: file:line: message.\n";
 
-static int usage_error(cg_error *err, const char *fmt, const char *arg)
+static ekm_status usage_error(ekm_error *err, const char *fmt, const char *arg)
 {
-  return CG_ERROR(err, CG_EUSAGE, fmt, arg);
+  return EKM_FAIL(err, EKM_EUSAGE, fmt, arg);
 }
 
-static int get_double(const char *opt, const char *s, double *out, cg_error *err)
+static ekm_status get_double(const char *opt, const char *s, double *out, ekm_error *err)
 {
   char *end;
   double v = strtod(s, &end);
   if (end == s || *end || !isfinite(v))
-    return CG_ERROR(err, CG_EUSAGE, "%s: expected a number, got '%s'", opt, s);
+    return EKM_FAIL(err, EKM_EUSAGE, "%s: expected a number, got '%s'", opt, s);
   *out = v;
-  return CG_OK;
+  return EKM_OK;
 }
 
-static int get_size(const char *opt, const char *s, size_t *out, cg_error *err)
+static ekm_status get_size(const char *opt, const char *s, size_t *out, ekm_error *err)
 {
   char *end;
   long long v = strtoll(s, &end, 10);
   if (end == s || *end || v < 1)
-    return CG_ERROR(err, CG_EUSAGE, "%s: expected a positive integer, got '%s'", opt, s);
+    return EKM_FAIL(err, EKM_EUSAGE, "%s: expected a positive integer, got '%s'", opt, s);
   *out = (size_t)v;
-  return CG_OK;
+  return EKM_OK;
 }
 
-static int get_pair(const char *opt, const char *s, double *a, double *b, cg_error *err)
+static ekm_status get_pair(const char *opt, const char *s, double *a, double *b, ekm_error *err)
 {
   const char *c = strchr(s, ':');
   char *end;
@@ -92,10 +106,10 @@ static int get_pair(const char *opt, const char *s, double *a, double *b, cg_err
     *a = strtod(s, &end);
     if (end == c) {
       *b = strtod(c + 1, &end);
-      if (end != c + 1 && !*end && isfinite(*a) && isfinite(*b)) return CG_OK;
+      if (end != c + 1 && !*end && isfinite(*a) && isfinite(*b)) return EKM_OK;
     }
   }
-  return CG_ERROR(err, CG_EUSAGE, "%s: expected A:B, got '%s'", opt, s);
+  return EKM_FAIL(err, EKM_EUSAGE, "%s: expected A:B, got '%s'", opt, s);
 }
 
 typedef struct {
@@ -106,7 +120,7 @@ typedef struct {
   char names[9][MAX_STRESS_NAME];
 } pair_names;
 
-static int get_paircols(const char *s, pair_names *pn, cg_run_opts *o, cg_error *err)
+static ekm_status get_paircols(const char *s, pair_names *pn, cg_run_opts *o, ekm_error *err)
 {
   size_t n = 0;
   const char *p = s;
@@ -120,7 +134,7 @@ static int get_paircols(const char *s, pair_names *pn, cg_run_opts *o, cg_error 
       if (n != 9 && n != 5) break;
       o->npaircols = n;
       for (size_t j = 0; j < n; j++) o->paircols[j] = pn->names[j];
-      return CG_OK;
+      return EKM_OK;
     }
     p = q + 1;
   }
@@ -129,7 +143,7 @@ static int get_paircols(const char *s, pair_names *pn, cg_run_opts *o, cg_error 
 }
 
 /* --types 1,3: the atom types that count (column `type`). */
-static int get_types(const char *s, cg_run_opts *o, cg_error *err)
+static ekm_status get_types(const char *s, cg_run_opts *o, ekm_error *err)
 {
   const char *p = s;
   o->ntypes = 0;
@@ -141,12 +155,12 @@ static int get_types(const char *s, cg_run_opts *o, cg_error *err)
     if (o->ntypes == CG_MAXTYPES)
       return usage_error(err, "--types: at most 16 types, got '%s'", s);
     o->types[o->ntypes++] = (int)t;
-    if (!*end) return CG_OK;
+    if (!*end) return EKM_OK;
     p = end + 1;
   }
 }
 
-static int get_stress(const char *s, stress_names *sn, cg_run_opts *o, cg_error *err)
+static ekm_status get_stress(const char *s, stress_names *sn, cg_run_opts *o, ekm_error *err)
 {
   if (!strchr(s, ',')) {
     for (int c = 0; c < 6; c++)
@@ -166,10 +180,10 @@ static int get_stress(const char *s, stress_names *sn, cg_run_opts *o, cg_error 
   }
   o->nstress = 6;
   for (int c = 0; c < 6; c++) o->stress[c] = sn->names[c];
-  return CG_OK;
+  return EKM_OK;
 }
 
-static int cmd_cg(int argc, char **argv, cg_error *err)
+static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
 {
   cg_run_opts o = cg_run_opts_default();
   o.log = stderr;
@@ -180,10 +194,10 @@ static int cmd_cg(int argc, char **argv, cg_error *err)
   if (!inputs || !pairs) {
     free(inputs);
     free(pairs);
-    return CG_ERROR(err, CG_ESYS, "out of memory");
+    return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   }
   size_t nin = 0, npairs = 0;
-  int rc = CG_OK;
+  ekm_status rc = EKM_OK;
   for (int i = 0; i < argc && !rc; i++) {
     const char *a = argv[i], *v = NULL;
     if (a[0] != '-' || !strcmp(a, "-")) { inputs[nin++] = a; continue; }
@@ -241,16 +255,16 @@ static int cmd_cg(int argc, char **argv, cg_error *err)
     else rc = usage_error(err, "cg: unknown option '%s' (see ekmcompare --help)", a);
 #undef ARG
   }
-  if (!rc && o.every && o.window > 0) rc = CG_ERROR(err, CG_EUSAGE, "cg: expected --every or --window, not both");
+  if (!rc && o.every && o.window > 0) rc = EKM_FAIL(err, EKM_EUSAGE, "cg: expected --every or --window, not both");
   if (!rc) {
     o.inputs = inputs;
     o.ninputs = nin;
     o.pairs = pairs;
     o.npairs = npairs;
     if (npairs && !o.npaircols)
-      rc = CG_ERROR(err, CG_EUSAGE, "--pairs: expected --pair-columns too");
+      rc = EKM_FAIL(err, EKM_EUSAGE, "--pairs: expected --pair-columns too");
     else if (!npairs && o.npaircols)
-      rc = CG_ERROR(err, CG_EUSAGE, "--pair-columns: expected --pairs too");
+      rc = EKM_FAIL(err, EKM_EUSAGE, "--pair-columns: expected --pairs too");
     else
       rc = cg_run(&o, err);
   }
@@ -259,12 +273,12 @@ static int cmd_cg(int argc, char **argv, cg_error *err)
   return rc;
 }
 
-static int cmd_score(int argc, char **argv, cg_error *err)
+static ekm_status cmd_score(int argc, char **argv, ekm_error *err)
 {
   cg_score_opts o = cg_score_opts_default();
   o.table = stdout;
   o.log = stderr;
-  int rc = CG_OK;
+  ekm_status rc = EKM_OK;
   for (int i = 0; i < argc && !rc; i++) {
     const char *a = argv[i], *v = NULL;
 #define ARG() do { if (i + 1 >= argc) { rc = usage_error(err, "%s: expected a value", a); break; } v = argv[++i]; } while (0)
@@ -288,16 +302,71 @@ static int cmd_score(int argc, char **argv, cg_error *err)
   return rc;
 }
 
+/* A number for JSON that reads back to the same double. */
+static void print_exact(double v)
+{
+  char buf[32];
+  snprintf(buf, sizeof buf, "%.15g", v);
+  if (strtod(buf, NULL) != v) snprintf(buf, sizeof buf, "%.17g", v);
+  fputs(buf, stdout);
+}
+
+static ekm_status cmd_steady(int argc, char **argv, ekm_error *err)
+{
+  const char *path = NULL;
+  int column = 2;
+  double tol = 0.05;
+  ekm_status rc = EKM_OK;
+  for (int i = 0; i < argc && !rc; i++) {
+    const char *a = argv[i], *v = NULL;
+#define ARG() do { if (i + 1 >= argc) { rc = usage_error(err, "%s: expected a value", a); break; } v = argv[++i]; } while (0)
+    if (!strcmp(a, "--column")) {
+      ARG();
+      size_t c;
+      rc = get_size(a, v, &c, err);
+      if (!rc && c > 64) rc = usage_error(err, "--column: expected at most 64, got '%s'", v);
+      column = (int)c;
+    }
+    else if (!strcmp(a, "--tol")) { ARG(); rc = get_double(a, v, &tol, err);
+      if (!rc && !(tol >= 0)) rc = usage_error(err, "--tol: expected a tolerance >= 0, got '%s'", v); }
+    else if (a[0] == '-' && a[1]) rc = usage_error(err, "steady: unknown option '%s' (see ekmcompare --help)", a);
+    else if (path) rc = usage_error(err, "steady: expected one monitor file, got a second one '%s'", a);
+    else path = a;
+#undef ARG
+  }
+  if (!rc && !path) rc = EKM_FAIL(err, EKM_EUSAGE, "steady: expected a monitor file (see ekmcompare --help)");
+  double *v = NULL;
+  size_t n = 0;
+  if (!rc) rc = cg_steady_monitor_read(path, column, &v, &n, err);
+  if (rc) return rc;
+  cg_steady_verdict r = cg_steady_drift(v, n, tol);
+  free(v);
+  fputs("{\"steady\": ", stdout);
+  fputs(!r.known ? "null" : r.steady ? "true" : "false", stdout);
+  fputs(", \"drift\": ", stdout);
+  if (r.known) printf("%.4g", r.drift);
+  else fputs("null", stdout);
+  fputs(", \"tol\": ", stdout);
+  print_exact(tol);
+  printf(", \"samples\": %zu}\n", r.samples);
+  if (fflush(stdout) != 0 || ferror(stdout)) return EKM_FAIL(err, EKM_EIO, "steady: cannot write the result");
+  return EKM_OK;
+}
+
 int main(int argc, char **argv)
 {
   gsl_set_error_handler_off();
-  cg_h5_quiet();
-  cg_error err;
-  cg_error_clear(&err);
-  int rc;
+  ekm_h5_quiet();
+  ekm_error err;
+  ekm_error_clear(&err);
+  ekm_status rc = ekm_atomic_install_signal_cleanup(&err);
+  if (rc) {
+    ekm_error_print("ekmcompare", &err);
+    return ekm_status_exit_code(rc);
+  }
   if (argc < 2) {
     fputs(usage_text, stderr);
-    return CG_EUSAGE;
+    return ekm_status_exit_code(EKM_EUSAGE);
   }
   if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
     fputs(usage_text, stdout);
@@ -307,13 +376,14 @@ int main(int argc, char **argv)
     printf("ekmcompare %s\n", EKMBENCH_VERSION);
     return 0;
   }
+  if (!strcmp(argv[1], "fit")) return cg_fit_main(argc - 2, argv + 2); /* exit codes of docs/exit-codes.md */
   if (!strcmp(argv[1], "cg")) rc = cmd_cg(argc - 2, argv + 2, &err);
   else if (!strcmp(argv[1], "score")) rc = cmd_score(argc - 2, argv + 2, &err);
-  else rc = CG_ERROR(&err, CG_EUSAGE, "ekmcompare: unknown command '%s': expected cg or score (see --help)", argv[1]);
+  else if (!strcmp(argv[1], "steady")) rc = cmd_steady(argc - 2, argv + 2, &err);
+  else rc = EKM_FAIL(&err, EKM_EUSAGE, "unknown command '%s': expected cg, score, fit or steady (see --help)", argv[1]);
   if (rc) {
-    fprintf(stderr, "%s\n", err.msg);
-    if (getenv("EKMCOMPARE_DEBUG")) fprintf(stderr, "  (raised at %s:%d)\n", err.src, err.src_line);
-    return rc;
+    ekm_error_print("ekmcompare", &err);
+    return ekm_status_exit_code(rc);
   }
   return 0;
 }

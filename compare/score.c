@@ -5,9 +5,10 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
-#include "h5io.h"
+#include "atomic.h"
+#include "h5.h"
+#include "metric.h"
 
 #define MAXF 16
 static const char *const default_fields[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
@@ -52,6 +53,16 @@ static void json_num(FILE *fp, double v)
   else fputs("null", fp);
 }
 
+/* A number that reads back to the same double (an option to be reused). */
+static void json_exact(FILE *fp, double v)
+{
+  char buf[32];
+  if (!isfinite(v)) { fputs("null", fp); return; }
+  snprintf(buf, sizeof buf, "%.15g", v);
+  if (strtod(buf, NULL) != v) snprintf(buf, sizeof buf, "%.17g", v);
+  fputs(buf, fp);
+}
+
 static void json_str(FILE *fp, const char *s)
 {
   fputc('"', fp);
@@ -63,24 +74,34 @@ static void json_str(FILE *fp, const char *s)
   fputc('"', fp);
 }
 
-static int write_json(const cg_score_opts *o, const cg_score_field *res, size_t nres,
-                      const char *mode, cg_error *err)
+static ekm_status write_json(const cg_score_opts *o, const cg_score_field *res, size_t nres,
+                      const char *mode, ekm_error *err)
 {
-  size_t len = strlen(o->json) + 32;
-  char *tmp = malloc(len);
-  if (!tmp) return CG_ERROR(err, CG_ESYS, "out of memory");
-  snprintf(tmp, len, "%s.tmp.%ld", o->json, (long)getpid());
-  FILE *fp = fopen(tmp, "w");
-  if (!fp) {
-    free(tmp);
-    return CG_ERROR(err, CG_ESYS, "%s: cannot create the output file", o->json);
-  }
+  ekm_atomic out;
+  ekm_status rc = ekm_atomic_open(&out, o->json, err);
+  if (rc) return rc;
+  FILE *fp = out.fp;
   fputs("{\n  \"dem\": ", fp);
   json_str(fp, o->dem);
   fputs(",\n  \"ekm\": ", fp);
   json_str(fp, o->ekm);
   fprintf(fp, ",\n  \"time\": \"%s\",\n  \"code_version\": ", mode);
   json_str(fp, EKMBENCH_VERSION);
+  /* every option that produced the numbers, so that a reader (the figures,
+   * the regression test) needs no scenario file to know or redo them */
+  int other_dem = 0;
+  for (size_t i = 0; i < nres; i++) other_dem |= res[i].se_both;
+  fputs(",\n  \"options\": {\n    \"fields\": [", fp);
+  for (size_t i = 0; i < nres; i++) {
+    if (i) fputs(", ", fp);
+    json_str(fp, res[i].name);
+  }
+  fprintf(fp, "],\n    \"ekm_time\": \"%s\",\n    \"shift_m\": ", o->ekm_last ? "last" : "interp");
+  json_exact(fp, o->shift);
+  fprintf(fp, ",\n    \"model\": \"%s\",\n    \"se\": \"%s\",\n    \"se_floor_rel_rms\": ",
+          other_dem ? "dem" : "ekm", other_dem ? "dem and model in quadrature" : "dem");
+  json_exact(fp, CG_SCORE_SE_FLOOR);
+  fputs("\n  }", fp);
   fputs(",\n  \"fields\": {", fp);
   for (size_t i = 0; i < nres; i++) {
     fprintf(fp, "%s\n    \"%s\": {\"points\": %zu, \"points_with_se\": %zu, \"rel_l2\": ",
@@ -91,15 +112,25 @@ static int write_json(const cg_score_opts *o, const cg_score_field *res, size_t 
     fprintf(fp, ", \"se\": \"%s\"}", res[i].se_both ? "both, in quadrature" : "dem");
   }
   fputs("\n  }\n}\n", fp);
-  int bad = ferror(fp);
-  bad |= fclose(fp) != 0;
-  if (bad || rename(tmp, o->json) != 0) {
-    unlink(tmp);
-    free(tmp);
-    return CG_ERROR(err, CG_ESYS, "%s: cannot write the output file", o->json);
+  return ekm_atomic_commit(&out, err);
+}
+
+/* A dataset of 1 ([n], *nt = 0) or 2 ([nt][n]) dimensions as doubles. */
+static ekm_status read_array(ekm_h5_file *f, const char *name, double **data, size_t *nt, size_t *n,
+                             ekm_error *err)
+{
+  int rank;
+  size_t dims[EKM_H5_MAX_RANK];
+  ekm_status rc = ekm_h5_read_double(f, name, &rank, dims, data, err);
+  if (rc) return rc;
+  if (rank > 2) {
+    free(*data);
+    *data = NULL;
+    return EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected 1 or 2 dimensions", ekm_h5_path(f), name);
   }
-  free(tmp);
-  return CG_OK;
+  *nt = rank == 2 ? dims[0] : 0;
+  *n = rank == 2 ? dims[1] : dims[0];
+  return EKM_OK;
 }
 
 typedef struct {
@@ -107,37 +138,41 @@ typedef struct {
   size_t nzd, ntd, nze, nte;
 } axes;
 
-static int read_axes(cg_h5r *dem, cg_h5r *ekm, const cg_score_opts *o, axes *ax, cg_error *err)
+static ekm_status read_axes(ekm_h5_file *dem, ekm_h5_file *ekm, const cg_score_opts *o, axes *ax,
+                            ekm_error *err)
 {
   char axis[8] = "z";
   size_t nt;
-  if (cg_h5r_attr_str(dem, "axis", axis, sizeof axis)) {
-    if (!cg_h5r_has(dem, "z") && cg_h5r_has(dem, "x")) strcpy(axis, "x");
-    else if (!cg_h5r_has(dem, "z") && cg_h5r_has(dem, "y")) strcpy(axis, "y");
+  ekm_status rc = EKM_OK;
+  if (ekm_h5_attr_exists(dem, NULL, "axis")) {
+    if ((rc = ekm_h5_attr_get_string(dem, NULL, "axis", axis, sizeof axis, err))) return rc;
+  } else {
+    if (!ekm_h5_exists(dem, "z") && ekm_h5_exists(dem, "x")) strcpy(axis, "x");
+    else if (!ekm_h5_exists(dem, "z") && ekm_h5_exists(dem, "y")) strcpy(axis, "y");
   }
-  int rc = cg_h5r_read(dem, axis, &ax->zd, &nt, &ax->nzd, err);
-  if (!rc && nt) rc = CG_ERROR(err, CG_EINPUT, "%s: dataset %s: expected 1 dimension", o->dem, axis);
-  if (!rc) rc = cg_h5r_read(dem, "t", &ax->td, &nt, &ax->ntd, err);
-  if (!rc && nt) rc = CG_ERROR(err, CG_EINPUT, "%s: dataset t: expected 1 dimension", o->dem);
-  if (!rc) rc = cg_h5r_read(ekm, "z", &ax->ze, &nt, &ax->nze, err);
-  if (!rc && nt) rc = CG_ERROR(err, CG_EINPUT, "%s: dataset z: expected 1 dimension", o->ekm);
-  if (!rc) rc = cg_h5r_read(ekm, "t", &ax->te, &nt, &ax->nte, err);
-  if (!rc && nt) rc = CG_ERROR(err, CG_EINPUT, "%s: dataset t: expected 1 dimension", o->ekm);
+  rc = read_array(dem, axis, &ax->zd, &nt, &ax->nzd, err);
+  if (!rc && nt) rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected 1 dimension", o->dem, axis);
+  if (!rc) rc = read_array(dem, "t", &ax->td, &nt, &ax->ntd, err);
+  if (!rc && nt) rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected 1 dimension", o->dem);
+  if (!rc) rc = read_array(ekm, "z", &ax->ze, &nt, &ax->nze, err);
+  if (!rc && nt) rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset z: expected 1 dimension", o->ekm);
+  if (!rc) rc = read_array(ekm, "t", &ax->te, &nt, &ax->nte, err);
+  if (!rc && nt) rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected 1 dimension", o->ekm);
   if (rc) return rc;
-  if (ax->nze == 0 || ax->nte == 0) return CG_ERROR(err, CG_EINPUT, "%s: expected non-empty /z and /t", o->ekm);
-  if (ax->nzd == 0 || ax->ntd == 0) return CG_ERROR(err, CG_EINPUT, "%s: expected non-empty /%s and /t", o->dem, axis);
-  if (!increasing(ax->ze, ax->nze)) return CG_ERROR(err, CG_EINPUT, "%s: dataset z: expected increasing values", o->ekm);
-  if (!increasing(ax->te, ax->nte)) return CG_ERROR(err, CG_EINPUT, "%s: dataset t: expected increasing values", o->ekm);
+  if (ax->nze == 0 || ax->nte == 0) return EKM_FAIL(err, EKM_EINPUT, "%s: expected non-empty /z and /t", o->ekm);
+  if (ax->nzd == 0 || ax->ntd == 0) return EKM_FAIL(err, EKM_EINPUT, "%s: expected non-empty /%s and /t", o->dem, axis);
+  if (!increasing(ax->ze, ax->nze)) return EKM_FAIL(err, EKM_EINPUT, "%s: dataset z: expected increasing values", o->ekm);
+  if (!increasing(ax->te, ax->nte)) return EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected increasing values", o->ekm);
   for (size_t i = 0; i < ax->nzd; i++) ax->zd[i] += o->shift;
-  return CG_OK;
+  return EKM_OK;
 }
 
-int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error *err)
+ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err)
 {
   cg_score_field loc[MAXF];
   if (!res) res = loc;
   *nres = 0;
-  if (!o->dem || !o->ekm) return CG_ERROR(err, CG_EUSAGE, "score: expected --dem CG.h5 and --ekm RUN.h5");
+  if (!o->dem || !o->ekm) return EKM_FAIL(err, EKM_EUSAGE, "score: expected --dem CG.h5 and --ekm RUN.h5");
   /* field list */
   char names[MAXF][32];
   size_t nf = 0;
@@ -147,23 +182,29 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
       const char *q = strchr(p, ',');
       size_t len = q ? (size_t)(q - p) : strlen(p);
       if (len == 0 || len >= 32 || nf == MAXF)
-        return CG_ERROR(err, CG_EUSAGE, "--fields: expected a comma-separated list of field names, got '%s'", o->fields);
+        return EKM_FAIL(err, EKM_EUSAGE, "--fields: expected a comma-separated list of field names, got '%s'", o->fields);
       memcpy(names[nf], p, len);
       names[nf++][len] = '\0';
       p += len + (q ? 1 : 0);
     }
   }
-  cg_h5r *dem = NULL, *ekm = NULL;
-  int rc = cg_h5r_open(&dem, o->dem, err);
-  if (!rc) rc = cg_h5r_open(&ekm, o->ekm, err);
+  /* the JSON must not replace an input */
+  const char *inputs[2] = {o->dem, o->ekm};
+  if (o->json) {
+    ekm_status st = ekm_atomic_refuse_input(o->json, inputs, 2, err);
+    if (st) return st;
+  }
+  ekm_h5_file *dem = NULL, *ekm = NULL;
+  ekm_status rc = ekm_h5_open(&dem, o->dem, err);
+  if (!rc) rc = ekm_h5_open(&ekm, o->ekm, err);
   axes ax;
   memset(&ax, 0, sizeof ax);
   if (!rc) rc = read_axes(dem, ekm, o, &ax, err);
   if (!rc && !o->fields)
     for (size_t i = 0; i < sizeof default_fields / sizeof *default_fields; i++)
-      if (cg_h5r_has(dem, default_fields[i]) && cg_h5r_has(ekm, default_fields[i]))
+      if (ekm_h5_exists(dem, default_fields[i]) && ekm_h5_exists(ekm, default_fields[i]))
         strcpy(names[nf++], default_fields[i]);
-  if (!rc && nf == 0) rc = CG_ERROR(err, CG_EINPUT, "%s, %s: no field in common", o->dem, o->ekm);
+  if (!rc && nf == 0) rc = EKM_FAIL(err, EKM_EINPUT, "%s, %s: no field in common", o->dem, o->ekm);
   /* time mapping: EKM index and fraction per DEM time */
   int last = o->ekm_last;
   size_t *ti = NULL;
@@ -173,7 +214,7 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
     ti = malloc(ax.ntd * sizeof *ti);
     ta = malloc(ax.ntd * sizeof *ta);
     tin = malloc(ax.ntd * sizeof *tin);
-    if (!ti || !ta || !tin) rc = CG_ERROR(err, CG_ESYS, "out of memory");
+    if (!ti || !ta || !tin) rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   }
   if (!rc) {
     size_t nin = 0;
@@ -196,32 +237,35 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
     size_t nt1, n1, nt2 = 0, n2 = 0, nt3, n3, nt4, n4;
     char sename[48];
     snprintf(sename, sizeof sename, "%s_se", names[f]);
-    if (!cg_h5r_has(dem, names[f])) rc = CG_ERROR(err, CG_EINPUT, "%s: expected a dataset %s", o->dem, names[f]);
-    else if (!cg_h5r_has(ekm, names[f])) rc = CG_ERROR(err, CG_EINPUT, "%s: expected a dataset %s", o->ekm, names[f]);
-    if (!rc) rc = cg_h5r_read(dem, names[f], &fd, &nt1, &n1, err);
+    if (!ekm_h5_exists(dem, names[f])) rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->dem, names[f]);
+    else if (!ekm_h5_exists(ekm, names[f])) rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->ekm, names[f]);
+    if (!rc) rc = read_array(dem, names[f], &fd, &nt1, &n1, err);
     if (!rc && (nt1 != ax.ntd || n1 != ax.nzd))
-      rc = CG_ERROR(err, CG_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, names[f], ax.ntd, ax.nzd);
-    if (!rc && cg_h5r_has(dem, sename)) {
-      rc = cg_h5r_read(dem, sename, &sd, &nt2, &n2, err);
+      rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, names[f], ax.ntd, ax.nzd);
+    if (!rc && ekm_h5_exists(dem, sename)) {
+      rc = read_array(dem, sename, &sd, &nt2, &n2, err);
       if (!rc && (nt2 != ax.ntd || n2 != ax.nzd))
-        rc = CG_ERROR(err, CG_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, sename, ax.ntd, ax.nzd);
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, sename, ax.ntd, ax.nzd);
     }
-    if (!rc) rc = cg_h5r_read(ekm, names[f], &fe, &nt3, &n3, err);
+    if (!rc) rc = read_array(ekm, names[f], &fe, &nt3, &n3, err);
     if (!rc && (nt3 != ax.nte || n3 != ax.nze))
-      rc = CG_ERROR(err, CG_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, names[f], ax.nte, ax.nze);
+      rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, names[f], ax.nte, ax.nze);
     /* a second coarse-grained DEM run in place of the EKM (engine against
      * engine) carries its own standard error: the two add in quadrature */
-    if (!rc && cg_h5r_has(ekm, sename)) {
-      rc = cg_h5r_read(ekm, sename, &fse, &nt4, &n4, err);
+    if (!rc && ekm_h5_exists(ekm, sename)) {
+      rc = read_array(ekm, sename, &fse, &nt4, &n4, err);
       if (!rc && (nt4 != ax.nte || n4 != ax.nze))
-        rc = CG_ERROR(err, CG_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, sename, ax.nte, ax.nze);
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, sename, ax.nte, ax.nze);
     }
-    double *pd = NULL, *ps = NULL; /* per point: difference, standard error */
-    if (!rc && (!(pd = malloc(ax.ntd * ax.nzd * sizeof *pd)) || !(ps = malloc(ax.ntd * ax.nzd * sizeof *ps))))
-      rc = CG_ERROR(err, CG_ESYS, "out of memory");
+    /* the points both cover, in DEM order (time, then coordinate): the
+     * model interpolated onto them, the DEM value and its standard error */
+    double *pm = NULL, *pdem = NULL, *ps = NULL;
+    size_t ncand = ax.ntd * ax.nzd;
+    if (!rc && (!(pm = malloc(ncand * sizeof *pm)) || !(pdem = malloc(ncand * sizeof *pdem)) ||
+                !(ps = malloc(ncand * sizeof *ps))))
+      rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
     if (!rc) {
-      double sd2 = 0, se2 = 0, sn2 = 0;
-      size_t np = 0, npse = 0;
+      size_t np = 0;
       for (size_t j = 0; j < ax.ntd; j++) {
         if (!tin[j]) continue;
         size_t i0 = ti[j], i1 = i0 + 1 < ax.nte ? i0 + 1 : i0;
@@ -235,9 +279,6 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
           double e0 = r0[zi] + az * (r0[z1] - r0[zi]);
           double e1 = r1[zi] + az * (r1[z1] - r1[zi]);
           double e = e0 + at * (e1 - e0), d = fd[j * ax.nzd + k];
-          if (!isfinite(e) || !isfinite(d)) continue;
-          sd2 += d * d;
-          se2 += (e - d) * (e - d);
           double s = sd ? sd[j * ax.nzd + k] : NAN;
           if (fse) {
             const double *q0 = fse + i0 * ax.nze, *q1 = fse + i1 * ax.nze;
@@ -246,26 +287,19 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
             double s2 = s0 + at * (s1 - s0);
             s = sqrt(s * s + s2 * s2);
           }
-          pd[np] = e - d;
+          pm[np] = e;
+          pdem[np] = d;
           ps[np] = s;
           np++;
         }
       }
-      /* the noise-normalised error uses the points whose standard error is
-       * meaningful: SE > 1e-6 of the field's RMS (a bin that one grain
-       * crossed once has an SE of round-off size, and would swamp it) */
-      double floor_se = np ? 1e-6 * sqrt(sd2 / (double)np) : 0.0;
-      for (size_t q = 0; q < np; q++)
-        if (isfinite(ps[q]) && ps[q] > floor_se) {
-          npse++;
-          sn2 += pd[q] * pd[q] / (ps[q] * ps[q]);
-        }
+      cg_metric m = cg_metric_compute(pm, pdem, ps, np, CG_SCORE_SE_FLOOR);
       cg_score_field *r = &res[*nres];
       snprintf(r->name, sizeof r->name, "%s", names[f]);
-      r->points = np;
-      r->points_se = npse;
-      r->rel_l2 = (np && sd2 > 0) ? sqrt(se2 / sd2) : NAN;
-      r->noise = npse ? sqrt(sn2 / (double)npse) : NAN;
+      r->points = m.points;
+      r->points_se = m.points_se;
+      r->rel_l2 = m.rel_l2;
+      r->noise = m.noise;
       r->se_both = fse != NULL;
       (*nres)++;
     }
@@ -273,7 +307,8 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
     free(sd);
     free(fe);
     free(fse);
-    free(pd);
+    free(pm);
+    free(pdem);
     free(ps);
   }
   if (!rc && o->table) {
@@ -286,7 +321,7 @@ int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error
   free(ta);
   free(tin);
   free(ax.zd); free(ax.td); free(ax.ze); free(ax.te);
-  cg_h5r_close(dem);
-  cg_h5r_close(ekm);
+  ekm_h5_close(dem);
+  ekm_h5_close(ekm);
   return rc;
 }

@@ -22,7 +22,7 @@
 
 #include <stdio.h>
 
-#include "error.h"
+#include "status.h"
 
 typedef struct {
   const char *dem;     /* cg HDF5 file */
@@ -34,6 +34,11 @@ typedef struct {
   FILE *table;         /* markdown table (stdout), or NULL */
   FILE *log;           /* notes, or NULL */
 } cg_score_opts;
+
+/* Standard errors at or below this fraction of the DEM field's RMS are
+ * round-off (a bin one grain crossed once), not noise: those points are left
+ * out of the noise-normalised error. */
+#define CG_SCORE_SE_FLOOR 1e-6
 
 cg_score_opts cg_score_opts_default(void);
 
@@ -49,6 +54,6 @@ typedef struct {
 } cg_score_field;
 
 /* Score; results (up to 16 fields) in res/nres when res != NULL. */
-int cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, cg_error *err);
+ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err);
 
 #endif

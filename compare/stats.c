@@ -1,4 +1,4 @@
-/* stats.c: block averages, blocking standard errors, MSER-5 (see stats.h). */
+/* stats.c: block averages and blocking standard errors (see stats.h). */
 #include "stats.h"
 
 #include <math.h>
@@ -6,14 +6,13 @@
 #include <string.h>
 
 #define SE_MIN_BLOCKS 8  /* fewest blocks for a level to count in the SE */
-#define MSER_BATCH 5     /* MSER batch size [snapshots] */
 
-int cg_blocks_alloc(cg_blocks **out, size_t m, size_t bmax, cg_error *err)
+ekm_status cg_blocks_alloc(cg_blocks **out, size_t m, size_t bmax, ekm_error *err)
 {
   *out = NULL;
-  if (bmax < 2 || bmax % 2) return CG_ERROR(err, CG_EUSAGE, "blocks: expected an even bmax >= 2");
+  if (bmax < 2 || bmax % 2) return EKM_FAIL(err, EKM_EINTERNAL, "blocks: expected an even bmax >= 2");
   cg_blocks *b = calloc(1, sizeof *b);
-  if (!b) return CG_ERROR(err, CG_ESYS, "out of memory");
+  if (!b) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   b->m = m;
   b->bmax = bmax;
   b->blocks = calloc(bmax * m, sizeof *b->blocks);
@@ -21,11 +20,11 @@ int cg_blocks_alloc(cg_blocks **out, size_t m, size_t bmax, cg_error *err)
   b->total = calloc(m, sizeof *b->total);
   if (!b->blocks || !b->cur || !b->total) {
     cg_blocks_free(b);
-    return CG_ERROR(err, CG_ESYS, "out of memory");
+    return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   }
   cg_blocks_reset(b);
   *out = b;
-  return CG_OK;
+  return EKM_OK;
 }
 
 void cg_blocks_free(cg_blocks *b)
@@ -111,33 +110,4 @@ double cg_stats_se(const double *x, size_t n, double *work)
     level++;
   }
   return best;
-}
-
-size_t cg_stats_mser(const double *x, size_t n)
-{
-  size_t nb = n / MSER_BATCH;
-  if (nb < 2) return 0;
-  size_t best_d = 0;
-  double best = INFINITY;
-  for (size_t d = 0; d <= nb / 2; d++) {
-    double sum = 0.0;
-    for (size_t j = d; j < nb; j++) {
-      double y = 0.0;
-      for (size_t i = 0; i < MSER_BATCH; i++) y += x[j * MSER_BATCH + i];
-      sum += y / MSER_BATCH;
-    }
-    double mean = sum / (double)(nb - d), ss = 0.0;
-    for (size_t j = d; j < nb; j++) {
-      double y = 0.0;
-      for (size_t i = 0; i < MSER_BATCH; i++) y += x[j * MSER_BATCH + i];
-      y /= MSER_BATCH;
-      ss += (y - mean) * (y - mean);
-    }
-    double v = ss / ((double)(nb - d) * (double)(nb - d));
-    if (v < best * (1.0 - 1e-12)) {
-      best = v;
-      best_d = d;
-    }
-  }
-  return best_d * MSER_BATCH;
 }

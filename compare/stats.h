@@ -1,5 +1,5 @@
-/* stats.h: block averages with bounded memory, standard errors of
- * correlated series, and the start of the steady state.
+/* stats.h: block averages with bounded memory and standard errors of
+ * correlated series.
  *
  * cg_blocks keeps the running sum of m values per snapshot and at most
  * `bmax` block sums of `bsize` successive snapshots; when the store is
@@ -14,16 +14,14 @@
  * levels with at least 8 blocks (the plateau; level 0 if there are fewer).
  * Non-finite values (empty bins) are skipped.
  *
- * cg_stats_mser: MSER-5 truncation (White 1997): batch means of 5, and the
- * start d minimising sum_{j>=d} (y_j - mean_d)^2 / (nb - d)^2 over
- * d <= nb/2. Returns the first snapshot of the steady window.
+ * The start of the steady state (MSER-5) is in steady.h.
  */
 #ifndef CG_STATS_H
 #define CG_STATS_H
 
 #include <stddef.h>
 
-#include "error.h"
+#include "status.h"
 
 typedef struct {
   size_t m;        /* values per snapshot */
@@ -37,7 +35,7 @@ typedef struct {
   double *total;   /* m: sum of all snapshots */
 } cg_blocks;
 
-int cg_blocks_alloc(cg_blocks **b, size_t m, size_t bmax, cg_error *err);
+ekm_status cg_blocks_alloc(cg_blocks **b, size_t m, size_t bmax, ekm_error *err);
 void cg_blocks_free(cg_blocks *b);
 void cg_blocks_reset(cg_blocks *b);
 void cg_blocks_add(cg_blocks *b, const double *x);
@@ -47,8 +45,5 @@ void cg_blocks_block_mean(const cg_blocks *b, size_t j, double *out);
 
 /* Standard error of the mean of x[0..n-1] (block values); NAN if < 2. */
 double cg_stats_se(const double *x, size_t n, double *work);
-
-/* Steady-state start index of x[0..n-1] by MSER-5 (0 if n < 10). */
-size_t cg_stats_mser(const double *x, size_t n);
 
 #endif

@@ -12,7 +12,7 @@
  *   hypo.to_solid, hypo.to_flow (switch counts), hypo.jump_max (largest
  *   relative stress jump at a switch), hypo.fail_time [s], hypo.fail_angle
  *   [deg], hypo.fail_fY (first solid -> flow switch; fail_time -1: none).
- * The file is written under PATH.tmp and renamed to PATH on commit; the
+ * The file is written under a temporary (common/atomic.h) and renamed to PATH on commit; the
  * sidecar PATH-without-.h5 + ".xdmf" lets ParaView open the time series.
  */
 #ifndef EKM_H5OUT_H

@@ -57,7 +57,8 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
  *   rho_j u_j - dt/dz (tau_{j+1} - tau_j) = rhs_j.
  * k [kg/(m^2 s)] and t0 [Pa] at the n + 1 faces (k = viscosity / distance;
  * a solid face: k = its rate-law stiffness dt f B_h / dz, t0 its known
- * stress).  The solid regime's form of the shear solve (step.c). */
+ * stress).  The solid regime's form of the shear solve (its coefficients:
+ * ekm_regime_shear_faces, regime.h). */
 ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, double dz,
                                     const double *rho, const double *rhs, const double *k,
                                     const double *t0, const unsigned char *dry, double u_wall_bottom,

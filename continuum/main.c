@@ -6,10 +6,13 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "atomic.h"
 #include "ekm_version.h"
 #include "h5out.h"
+#include "resolve.h"
 #include "run.h"
 #include "scenario.h"
+#include "scenario_json.h"
 #include "state.h"
 #include "step.h"
 
@@ -17,6 +20,8 @@ static void usage(FILE *fp)
 {
     fprintf(fp,
         "usage: ekm run FILE.ini [-o OUT.h5] [--set section.key=value ...] [--quiet]\n"
+        "       ekm scenario FILE.ini [--engine liggghts|lammps] [--size smoke|ref]\n"
+        "                    [--point TAG] [--set section.key=value ...] --json\n"
         "       ekm --help | --version\n"
         "\n"
         "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
@@ -28,9 +33,21 @@ static void usage(FILE *fp)
         "                   --set domain.cells=200 --set model.variant=thesis\n"
         "  --quiet          no progress line and no summary\n"
         "\n"
-        "Exit codes: 0 success; 1 usage error; 2 bad scenario or command line value;\n"
-        "3 file could not be read or written; 4 the solver could not continue\n"
-        "(phi would reach phi_cp, no convergence); 5 internal error or out of memory.\n"
+        "ekm scenario prints the resolved scenario as one JSON object on stdout\n"
+        "(docs/resolved-scenario.md): every key of every section with its value as\n"
+        "written and where it came from (FILE:LINE, --set or default), [dem] and\n"
+        "[compare] looked up for the engine and size, and the sweep points with\n"
+        "their tags and the --set overrides of `ekm run` for each.\n"
+        "  --engine E       liggghts or lammps: choose the <engine>.k variants\n"
+        "  --size S         smoke or ref: choose the <size>.k variants and the sweep\n"
+        "  --point TAG      keep only that sweep point\n"
+        "  --json           the output format (required)\n"
+        "\n"
+        "Exit codes (docs/exit-codes.md): 0 success; 1 usage error; 2 bad scenario or\n"
+        "command line value; 3 file could not be read or written (also: -o names the\n"
+        "scenario file); 4 the solver could not continue (phi would reach phi_cp, no\n"
+        "convergence); 5 internal error or out of memory; 128+N stopped by signal N\n"
+        "(its temporary files removed).\n"
         "Formats and units: README.md and docs/ of ekmbench.\n");
 }
 
@@ -56,7 +73,7 @@ static void default_output(const char *ini, char *out, size_t size)
 
 static int fail(const ekm_error *err, ekm_status st)
 {
-    fprintf(stderr, "ekm: %s\n", err->message);
+    ekm_error_print("ekm", err);
     return ekm_status_exit_code(st);
 }
 
@@ -68,7 +85,7 @@ static int cmd_run(int argc, char **argv)
     size_t n_sets = 0;
     if (!sets) {
         fprintf(stderr, "ekm: out of memory\n");
-        return 5;
+        return ekm_status_exit_code(EKM_ENOMEM);
     }
     for (int i = 0; i < argc; i++) {
         if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) out = argv[++i];
@@ -77,22 +94,32 @@ static int cmd_run(int argc, char **argv)
         else if (argv[i][0] == '-' || ini) {
             fprintf(stderr, "ekm run: unexpected argument '%s' (see ekm --help)\n", argv[i]);
             free(sets);
-            return 1;
+            return ekm_status_exit_code(EKM_EUSAGE);
         } else ini = argv[i];
     }
     if (!ini) {
         fprintf(stderr, "ekm run: missing scenario file (see ekm --help)\n");
         free(sets);
-        return 1;
+        return ekm_status_exit_code(EKM_EUSAGE);
     }
-    char out_buf[1024];
+    char out_buf[1024], xdmf[1100];
     if (!out) {
         default_output(ini, out_buf, sizeof out_buf);
         out = out_buf;
     }
     ekm_error err = {0};
+    /* neither the output nor its sidecar may replace the scenario file */
+    ekm_h5_xdmf_path(out, xdmf, sizeof xdmf);
+    const char *const inputs[] = {ini};
+    ekm_status st = ekm_atomic_refuse_input(out, inputs, 1, &err);
+    if (st == EKM_OK)
+        st = ekm_atomic_refuse_input(xdmf, inputs, 1, &err);
+    if (st != EKM_OK) {
+        free(sets);
+        return fail(&err, st);
+    }
     ekm_scenario sc;
-    ekm_status st = ekm_scenario_load(&sc, ini, sets, n_sets, &err);
+    st = ekm_scenario_load(&sc, ini, sets, n_sets, &err);
     free(sets);
     if (st != EKM_OK) {
         ekm_scenario_free(&sc);
@@ -163,12 +190,59 @@ static int cmd_run(int argc, char **argv)
     return code;
 }
 
+static int cmd_scenario(int argc, char **argv)
+{
+    const char *ini = NULL, *engine = NULL, *size = NULL, *point = NULL;
+    int json = 0;
+    const char **sets = calloc((size_t)argc + 1, sizeof *sets);
+    size_t n_sets = 0;
+    if (!sets) {
+        fprintf(stderr, "ekm: out of memory\n");
+        return ekm_status_exit_code(EKM_ENOMEM);
+    }
+    for (int i = 0; i < argc; i++) {
+        if (strcmp(argv[i], "--engine") == 0 && i + 1 < argc) engine = argv[++i];
+        else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc) size = argv[++i];
+        else if (strcmp(argv[i], "--point") == 0 && i + 1 < argc) point = argv[++i];
+        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc) sets[n_sets++] = argv[++i];
+        else if (strcmp(argv[i], "--json") == 0) json = 1;
+        else if (argv[i][0] == '-' || ini) {
+            fprintf(stderr, "ekm scenario: unexpected argument '%s' (see ekm --help)\n", argv[i]);
+            free(sets);
+            return ekm_status_exit_code(EKM_EUSAGE);
+        } else ini = argv[i];
+    }
+    if (!ini || !json) {
+        fprintf(stderr, "ekm scenario: %s (see ekm --help)\n",
+                !ini ? "missing scenario file" : "missing --json (the output format)");
+        free(sets);
+        return ekm_status_exit_code(EKM_EUSAGE);
+    }
+    ekm_error err = {0};
+    ekm_scenario sc;
+    ekm_resolved res = {0};
+    ekm_status st = ekm_scenario_load(&sc, ini, sets, n_sets, &err);
+    free(sets);
+    if (st == EKM_OK)
+        st = ekm_resolve(&sc, engine, size, &res, &err);
+    if (st == EKM_OK && point)
+        st = ekm_resolve_keep_point(&res, point, &err);
+    if (st == EKM_OK)
+        st = ekm_json_write_resolved(stdout, &sc, &res, &err);
+    ekm_resolve_free(&res);
+    ekm_scenario_free(&sc);
+    return st == EKM_OK ? 0 : fail(&err, st);
+}
+
 int main(int argc, char **argv)
 {
     gsl_set_error_handler_off();
+    ekm_error err = {0};
+    if (ekm_atomic_install_signal_cleanup(&err) != EKM_OK)
+        return fail(&err, EKM_EINTERNAL);
     if (argc < 2) {
         usage(stderr);
-        return 1;
+        return ekm_status_exit_code(EKM_EUSAGE);
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         usage(stdout);
@@ -180,6 +254,8 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "run") == 0)
         return cmd_run(argc - 2, argv + 2);
+    if (strcmp(argv[1], "scenario") == 0)
+        return cmd_scenario(argc - 2, argv + 2);
     fprintf(stderr, "ekm: unknown command '%s' (see ekm --help)\n", argv[1]);
-    return 1;
+    return ekm_status_exit_code(EKM_EUSAGE);
 }

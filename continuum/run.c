@@ -42,35 +42,12 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
     double last_progress = started;
     long frame = 0;
     /* the run starts (the load is applied) like a change of the driving */
-    double dt_prev = ekm_step_restart_dt(st, s) / 1.5;
-    /* Times the driving changes: the inflows close, the base starts to
-     * tilt (and a piston reverses, below). Steps end exactly there and the
-     * step restarts from ekm_step_restart_dt. */
-    double events[3] = {INFINITY, INFINITY, INFINITY};
-    if (sc->bottom.kind == EKM_BC_INFLOW) events[0] = sc->bottom.t_stop;
-    if (sc->top.kind == EKM_BC_INFLOW) events[1] = sc->top.t_stop;
-    if (sc->angle_rate != 0.0 && sc->angle_start > 0.0) events[2] = sc->angle_start;
+    double dt_prev = ekm_control_restart_dt(sc, s) / 1.5;
     while (s->t < sc->t_end * (1.0 - 1e-14)) {
         const double t_next_out = fmin(sc->t_end, (frame + 1) * sc->output_dt);
-        double dt = fmin(ekm_step_max_dt(st, s), 1.5 * dt_prev);
-        double t_target = t_next_out;
-        int at_event = 0; /* the step ends at a change of the driving */
-        for (int e = 0; e < 3; e++)
-            if (events[e] > s->t * (1.0 + 1e-14) && events[e] < t_target)
-                t_target = events[e];
-        for (int e = 0; e < 3; e++)
-            at_event |= events[e] > s->t * (1.0 + 1e-14) && fabs(events[e] - t_target) <= 1e-12 * t_target;
-        /* A piston reverses every half period: steps end there too. */
-        const ekm_bc *pistons[2] = {&sc->bottom, &sc->top};
-        for (int e = 0; e < 2; e++)
-            if (pistons[e]->kind == EKM_BC_PISTON) {
-                const double half = 0.5 * pistons[e]->period;
-                double next = (floor(s->t / half + 1e-9) + 1.0) * half;
-                if (next <= t_target * (1.0 + 1e-12)) {
-                    t_target = fmin(t_target, next);
-                    at_event = 1;
-                }
-            }
+        double dt = fmin(ekm_control_max_dt(sc, s), 1.5 * dt_prev);
+        int at_event; /* the step ends at a change of the driving */
+        const double t_target = ekm_control_target(sc, s->t, t_next_out, &at_event);
         const int reaches = s->t + dt >= t_target * (1.0 - 1e-12);
         if (reaches)
             dt = t_target - s->t;
@@ -92,7 +69,7 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
         /* Do not let an event- or output-shortened step throttle growth;
          * after a change of the driving, restart from the acoustic step. */
         if (reaches && at_event)
-            dt_prev = ekm_step_restart_dt(st, s) / 1.5;
+            dt_prev = ekm_control_restart_dt(sc, s) / 1.5;
         else if (s->t < t_target * (1.0 - 1e-12))
             dt_prev = dt;
         stats->steps++;

@@ -1,9 +1,12 @@
-/* run.h: the time loop: adaptive time step (CFL on |w| + sound speed,
- * growth at most x1.5 per step, halved on a rejected step down to dt_min),
- * output cadence, inflow closing times, progress line. */
+/* run.h: the time loop (GSL's evolve): each step takes the limit of
+ * control.h, grows at most x1.5 per step, ends on the next output time or
+ * change of the driving (control.h, then restarts from the acoustic step),
+ * is halved on a rejected step down to dt_min (below it: EKM_ENUMERIC with
+ * the last rejection's reason); frames at output_dt, progress line. */
 #ifndef EKM_RUN_H
 #define EKM_RUN_H
 
+#include "control.h"
 #include "scenario.h"
 #include "state.h"
 #include "step.h"

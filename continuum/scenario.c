@@ -2,6 +2,7 @@
 #include "scenario.h"
 
 #include "flux.h"
+#include "resolve.h"
 
 #include <errno.h>
 #include <ini.h>
@@ -90,8 +91,6 @@ static const key_spec KEYS[] = {
 };
 #define N_KEYS (sizeof KEYS / sizeof KEYS[0])
 
-/* Sections that belong to other tools of ekmbench: skipped by ekm. */
-static const char *const FOREIGN_SECTIONS[] = {"dem", "compare", "campaign", "figures"};
 
 void ekm_scenario_init_defaults(ekm_scenario *s)
 {
@@ -123,6 +122,7 @@ typedef struct {
     const char *file;  /* file name or "--set" */
     FILE *fp;
     int line;          /* current line number */
+    ekm_origin origin; /* EKM_FROM_FILE, or EKM_FROM_SET while reading the --set overrides */
     int long_line;     /* line number of a line too long for inih, or 0 */
     int failed;
     ekm_error *err;
@@ -180,32 +180,33 @@ static int parse_int(const char *v, int *out)
     return 1;
 }
 
-static ekm_status record_entry(ekm_scenario *s, const char *section, const char *key,
-                               const char *value, ekm_error *err)
+/* Set "section.key" = value in list (in place when it is there already). */
+static ekm_status record_entry(ekm_entry **list, size_t *n, const char *section, const char *key,
+                               const char *value, ekm_origin origin, int line, ekm_error *err)
 {
-    char name[64];
+    char name[sizeof((ekm_entry *)0)->name];
     snprintf(name, sizeof name, "%s.%s", section, key);
-    for (size_t i = 0; i < s->n_entries; i++)
-        if (strcmp(s->entries[i].name, name) == 0) {
-            snprintf(s->entries[i].value, sizeof s->entries[i].value, "%s", value);
-            return EKM_OK;
-        }
-    ekm_entry *e = realloc(s->entries, (s->n_entries + 1) * sizeof *e);
-    if (!e)
-        return EKM_FAIL(err, EKM_ENOMEM, "out of memory reading the scenario");
-    s->entries = e;
-    snprintf(e[s->n_entries].name, sizeof e->name, "%s", name);
-    snprintf(e[s->n_entries].value, sizeof e->value, "%s", value);
-    s->n_entries++;
+    ekm_entry *e = (ekm_entry *)ekm_scenario_entry_find(*list, *n, name);
+    if (!e) {
+        e = realloc(*list, (*n + 1) * sizeof *e);
+        if (!e)
+            return EKM_FAIL(err, EKM_ENOMEM, "out of memory reading the scenario");
+        *list = e;
+        e += (*n)++;
+        snprintf(e->name, sizeof e->name, "%s", name);
+    }
+    snprintf(e->value, sizeof e->value, "%s", value);
+    e->origin = origin;
+    e->line = line;
     return EKM_OK;
 }
 
-static int is_foreign(const char *section)
+const ekm_entry *ekm_scenario_entry_find(const ekm_entry *list, size_t n, const char *name)
 {
-    for (size_t i = 0; i < sizeof FOREIGN_SECTIONS / sizeof FOREIGN_SECTIONS[0]; i++)
-        if (strcasecmp(section, FOREIGN_SECTIONS[i]) == 0)
-            return 1;
-    return 0;
+    for (size_t i = 0; i < n; i++)
+        if (strcmp(list[i].name, name) == 0)
+            return &list[i];
+    return NULL;
 }
 
 static int section_known(const char *section)
@@ -221,8 +222,18 @@ static int handler(void *user, const char *section, const char *key, const char 
     parse_ctx *c = user;
     if (c->failed)
         return 0;
-    if (is_foreign(section))
+    if (ekm_resolve_is_tool_section(section)) {
+        /* the other tools' keys: checked here, resolved by resolve.c */
+        char why[700];
+        if (!ekm_resolve_check_key(section, key, value, why, sizeof why))
+            return fail_once(c, EKM_EINPUT, "%s%s%s", why, "", "");
+        if (record_entry(&c->s->tool_entries, &c->s->n_tool_entries, section, key, value, c->origin, c->line,
+                         c->err) != EKM_OK) {
+            c->failed = 1;
+            return 0;
+        }
         return 1;
+    }
     if (!section_known(section))
         return fail_once(c, EKM_EINPUT,
                          "[%s]%s: unknown section (ekm reads scenario material model domain gravity "
@@ -266,7 +277,8 @@ static int handler(void *user, const char *section, const char *key, const char 
     }
     c->seen[k] = 1;
     c->seen_line[k] = c->line;
-    if (record_entry(c->s, section, key, value, c->err) != EKM_OK) {
+    if (record_entry(&c->s->entries, &c->s->n_entries, section, key, value, c->origin, c->line, c->err) !=
+        EKM_OK) {
         c->failed = 1;
         return 0;
     }
@@ -420,7 +432,7 @@ ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
     parse_ctx c = {.s = s, .file = path, .err = err};
     c.fp = fopen(path, "r");
     if (!c.fp)
-        return EKM_FAIL(err, EKM_EINPUT, "%s: cannot open scenario file: %s", path, strerror(errno));
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot open scenario file: %s", path, strerror(errno));
     int rc = ini_parse_stream(reader, &c, handler, &c);
     fclose(c.fp);
     c.fp = NULL;
@@ -444,6 +456,7 @@ ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
         snprintf(key, sizeof key, "%.*s", (int)(eq - dot - 1), dot + 1);
         c.file = "--set";
         c.line = (int)i + 1;
+        c.origin = EKM_FROM_SET;
         if (!handler(&c, section, key, eq + 1))
             return EKM_EINPUT;
         /* --set entries are marked with line 0 so messages say "--set". */
@@ -464,6 +477,55 @@ void ekm_scenario_free(ekm_scenario *s)
     free(s->entries);
     s->entries = NULL;
     s->n_entries = 0;
+    free(s->tool_entries);
+    s->tool_entries = NULL;
+    s->n_tool_entries = 0;
+}
+
+size_t ekm_scenario_key_count(void)
+{
+    return N_KEYS;
+}
+
+void ekm_scenario_key_name(size_t i, const char **section, const char **key)
+{
+    *section = KEYS[i].section;
+    *key = KEYS[i].key;
+}
+
+/* The shortest "%.*g" that reads back as x. */
+static void format_shortest(double x, char *buf, size_t size)
+{
+    for (int digits = 1; digits <= 17; digits++) {
+        snprintf(buf, size, "%.*g", digits, x);
+        if (strtod(buf, NULL) == x)
+            return;
+    }
+}
+
+int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_t size)
+{
+    const key_spec *ks = &KEYS[i];
+    const char *base = (const char *)s;
+    const ekm_bc *bc = strcmp(ks->section, "bottom") == 0 ? &s->bottom : strcmp(ks->section, "top") == 0 ? &s->top : NULL;
+    if (ks->only_for_bc && !type_in(ks->only_for_bc, ekm_bc_kind_name(bc->kind)))
+        return 0;
+    if (strcmp(ks->key, "variant") == 0)
+        snprintf(value, size, "%s", s->variant == EKM_VARIANT_THESIS ? "thesis" : "full");
+    else if (strcmp(ks->key, "convection") == 0)
+        snprintf(value, size, "%s", s->numerics.convection == EKM_CONVECTION_TVD ? "tvd" : "upwind");
+    else if (bc && strcmp(ks->key, "type") == 0)
+        snprintf(value, size, "%s", ekm_bc_kind_name(bc->kind));
+    else if (ks->type == KEY_DOUBLE) {
+        const double x = *(const double *)(base + ks->offset);
+        if (!isfinite(x))
+            return 0;
+        format_shortest(x, value, size);
+    } else if (ks->type == KEY_INT)
+        snprintf(value, size, "%d", *(const int *)(base + ks->offset));
+    else
+        snprintf(value, size, "%s", base + ks->offset);
+    return 1;
 }
 
 double ekm_scenario_angle_at(const ekm_scenario *s, double t)

@@ -3,9 +3,10 @@
  *
  * ekm owns the sections listed in docs/scenario-format.md ([scenario]
  * [material] [model] [domain] [gravity] [initial] [bottom] [top] [run]
- * [numerics] [hypo]); the sections of other tools ([dem], [compare], [campaign],
- * [figures]) are skipped; any other section or key is an error that names
- * the file, line, section and key.
+ * [numerics] [hypo]); the keys of the other tools' sections ([dem],
+ * [compare], [campaign], [figures]) are checked (name, <engine>./<size>.
+ * prefix, type: resolve.h) and kept as written in tool_entries; any other
+ * section or key is an error that names the file, line, section and key.
  */
 #ifndef EKM_SCENARIO_H
 #define EKM_SCENARIO_H
@@ -82,10 +83,16 @@ typedef struct {
                            * under the initial gravity, at yield pressure (state.c) */
 } ekm_hypo_params;
 
+/* Where a key's value came from. */
+typedef enum { EKM_FROM_FILE = 0, EKM_FROM_SET, EKM_FROM_DEFAULT } ekm_origin;
+
 /* One key as given (file or --set), kept for provenance in the output. */
 typedef struct {
-    char name[64];   /* "section.key" */
-    char value[160]; /* the value string as written */
+    char name[64];     /* "section.key" (for the other tools' sections the key as
+                        * written, with its <engine>./<size>. prefix) */
+    char value[160];   /* the value string as written */
+    ekm_origin origin; /* EKM_FROM_FILE or EKM_FROM_SET */
+    int line;          /* file line, or the position of the --set (from 1) */
 } ekm_entry;
 
 typedef struct {
@@ -110,8 +117,12 @@ typedef struct {
     double output_dt;       /* output interval [s] */
     ekm_numerics numerics;
     ekm_hypo_params hypo;
-    ekm_entry *entries;     /* every key read, in order (provenance) */
+    ekm_entry *entries;     /* every key of ekm's sections read, in order (provenance;
+                             * the output file's attributes) */
     size_t n_entries;
+    ekm_entry *tool_entries; /* every key of [dem] [compare] [campaign] [figures] read,
+                              * in order, as written (resolve.h resolves them) */
+    size_t n_tool_entries;
 } ekm_scenario;
 
 /* Defaults for everything that has one (docs/scenario-format.md). */
@@ -125,6 +136,19 @@ ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
                              ekm_error *err);
 
 void ekm_scenario_free(ekm_scenario *s);
+
+/* ekm's keys in registry order (the order of docs/scenario-format.md):
+ * their number, the section and name of key i < ekm_scenario_key_count(),
+ * and the value key i has when it is not given, from the loaded scenario
+ * (shortest round-trip number, enum name). Returns 0 when the key has no
+ * value to show: a non-finite default (no limit, "never", "-w"), or a
+ * [bottom]/[top] key of another boundary type. */
+size_t ekm_scenario_key_count(void);
+void ekm_scenario_key_name(size_t i, const char **section, const char **key);
+int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_t size);
+
+/* The entry named "section.key" in list (n entries), or NULL. */
+const ekm_entry *ekm_scenario_entry_find(const ekm_entry *list, size_t n, const char *name);
 
 /* Gravity components [m/s^2] at the start (angle) and at time t. */
 double ekm_scenario_gravity_x(const ekm_scenario *s);

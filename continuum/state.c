@@ -21,7 +21,9 @@ ekm_state *ekm_state_alloc(int n, double length)
     s->syy = calloc((size_t)n, sizeof *s->syy);
     s->szz = calloc((size_t)n, sizeof *s->szz);
     s->sxz = calloc((size_t)n + 1, sizeof *s->sxz);
-    if (!s->z || !s->phi || !s->T || !s->u || !s->w || !s->solid || !s->sxx || !s->syy || !s->szz || !s->sxz) {
+    s->rate_prev = calloc((size_t)n, sizeof *s->rate_prev);
+    if (!s->z || !s->phi || !s->T || !s->u || !s->w || !s->solid || !s->sxx || !s->syy || !s->szz || !s->sxz ||
+        !s->rate_prev) {
         ekm_state_free(s);
         return NULL;
     }
@@ -44,6 +46,7 @@ void ekm_state_free(ekm_state *s)
     free(s->syy);
     free(s->szz);
     free(s->sxz);
+    free(s->rate_prev);
     free(s);
 }
 
@@ -59,6 +62,7 @@ void ekm_state_copy(ekm_state *dst, const ekm_state *src)
     memcpy(dst->syy, src->syy, n * sizeof *dst->syy);
     memcpy(dst->szz, src->szz, n * sizeof *dst->szz);
     memcpy(dst->sxz, src->sxz, (n + 1) * sizeof *dst->sxz);
+    memcpy(dst->rate_prev, src->rate_prev, n * sizeof *dst->rate_prev);
     dst->t = src->t;
     dst->steps = src->steps;
     dst->mass_in = src->mass_in;
@@ -125,6 +129,7 @@ void ekm_state_init(ekm_state *s, const ekm_scenario *sc)
         s->solid[j] = sc->hypo.enabled && sc->hypo.initial_solid && PY > 0.0;
         const double PY_law = ekm_pressure_yield(&sc->material, ekm_scenario_law_phi(sc, s->phi[j]));
         s->sxx[j] = s->syy[j] = s->szz[j] = s->solid[j] ? -sc->hypo.initial_stress_ratio * PY_law : 0.0;
+        s->rate_prev[j] = 0.0;
     }
     for (int f = 0; f <= s->n; f++) {
         s->w[f] = 0.0;

@@ -28,6 +28,8 @@ typedef struct {
     double *sxz;     /* shear stress at faces [Pa], n + 1: the rate law's state on faces
                       * between two solid cells (or a solid cell and a wall), the
                       * flow's face stress elsewhere */
+    double *rate_prev; /* sqrt(u'^2 + w'^2) of each cell after the previous accepted step [1/s], n
+                        * (the regime switching's test for growing rates, regime.h) */
 } ekm_state;
 
 ekm_state *ekm_state_alloc(int n, double length);

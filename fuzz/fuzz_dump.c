@@ -27,13 +27,13 @@ static const char *const cols[] = {
 static void read_dump(const char *path)
 {
   cg_dump *d;
-  cg_error err;
+  ekm_error err;
   if (cg_dump_open(&d, path, cols, sizeof cols / sizeof *cols, &err)) return;
   cg_snapshot s;
   memset(&s, 0, sizeof s);
   double sum = 0;
   int n = 0;
-  while (n++ < 1000 && cg_dump_next(d, &s, &err) == CG_OK) {
+  while (n++ < 1000 && cg_dump_next(d, &s, &err) == EKM_OK) {
     /* touch every value that was read */
     for (int64_t i = 0; i < s.natoms; i++)
       for (size_t j = 0; j < s.nsel; j++)

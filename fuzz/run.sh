@@ -17,8 +17,8 @@ corpus=${CORPUS:-$here/corpus}
 mkdir -p "$out" "$corpus"
 exe="$out/fuzz_dump"
 clang -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
-  -D_POSIX_C_SOURCE=200809L -I"$root/compare" \
-  "$here/fuzz_dump.c" "$root/compare/dump.c" "$root/compare/error.c" -lz -lm -o "$exe" 2> "$out/build.log" ||
+  -D_POSIX_C_SOURCE=200809L -I"$root/compare" -I"$root/common" \
+  "$here/fuzz_dump.c" "$root/compare/dump.c" "$root/common/status.c" -lz -lm -o "$exe" 2> "$out/build.log" ||
   { cat "$out/build.log" >&2; echo "fuzz/run.sh: cannot build with libFuzzer: skipped" >&2; exit 77; }
 seeds=$(mktemp -d)
 trap 'rm -rf "$seeds"' EXIT

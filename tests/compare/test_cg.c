@@ -10,7 +10,7 @@
 #include <zlib.h>
 
 #include "cgrun.h"
-#include "h5io.h"
+#include "h5.h"
 #include "synth.h"
 #include "test_util.h"
 
@@ -27,23 +27,35 @@ static void profile_free(profile *p)
   memset(p, 0, sizeof *p);
 }
 
+/* A dataset of a cg output: [n] (*nt = 0) or [nt][n]. */
+static void read_array(ekm_h5_file *r, const char *name, double **data, size_t *nt, size_t *n)
+{
+  ekm_error err;
+  int rank;
+  size_t dims[EKM_H5_MAX_RANK];
+  if (ekm_h5_read_double(r, name, &rank, dims, data, &err)) fail_msg("%s", err.message);
+  assert_true(rank == 1 || rank == 2);
+  *nt = rank == 2 ? dims[0] : 0;
+  *n = rank == 2 ? dims[1] : dims[0];
+}
+
 /* Read field `name` (and its _se) of a cg output. */
 static void read_field(const char *path, const char *name, profile *p)
 {
-  cg_h5r *r;
-  cg_error err;
+  ekm_h5_file *r;
+  ekm_error err;
   size_t nt, n;
   char se[64];
   memset(p, 0, sizeof *p);
-  assert_int_equal(cg_h5r_open(&r, path, &err), CG_OK);
-  assert_int_equal(cg_h5r_read(r, "z", &p->z, &nt, &p->n, &err), CG_OK);
-  assert_int_equal(cg_h5r_read(r, "t", &p->t, &nt, &p->nt, &err), CG_OK);
-  assert_int_equal(cg_h5r_read(r, name, &p->f, &nt, &n, &err), CG_OK);
+  assert_int_equal(ekm_h5_open(&r, path, &err), EKM_OK);
+  read_array(r, "z", &p->z, &nt, &p->n);
+  read_array(r, "t", &p->t, &nt, &p->nt);
+  read_array(r, name, &p->f, &nt, &n);
   assert_int_equal(nt, p->nt);
   assert_int_equal(n, p->n);
   snprintf(se, sizeof se, "%s_se", name);
-  assert_int_equal(cg_h5r_read(r, se, &p->se, &nt, &n, &err), CG_OK);
-  cg_h5r_close(r);
+  read_array(r, se, &p->se, &nt, &n);
+  ekm_h5_close(r);
 }
 
 static void run_cg_x(const char *dump, const char *out, const char *kernel, double width,
@@ -60,9 +72,9 @@ static void run_cg_x(const char *dump, const char *out, const char *kernel, doub
   o.bins = bins;
   o.tmode = tmode;
   o.every = every;
-  cg_error err;
-  int rc = cg_run(&o, &err);
-  if (rc) fail_msg("cg_run: %s", err.msg);
+  ekm_error err;
+  ekm_status rc = cg_run(&o, &err);
+  if (rc) fail_msg("cg_run: %s", err.message);
 }
 
 static void run_cg(const char *dump, const char *out, const char *kernel, double width,
@@ -223,14 +235,13 @@ static void test_steady_multifile(void **state)
   ro.width = 0.002;
   ro.bins = 20;
   ro.steady = 1;
-  cg_error err;
-  if (cg_run(&ro, &err)) fail_msg("%s", err.msg);
-  cg_h5r *r;
-  assert_int_equal(cg_h5r_open(&r, out, &err), CG_OK);
-  char buf[64];
-  assert_int_equal(cg_h5r_attr_str(r, "steady_start", buf, sizeof buf), 0);
-  double ts = strtod(buf, NULL), t3 = 30 * o.dstep * o.dt;
-  cg_h5r_close(r);
+  ekm_error err;
+  if (cg_run(&ro, &err)) fail_msg("%s", err.message);
+  ekm_h5_file *r;
+  assert_int_equal(ekm_h5_open(&r, out, &err), EKM_OK);
+  double ts, t3 = 30 * o.dstep * o.dt;
+  assert_int_equal(ekm_h5_attr_get_double(r, NULL, "steady_start", &ts, &err), EKM_OK);
+  ekm_h5_close(r);
   if (ts < t3 - 1e-12 || ts > t3 + 10 * o.dstep * o.dt)
     fail_msg("steady start %g s, expected in [%g, %g]", ts, t3, t3 + 10 * o.dstep * o.dt);
   /* the transient is excluded: one snapshot at 2x T among the 30 would put
@@ -383,8 +394,8 @@ static void test_contact_stress(void **state)
   ro.nstress = 6;
   const char *names[6] = {"c_s[1]", "c_s[2]", "c_s[3]", "c_s[4]", "c_s[5]", "c_s[6]"};
   for (int c = 0; c < 6; c++) ro.stress[c] = names[c];
-  cg_error err;
-  if (cg_run(&ro, &err)) fail_msg("%s", err.msg);
+  ekm_error err;
+  if (cg_run(&ro, &err)) fail_msg("%s", err.message);
   profile phi, P, sxz, mu;
   read_field(out, "phi", &phi);
   read_field(out, "P", &P);
@@ -498,8 +509,8 @@ static void run_contacts(const char *atoms, const char *pairs, int idmode, int e
     o.nstress = 6;
     for (int c = 0; c < 6; c++) o.stress[c] = sc[c];
   }
-  cg_error err;
-  if (cg_run(&o, &err)) fail_msg("%s", err.msg);
+  ekm_error err;
+  if (cg_run(&o, &err)) fail_msg("%s", err.message);
 }
 
 static double integral(const profile *p)
@@ -596,8 +607,8 @@ static void test_real_chute(void **state)
         o.nstress = 6;
         for (int c = 0; c < 6; c++) o.stress[c] = sa[c];
       }
-      cg_error err;
-      if (cg_run(&o, &err)) fail_msg("%s: %s", eng[e], err.msg);
+      ekm_error err;
+      if (cg_run(&o, &err)) fail_msg("%s: %s", eng[e], err.message);
       profile rho, phi, P;
       read_field(out, "rho", &rho);
       read_field(out, "phi", &phi);
@@ -639,8 +650,8 @@ static void test_deck_dump(void **state)
   o.nstress = 6;
   const char *names[6] = {"c_sa[1]", "c_sa[2]", "c_sa[3]", "c_sa[4]", "c_sa[5]", "c_sa[6]"};
   for (int c = 0; c < 6; c++) o.stress[c] = names[c];
-  cg_error err;
-  if (cg_run(&o, &err)) fail_msg("%s", err.msg);
+  ekm_error err;
+  if (cg_run(&o, &err)) fail_msg("%s", err.message);
   /* total mass of the fixture: sum of its mass column */
   FILE *fp = fopen(CG_FIXTURES "/liggghts_deck.dump", "r");
   char line[1024];

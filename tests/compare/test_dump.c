@@ -16,14 +16,14 @@ static const char *const cols[] = {"x", "y", "z", "vx", "vy", "vz", "radius", "m
 #define NCOLS (sizeof cols / sizeof *cols)
 
 /* Read all snapshots of a file; returns the status of the last call. */
-static int read_all(const char *path, size_t *nsnap, cg_snapshot *last, cg_error *err,
+static ekm_status read_all(const char *path, size_t *nsnap, cg_snapshot *last, ekm_error *err,
                     int *truncated)
 {
   cg_dump *d;
-  int rc = cg_dump_open(&d, path, cols, NCOLS, err);
+  ekm_status rc = cg_dump_open(&d, path, cols, NCOLS, err);
   if (rc) return rc;
   *nsnap = 0;
-  while ((rc = cg_dump_next(d, last, err)) == CG_OK) (*nsnap)++;
+  while ((rc = cg_dump_next(d, last, err)) == EKM_OK) (*nsnap)++;
   *truncated = cg_dump_truncated(d);
   cg_dump_close(d);
   return rc;
@@ -56,10 +56,10 @@ static void test_liggghts_deck(void **state)
 {
   (void)state;
   cg_snapshot s = {0};
-  cg_error err;
+  ekm_error err;
   size_t n;
   int tr;
-  assert_int_equal(read_all(CG_FIXTURES "/liggghts_deck.dump", &n, &s, &err, &tr), CG_EOF);
+  assert_int_equal(read_all(CG_FIXTURES "/liggghts_deck.dump", &n, &s, &err, &tr), EKM_EOF);
   assert_int_equal(n, 3);
   assert_int_equal(tr, 0);
   assert_int_equal(s.step, 2000);
@@ -78,11 +78,11 @@ static void test_lammps_time_and_gzip(void **state)
 {
   (void)state;
   cg_snapshot a = {0}, b = {0};
-  cg_error err;
+  ekm_error err;
   size_t na, nb;
   int tr;
-  assert_int_equal(read_all(CG_FIXTURES "/lammps_time.dump", &na, &a, &err, &tr), CG_EOF);
-  assert_int_equal(read_all(CG_FIXTURES "/lammps_time.dump.gz", &nb, &b, &err, &tr), CG_EOF);
+  assert_int_equal(read_all(CG_FIXTURES "/lammps_time.dump", &na, &a, &err, &tr), EKM_EOF);
+  assert_int_equal(read_all(CG_FIXTURES "/lammps_time.dump.gz", &nb, &b, &err, &tr), EKM_EOF);
   assert_int_equal(na, 3);
   assert_int_equal(nb, 3);
   assert_int_equal(a.has_time, 1);
@@ -96,10 +96,10 @@ static void test_triclinic(void **state)
 {
   (void)state;
   cg_snapshot s = {0};
-  cg_error err;
+  ekm_error err;
   size_t n;
   int tr;
-  assert_int_equal(read_all(CG_FIXTURES "/triclinic.dump", &n, &s, &err, &tr), CG_EOF);
+  assert_int_equal(read_all(CG_FIXTURES "/triclinic.dump", &n, &s, &err, &tr), EKM_EOF);
   assert_int_equal(n, 2);
   assert_int_equal(s.triclinic, 1);
   assert_close(s.tilt[1], 0.004, 1e-15);
@@ -114,10 +114,10 @@ static void test_truncated(void **state)
 {
   (void)state;
   cg_snapshot s = {0};
-  cg_error err;
+  ekm_error err;
   size_t n;
   int tr;
-  assert_int_equal(read_all(CG_FIXTURES "/truncated.dump", &n, &s, &err, &tr), CG_EOF);
+  assert_int_equal(read_all(CG_FIXTURES "/truncated.dump", &n, &s, &err, &tr), EKM_EOF);
   assert_int_equal(n, 2);
   assert_int_equal(tr, 1);
   cg_snapshot_free(&s);
@@ -133,8 +133,8 @@ static void test_truncated(void **state)
   assert_non_null(out);
   fwrite(buf, 1, len * 3 / 4, out);
   fclose(out);
-  int rc = read_all(path, &n, &s, &err, &tr);
-  assert_int_equal(rc, CG_EOF);
+  ekm_status rc = read_all(path, &n, &s, &err, &tr);
+  assert_int_equal(rc, EKM_EOF);
   assert_int_equal(tr, 1);
   assert_true(n >= 1 && n < 3);
   cg_snapshot_free(&s);
@@ -155,10 +155,10 @@ static void test_formats_agree(void **state)
     char path[512];
     o.format = fm[k];
     assert_int_equal(synth_write(tmp_path(path, sizeof path, names[k]), &o), 0);
-    cg_error err;
+    ekm_error err;
     size_t n;
     int tr;
-    assert_int_equal(read_all(path, &n, &s[k], &err, &tr), CG_EOF);
+    assert_int_equal(read_all(path, &n, &s[k], &err, &tr), EKM_EOF);
     assert_int_equal(n, 3);
     assert_int_equal(s[k].natoms, 500);
     assert_int_equal(s[k].has_time, 1);
@@ -176,13 +176,13 @@ static void expect_error(const char *name, const char *text, const char *needle)
   tmp_path(path, sizeof path, name);
   assert_int_equal(write_text(path, text), 0);
   cg_snapshot s = {0};
-  cg_error err;
+  ekm_error err;
   size_t n;
   int tr;
-  int rc = read_all(path, &n, &s, &err, &tr);
+  ekm_status rc = read_all(path, &n, &s, &err, &tr);
   cg_snapshot_free(&s);
-  if (rc != CG_EINPUT || !strstr(err.msg, needle) || !strstr(err.msg, path))
-    fail_msg("%s: rc %d, message '%s', expected '%s'", name, rc, err.msg, needle);
+  if (rc != EKM_EINPUT || !strstr(err.message, needle) || !strstr(err.message, path))
+    fail_msg("%s: rc %d, message '%s', expected '%s'", name, rc, err.message, needle);
 }
 
 #define HDR "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp ff\n0 1\n0 1\n0 1\n"
@@ -237,16 +237,16 @@ static void test_bad_binary(void **state)
   fwrite(buf, 1, len, fp);
   fclose(fp);
   cg_snapshot s = {0};
-  cg_error err;
+  ekm_error err;
   size_t n;
   int tr;
-  assert_int_equal(read_all(bad, &n, &s, &err, &tr), CG_EINPUT);
-  assert_non_null(strstr(err.msg, "expected 11 atoms (header), chunks hold 10"));
+  assert_int_equal(read_all(bad, &n, &s, &err, &tr), EKM_EINPUT);
+  assert_non_null(strstr(err.message, "expected 11 atoms (header), chunks hold 10"));
   /* truncated binary: a warning, not an error */
   fp = fopen(bad, "wb");
   fwrite(buf, 1, len - 100, fp);
   fclose(fp);
-  assert_int_equal(read_all(bad, &n, &s, &err, &tr), CG_EOF);
+  assert_int_equal(read_all(bad, &n, &s, &err, &tr), EKM_EOF);
   assert_int_equal(tr, 1);
   assert_int_equal(n, 0);
   cg_snapshot_free(&s);

@@ -25,8 +25,8 @@ static void test_normalised(void **state)
   cg_grid g = {.n = 100, .lo = 0.0, .hi = 0.1, .dz = 0.001, .periodic = 0, .reflect = 1};
   for (int i = 0; i < 3; i++) {
     cg_kernel *k;
-    cg_error err;
-    assert_int_equal(cg_kernel_alloc(&k, names[i], 0.002, &err), CG_OK);
+    ekm_error err;
+    assert_int_equal(cg_kernel_alloc(&k, names[i], 0.002, &err), EKM_OK);
     /* interior, near a wall (reflected), on the wall */
     double pos[] = {0.05, 0.0513, 0.001, 0.0999, 0.0};
     for (size_t j = 0; j < sizeof pos / sizeof *pos; j++)
@@ -50,10 +50,10 @@ static void test_normalised(void **state)
 static void test_moments(void **state)
 {
   (void)state;
-  cg_error err;
+  ekm_error err;
   cg_kernel *k;
   double w = 0.01;
-  assert_int_equal(cg_kernel_alloc(&k, "lucy", w, &err), CG_OK);
+  assert_int_equal(cg_kernel_alloc(&k, "lucy", w, &err), EKM_OK);
   double var = 0, h = 1e-5, prev = 0;
   for (double x = -0.05; x < 0.05; x += h) {
     double F = cg_kernel_cdf(k, x + h, 0), p = F - prev;
@@ -62,17 +62,17 @@ static void test_moments(void **state)
   }
   assert_close(sqrt(var), w, 1e-3 * w);
   cg_kernel_free(k);
-  assert_int_equal(cg_kernel_alloc(&k, "gauss", w, &err), CG_OK);
+  assert_int_equal(cg_kernel_alloc(&k, "gauss", w, &err), EKM_OK);
   assert_close(cg_kernel_cdf(k, 0, 0), 0.5, 1e-9);
   assert_close(cg_kernel_cdf(k, w, 0), (0.8413447460685429 - 0.0013498980316301) / 0.9973002039367398, 1e-7);
   cg_kernel_free(k);
-  assert_int_equal(cg_kernel_alloc(&k, "bins", 0, &err), CG_OK);
+  assert_int_equal(cg_kernel_alloc(&k, "bins", 0, &err), EKM_OK);
   /* sphere of radius 1 cut at its centre: half; cap of height 1/2 */
   assert_close(cg_kernel_cdf(k, 0.0, 1.0), 0.5, 1e-15);
   assert_close(cg_kernel_cdf(k, -0.5, 1.0), 0.25 * 2.5 / 4.0, 1e-15);
   cg_kernel_free(k);
-  assert_int_equal(cg_kernel_alloc(&k, "tophat", w, &err), CG_EUSAGE);
-  assert_non_null(strstr(err.msg, "expected gauss, lucy or bins"));
+  assert_int_equal(cg_kernel_alloc(&k, "tophat", w, &err), EKM_EUSAGE);
+  assert_non_null(strstr(err.message, "expected gauss, lucy or bins"));
 }
 
 int main(void)

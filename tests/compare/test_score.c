@@ -5,45 +5,47 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
-#include <hdf5.h>
 #include <math.h>
 
-#include "h5io.h"
+#include "h5.h"
 #include "score.h"
 #include "test_util.h"
+
+/* A [n] (nt == 0) or [nt][n] dataset. */
+static void put(ekm_h5_file *w, const char *name, const double *data, size_t nt, size_t n, const char *units)
+{
+  ekm_error err;
+  size_t dims[2] = {nt, n};
+  ekm_status st = nt ? ekm_h5_write_double(w, name, 2, dims, data, units, NULL, &err)
+                     : ekm_h5_write_double(w, name, 1, &n, data, units, NULL, &err);
+  if (st) fail_msg("%s", err.message);
+}
 
 /* An ekm-format file: f(z,t) = a + b z + c t for phi, vx, T (and P). */
 static void write_ekm(const char *path, size_t nz, double z0, double z1, size_t nt,
                       double t1, double a, double b, double c)
 {
-  cg_h5w *w;
-  cg_error err;
-  assert_int_equal(cg_h5w_create(&w, path, &err), CG_OK);
+  ekm_h5_file *w;
+  ekm_error err;
+  assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
   double *z = malloc(nz * sizeof *z), *t = malloc(nt * sizeof *t), *f = malloc(nz * nt * sizeof *f);
   for (size_t k = 0; k < nz; k++) z[k] = z0 + (z1 - z0) * ((double)k + 0.5) / (double)nz;
   for (size_t i = 0; i < nt; i++) t[i] = nt > 1 ? t1 * (double)i / (double)(nt - 1) : t1;
   for (size_t i = 0; i < nt; i++)
     for (size_t k = 0; k < nz; k++) f[i * nz + k] = a + b * z[k] + c * t[i];
-  assert_int_equal(cg_h5w_dataset(w, "z", z, 0, nz, "m", &err), CG_OK);
-  assert_int_equal(cg_h5w_dataset(w, "t", t, 0, nt, "s", &err), CG_OK);
+  put(w, "z", z, 0, nz, "m");
+  put(w, "t", t, 0, nt, "s");
   const char *names[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
-  for (size_t i = 0; i < 7; i++)
-    assert_int_equal(cg_h5w_dataset(w, names[i], f, nt, nz, "1", &err), CG_OK);
-  assert_int_equal(cg_h5w_attr_str(w, "variant", "full", &err), CG_OK);
-  assert_int_equal(cg_h5w_attr_double(w, "gravity_z", -9.81, &err), CG_OK);
-  assert_int_equal(cg_h5w_attr_str(w, "code_version", "test", &err), CG_OK);
-  assert_int_equal(cg_h5w_commit(w, &err), CG_OK);
+  for (size_t i = 0; i < 7; i++) put(w, names[i], f, nt, nz, "1");
   /* the contract's int32 /regime dataset */
-  hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
-  hsize_t dims[2] = {nt, nz};
-  hid_t sp = H5Screate_simple(2, dims, NULL);
-  hid_t d = H5Dcreate2(file, "regime", H5T_NATIVE_INT32, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   int *reg = calloc(nt * nz, sizeof *reg);
-  H5Dwrite(d, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, reg);
+  size_t dims[2] = {nt, nz};
+  assert_int_equal(ekm_h5_write_int(w, "regime", 2, dims, reg, "1", NULL, &err), EKM_OK);
   free(reg);
-  H5Dclose(d);
-  H5Sclose(sp);
-  H5Fclose(file);
+  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "variant", "full", &err), EKM_OK);
+  assert_int_equal(ekm_h5_attr_set_double(w, NULL, "gravity_z", -9.81, &err), EKM_OK);
+  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "code_version", "test", &err), EKM_OK);
+  assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
   free(z); free(t); free(f);
 }
 
@@ -51,9 +53,9 @@ static void write_ekm(const char *path, size_t nz, double z0, double z1, size_t 
 static void write_dem(const char *path, size_t nz, double z0, double z1, size_t nt,
                       const double *t, double a, double b, double c, double se)
 {
-  cg_h5w *w;
-  cg_error err;
-  assert_int_equal(cg_h5w_create(&w, path, &err), CG_OK);
+  ekm_h5_file *w;
+  ekm_error err;
+  assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
   double *z = malloc(nz * sizeof *z), *f = malloc(nz * nt * sizeof *f), *s = malloc(nz * nt * sizeof *s);
   for (size_t k = 0; k < nz; k++) z[k] = z0 + (z1 - z0) * ((double)k + 0.5) / (double)nz;
   for (size_t i = 0; i < nt; i++)
@@ -61,17 +63,17 @@ static void write_dem(const char *path, size_t nz, double z0, double z1, size_t 
       f[i * nz + k] = a + b * z[k] + c * t[i];
       s[i * nz + k] = se;
     }
-  assert_int_equal(cg_h5w_dataset(w, "z", z, 0, nz, "m", &err), CG_OK);
-  assert_int_equal(cg_h5w_dataset(w, "t", t, 0, nt, "s", &err), CG_OK);
+  put(w, "z", z, 0, nz, "m");
+  put(w, "t", t, 0, nt, "s");
   const char *names[] = {"phi", "vx", "T"};
   char sen[32];
   for (size_t i = 0; i < 3; i++) {
-    assert_int_equal(cg_h5w_dataset(w, names[i], f, nt, nz, "1", &err), CG_OK);
+    put(w, names[i], f, nt, nz, "1");
     snprintf(sen, sizeof sen, "%s_se", names[i]);
-    assert_int_equal(cg_h5w_dataset(w, sen, s, nt, nz, "1", &err), CG_OK);
+    put(w, sen, s, nt, nz, "1");
   }
-  assert_int_equal(cg_h5w_attr_str(w, "axis", "z", &err), CG_OK);
-  assert_int_equal(cg_h5w_commit(w, &err), CG_OK);
+  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
+  assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
   free(z); free(f); free(s);
 }
 
@@ -80,8 +82,8 @@ static void write_dem(const char *path, size_t nz, double z0, double z1, size_t 
 static size_t score_ok(const cg_score_opts *o, cg_score_field *r)
 {
   size_t n;
-  cg_error err;
-  if (cg_score(o, r, &n, &err)) fail_msg("%s", err.msg);
+  ekm_error err;
+  if (cg_score(o, r, &n, &err)) fail_msg("%s", err.message);
   return n;
 }
 
@@ -124,6 +126,11 @@ static void test_known_errors(void **state)
   fclose(fp);
   assert_non_null(strstr(buf, "\"phi\": {\"points\": 20"));
   assert_non_null(strstr(buf, "\"noise_normalised\": 0.5"));
+  /* the options that produced it: the fields found in both, the default
+   * time matching, no shift, an EKM run as the model */
+  assert_non_null(strstr(buf, "\"options\": {\n    \"fields\": [\"phi\", \"vx\", \"T\"],\n"
+                              "    \"ekm_time\": \"interp\",\n    \"shift_m\": 0,\n    \"model\": \"ekm\",\n"
+                              "    \"se\": \"dem\",\n    \"se_floor_rel_rms\": 1e-06\n  }"));
 }
 
 /* Engine against engine: the second file is coarse-grained DEM with its
@@ -137,6 +144,7 @@ static void test_dem_against_dem(void **state)
   double t[2] = {0.5, 1.5};
   write_dem(a, 10, 0.0, 1.0, 2, t, 1.0, 2.0, 0.5, 0.02);
   write_dem(b, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 0.02);
+  char js[512];
   cg_score_opts o = cg_score_opts_default();
   o.dem = a;
   o.ekm = b;
@@ -149,6 +157,22 @@ static void test_dem_against_dem(void **state)
     assert_int_equal(r[i].points, 20);
     assert_close(r[i].noise, 0.5 / sqrt(2.0), 1e-9);
   }
+  /* the options as given, the shift as it reads back; the model side is a
+   * second DEM run */
+  o.fields = "T,phi";
+  o.ekm_last = 1;
+  o.shift = 0.1;
+  o.json = tmp_path(js, sizeof js, "score_dd.json");
+  assert_int_equal(score_ok(&o, r), 2);
+  FILE *fp = fopen(js, "r");
+  assert_non_null(fp);
+  char buf[2048];
+  size_t len = fread(buf, 1, sizeof buf - 1, fp);
+  buf[len] = '\0';
+  fclose(fp);
+  assert_non_null(strstr(buf, "\"fields\": [\"T\", \"phi\"],\n    \"ekm_time\": \"last\",\n"
+                              "    \"shift_m\": 0.1,\n    \"model\": \"dem\",\n"
+                              "    \"se\": \"dem and model in quadrature\","));
 }
 
 /* Standard errors of round-off size (a bin one grain crossed once) are not
@@ -218,26 +242,26 @@ static void test_bad_inputs(void **state)
   cg_score_opts o = cg_score_opts_default();
   cg_score_field r[16];
   size_t n;
-  cg_error err;
+  ekm_error err;
   o.dem = dem;
   o.ekm = "/nonexistent/run.h5";
-  assert_int_equal(cg_score(&o, r, &n, &err), CG_EINPUT);
-  assert_non_null(strstr(err.msg, "/nonexistent/run.h5: cannot open"));
+  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EIO);
+  assert_non_null(strstr(err.message, "/nonexistent/run.h5: cannot open"));
   write_text(tmp_path(junk, sizeof junk, "junk.h5"), "not hdf5\n");
   o.ekm = junk;
-  assert_int_equal(cg_score(&o, r, &n, &err), CG_EINPUT);
-  assert_non_null(strstr(err.msg, "expected an HDF5 file"));
+  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+  assert_non_null(strstr(err.message, "expected an HDF5 file"));
   o.ekm = ekm;
   o.fields = "phi,P";
-  assert_int_equal(cg_score(&o, r, &n, &err), CG_EINPUT);
-  assert_non_null(strstr(err.msg, "score_dem3.h5: expected a dataset P"));
+  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+  assert_non_null(strstr(err.message, "score_dem3.h5: expected a dataset P"));
   o.fields = "phi,,T";
-  assert_int_equal(cg_score(&o, r, &n, &err), CG_EUSAGE);
+  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
 }
 
 int main(void)
 {
-  cg_h5_quiet();
+  ekm_h5_quiet();
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(test_known_errors),
     cmocka_unit_test(test_region_and_last),

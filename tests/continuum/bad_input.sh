@@ -10,16 +10,17 @@ base="$src/scenarios/chute.ini"
 failures=0 passed=0
 
 # check NAME EXPECTED_EXIT 'PATTERN' ARGS... : run ekm, check exit code, one
-# stderr line matching PATTERN, and no out.h5 / out.h5.tmp / out.xdmf.
+# stderr line matching PATTERN, and no out.h5 / out.xdmf or temporary of
+# them (out.h5.tmp.PID, out.xdmf.tmp.PID: common/atomic.h).
 check() {
     local name=$1 want_rc=$2 pattern=$3; shift 3
-    rm -f out.h5 out.h5.tmp out.xdmf out.xdmf.tmp
+    rm -f out.h5 out.h5.tmp* out.xdmf out.xdmf.tmp*
     "$ekm" "$@" 2> err.txt > /dev/null
     local rc=$? lines msg
     lines=$(wc -l < err.txt)
     msg=$(cat err.txt)
     if [ "$rc" -ne "$want_rc" ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$pattern" err.txt \
-       || [ -e out.h5 ] || [ -e out.h5.tmp ] || [ -e out.xdmf ]; then
+       || [ -e out.h5 ] || [ -e out.xdmf ] || ls out.h5.tmp* out.xdmf.tmp* >/dev/null 2>&1; then
         echo "FAIL $name: exit $rc (want $want_rc), $lines lines: $msg"
         failures=$((failures + 1))
     else
@@ -41,11 +42,11 @@ sed 's/^eps0 .*/eps0 = 5x0/' "$base" > malformed.ini
 check "malformed number" 2 "malformed.ini:[0-9]+: \[material\] eps0: expected a number, got '5x0'" \
     run malformed.ini -o out.h5
 
-check "unreadable file" 2 "nonexistent.ini: cannot open scenario file" run nonexistent.ini -o out.h5
+check "unreadable file" 3 "nonexistent.ini: cannot open scenario file" run nonexistent.ini -o out.h5
 
 cp "$base" unreadable.ini && chmod 000 unreadable.ini
 if [ "$(id -u)" -ne 0 ]; then
-    check "permission denied" 2 "unreadable.ini: cannot open" run unreadable.ini -o out.h5
+    check "permission denied" 3 "unreadable.ini: cannot open" run unreadable.ini -o out.h5
 fi
 
 printf '[materal]\nrho_p = 1\n' | cat - "$base" > section.ini
@@ -92,6 +93,45 @@ check "unknown command" 1 "unknown command 'walk'" walk "$base"
 # any possible step makes the first rejection fatal.
 check "solver failure" 4 "phi .* -> " run "$base" -o out.h5 --set initial.T=1e2 \
     --set numerics.phi_step_max=1e-9 --set numerics.dt_min=1e-3 --set numerics.dt_max=1
+
+# The output may not replace the scenario file (exit 3, before any work),
+# nor may its XDMF sidecar; the scenario stays as it was.
+cp "$base" self.ini && cp "$base" self.xdmf
+check "output is the scenario" 3 "self.ini: the output would overwrite the input self.ini" run self.ini -o self.ini
+check "output is the scenario via ./" 3 "the output would overwrite the input" run self.ini -o ./self.ini
+check "sidecar is the scenario" 3 "self.xdmf: the output would overwrite the input self.xdmf" \
+    run self.xdmf -o self.h5
+if cmp -s "$base" self.ini && cmp -s "$base" self.xdmf; then
+    echo "ok   scenario files untouched"; passed=$((passed + 1))
+else
+    echo "FAIL scenario files were changed"; failures=$((failures + 1))
+fi
+
+# Stopped by a signal while writing: the temporaries are removed and the
+# exit status is 128 + N (SIGTERM 15 -> 143, SIGINT 2 -> 130).  Job control
+# on: a non-interactive shell starts background jobs with SIGINT ignored
+# (which ekm then keeps ignoring, as a program should).
+set -m
+for sig in TERM INT; do
+    rm -f out.h5 out.h5.tmp* out.xdmf out.xdmf.tmp*
+    "$ekm" run "$base" -o out.h5 --quiet --set run.t_end=1e6 2> err.txt &
+    pid=$!
+    for _ in $(seq 200); do ls out.h5.tmp.* >/dev/null 2>&1 && break; sleep 0.05; done
+    had_tmp=no; ls out.h5.tmp.* >/dev/null 2>&1 && had_tmp=yes
+    kill -s "$sig" "$pid"
+    for _ in $(seq 100); do kill -0 "$pid" 2>/dev/null || break; sleep 0.05; done
+    kill -0 "$pid" 2>/dev/null && kill -KILL "$pid"  # did not stop: fails below
+    wait "$pid"; rc=$?
+    want=$((128 + $(kill -l "$sig")))
+    if [ "$had_tmp" = yes ] && [ "$rc" -eq "$want" ] && [ ! -e out.h5 ] && [ ! -e out.xdmf ] \
+       && ! ls out.h5.tmp* out.xdmf.tmp* >/dev/null 2>&1; then
+        echo "ok   SIG$sig while writing: exit $rc, no output, no temporary"; passed=$((passed + 1))
+    else
+        echo "FAIL SIG$sig while writing: temporary seen $had_tmp, exit $rc (want $want), left: $(ls out.* 2>/dev/null)"
+        failures=$((failures + 1))
+    fi
+done
+set +m
 
 echo "$passed passed, $failures failed"
 [ "$failures" -eq 0 ]

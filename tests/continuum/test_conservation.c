@@ -1,4 +1,6 @@
-/* Mass conservation and the phi < phi_cp bound over the shipped scenarios. */
+/* Mass conservation over the shipped scenarios, and the phi < phi_cp bound
+ * by its construction: rejected steps counted, end time reached, an
+ * unrecoverable rejection reported. */
 #include <dirent.h>
 #include <math.h>
 #include <setjmp.h>
@@ -61,29 +63,47 @@ static void test_mass_open(void **state)
     open_case("scenarios/thesis_kinetic_flow.ini", "60");
 }
 
+/* The phi < phi_cp bound holds by construction (step.h, phase 2: a step
+ * that would close more than phi_step_max of the gap is rejected and
+ * retried with half of it), so the tests check the construction: the
+ * rejections are counted, a run with rejections still reaches its end
+ * time, and a rejection the loop cannot recover from (dt_min) is an error
+ * with the diagnostic. */
 typedef struct {
-    double phi_cp, phi_max;
+    double phi_max;
 } bound_ctx;
 
 static ekm_status bound_frame(void *ctx, const ekm_state *s, const ekm_stepper *st, ekm_error *err)
 {
     (void)err;
+    (void)st;
     bound_ctx *c = ctx;
-    c->phi_cp = st->sc->material.phi_cp;
     for (int j = 0; j < s->n; j++)
         c->phi_max = fmax(c->phi_max, s->phi[j]);
     return EKM_OK;
 }
 
-static void bound_case(const char *scenario, const char *const *sets, size_t n_sets)
+/* The phrase of the phase-2 rejection (step.c mass_update). */
+#define PHI_REJECTION "(allowed [0, "
+
+/* Run to t_end; with phi_rejections the run must have rejected steps and
+ * the last one must be the phi bound's (not a solver failure). */
+static void bound_case(const char *scenario, const char *const *sets, size_t n_sets, int phi_rejections)
 {
     bound_ctx c = {0};
     test_run r;
     assert_int_equal(test_run_scenario(&r, scenario, sets, n_sets, bound_frame, &c), EKM_OK);
-    printf("%s%s%s: phi_max %.6f < phi_cp %.2f (%ld steps, %ld rejected)\n", scenario, n_sets ? " " : "",
-           n_sets ? sets[0] : "", c.phi_max, c.phi_cp, r.stats.steps, r.stats.rejected);
-    assert_true(c.phi_max < c.phi_cp);
+    printf("%s%s%s: t %.9g s of %.9g s, %ld steps, %ld rejected, phi_max %.6f (phi_cp %.2f)%s%s\n", scenario,
+           n_sets ? " " : "", n_sets ? sets[0] : "", r.s->t, r.sc.t_end, r.stats.steps, r.stats.rejected,
+           c.phi_max, r.sc.material.phi_cp, r.stats.rejected ? "; last rejection: " : "",
+           r.stats.rejected ? r.st->reject_reason : "");
+    assert_true(fabs(r.s->t - r.sc.t_end) <= 1e-12 * r.sc.t_end);
+    assert_int_equal(r.s->steps, r.stats.steps);
     assert_true(c.phi_max > 0.0);
+    if (phi_rejections) {
+        assert_true(r.stats.rejected > 0);
+        assert_non_null(strstr(r.st->reject_reason, PHI_REJECTION));
+    }
     test_run_free(&r);
 }
 
@@ -100,7 +120,7 @@ static void test_phi_bound_shipped(void **state)
             continue;
         char rel[512];
         snprintf(rel, sizeof rel, "scenarios/%s", e->d_name);
-        bound_case(rel, NULL, 0);
+        bound_case(rel, NULL, 0, 0);
         count++;
     }
     closedir(d);
@@ -111,14 +131,33 @@ static void test_phi_bound_shipped(void **state)
  * inflow velocity of its filling simulation.  Both runs fill the same two
  * thirds of the column as the shipped 40 s at 0.01 m/s (a prescribed
  * inflow into a full closed box must end in phi -> phi_cp, which is the
- * hard error of the solver); the inflow is cold (thermal speed << w). */
+ * hard error of the solver); the inflow is cold (thermal speed << w).
+ * Both need steps rejected at the phi bound to get there. */
 static void test_phi_bound_thesis_filling_extremes(void **state)
 {
     (void)state;
     const char *fast[] = {"top.w=-0.1", "top.T=1e-4", "run.t_end=4"};
-    bound_case("scenarios/thesis_filling.ini", fast, 3);
+    bound_case("scenarios/thesis_filling.ini", fast, 3, 1);
     const char *slow[] = {"top.w=-0.0001", "top.T=1e-10", "run.t_end=4000", "run.output_dt=40"};
-    bound_case("scenarios/thesis_filling.ini", slow, 4);
+    bound_case("scenarios/thesis_filling.ini", slow, 4, 1);
+}
+
+/* The fast filling with dt_min above every step it takes: its first phi
+ * rejection cannot be retried and ends the run with EKM_ENUMERIC, the
+ * message naming dt_min and the rejected step's cell, phi and bound. */
+static void test_phi_bound_violation_reported(void **state)
+{
+    (void)state;
+    const char *sets[] = {"top.w=-0.1", "top.T=1e-4", "run.t_end=4", "numerics.dt_min=1"};
+    test_run r;
+    assert_int_equal(test_run_scenario(&r, "scenarios/thesis_filling.ini", sets, 4, NULL, NULL), EKM_ENUMERIC);
+    printf("forced violation: %s\n", r.err.message);
+    assert_non_null(strstr(r.err.message, "thesis_filling.ini: time step fell below dt_min = 1 s; last rejected step: t = "));
+    assert_non_null(strstr(r.err.message, PHI_REJECTION));
+    assert_non_null(strstr(r.err.message, ", cell "));
+    assert_int_equal(r.stats.rejected, 1);
+    assert_true(r.s->t < r.sc.t_end);
+    test_run_free(&r);
 }
 
 int main(void)
@@ -128,6 +167,7 @@ int main(void)
         cmocka_unit_test(test_mass_open),
         cmocka_unit_test(test_phi_bound_shipped),
         cmocka_unit_test(test_phi_bound_thesis_filling_extremes),
+        cmocka_unit_test(test_phi_bound_violation_reported),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -4,6 +4,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <string.h>
 #include <cmocka.h>
 
 #include "testutil.h"
@@ -63,11 +64,44 @@ static void test_slip_couette(void **state)
     test_run_free(&r);
 }
 
+/* ekm_step_apply refuses a step that is not positive and finite (a hard
+ * error in err, the state untouched), and takes a valid one. */
+static void test_step_refuses_bad_dt(void **state)
+{
+    (void)state;
+    ekm_scenario sc;
+    ekm_error err = {0};
+    assert_int_equal(ekm_scenario_load(&sc, test_path("scenarios/chute.ini"), NULL, 0, &err), EKM_OK);
+    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
+    assert_non_null(s);
+    ekm_stepper *st = ekm_step_alloc(&sc, &err);
+    assert_non_null(st);
+    ekm_state_init(s, &sc);
+    const double bad[] = {0.0, -1e-3, NAN, INFINITY};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        int accepted = -1;
+        ekm_error e = {0};
+        assert_int_equal(ekm_step_apply(st, s, bad[k], &accepted, &e), EKM_ENUMERIC);
+        assert_non_null(strstr(e.message, "chute.ini: t = 0 s: time step dt = "));
+        assert_non_null(strstr(e.message, " s is not a positive finite number"));
+        assert_int_equal(accepted, -1);
+        assert_true(s->t == 0.0 && s->steps == 0);
+    }
+    int accepted = 0;
+    assert_int_equal(ekm_step_apply(st, s, 1e-4, &accepted, &err), EKM_OK);
+    assert_int_equal(accepted, 1);
+    assert_true(s->t == 1e-4 && s->steps == 1);
+    ekm_step_free(st);
+    ekm_state_free(s);
+    ekm_scenario_free(&sc);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tvd_front),
         cmocka_unit_test(test_slip_couette),
+        cmocka_unit_test(test_step_refuses_bad_dt),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,69 @@
+/* schema.c: the field table (see schema.h).  EKM = ekm's output
+ * (docs/output-format.md), CG = ekmcompare's coarse-grained DEM fields
+ * (docs/compare.md); one name has one unit everywhere. */
+#include "schema.h"
+
+#include <string.h>
+
+#define SE(name, units, what) {name "_se", units, "standard error of " what " (blocking over snapshots; CG)"}
+
+static const ekm_field FIELDS[] = {
+    {"z", "m", "coordinate along the slab normal: cell centres (EKM), bin centres (CG)"},
+    {"x", "m", "bin centres along x (CG with --axis x)"},
+    {"y", "m", "bin centres along y (CG with --axis y)"},
+    {"t", "s", "output times (EKM), snapshot-window times (CG)"},
+    {"nsnapshots", "1", "number of DEM snapshots averaged into each time row (CG)"},
+    {"phi", "1", "solid volume fraction"},
+    {"rho", "kg/m^3", "bulk density (CG)"},
+    {"vx", "m/s", "tangential velocity along x (EKM: u at the cell centre; CG: momentum/rho)"},
+    {"vy", "m/s", "velocity along y (CG: momentum/rho)"},
+    {"vz", "m/s", "normal velocity (EKM: mean of the cell's two face values; CG: momentum/rho)"},
+    {"T", "m^2/s^2", "granular temperature per degree of freedom"},
+    {"P", "Pa", "pressure -tr(sigma)/3, positive in compression"},
+    {"sxz", "Pa", "shear stress sigma_xz (EKM: mean of the cell's two face shear stresses)"},
+    {"szz", "Pa", "normal stress sigma_zz, negative in compression"},
+    {"mu", "1", "stress ratio |sxz|/P (CG, with a contact stress)"},
+    {"I", "1", "inertial number |dvx/dz| d / sqrt(P/rho_p) (CG, with a contact stress)"},
+    {"regime", "1 (0 empty, 1 kinetic, 2 dense flow, 3 solid)", "the cell's regime (EKM)"},
+    SE("phi", "1", "phi"),
+    SE("rho", "kg/m^3", "rho"),
+    SE("vx", "m/s", "vx"),
+    SE("vy", "m/s", "vy"),
+    SE("vz", "m/s", "vz"),
+    SE("T", "m^2/s^2", "T"),
+    SE("P", "Pa", "P"),
+    SE("sxz", "Pa", "sxz"),
+    SE("szz", "Pa", "szz"),
+    SE("mu", "1", "mu"),
+    SE("I", "1", "I"),
+};
+
+size_t ekm_field_count(void)
+{
+    return sizeof FIELDS / sizeof FIELDS[0];
+}
+
+const ekm_field *ekm_field_at(size_t i)
+{
+    return i < ekm_field_count() ? &FIELDS[i] : NULL;
+}
+
+const ekm_field *ekm_field_lookup(const char *name)
+{
+    for (size_t i = 0; i < ekm_field_count(); i++)
+        if (strcmp(FIELDS[i].name, name) == 0)
+            return &FIELDS[i];
+    return NULL;
+}
+
+const char *ekm_field_units(const char *name)
+{
+    const ekm_field *f = ekm_field_lookup(name);
+    return f ? f->units : NULL;
+}
+
+const char *ekm_field_description(const char *name)
+{
+    const ekm_field *f = ekm_field_lookup(name);
+    return f ? f->description : NULL;
+}

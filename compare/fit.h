@@ -1,0 +1,85 @@
+/* fit.h: calibration of EKM material parameters on steady homogeneous
+ * simple shear (`ekmcompare fit --rheology`, docs/compare.md).
+ *
+ * Model: ekm_homog_shear (continuum/homogeneous.h) at each point's phi
+ * and gdot, which are taken as exact. Residuals (model - data)/SE for
+ * the chosen observables (P, |sxz|, T, mu). GSL multifit_nlinear trust
+ * region (Levenberg-Marquardt) in transformed parameters: log for the
+ * positive constants, phi_cp = lo + (1 - lo) s(x) with lo the largest
+ * phi of the data (and phi_co when it is held), phi_co = phi_cp s(x),
+ * s the logistic function. Several starts: the given start and
+ * nstarts - 1 perturbed ones (gsl_rng mt19937, fixed seed); the lowest
+ * chi2 is kept.
+ *
+ * Identifiability: with J the Jacobian of the residuals with respect to
+ * p_j, scaled by p_j (SE units per relative change), a parameter whose
+ * column norm is below CG_FIT_SENS_MIN (at the start or at the fitted
+ * values), or whose |correlation| with a parameter listed before it
+ * exceeds CG_FIT_CORR_MAX, is not identifiable: it is held at its start
+ * value, the reason recorded, and the others are fitted again.
+ * Covariance: (J^T J)^-1 at the best fit, scaled by max(1, chi2/dof)
+ * (the GSL manual's convention: the SEs grow when the model does not fit
+ * within the data's SEs, never shrink below them).
+ */
+#ifndef CG_FIT_H
+#define CG_FIT_H
+
+#include <stddef.h>
+
+#include "fit_data.h"
+#include "model.h"
+#include "status.h"
+
+#define CG_FIT_MAXP 12
+#define CG_FIT_SENS_MIN 1e-6
+#define CG_FIT_CORR_MAX 0.99
+#define CG_FIT_WHY_MAX 192
+
+/* The [material] key names that can be fitted, and their count. */
+int cg_fit_param_lookup(const char *name); /* index, or -1 if unknown */
+const char *cg_fit_param_name(int index);
+int cg_fit_param_count(void);
+/* The value of parameter `index` in m. */
+double cg_fit_param_get(const ekm_material *m, int index);
+
+typedef struct {
+  const cg_fit_point *pts;   /* data points (not owned) */
+  size_t npts;
+  unsigned fields;           /* bit mask of enum cg_fit_field */
+  ekm_material start;        /* start values; also the values of every key not fitted */
+  ekm_variant variant;       /* model variant (no effect in simple shear; recorded) */
+  size_t nparams;            /* parameters asked for, in order */
+  int param[CG_FIT_MAXP];    /* their indices (cg_fit_param_lookup) */
+  int nstarts;               /* starts (>= 1) */
+  unsigned long seed;        /* of the perturbed starts */
+} cg_fit_problem;
+
+typedef struct {
+  size_t nparams;
+  int param[CG_FIT_MAXP];
+  double value[CG_FIT_MAXP];   /* fitted value, or the start value if not identifiable */
+  double se[CG_FIT_MAXP];      /* standard error, NAN if not identifiable */
+  double start[CG_FIT_MAXP];   /* start value */
+  int identifiable[CG_FIT_MAXP];
+  char why_not[CG_FIT_MAXP][CG_FIT_WHY_MAX]; /* reason, "" if identifiable */
+  double corr[CG_FIT_MAXP][CG_FIT_MAXP];     /* correlation, NAN if either is not identifiable */
+  ekm_material fitted;         /* start with the fitted values in place */
+  size_t nres;                 /* residuals: points x fields */
+  size_t nfree;                /* parameters fitted */
+  long dof;                    /* nres - nfree */
+  double chi2;                 /* sum of squared residuals at the best fit */
+  double chi2_dof;             /* chi2 / dof, NAN if dof == 0 */
+  double cov_scale;            /* factor applied to (J^T J)^-1 */
+  int starts_run, starts_converged;
+  double *resid;               /* npts x CG_FIT_NFIELD, NAN for fields not fitted */
+  double *model;               /* the model's values, same layout */
+} cg_fit_result;
+
+/* Fit; res must be released with cg_fit_result_free() in every case.
+ * EKM_EINPUT: fewer points than parameters, a point outside the model's
+ * range (phi >= phi_cp), an impossible start; EKM_ENUMERIC: no start
+ * converged. */
+ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *err);
+void cg_fit_result_free(cg_fit_result *res);
+
+#endif

@@ -1,0 +1,211 @@
+/* fit_cli.c: the command line of `ekmcompare fit --rheology` (fit_cli.h):
+ * options, the start material (libekm's scenario reader), the points
+ * (fit_data.c), the fit (fit.c), the outputs (fit_out.c). */
+#include "fit_cli.h"
+
+#include "atomic.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "fit.h"
+#include "fit_data.h"
+#include "fit_out.h"
+#include "scenario.h"
+#include "status.h"
+
+#define EXIT_USAGE 1 /* docs/exit-codes.md: bad command line */
+
+static const char fit_usage[] =
+  "usage: ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu[,...]\n"
+  "                      [--start FILE.ini] [--fields P,sxz,T] [--starts N] -o FIT.json [--ini FIT.ini]\n"
+  "                      [--quiet]\n";
+
+typedef struct {
+  int rheology;
+  const char **inputs;
+  size_t ninputs;
+  const char *params, *start, *fields, *json, *ini;
+  int nstarts;
+  int quiet;
+} fit_args;
+
+static int usage(const char *fmt, const char *arg)
+{
+  fprintf(stderr, "ekmcompare fit: ");
+  fprintf(stderr, fmt, arg);
+  fprintf(stderr, " (see ekmcompare fit --help)\n");
+  return EXIT_USAGE;
+}
+
+static int parse_args(int argc, char **argv, fit_args *a)
+{
+  for (int i = 0; i < argc; i++) {
+    const char *s = argv[i];
+    if (s[0] != '-') {
+      a->inputs[a->ninputs++] = s;
+      continue;
+    }
+    if (!strcmp(s, "--rheology")) { a->rheology = 1; continue; }
+    if (!strcmp(s, "--quiet")) { a->quiet = 1; continue; }
+    const char **dst = !strcmp(s, "--params") ? &a->params : !strcmp(s, "--start") ? &a->start
+                       : !strcmp(s, "--fields") ? &a->fields : !strcmp(s, "-o") ? &a->json
+                       : !strcmp(s, "--ini") ? &a->ini : NULL;
+    if (!dst && strcmp(s, "--starts")) return usage("unknown option '%s'", s);
+    if (i + 1 >= argc) return usage("%s: expected a value", s);
+    const char *v = argv[++i];
+    if (dst) {
+      *dst = v;
+      continue;
+    }
+    char *end;
+    const long n = strtol(v, &end, 10);
+    if (end == v || *end || n < 1 || n > 1000) return usage("--starts: expected an integer in [1, 1000], got '%s'", v);
+    a->nstarts = (int)n;
+  }
+  if (!a->rheology) return usage("%s", "expected --rheology CG.h5 ... (the one training set fit reads so far)");
+  if (!a->ninputs) return usage("%s", "--rheology: expected at least one CG file");
+  if (!a->params) return usage("%s", "expected --params (e.g. T0,phi_co,eta0,eps0,nu)");
+  if (!a->json) return usage("%s", "expected -o FIT.json");
+  return 0;
+}
+
+/* Split a comma list into the parameter indices of pb. */
+static ekm_status parse_params(const char *list, cg_fit_problem *pb, ekm_error *err)
+{
+  const char *p = list;
+  pb->nparams = 0;
+  for (;;) {
+    const char *q = strchr(p, ',');
+    const size_t len = q ? (size_t)(q - p) : strlen(p);
+    char name[32];
+    if (len == 0 || len >= sizeof name)
+      return EKM_FAIL(err, EKM_EINPUT, "--params: expected comma-separated [material] keys, got '%s'", list);
+    memcpy(name, p, len);
+    name[len] = '\0';
+    const int idx = cg_fit_param_lookup(name);
+    if (idx < 0) {
+      char known[256] = "";
+      for (int i = 0; i < cg_fit_param_count(); i++)
+        snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s", i ? ", " : "", cg_fit_param_name(i));
+      return EKM_FAIL(err, EKM_EINPUT, "--params: unknown parameter '%s': expected [material] keys (%s)", name,
+                      known);
+    }
+    if (pb->nparams == CG_FIT_MAXP)
+      return EKM_FAIL(err, EKM_EINPUT, "--params: at most %d parameters, got '%s'", CG_FIT_MAXP, list);
+    pb->param[pb->nparams++] = idx;
+    if (!q) return EKM_OK;
+    p = q + 1;
+  }
+}
+
+static ekm_status parse_fields(const char *list, unsigned *mask, ekm_error *err)
+{
+  const char *p = list;
+  *mask = 0;
+  for (;;) {
+    const char *q = strchr(p, ',');
+    const size_t len = q ? (size_t)(q - p) : strlen(p);
+    int found = -1;
+    for (int f = 0; f < CG_FIT_NFIELD; f++)
+      if (strlen(cg_fit_field_name(f)) == len && !strncmp(p, cg_fit_field_name(f), len)) found = f;
+    if (found < 0 || (*mask & (1u << found)))
+      return EKM_FAIL(err, EKM_EINPUT, "--fields: expected distinct names among P, sxz, T, mu, got '%s'", list);
+    *mask |= 1u << found;
+    if (!q) return EKM_OK;
+    p = q + 1;
+  }
+}
+
+/* The output must not be one of the inputs (the CG files or --start). */
+static ekm_status check_not_input(const char *out, const fit_args *a, ekm_error *err)
+{
+  if (!out) return EKM_OK;
+  ekm_status st = ekm_atomic_refuse_input(out, a->inputs, a->ninputs, err);
+  if (st == EKM_OK && a->start) st = ekm_atomic_refuse_input(out, &a->start, 1, err);
+  return st;
+}
+
+static void print_summary(const cg_fit_problem *pb, const cg_fit_result *res)
+{
+  printf("ekmcompare fit --rheology: %zu points, %zu residuals, %zu fitted, chi2/dof = %.4g (dof %ld), "
+         "%d/%d starts converged\n", pb->npts, res->nres, res->nfree, res->chi2_dof, res->dof,
+         res->starts_converged, res->starts_run);
+  printf("| parameter | start | value | SE | identifiable |\n|---|---:|---:|---:|---|\n");
+  for (size_t j = 0; j < res->nparams; j++)
+    printf("| %s | %.6g | %.6g | %.3g | %s |\n", cg_fit_param_name(res->param[j]), res->start[j], res->value[j],
+           res->se[j], res->identifiable[j] ? "yes" : res->why_not[j]);
+}
+
+static ekm_status run_fit(const fit_args *a, ekm_error *err)
+{
+  cg_fit_problem pb = {.nstarts = a->nstarts, .seed = 20261201ul};
+  ekm_status st = parse_params(a->params, &pb, err);
+  if (st == EKM_OK) st = parse_fields(a->fields ? a->fields : "P,sxz,T", &pb.fields, err);
+  if (st != EKM_OK) return st;
+  char source[600];
+  if (a->start) {
+    ekm_scenario sc;
+    st = ekm_scenario_load(&sc, a->start, NULL, 0, err);
+    pb.start = sc.material;
+    pb.variant = sc.variant;
+    ekm_scenario_free(&sc);
+    if (st != EKM_OK) return st;
+    snprintf(source, sizeof source, "%s", a->start);
+  } else {
+    pb.start = ekm_material_thesis();
+    pb.variant = EKM_VARIANT_FULL;
+    snprintf(source, sizeof source, "thesis material (ekm_material_thesis)");
+  }
+  st = check_not_input(a->json, a, err);
+  if (st == EKM_OK) st = check_not_input(a->ini, a, err);
+  if (st != EKM_OK) return st;
+  cg_fit_point *pts = calloc(a->ninputs, sizeof *pts);
+  if (!pts) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+  for (size_t k = 0; k < a->ninputs && st == EKM_OK; k++)
+    st = cg_fit_point_read(a->inputs[k], pb.fields, &pts[k], err);
+  pb.pts = pts;
+  pb.npts = a->ninputs;
+  cg_fit_result res;
+  memset(&res, 0, sizeof res);
+  if (st == EKM_OK) st = cg_fit_run(&pb, &res, err);
+  if (st == EKM_OK) {
+    const cg_fit_outputs o = {.pb = &pb, .res = &res, .start_source = source, .json_path = a->json,
+                              .ini_path = a->ini};
+    st = cg_fit_write(&o, err);
+  }
+  if (st == EKM_OK && !a->quiet) print_summary(&pb, &res);
+  cg_fit_result_free(&res);
+  free(pts);
+  return st;
+}
+
+int cg_fit_main(int argc, char **argv)
+{
+  for (int i = 0; i < argc; i++)
+    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+      fputs(fit_usage, stdout);
+      return 0;
+    }
+  fit_args a = {.nstarts = 8};
+  a.inputs = calloc((size_t)argc + 1, sizeof *a.inputs);
+  if (!a.inputs) {
+    fprintf(stderr, "ekmcompare fit: out of memory\n");
+    return ekm_status_exit_code(EKM_ENOMEM);
+  }
+  int rc = parse_args(argc, argv, &a);
+  if (!rc) {
+    ekm_error err = {.message = ""};
+    const ekm_status st = run_fit(&a, &err);
+    if (st != EKM_OK) {
+      fprintf(stderr, "%s\n", err.message);
+      if (getenv("EKMCOMPARE_DEBUG")) fprintf(stderr, "  (raised at %s:%d)\n", err.src_file, err.src_line);
+    }
+    rc = ekm_status_exit_code(st);
+  }
+  free(a.inputs);
+  return rc;
+}

@@ -1,0 +1,138 @@
+#include "control.h"
+
+#include <math.h>
+
+#include "bc.h"
+#include "hypo.h"
+
+static inline double max2(double a, double b) { return a > b ? a : b; }
+
+/* u' [1/s] at face f of the state (walls: through the wall's conductance). */
+static double face_shear_rate(const ekm_scenario *sc, const ekm_state *s, int f)
+{
+    const int n = s->n;
+    if (f > 0 && f < n)
+        return (s->u[f] - s->u[f - 1]) / s->dz;
+    const ekm_bc_face bf = ekm_bc_evaluate(f == 0 ? &sc->bottom : &sc->top,
+                                           f == 0 ? EKM_SIDE_BOTTOM : EKM_SIDE_TOP, s->t, s);
+    return f == 0 ? (s->u[0] - bf.u_wall) * bf.wall_conductance : (bf.u_wall - s->u[n - 1]) * bf.wall_conductance;
+}
+
+/* The largest relaxation rate of the hypoplastic law [1/s] over the solid
+ * cells and their faces (each at its own rates and phi, as the step
+ * integrates them), from the state at the start of the step: the rates the
+ * step will lag its norm on. */
+static double solid_relaxation_max(const ekm_scenario *sc, const ekm_state *s)
+{
+    const ekm_material *m = &sc->material;
+    const int n = s->n;
+    double relax = 0.0, du_below = face_shear_rate(sc, s, 0);
+    for (int j = 0; j < n; j++) {
+        const double du_above = face_shear_rate(sc, s, j + 1);
+        if (s->solid[j] && s->phi[j] >= sc->numerics.phi_dry) {
+            const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
+            const double phi = ekm_scenario_law_phi(sc, s->phi[j]);
+            relax = max2(relax, ekm_hypo_relaxation_rate(m, sc->variant, phi, 0.5 * (du_below + du_above), dw));
+            relax = max2(relax, ekm_hypo_relaxation_rate(m, sc->variant, phi, du_below, dw));
+            relax = max2(relax, ekm_hypo_relaxation_rate(m, sc->variant, phi, du_above, dw));
+        }
+        du_below = du_above;
+    }
+    return relax;
+}
+
+/* Largest convective speed [m/s] (faces and inflows) and the largest EKM
+ * sound speeds squared [m^2/s^2] of the flowing and of the solid cells. */
+static void wave_speeds(const ekm_scenario *sc, const ekm_state *s, double *speed, double *c2_flow,
+                        double *c2_solid)
+{
+    double v = 0.0;
+    for (int f = 0; f <= s->n; f++)
+        v = max2(v, fabs(s->w[f]));
+    v = max2(v, sc->bottom.kind == EKM_BC_INFLOW ? fabs(sc->bottom.w) : 0.0);
+    v = max2(v, sc->top.kind == EKM_BC_INFLOW ? fabs(sc->top.w) : 0.0);
+    *speed = v;
+    *c2_flow = *c2_solid = 0.0;
+    for (int j = 0; j < s->n; j++)
+        if (s->phi[j] >= sc->numerics.phi_dry) {
+            const double c2 = ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]);
+            double *c2_max = s->solid[j] ? c2_solid : c2_flow;
+            *c2_max = max2(*c2_max, c2);
+        }
+}
+
+/* cfl dz / (speed + sqrt(c2)), INFINITY when nothing moves. */
+static double acoustic_dt(const ekm_scenario *sc, const ekm_state *s, double speed, double c2)
+{
+    return speed + sqrt(c2) > 0.0 ? sc->numerics.cfl * s->dz / (speed + sqrt(c2)) : INFINITY;
+}
+
+double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s)
+{
+    double speed, c2_max, c2_solid;
+    wave_speeds(sc, s, &speed, &c2_max, &c2_solid);
+    /* Compression limit: predicted dphi/dt = -phi dw/dz must not close more
+     * than half of phi_step_max of the gap to phi_cp in one step (the
+     * step is rejected beyond phi_step_max; this avoids most rejections). */
+    double rate_max = 0.0; /* largest compression rate relative to the gap [1/s] */
+    const double phi_cp = sc->material.phi_cp;
+    for (int j = 0; j < s->n; j++)
+        if (s->phi[j] >= sc->numerics.phi_dry) {
+            const double compression = -s->phi[j] * (s->w[j + 1] - s->w[j]) / s->dz;
+            if (compression > 0.0)
+                rate_max = max2(rate_max, compression / (phi_cp - s->phi[j]));
+        }
+    double dt = acoustic_dt(sc, s, speed, c2_max);
+    /* Solid cells: their stress is implicit in the momentum solves (hypo.h),
+     * so the EKM's sound speed does not limit them; the accuracy of the law's
+     * lagged norm does (solid_relax_step, solid_relaxation_max).  Never
+     * below the acoustic limit they had as flow cells: at that step the
+     * linearly implicit law is accurate enough (and a cell flowing
+     * plastically on the limit surface relaxes fast but to its fixed point). */
+    if (c2_solid > 0.0) {
+        const double relax = solid_relaxation_max(sc, s);
+        const double dt_relax = relax > 0.0 ? sc->numerics.solid_relax_step / relax : INFINITY;
+        dt = fmin(dt, fmax(dt_relax, acoustic_dt(sc, s, speed, c2_solid)));
+    }
+    if (!isfinite(dt))
+        dt = sc->numerics.dt_max;
+    if (rate_max > 0.0)
+        dt = fmin(dt, 0.5 * sc->numerics.phi_step_max / rate_max);
+    return fmin(dt, sc->numerics.dt_max);
+}
+
+double ekm_control_restart_dt(const ekm_scenario *sc, const ekm_state *s)
+{
+    double speed, c2_flow, c2_solid;
+    wave_speeds(sc, s, &speed, &c2_flow, &c2_solid);
+    return fmin(acoustic_dt(sc, s, speed, max2(c2_flow, c2_solid)), ekm_control_max_dt(sc, s));
+}
+
+double ekm_control_target(const ekm_scenario *sc, double t, double t_next_out, int *at_event)
+{
+    /* Times the driving changes: the inflows close, the base starts to
+     * tilt (and a piston reverses, below). */
+    double events[3] = {INFINITY, INFINITY, INFINITY};
+    if (sc->bottom.kind == EKM_BC_INFLOW) events[0] = sc->bottom.t_stop;
+    if (sc->top.kind == EKM_BC_INFLOW) events[1] = sc->top.t_stop;
+    if (sc->angle_rate != 0.0 && sc->angle_start > 0.0) events[2] = sc->angle_start;
+    double t_target = t_next_out;
+    *at_event = 0;
+    for (int e = 0; e < 3; e++)
+        if (events[e] > t * (1.0 + 1e-14) && events[e] < t_target)
+            t_target = events[e];
+    for (int e = 0; e < 3; e++)
+        *at_event |= events[e] > t * (1.0 + 1e-14) && fabs(events[e] - t_target) <= 1e-12 * t_target;
+    /* A piston reverses every half period: steps end there too. */
+    const ekm_bc *pistons[2] = {&sc->bottom, &sc->top};
+    for (int e = 0; e < 2; e++)
+        if (pistons[e]->kind == EKM_BC_PISTON) {
+            const double half = 0.5 * pistons[e]->period;
+            double next = (floor(t / half + 1e-9) + 1.0) * half;
+            if (next <= t_target * (1.0 + 1e-12)) {
+                t_target = fmin(t_target, next);
+                *at_event = 1;
+            }
+        }
+    return t_target;
+}

@@ -1,0 +1,40 @@
+/* control.h: the step-size control of the time loop (GSL's step / control /
+ * evolve split: step.h advances the state by a given dt, this module
+ * chooses dt and where a step must end, run.h drives the loop).
+ *
+ *   dt limit     cfl dz / max(|w| + c) over the flowing cells; solid cells
+ *                by the accuracy of the rate law's lagged norm
+ *                ([numerics] solid_relax_step, never below their own
+ *                acoustic step); the compression limit (half of
+ *                phi_step_max of the gap to phi_cp per step); dt_max
+ *   restart      after a change of the driving the acoustic step over every
+ *                cell, solid ones included (run.h grows it 1.5x per step)
+ *   events       the driving changes when an inflow closes (t_stop), the
+ *                base starts tilting (angle_start) and a piston reverses
+ *                (every half period): steps end exactly there
+ */
+#ifndef EKM_CONTROL_H
+#define EKM_CONTROL_H
+
+#include "scenario.h"
+#include "state.h"
+
+/* Largest step for the state: cfl dz / max(|w| + c) over the flowing
+ * cells, the solid cells' accuracy limit ([numerics] solid_relax_step,
+ * never below their own acoustic step), the compression limit and dt_max. */
+double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s);
+
+/* The step to restart from after a change of the driving (an inflow
+ * closes, the base starts tilting, a piston reverses): the acoustic step
+ * cfl dz / max(|w| + c) over every cell, solid ones included, so that the
+ * lagged rates of the solid law follow the new load within a few short
+ * steps before the step grows again (at most 1.5x per step). */
+double ekm_control_restart_dt(const ekm_scenario *sc, const ekm_state *s);
+
+/* The time [s] the step from time t must end at: t_next_out (the next
+ * output) or the first change of the driving before it.  *at_event = 1
+ * when the step ends at a change of the driving (then the next step
+ * restarts from ekm_control_restart_dt). */
+double ekm_control_target(const ekm_scenario *sc, double t, double t_next_out, int *at_event);
+
+#endif

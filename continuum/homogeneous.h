@@ -1,0 +1,39 @@
+/* homogeneous.h: the EKM's steady homogeneous simple shear at a given
+ * volume fraction and shear rate, evaluated with libekm's own
+ * constitutive functions (model.h).
+ *
+ * Simple shear u(z) = gdot z, w = 0, no gradients of phi or T: the
+ * temperature equation reduces to the local balance S(T) = 0,
+ *
+ *   2/3 eta(T) gdot^2 = rho_p phi eps(T) T,
+ *
+ * in which eta and eps carry the same factor (1 + nu r(T)), r = Y/T > 0;
+ * it cancels for every nu and both variants (w' = 0: the normal viscosity
+ * never enters), leaving T = 2 eta0 gdot^2 / (3 phi eps0) (docs/model.md,
+ * "Steady homogeneous shear").  Then P = P_K + P_Y, |sigma_xz| = eta gdot
+ * and mu = |sigma_xz| / P.  gdot = |du/dz| (MODEL.md section 7), not the
+ * invariant sqrt(kappa^D : kappa^D).
+ */
+#ifndef EKM_HOMOGENEOUS_H
+#define EKM_HOMOGENEOUS_H
+
+#include "model.h"
+#include "status.h"
+
+typedef struct {
+    double T;   /* granular temperature [m^2/s^2] */
+    double P;   /* pressure P_K + P_Y [Pa] */
+    double P_K; /* kinetic pressure [Pa] */
+    double P_Y; /* yield pressure [Pa] */
+    double r;   /* P_Y / P_K [-] */
+    double sxz; /* |sigma_xz| [Pa] */
+    double mu;  /* |sigma_xz| / P [-] */
+} ekm_homog_state;
+
+/* The steady state at volume fraction phi in (0, phi_cp) and shear rate
+ * gdot = |du/dz| > 0 [1/s].  EKM_EINPUT (naming phi or gdot) when out of
+ * range; EKM_ENUMERIC if the balance has no positive finite root. */
+ekm_status ekm_homog_shear(const ekm_material *m, ekm_variant v, double phi, double gdot,
+                           ekm_homog_state *out, ekm_error *err);
+
+#endif

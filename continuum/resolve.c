@@ -1,0 +1,574 @@
+/* resolve.c: the keys of the other tools' sections, their lookup rule and
+ * defaults, and the sweep points (resolve.h, docs/resolved-scenario.md). */
+#include "resolve.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum {
+    TYPE_NUMBER,  /* a decimal floating-point literal */
+    TYPE_INTEGER, /* a decimal integer */
+    TYPE_FLAG,    /* 0 or 1 */
+    TYPE_NUMBERS, /* numbers separated by blanks (a sweep list) */
+    TYPE_STRING,  /* free text */
+    TYPE_FIELDS,  /* field names separated by commas */
+    TYPE_ENUM     /* one of the words of `choices` */
+} tool_type;
+
+/* The sweep a [dem] key belongs to: its keys make the scenario one. */
+typedef enum { SWEEP_NONE = 0, SWEEP_THETA, SWEEP_PHI_RATE } sweep_kind;
+
+typedef struct {
+    const char *section;
+    const char *key;
+    tool_type type;
+    const char *choices; /* TYPE_ENUM: the allowed words, blank-separated */
+    const char *dflt;    /* default as written, or NULL (none, or derived below) */
+    sweep_kind sweep;    /* the sweep this key belongs to, or SWEEP_NONE */
+} tool_key;
+
+/* Registry of the other tools' keys (docs/scenario-format.md). */
+static const tool_key TOOL_KEYS[] = {
+    {"dem", "diameter", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "spread", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "youngs", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "poisson", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "restitution", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "restitution_input", TYPE_NUMBER, NULL, NULL, SWEEP_NONE}, /* default: restitution */
+    {"dem", "friction", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "dt", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "seed", TYPE_INTEGER, NULL, "15485863", SWEEP_NONE},
+    {"dem", "thermo_every", TYPE_INTEGER, NULL, "1000", SWEEP_NONE},
+    {"dem", "dump_every", TYPE_INTEGER, NULL, "5000", SWEEP_NONE},
+    {"dem", "lx", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "ly", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "t_end", TYPE_NUMBER, NULL, NULL, SWEEP_NONE}, /* default: [run] t_end */
+    {"dem", "rest_ke", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "t_settle", TYPE_NUMBER, NULL, NULL, SWEEP_THETA},
+    {"dem", "t_flow", TYPE_NUMBER, NULL, NULL, SWEEP_THETA},
+    {"dem", "angles", TYPE_NUMBERS, NULL, NULL, SWEEP_THETA}, /* default: [gravity] angle */
+    {"dem", "pressure", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "wall_damping", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "t_compress", TYPE_NUMBER, NULL, "0", SWEEP_NONE},
+    {"dem", "t_run", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "strain", TYPE_NUMBER, NULL, NULL, SWEEP_PHI_RATE},
+    {"dem", "phis", TYPE_NUMBERS, NULL, NULL, SWEEP_PHI_RATE},  /* default: [initial] phi */
+    {"dem", "rates", TYPE_NUMBERS, NULL, NULL, SWEEP_PHI_RATE}, /* default: the walls' rate */
+    {"dem", "timeout", TYPE_INTEGER, NULL, "900", SWEEP_NONE},
+    {"dem", "require_steady", TYPE_FLAG, NULL, "0", SWEEP_NONE},
+    {"dem", "steady_tol", TYPE_NUMBER, NULL, "0.05", SWEEP_NONE},
+    {"compare", "cg_options", TYPE_STRING, NULL, NULL, SWEEP_NONE},
+    {"compare", "fields", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
+    {"compare", "ekm_time", TYPE_ENUM, "last interp", "interp", SWEEP_NONE},
+    {"compare", "shift", TYPE_NUMBER, NULL, "0", SWEEP_NONE},
+};
+#define N_TOOL_KEYS (sizeof TOOL_KEYS / sizeof TOOL_KEYS[0])
+
+/* The sections of the other tools; [campaign] and [figures] have no keys yet. */
+static const char *const TOOL_SECTIONS[] = {"dem", "compare", "campaign", "figures"};
+static const char *const ENGINES[] = {"liggghts", "lammps"};
+static const char *const SIZES[] = {"smoke", "ref"};
+
+#define VALUE_SIZE sizeof(((ekm_entry *)0)->value)
+
+int ekm_resolve_is_tool_section(const char *section)
+{
+    for (size_t i = 0; i < sizeof TOOL_SECTIONS / sizeof TOOL_SECTIONS[0]; i++)
+        if (strcmp(section, TOOL_SECTIONS[i]) == 0)
+            return 1;
+    return 0;
+}
+
+static int word_in(const char *const *words, size_t n, const char *w, size_t len)
+{
+    for (size_t i = 0; i < n; i++)
+        if (strlen(words[i]) == len && strncmp(words[i], w, len) == 0)
+            return 1;
+    return 0;
+}
+
+/* Split a key as written into its prefix (engine., size. or engine.size.)
+ * and its base name. Returns 0 for any other prefix. */
+static int split_key(const char *written, const char **base)
+{
+    const char *d1 = strchr(written, '.');
+    if (!d1) {
+        *base = written;
+        return 1;
+    }
+    const size_t n1 = (size_t)(d1 - written);
+    const char *d2 = strchr(d1 + 1, '.');
+    if (!d2) {
+        *base = d1 + 1;
+        return word_in(ENGINES, 2, written, n1) || word_in(SIZES, 2, written, n1);
+    }
+    *base = d2 + 1;
+    return word_in(ENGINES, 2, written, n1) && word_in(SIZES, 2, d1 + 1, (size_t)(d2 - d1 - 1)) &&
+           !strchr(d2 + 1, '.');
+}
+
+static const tool_key *find_key(const char *section, const char *base)
+{
+    for (size_t i = 0; i < N_TOOL_KEYS; i++)
+        if (strcmp(TOOL_KEYS[i].section, section) == 0 && strcmp(TOOL_KEYS[i].key, base) == 0)
+            return &TOOL_KEYS[i];
+    return NULL;
+}
+
+/* A decimal floating-point literal: [-+]? (digits [. digits*] | . digits)
+ * ([eE] [-+]? digits)?, representable (no overflow or underflow). */
+static int is_number(const char *v, size_t len)
+{
+    size_t i = 0, digits = 0;
+    if (i < len && (v[i] == '-' || v[i] == '+'))
+        i++;
+    while (i < len && v[i] >= '0' && v[i] <= '9')
+        i++, digits++;
+    if (i < len && v[i] == '.') {
+        i++;
+        while (i < len && v[i] >= '0' && v[i] <= '9')
+            i++, digits++;
+    }
+    if (digits == 0)
+        return 0;
+    if (i < len && (v[i] == 'e' || v[i] == 'E')) {
+        i++;
+        if (i < len && (v[i] == '-' || v[i] == '+'))
+            i++;
+        size_t exp_digits = 0;
+        while (i < len && v[i] >= '0' && v[i] <= '9')
+            i++, exp_digits++;
+        if (exp_digits == 0)
+            return 0;
+    }
+    if (i != len)
+        return 0;
+    char buf[VALUE_SIZE];
+    if (len >= sizeof buf)
+        return 0;
+    memcpy(buf, v, len);
+    buf[len] = '\0';
+    char *end;
+    errno = 0;
+    const double x = strtod(buf, &end);
+    return *end == '\0' && errno != ERANGE && isfinite(x);
+}
+
+static int is_integer(const char *v)
+{
+    const char *p = v + (*v == '-' || *v == '+');
+    if (!*p || strspn(p, "0123456789") != strlen(p))
+        return 0;
+    char *end;
+    errno = 0;
+    (void)strtoll(v, &end, 10);
+    return errno != ERANGE;
+}
+
+#define BLANKS " \t"
+
+static int is_number_list(const char *v)
+{
+    size_t n = 0;
+    for (const char *p = v + strspn(v, BLANKS); *p; p += strspn(p, BLANKS)) {
+        const size_t len = strcspn(p, BLANKS);
+        if (!is_number(p, len))
+            return 0;
+        p += len;
+        n++;
+    }
+    return n > 0;
+}
+
+static int is_field_list(const char *v)
+{
+    const char *p = v;
+    for (;;) {
+        const size_t len = strcspn(p, ",");
+        if (len == 0 || !((p[0] >= 'A' && p[0] <= 'Z') || (p[0] >= 'a' && p[0] <= 'z')))
+            return 0;
+        for (size_t i = 1; i < len; i++)
+            if (!((p[i] >= 'A' && p[i] <= 'Z') || (p[i] >= 'a' && p[i] <= 'z') || (p[i] >= '0' && p[i] <= '9') ||
+                  p[i] == '_'))
+                return 0;
+        if (p[len] == '\0')
+            return 1;
+        p += len + 1;
+    }
+}
+
+static int is_choice(const char *choices, const char *v)
+{
+    const size_t n = strlen(v);
+    for (const char *p = choices; *p; p += strspn(p, " ")) {
+        const size_t len = strcspn(p, " ");
+        if (len == n && n > 0 && strncmp(p, v, n) == 0)
+            return 1;
+        p += len;
+    }
+    return 0;
+}
+
+int ekm_resolve_check_key(const char *section, const char *key, const char *value, char *why, size_t size)
+{
+    const char *base;
+    if (!split_key(key, &base)) {
+        snprintf(why, size,
+                 "[%s] %s: unknown prefix (expected k, <engine>.k, <size>.k or <engine>.<size>.k; "
+                 "engine liggghts or lammps, size smoke or ref)",
+                 section, key);
+        return 0;
+    }
+    const tool_key *tk = find_key(section, base);
+    if (!tk) {
+        snprintf(why, size, "[%s] %s: unknown key", section, key);
+        return 0;
+    }
+    if (strlen(value) >= VALUE_SIZE) {
+        snprintf(why, size, "[%s] %s: value longer than allowed: '%s'", section, key, value);
+        return 0;
+    }
+    const char *expected = NULL;
+    char choices[128];
+    switch (tk->type) {
+    case TYPE_NUMBER:
+        if (!is_number(value, strlen(value)))
+            expected = "a number";
+        break;
+    case TYPE_INTEGER:
+        if (!is_integer(value))
+            expected = "an integer";
+        break;
+    case TYPE_FLAG:
+        if (strcmp(value, "0") != 0 && strcmp(value, "1") != 0)
+            expected = "0 or 1";
+        break;
+    case TYPE_NUMBERS:
+        if (!is_number_list(value))
+            expected = "numbers separated by blanks";
+        break;
+    case TYPE_STRING:
+        break;
+    case TYPE_FIELDS:
+        if (!is_field_list(value))
+            expected = "field names separated by commas (e.g. phi,vx,T)";
+        break;
+    case TYPE_ENUM:
+        if (!is_choice(tk->choices, value)) {
+            snprintf(choices, sizeof choices, "one of %s", tk->choices);
+            expected = choices;
+        }
+        break;
+    }
+    if (expected) {
+        snprintf(why, size, "[%s] %s: expected %s, got '%s'", section, key, expected, value);
+        return 0;
+    }
+    return 1;
+}
+
+/* --- resolving --------------------------------------------------------------------- */
+
+static ekm_status add_key(ekm_resolved *r, const char *name, const char *value, const char *from,
+                          const char *as, ekm_error *err)
+{
+    ekm_resolve_key *k = realloc(r->keys, (r->n_keys + 1) * sizeof *k);
+    if (!k)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory resolving the scenario");
+    r->keys = k;
+    k += r->n_keys++;
+    snprintf(k->name, sizeof k->name, "%s", name);
+    snprintf(k->value, sizeof k->value, "%s", value);
+    snprintf(k->from, sizeof k->from, "%s", from);
+    snprintf(k->as, sizeof k->as, "%s", as ? as : "");
+    return EKM_OK;
+}
+
+static void entry_from(const ekm_scenario *s, const ekm_entry *e, char *buf, size_t size)
+{
+    if (e->origin == EKM_FROM_SET)
+        snprintf(buf, size, "--set");
+    else
+        snprintf(buf, size, "%s:%d", s->source, e->line);
+}
+
+/* The entry of tool key section.base by the lookup rule: a --set of the
+ * plain key, then <engine>.<size>.k, <size>.k, <engine>.k, k (a variant
+ * only when its engine and size were given). */
+static const ekm_entry *pick(const ekm_scenario *s, const char *section, const char *base, const char *engine,
+                             const char *size)
+{
+    char name[4][64];
+    snprintf(name[0], sizeof name[0], "%s.%s.%s.%s", section, engine, size, base);
+    snprintf(name[1], sizeof name[1], "%s.%s.%s", section, size, base);
+    snprintf(name[2], sizeof name[2], "%s.%s.%s", section, engine, base);
+    snprintf(name[3], sizeof name[3], "%s.%s", section, base);
+    const ekm_entry *plain = ekm_scenario_entry_find(s->tool_entries, s->n_tool_entries, name[3]);
+    if (plain && plain->origin == EKM_FROM_SET)
+        return plain;
+    const int allowed[4] = {*engine && *size, *size != '\0', *engine != '\0', 1};
+    for (int i = 0; i < 4; i++) {
+        const ekm_entry *e = allowed[i] ? ekm_scenario_entry_find(s->tool_entries, s->n_tool_entries, name[i]) : NULL;
+        if (e)
+            return e;
+    }
+    return NULL;
+}
+
+static int section_given(const ekm_scenario *s, const char *section)
+{
+    const size_t n = strlen(section);
+    for (size_t i = 0; i < s->n_tool_entries; i++)
+        if (strncmp(s->tool_entries[i].name, section, n) == 0 && s->tool_entries[i].name[n] == '.')
+            return 1;
+    return 0;
+}
+
+/* Which sweep the scenario's [dem] keys (any variant) make it: an inclined
+ * flow (t_settle t_flow angles: over the angles), a simple shear (strain
+ * phis rates: over phis x rates), or none. */
+static ekm_status sweep_of(const ekm_scenario *s, sweep_kind *kind, ekm_error *err)
+{
+    *kind = SWEEP_NONE;
+    const char *first = NULL;
+    for (size_t i = 0; i < s->n_tool_entries; i++) {
+        const ekm_entry *e = &s->tool_entries[i];
+        const char *base;
+        if (strncmp(e->name, "dem.", 4) != 0 || !split_key(e->name + 4, &base))
+            continue;
+        const tool_key *tk = find_key("dem", base);
+        if (!tk || tk->sweep == SWEEP_NONE)
+            continue;
+        if (*kind != SWEEP_NONE && tk->sweep != *kind) {
+            char from[600];
+            entry_from(s, e, from, sizeof from);
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: [dem] %s: a key of the %s sweep, but [dem] %s is one of the %s sweep: "
+                            "expected the keys of one sweep only (inclined flow: t_settle t_flow angles; "
+                            "simple shear: strain phis rates)",
+                            from, e->name + 4, tk->sweep == SWEEP_THETA ? "inclined-flow" : "simple-shear", first,
+                            *kind == SWEEP_THETA ? "inclined-flow" : "simple-shear");
+        }
+        *kind = tk->sweep;
+        first = e->name + 4;
+    }
+    return EKM_OK;
+}
+
+static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, const char *section,
+                                       sweep_kind sweep, ekm_error *err)
+{
+    for (size_t i = 0; i < N_TOOL_KEYS; i++) {
+        const tool_key *tk = &TOOL_KEYS[i];
+        if (strcmp(tk->section, section) != 0)
+            continue;
+        char name[64], from[600], value[VALUE_SIZE];
+        snprintf(name, sizeof name, "%s.%s", section, tk->key);
+        const ekm_entry *e = pick(s, section, tk->key, r->engine, r->size);
+        ekm_status st = EKM_OK;
+        if (e) {
+            entry_from(s, e, from, sizeof from);
+            const char *written = e->name + strlen(section) + 1;
+            st = add_key(r, name, e->value, from, strcmp(written, tk->key) != 0 ? written : NULL, err);
+        } else {
+            /* defaults: documented, or derived from another key */
+            const ekm_resolve_key *src = NULL;
+            value[0] = '\0';
+            if (tk->dflt)
+                snprintf(value, sizeof value, "%s", tk->dflt);
+            else if (strcmp(name, "dem.restitution_input") == 0)
+                src = ekm_resolve_find(r, "dem.restitution");
+            else if (strcmp(name, "dem.t_end") == 0)
+                src = ekm_resolve_find(r, "run.t_end");
+            else if (strcmp(name, "dem.angles") == 0 && sweep == SWEEP_THETA)
+                src = ekm_resolve_find(r, "gravity.angle");
+            else if (strcmp(name, "dem.phis") == 0 && sweep == SWEEP_PHI_RATE)
+                src = ekm_resolve_find(r, "initial.phi");
+            else if (strcmp(name, "dem.rates") == 0 && sweep == SWEEP_PHI_RATE)
+                /* as scripts/dem/run.sh computed it: awk printf "%.10g" */
+                snprintf(value, sizeof value, "%.10g", (s->top.velocity - s->bottom.velocity) / s->length);
+            if (src)
+                snprintf(value, sizeof value, "%s", src->value);
+            if (value[0])
+                st = add_key(r, name, value, "default", NULL, err);
+        }
+        if (st != EKM_OK)
+            return st;
+    }
+    return EKM_OK;
+}
+
+/* The blank-separated items of a list, each at most 63 characters. */
+typedef struct {
+    size_t n;
+    char item[VALUE_SIZE / 2][64];
+} item_list;
+
+static ekm_status split_list(const ekm_resolve_key *k, item_list *out, ekm_error *err)
+{
+    out->n = 0;
+    for (const char *p = k->value + strspn(k->value, BLANKS); *p; p += strspn(p, BLANKS)) {
+        const size_t len = strcspn(p, BLANKS);
+        const char *key = k->as[0] ? k->as : k->name + 4;
+        if (len >= sizeof out->item[0])
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: list item longer than %zu characters", k->from, key,
+                            sizeof out->item[0] - 1);
+        for (size_t j = 0; j < out->n; j++)
+            if (strlen(out->item[j]) == len && strncmp(out->item[j], p, len) == 0)
+                return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: value '%s' given twice (each point needs its own tag)",
+                                k->from, key, out->item[j]);
+        snprintf(out->item[out->n++], sizeof out->item[0], "%.*s", (int)len, p);
+        p += len;
+    }
+    return EKM_OK;
+}
+
+static ekm_resolve_point *add_point(ekm_resolved *r, ekm_error *err)
+{
+    ekm_resolve_point *p = realloc(r->points, (r->n_points + 1) * sizeof *p);
+    if (!p) {
+        EKM_FAIL(err, EKM_ENOMEM, "out of memory resolving the scenario");
+        return NULL;
+    }
+    r->points = p;
+    p += r->n_points++;
+    memset(p, 0, sizeof *p);
+    return p;
+}
+
+static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kind sweep, ekm_error *err)
+{
+    const ekm_resolve_key *angles = ekm_resolve_find(r, "dem.angles");
+    const ekm_resolve_key *phis = ekm_resolve_find(r, "dem.phis"), *rates = ekm_resolve_find(r, "dem.rates");
+    item_list *a = calloc(2, sizeof *a);
+    if (!a)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory resolving the scenario");
+    ekm_status st = EKM_OK;
+    if (sweep == SWEEP_THETA && angles) {
+        st = split_list(angles, &a[0], err);
+        for (size_t i = 0; i < a[0].n && st == EKM_OK; i++) {
+            ekm_resolve_point *p = add_point(r, err);
+            if (!p) {
+                st = EKM_ENOMEM;
+                break;
+            }
+            if (a[0].n > 1)
+                snprintf(p->tag, sizeof p->tag, "theta%s", a[0].item[i]);
+            p->n_vars = 1;
+            snprintf(p->var_name[0], sizeof p->var_name[0], "theta");
+            snprintf(p->var_value[0], sizeof p->var_value[0], "%s", a[0].item[i]);
+            p->n_sets = 1;
+            snprintf(p->set[0], sizeof p->set[0], "gravity.angle=%s", a[0].item[i]);
+        }
+    } else if (sweep == SWEEP_PHI_RATE && phis && rates) {
+        st = split_list(phis, &a[0], err);
+        if (st == EKM_OK)
+            st = split_list(rates, &a[1], err);
+        const size_t n = a[0].n * a[1].n;
+        for (size_t i = 0; i < a[0].n && st == EKM_OK; i++)
+            for (size_t j = 0; j < a[1].n && st == EKM_OK; j++) {
+                ekm_resolve_point *p = add_point(r, err);
+                if (!p) {
+                    st = EKM_ENOMEM;
+                    break;
+                }
+                if (n > 1)
+                    snprintf(p->tag, sizeof p->tag, "phi%s-rate%s", a[0].item[i], a[1].item[j]);
+                p->n_vars = 2;
+                snprintf(p->var_name[0], sizeof p->var_name[0], "phi");
+                snprintf(p->var_value[0], sizeof p->var_value[0], "%s", a[0].item[i]);
+                snprintf(p->var_name[1], sizeof p->var_name[1], "rate");
+                snprintf(p->var_value[1], sizeof p->var_value[1], "%s", a[1].item[j]);
+                /* the walls at -+ R L/2, as scripts/campaign/ekm_step.sh set them
+                 * (awk: r * L / 2, printf "%.10g") */
+                const double v = strtod(a[1].item[j], NULL) * s->length / 2;
+                p->n_sets = 3;
+                snprintf(p->set[0], sizeof p->set[0], "initial.phi=%s", a[0].item[i]);
+                snprintf(p->set[1], sizeof p->set[1], "top.velocity=%.10g", v);
+                snprintf(p->set[2], sizeof p->set[2], "bottom.velocity=-%.10g", v);
+            }
+    } else if (!add_point(r, err)) {
+        st = EKM_ENOMEM;
+    }
+    free(a);
+    return st;
+}
+
+ekm_status ekm_resolve(const ekm_scenario *s, const char *engine, const char *size, ekm_resolved *r,
+                       ekm_error *err)
+{
+    memset(r, 0, sizeof *r);
+    if (engine && !word_in(ENGINES, 2, engine, strlen(engine)))
+        return EKM_FAIL(err, EKM_EINPUT, "--engine %s: unknown engine (expected liggghts or lammps)", engine);
+    if (size && !word_in(SIZES, 2, size, strlen(size)))
+        return EKM_FAIL(err, EKM_EINPUT, "--size %s: unknown size (expected smoke or ref)", size);
+    snprintf(r->engine, sizeof r->engine, "%s", engine ? engine : "");
+    snprintf(r->size, sizeof r->size, "%s", size ? size : "");
+    ekm_status st = EKM_OK;
+    /* ekm's sections: the value given, else the default of the loaded scenario */
+    for (size_t i = 0; i < ekm_scenario_key_count() && st == EKM_OK; i++) {
+        const char *section, *key;
+        ekm_scenario_key_name(i, &section, &key);
+        char name[64], from[600], value[VALUE_SIZE];
+        snprintf(name, sizeof name, "%s.%s", section, key);
+        const ekm_entry *e = ekm_scenario_entry_find(s->entries, s->n_entries, name);
+        if (e) {
+            entry_from(s, e, from, sizeof from);
+            st = add_key(r, name, e->value, from, NULL, err);
+        } else if (ekm_scenario_key_default(s, i, value, sizeof value)) {
+            st = add_key(r, name, value, "default", NULL, err);
+        }
+    }
+    sweep_kind sweep = SWEEP_NONE;
+    if (st == EKM_OK)
+        st = sweep_of(s, &sweep, err);
+    if (st == EKM_OK && section_given(s, "dem"))
+        st = resolve_tool_section(s, r, "dem", sweep, err);
+    if (st == EKM_OK && section_given(s, "compare"))
+        st = resolve_tool_section(s, r, "compare", SWEEP_NONE, err);
+    if (st == EKM_OK)
+        st = build_points(s, r, section_given(s, "dem") ? sweep : SWEEP_NONE, err);
+    return st;
+}
+
+ekm_status ekm_resolve_keep_point(ekm_resolved *r, const char *tag, ekm_error *err)
+{
+    for (size_t i = 0; i < r->n_points; i++)
+        if (strcmp(r->points[i].tag, tag) == 0) {
+            r->points[0] = r->points[i];
+            r->n_points = 1;
+            return EKM_OK;
+        }
+    char tags[800] = "";
+    size_t used = 0;
+    for (size_t i = 0; i < r->n_points && used < sizeof tags; i++) {
+        int n = snprintf(tags + used, sizeof tags - used, "%s%s", i ? " " : "",
+                         r->points[i].tag[0] ? r->points[i].tag : "\"\"");
+        if (n < 0)
+            break;
+        used += (size_t)n;
+    }
+    return EKM_FAIL(err, EKM_EINPUT, "--point %s: unknown point (the points are: %s)", tag, tags);
+}
+
+const ekm_resolve_key *ekm_resolve_find(const ekm_resolved *r, const char *name)
+{
+    for (size_t i = 0; i < r->n_keys; i++)
+        if (strcmp(r->keys[i].name, name) == 0)
+            return &r->keys[i];
+    return NULL;
+}
+
+void ekm_resolve_free(ekm_resolved *r)
+{
+    if (!r)
+        return;
+    free(r->keys);
+    free(r->points);
+    r->keys = NULL;
+    r->points = NULL;
+    r->n_keys = r->n_points = 0;
+}

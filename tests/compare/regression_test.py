@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+"""regression_test.py: the committed reference results still score the same.
+
+usage: regression_test.py EKMCOMPARE ROOT WORKDIR
+
+For every results/**/score_*.json under ROOT, rerun `ekmcompare score` on the
+committed inputs it names (dem, ekm) with the options recorded in it
+(options.fields, options.ekm_time, options.shift_m) into a temporary file
+under WORKDIR, and assert that
+  - every field's points, points_with_se, rel_l2 and noise_normalised are
+    the committed file's, as printed (text equality of the JSON numbers),
+    and the time matching and the options come out the same;
+  - every row of results/scores.json that names that file has the same
+    points, rel_l2 and noise_normalised to the digits printed in
+    scores.json, and every field of every score file has such a row.
+A change of any scoring formula, of the interpolation or of the SE floor
+changes some of these numbers and fails the test.
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+
+def load(path):
+    # numbers kept as their printed text: the comparison is to the digit
+    with open(path) as fp:
+        return json.load(fp, parse_float=str, parse_int=str)
+
+
+def significant_digits(text):
+    mantissa = text.lower().split("e")[0].lstrip("+-").replace(".", "").lstrip("0")
+    return max(len(mantissa), 1)
+
+
+def same_to_printed(printed, value):
+    """value (full-precision text, or None for NaN) equals printed to its digits."""
+    if printed is None or value is None:
+        return printed is None and value is None
+    d = significant_digits(printed)
+    return "%.*g" % (d, float(value)) == "%.*g" % (d, float(printed))
+
+
+def main():
+    if len(sys.argv) != 4:
+        sys.exit("usage: regression_test.py EKMCOMPARE ROOT WORKDIR")
+    ekmc, root, work = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
+    work.mkdir(parents=True, exist_ok=True)
+    fails = []
+    rescored = {}  # score file (as scores.json names it) -> new fields
+    files = sorted(p.relative_to(root).as_posix() for p in root.glob("results/**/score_*.json"))
+    if not files:
+        sys.exit(f"regression_test.py: no results/**/score_*.json under {root}")
+    for rel in files:
+        old = load(root / rel)
+        opt = old.get("options")
+        if not opt:
+            fails.append(f"{rel}: no \"options\" recorded (re-score it with the current ekmcompare)")
+            continue
+        with tempfile.NamedTemporaryFile(dir=work, suffix=".json", delete=False) as tmp:
+            out = tmp.name
+        cmd = [ekmc, "score", "--dem", old["dem"], "--ekm", old["ekm"], "--fields", ",".join(opt["fields"]),
+               "--ekm-time", opt["ekm_time"], "--shift", opt["shift_m"], "-o", out, "--quiet"]
+        run = subprocess.run(cmd, cwd=root, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if run.returncode != 0:
+            fails.append(f"{rel}: {' '.join(cmd)}: exit {run.returncode}: {run.stderr.strip()}")
+            os.unlink(out)
+            continue
+        new = load(out)
+        os.unlink(out)
+        rescored[rel] = new["fields"]
+        for key in ("time", "options"):
+            if new.get(key) != old.get(key):
+                fails.append(f"{rel}: {key}: {new.get(key)} now, committed {old.get(key)}")
+        if list(new["fields"]) != list(old["fields"]):
+            fails.append(f"{rel}: fields {list(new['fields'])} now, committed {list(old['fields'])}")
+        for field, was in old["fields"].items():
+            now = new["fields"].get(field, {})
+            for k in ("points", "points_with_se", "rel_l2", "noise_normalised"):
+                if now.get(k) != was.get(k):
+                    fails.append(f"{rel}: {field}.{k} = {now.get(k)} now, committed {was.get(k)}")
+    table = load(root / "results" / "scores.json")
+    covered = set()
+    for row in table["rows"]:
+        where = f"results/scores.json: {row['scenario']} {row.get('point') or ''} {row['field']}".replace("  ", " ")
+        for cmp, cell in row.items():
+            if not isinstance(cell, dict) or cell.get("status") != "ok":
+                continue
+            rel = cell.get("file")
+            if rel not in rescored:
+                fails.append(f"{where} {cmp}: its file {rel} was not re-scored")
+                continue
+            now = rescored[rel].get(row["field"])
+            if now is None:
+                fails.append(f"{where} {cmp}: {rel} has no field {row['field']}")
+                continue
+            covered.add((rel, row["field"]))
+            if now["points"] != cell.get("points"):
+                fails.append(f"{where} {cmp}: points = {now['points']} now, {cell.get('points')} in the table")
+            for k in ("rel_l2", "noise_normalised"):
+                if not same_to_printed(cell.get(k), now.get(k)):
+                    fails.append(f"{where} {cmp}: {k} = {now.get(k)} now, {cell.get(k)} in the table")
+    for rel, fields in rescored.items():
+        for field in fields:
+            if (rel, field) not in covered:
+                fails.append(f"{rel}: field {field} has no row in results/scores.json")
+    for f in fails:
+        print(f"FAIL: {f}", file=sys.stderr)
+    if fails:
+        sys.exit(f"regression_test.py: {len(fails)} failure(s)")
+    nf = sum(len(f) for f in rescored.values())
+    print(f"regression_test.py: {len(rescored)} score files, {nf} fields, {len(covered)} table cells: all equal")
+
+
+if __name__ == "__main__":
+    main()
