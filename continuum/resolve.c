@@ -18,8 +18,10 @@ typedef enum {
     TYPE_ENUM     /* one of the words of `choices` */
 } tool_type;
 
-/* The sweep a [dem] key belongs to: its keys make the scenario one. */
-typedef enum { SWEEP_NONE = 0, SWEEP_THETA, SWEEP_PHI_RATE } sweep_kind;
+/* The sweep a [dem] key belongs to: its keys make the scenario one.
+ * SWEEP_SHEAR: a key of both simple-shear sweeps (phis x rates, or
+ * pressures x rates); without phis or pressures it is the phi sweep. */
+typedef enum { SWEEP_NONE = 0, SWEEP_THETA, SWEEP_SHEAR, SWEEP_PHI_RATE, SWEEP_P_RATE } sweep_kind;
 
 typedef struct {
     const char *section;
@@ -54,9 +56,12 @@ static const tool_key TOOL_KEYS[] = {
     {"dem", "wall_damping", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
     {"dem", "t_compress", TYPE_NUMBER, NULL, "0", SWEEP_NONE},
     {"dem", "t_run", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "strain", TYPE_NUMBER, NULL, NULL, SWEEP_PHI_RATE},
-    {"dem", "phis", TYPE_NUMBERS, NULL, NULL, SWEEP_PHI_RATE},  /* default: [initial] phi */
-    {"dem", "rates", TYPE_NUMBERS, NULL, NULL, SWEEP_PHI_RATE}, /* default: the walls' rate */
+    {"dem", "strain", TYPE_NUMBER, NULL, NULL, SWEEP_SHEAR},
+    {"dem", "phis", TYPE_NUMBERS, NULL, NULL, SWEEP_PHI_RATE},    /* default: [initial] phi */
+    {"dem", "pressures", TYPE_NUMBERS, NULL, NULL, SWEEP_P_RATE}, /* no default */
+    {"dem", "rates", TYPE_NUMBERS, NULL, NULL, SWEEP_SHEAR},      /* default: the walls' rate */
+    {"dem", "p_gain", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "dump_strain", TYPE_NUMBER, NULL, NULL, SWEEP_NONE}, /* per point dump_every of a shear sweep */
     {"dem", "timeout", TYPE_INTEGER, NULL, "900", SWEEP_NONE},
     {"dem", "require_steady", TYPE_FLAG, NULL, "0", SWEEP_NONE},
     {"dem", "steady_tol", TYPE_NUMBER, NULL, "0.05", SWEEP_NONE},
@@ -328,12 +333,13 @@ static int section_given(const ekm_scenario *s, const char *section)
 }
 
 /* Which sweep the scenario's [dem] keys (any variant) make it: an inclined
- * flow (t_settle t_flow angles: over the angles), a simple shear (strain
- * phis rates: over phis x rates), or none. */
+ * flow (t_settle t_flow angles: over the angles), a simple shear at fixed
+ * volume (strain rates phis: over phis x rates), a simple shear at fixed
+ * pressure (strain rates pressures: over pressures x rates), or none. */
 static ekm_status sweep_of(const ekm_scenario *s, sweep_kind *kind, ekm_error *err)
 {
     *kind = SWEEP_NONE;
-    const char *first = NULL;
+    const char *first = NULL, *list = NULL; /* the first sweep key; the phis or pressures key */
     for (size_t i = 0; i < s->n_tool_entries; i++) {
         const ekm_entry *e = &s->tool_entries[i];
         const char *base;
@@ -342,19 +348,34 @@ static ekm_status sweep_of(const ekm_scenario *s, sweep_kind *kind, ekm_error *e
         const tool_key *tk = find_key("dem", base);
         if (!tk || tk->sweep == SWEEP_NONE)
             continue;
-        if (*kind != SWEEP_NONE && tk->sweep != *kind) {
-            char from[600];
-            entry_from(s, e, from, sizeof from);
+        char from[600];
+        entry_from(s, e, from, sizeof from);
+        if (*kind != SWEEP_NONE && (tk->sweep == SWEEP_THETA) != (*kind == SWEEP_THETA))
             return EKM_FAIL(err, EKM_EINPUT,
                             "%s: [dem] %s: a key of the %s sweep, but [dem] %s is one of the %s sweep: "
                             "expected the keys of one sweep only (inclined flow: t_settle t_flow angles; "
-                            "simple shear: strain phis rates)",
+                            "simple shear: strain rates, and phis or pressures)",
                             from, e->name + 4, tk->sweep == SWEEP_THETA ? "inclined-flow" : "simple-shear", first,
                             *kind == SWEEP_THETA ? "inclined-flow" : "simple-shear");
+        if ((tk->sweep == SWEEP_PHI_RATE && *kind == SWEEP_P_RATE) ||
+            (tk->sweep == SWEEP_P_RATE && *kind == SWEEP_PHI_RATE))
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: [dem] %s: a list of the %s sweep, but [dem] %s is one of the %s sweep: "
+                            "expected phis (shear at fixed volume) or pressures (shear at fixed pressure), "
+                            "not both",
+                            from, e->name + 4, tk->sweep == SWEEP_P_RATE ? "pressure x rate" : "phi x rate", list,
+                            *kind == SWEEP_P_RATE ? "pressure x rate" : "phi x rate");
+        if (!first)
+            first = e->name + 4;
+        if (tk->sweep == SWEEP_PHI_RATE || tk->sweep == SWEEP_P_RATE) {
+            *kind = tk->sweep;
+            list = e->name + 4;
+        } else if (*kind == SWEEP_NONE) {
+            *kind = tk->sweep;
         }
-        *kind = tk->sweep;
-        first = e->name + 4;
     }
+    if (*kind == SWEEP_SHEAR)
+        *kind = SWEEP_PHI_RATE;
     return EKM_OK;
 }
 
@@ -387,7 +408,7 @@ static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, c
                 src = ekm_resolve_find(r, "gravity.angle");
             else if (strcmp(name, "dem.phis") == 0 && sweep == SWEEP_PHI_RATE)
                 src = ekm_resolve_find(r, "initial.phi");
-            else if (strcmp(name, "dem.rates") == 0 && sweep == SWEEP_PHI_RATE)
+            else if (strcmp(name, "dem.rates") == 0 && (sweep == SWEEP_PHI_RATE || sweep == SWEEP_P_RATE))
                 /* as scripts/dem/run.sh computed it: awk printf "%.10g" */
                 snprintf(value, sizeof value, "%.10g", (s->top.velocity - s->bottom.velocity) / s->length);
             if (src)
@@ -439,10 +460,39 @@ static ekm_resolve_point *add_point(ekm_resolved *r, ekm_error *err)
     return p;
 }
 
+/* The dump_every of a shear point with [dem] dump_strain: one frame every
+ * dump_strain of shear, int(dump_strain / (rate dt) + 0.5) steps, at least
+ * 1 (the arithmetic of the awk line run.sh had). */
+static ekm_status dump_every_of(const ekm_resolve_key *dump_strain, const ekm_resolve_key *dt,
+                                const ekm_resolve_key *rates, const char *rate, char *out, size_t size,
+                                ekm_error *err)
+{
+    const char *key = dump_strain->as[0] ? dump_strain->as : "dump_strain";
+    if (!dt)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: needs [dem] dt (dump_every = %s / (rate dt))",
+                        dump_strain->from, key, key);
+    const double strain = strtod(dump_strain->value, NULL), r = strtod(rate, NULL), step = strtod(dt->value, NULL);
+    if (!(strain > 0) || !(r > 0) || !(step > 0))
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [dem] %s: expected dump_strain, dt and every rate > 0 (got dump_strain %s, dt %s, "
+                        "rate %s of [dem] %s)",
+                        dump_strain->from, key, dump_strain->value, dt->value, rate,
+                        rates->as[0] ? rates->as : "rates");
+    const double n = strain / (r * step) + 0.5;
+    if (!(n < 2147483647.0))
+        return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: dump_every %s / (%s %s) exceeds the largest step count",
+                        dump_strain->from, key, dump_strain->value, rate, dt->value);
+    const long every = (long)n;
+    snprintf(out, size, "%ld", every < 1 ? 1L : every);
+    return EKM_OK;
+}
+
 static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kind sweep, ekm_error *err)
 {
     const ekm_resolve_key *angles = ekm_resolve_find(r, "dem.angles");
     const ekm_resolve_key *phis = ekm_resolve_find(r, "dem.phis"), *rates = ekm_resolve_find(r, "dem.rates");
+    const ekm_resolve_key *pressures = ekm_resolve_find(r, "dem.pressures");
+    const ekm_resolve_key *dump_strain = ekm_resolve_find(r, "dem.dump_strain"), *dt = ekm_resolve_find(r, "dem.dt");
     item_list *a = calloc(2, sizeof *a);
     if (!a)
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory resolving the scenario");
@@ -463,8 +513,9 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
             p->n_sets = 1;
             snprintf(p->set[0], sizeof p->set[0], "gravity.angle=%s", a[0].item[i]);
         }
-    } else if (sweep == SWEEP_PHI_RATE && phis && rates) {
-        st = split_list(phis, &a[0], err);
+    } else if ((sweep == SWEEP_PHI_RATE && phis && rates) || (sweep == SWEEP_P_RATE && pressures && rates)) {
+        const int by_p = sweep == SWEEP_P_RATE;
+        st = split_list(by_p ? pressures : phis, &a[0], err);
         if (st == EKM_OK)
             st = split_list(rates, &a[1], err);
         const size_t n = a[0].n * a[1].n;
@@ -476,20 +527,34 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
                     break;
                 }
                 if (n > 1)
-                    snprintf(p->tag, sizeof p->tag, "phi%s-rate%s", a[0].item[i], a[1].item[j]);
+                    snprintf(p->tag, sizeof p->tag, "%s%s-rate%s", by_p ? "p" : "phi", a[0].item[i], a[1].item[j]);
                 p->n_vars = 2;
-                snprintf(p->var_name[0], sizeof p->var_name[0], "phi");
+                snprintf(p->var_name[0], sizeof p->var_name[0], "%s", by_p ? "pressure" : "phi");
                 snprintf(p->var_value[0], sizeof p->var_value[0], "%s", a[0].item[i]);
                 snprintf(p->var_name[1], sizeof p->var_name[1], "rate");
                 snprintf(p->var_value[1], sizeof p->var_value[1], "%s", a[1].item[j]);
+                if (dump_strain) {
+                    st = dump_every_of(dump_strain, dt, rates, a[1].item[j], p->var_value[2], sizeof p->var_value[2],
+                                       err);
+                    snprintf(p->var_name[2], sizeof p->var_name[2], "dump_every");
+                    p->n_vars = 3;
+                }
                 /* the walls at -+ R L/2, as scripts/campaign/ekm_step.sh set them
-                 * (awk: r * L / 2, printf "%.10g") */
+                 * (awk: r * L / 2, printf "%.10g"); a pressure point runs the
+                 * EKM at a fixed gap (its [initial] phi): the EKM has no
+                 * pressure-held top wall yet */
                 const double v = strtod(a[1].item[j], NULL) * s->length / 2;
-                p->n_sets = 3;
-                snprintf(p->set[0], sizeof p->set[0], "initial.phi=%s", a[0].item[i]);
-                snprintf(p->set[1], sizeof p->set[1], "top.velocity=%.10g", v);
-                snprintf(p->set[2], sizeof p->set[2], "bottom.velocity=-%.10g", v);
+                p->n_sets = 0;
+                if (!by_p)
+                    snprintf(p->set[p->n_sets++], sizeof p->set[0], "initial.phi=%s", a[0].item[i]);
+                snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.velocity=%.10g", v);
+                snprintf(p->set[p->n_sets++], sizeof p->set[0], "bottom.velocity=-%.10g", v);
             }
+    } else if (sweep == SWEEP_P_RATE) {
+        st = EKM_FAIL(err, EKM_EINPUT,
+                      "%s: [dem] pressures: missing for this engine and size (only other variants are given; "
+                      "a pressure x rate sweep needs its list of normal stresses)",
+                      s->source);
     } else if (!add_point(r, err)) {
         st = EKM_ENOMEM;
     }

@@ -78,12 +78,24 @@ json "chute smoke: one point" \
     "$chute" --engine lammps --size smoke --json
 json "chute without engine and size" \
     '.engine == null and .size == null and (.keys["dem.lx"] | not) and (.points | length) == 1' "$chute" --json
-json "simple_shear ref: nine points" \
-    '(.points | length) == 9 and .points[4] == {"tag": "phi0.53-rate10", "vars": {"phi": "0.53", "rate": "10"},
+json "simple_shear ref: 21 points" \
+    '(.points | length) == 21 and .points[7] == {"tag": "phi0.53-rate10", "vars": {"phi": "0.53", "rate": "10"},
        "ekm_set": ["initial.phi=0.53", "top.velocity=0.1", "bottom.velocity=-0.1"]}
-     and [.points[].tag] == ["phi0.50-rate5", "phi0.50-rate10", "phi0.50-rate20", "phi0.53-rate5",
-       "phi0.53-rate10", "phi0.53-rate20", "phi0.56-rate5", "phi0.56-rate10", "phi0.56-rate20"]' \
+     and [.points[].tag] == [("0.45", "0.50", "0.53", "0.56", "0.58", "0.60", "0.62") as $p
+       | ("5", "10", "20") as $r | "phi\($p)-rate\($r)"]' \
     "$shear" --engine lammps --size ref --json
+shear_p=$src/scenarios/simple_shear_p.ini
+json "simple_shear_p ref: pressures x rates, dump_every per point, EKM at a fixed gap" \
+    '[.points[].tag] == [("10", "100", "1000") as $p | ("0.3", "1", "3", "10", "30") as $r | "p\($p)-rate\($r)"]
+     and .points[5] == {"tag": "p100-rate0.3", "vars": {"pressure": "100", "rate": "0.3", "dump_every": "33333"},
+       "ekm_set": ["top.velocity=0.003", "bottom.velocity=-0.003"]}
+     and [.points[0:5][].vars.dump_every] == ["33333", "10000", "3333", "1000", "333"]
+     and .keys["dem.dump_strain"].value == "0.1" and .keys["dem.p_gain"].value == "0.25"
+     and (.keys | has("dem.phis") | not)' \
+    "$shear_p" --engine lammps --size ref --json
+json "simple_shear_p --set dem.pressures: the plain key beats the variants" \
+    '[.points[].tag] == ["p50-rate0.3", "p50-rate1", "p50-rate3", "p50-rate10", "p50-rate30"]' \
+    "$shear_p" --engine lammps --size ref --set dem.pressures=50 --json
 json "no [dem]: no dem keys, one point" \
     '([.keys | keys[] | select(startswith("dem.") or startswith("compare."))] | length) == 0
      and .points == [{"tag": "", "vars": {}, "ekm_set": []}]' \
@@ -114,6 +126,10 @@ error "unknown [dem] key in ekm run" 2 "unknown.ini:$n: \[dem\] ref.lxx: unknown
 [ -e out.h5 ] && bad "ekm run left out.h5" || ok "ekm run left no output"
 error "bad [compare] value" 2 "--set:1: \[compare\] ekm_time: expected one of last interp, got 'now'" \
     scenario "$chute" --set compare.ekm_time=now --json
+
+sed '/^pressures *=/a phis = 0.5' "$shear_p" > both.ini
+error "phis and pressures" 2 "both.ini:$(line both.ini phis): \[dem\] phis: a list of the phi x rate sweep, but \[dem\] pressures is one of the pressure x rate sweep" \
+    scenario both.ini --json
 
 { cat "$src/scenarios/cooling.ini"; printf '[scenario]\ndescription = caf\xe9\n'; } > latin1.ini
 n=$(wc -l < latin1.ini)

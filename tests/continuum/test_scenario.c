@@ -446,9 +446,10 @@ static void test_simple_shear_points(void **state)
     assert_int_equal(
         resolve_file(&x, src_path("scenarios/simple_shear.ini", path, sizeof path), "lammps", "ref", NULL, 0),
         EKM_OK);
-    assert_int_equal(x.r.n_points, 9);
-    const char *phi[] = {"0.50", "0.53", "0.56"}, *rate[] = {"5", "10", "20"}, *wall[] = {"0.05", "0.1", "0.2"};
-    for (size_t i = 0; i < 9; i++) {
+    assert_int_equal(x.r.n_points, 21);
+    const char *phi[] = {"0.45", "0.50", "0.53", "0.56", "0.58", "0.60", "0.62"}, *rate[] = {"5", "10", "20"},
+               *wall[] = {"0.05", "0.1", "0.2"};
+    for (size_t i = 0; i < 21; i++) {
         const ekm_resolve_point *p = &x.r.points[i];
         char want[96];
         snprintf(want, sizeof want, "phi%s-rate%s", phi[i / 3], rate[i % 3]);
@@ -468,9 +469,11 @@ static void test_simple_shear_points(void **state)
     }
     assert_int_equal(ekm_resolve_keep_point(&x.r, "phi0.5-rate10", &x.err), EKM_EINPUT);
     assert_string_equal(x.err.message,
-                        "--point phi0.5-rate10: unknown point (the points are: phi0.50-rate5 phi0.50-rate10 "
-                        "phi0.50-rate20 phi0.53-rate5 phi0.53-rate10 phi0.53-rate20 phi0.56-rate5 phi0.56-rate10 "
-                        "phi0.56-rate20)");
+                        "--point phi0.5-rate10: unknown point (the points are: phi0.45-rate5 phi0.45-rate10 "
+                        "phi0.45-rate20 phi0.50-rate5 phi0.50-rate10 phi0.50-rate20 phi0.53-rate5 phi0.53-rate10 "
+                        "phi0.53-rate20 phi0.56-rate5 phi0.56-rate10 phi0.56-rate20 phi0.58-rate5 phi0.58-rate10 "
+                        "phi0.58-rate20 phi0.60-rate5 phi0.60-rate10 phi0.60-rate20 phi0.62-rate5 phi0.62-rate10 "
+                        "phi0.62-rate20)");
     assert_int_equal(ekm_resolve_keep_point(&x.r, "phi0.53-rate20", &x.err), EKM_OK);
     assert_int_equal(x.r.n_points, 1);
     assert_string_equal(x.r.points[0].set[1], "top.velocity=0.2");
@@ -488,6 +491,86 @@ static void test_simple_shear_points(void **state)
     assert_string_equal(x.r.points[0].set[2], "bottom.velocity=-0.1");
     assert_key(&x, "dem.phis", "0.55", "default", "");
     assert_key(&x, "dem.rates", "10", "default", "");
+    resolved_free(&x);
+}
+
+/* The pressure x rate sweep of simple_shear_p: tags p<P>-rate<R> from the
+ * values as written, vars pressure rate dump_every, the EKM at a fixed gap
+ * (the point's rate, [initial] phi). */
+static void test_simple_shear_p_points(void **state)
+{
+    (void)state;
+    char path[1024];
+    resolved x;
+    assert_int_equal(
+        resolve_file(&x, src_path("scenarios/simple_shear_p.ini", path, sizeof path), "lammps", "ref", NULL, 0),
+        EKM_OK);
+    assert_int_equal(x.r.n_points, 15);
+    const char *pres[] = {"10", "100", "1000"}, *rate[] = {"0.3", "1", "3", "10", "30"},
+               *wall[] = {"0.003", "0.01", "0.03", "0.1", "0.3"};
+    /* dump_strain 0.1 / (rate 1e-5) + 0.5, truncated: 33333.8, 10000.5, 3333.8, 1000.5, 333.8 */
+    const char *every[] = {"33333", "10000", "3333", "1000", "333"};
+    for (size_t i = 0; i < 15; i++) {
+        const ekm_resolve_point *p = &x.r.points[i];
+        char want[96];
+        snprintf(want, sizeof want, "p%s-rate%s", pres[i / 5], rate[i % 5]);
+        assert_string_equal(p->tag, want);
+        assert_int_equal(p->n_vars, 3);
+        assert_string_equal(p->var_name[0], "pressure");
+        assert_string_equal(p->var_value[0], pres[i / 5]);
+        assert_string_equal(p->var_name[1], "rate");
+        assert_string_equal(p->var_value[1], rate[i % 5]);
+        assert_string_equal(p->var_name[2], "dump_every");
+        assert_string_equal(p->var_value[2], every[i % 5]);
+        assert_int_equal(p->n_sets, 2);
+        snprintf(want, sizeof want, "top.velocity=%s", wall[i % 5]);
+        assert_string_equal(p->set[0], want);
+        snprintf(want, sizeof want, "bottom.velocity=-%s", wall[i % 5]);
+        assert_string_equal(p->set[1], want);
+    }
+    const ekm_resolve_key *k = ekm_resolve_find(&x.r, "dem.pressures");
+    assert_non_null(k);
+    assert_string_equal(k->value, "10 100 1000");
+    assert_string_equal(k->as, "ref.pressures");
+    k = ekm_resolve_find(&x.r, "dem.p_gain");
+    assert_non_null(k);
+    assert_string_equal(k->value, "0.25");
+    resolved_free(&x);
+
+    /* smoke: three pressures at the plain rate 10 */
+    assert_int_equal(
+        resolve_file(&x, src_path("scenarios/simple_shear_p.ini", path, sizeof path), "lammps", "smoke", NULL, 0),
+        EKM_OK);
+    assert_int_equal(x.r.n_points, 3);
+    assert_string_equal(x.r.points[2].tag, "p1000-rate10");
+    assert_string_equal(x.r.points[2].var_value[2], "1000");
+    resolved_free(&x);
+
+    /* a single point (its tag ""), the default rate from the walls, the
+     * floor of 1 frame step and a list written with other spellings */
+    write_scenario("[dem]\npressures = 1e2\ndump_strain = 1e-9\ndt = 1e-5");
+    const char *sets[] = {"top.type=wall", "top.velocity=0.1", "bottom.velocity=-0.1", "domain.length=0.02"};
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, sets, 4), EKM_OK);
+    assert_int_equal(x.r.n_points, 1);
+    assert_string_equal(x.r.points[0].tag, "");
+    assert_string_equal(x.r.points[0].var_value[0], "1e2");
+    assert_string_equal(x.r.points[0].var_value[1], "10");
+    assert_string_equal(x.r.points[0].var_value[2], "1");
+    assert_key(&x, "dem.rates", "10", "default", "");
+    resolved_free(&x);
+    write_scenario("[dem]\npressures = 50 5e1\nrates = 2.5\ndump_strain = 0.2\ndt = 2e-5");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, sets, 4), EKM_OK);
+    assert_int_equal(x.r.n_points, 2);
+    assert_string_equal(x.r.points[0].tag, "p50-rate2.5");
+    assert_string_equal(x.r.points[1].tag, "p5e1-rate2.5");
+    assert_string_equal(x.r.points[1].var_value[2], "4000"); /* 0.2 / (2.5 2e-5) */
+    assert_string_equal(x.r.points[1].set[0], "top.velocity=0.025");
+    resolved_free(&x);
+    /* without dump_strain: no per-point dump_every */
+    write_scenario("[dem]\npressures = 50\nrates = 2 4");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, sets, 4), EKM_OK);
+    assert_int_equal(x.r.points[1].n_vars, 2);
+    assert_string_equal(x.r.points[1].tag, "p50-rate4");
     resolved_free(&x);
 }
 
@@ -526,7 +609,40 @@ static void test_sweep_errors(void **state)
     assert_string_equal(x.err.message,
                         FILE_NAME ":32: [dem] smoke.rates: a key of the simple-shear sweep, but [dem] t_flow is one "
                         "of the inclined-flow sweep: expected the keys of one sweep only (inclined flow: t_settle "
-                        "t_flow angles; simple shear: strain phis rates)");
+                        "t_flow angles; simple shear: strain rates, and phis or pressures)");
+    resolved_free(&x);
+    /* the two shear sweeps' lists together, in any variants */
+    write_scenario("[dem]\nstrain = 2\nsmoke.pressures = 10 100\nref.phis = 0.5");
+    assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "smoke", NULL, 0), EKM_EINPUT);
+    assert_string_equal(x.err.message,
+                        FILE_NAME ":33: [dem] ref.phis: a list of the phi x rate sweep, but [dem] smoke.pressures is "
+                        "one of the pressure x rate sweep: expected phis (shear at fixed volume) or pressures "
+                        "(shear at fixed pressure), not both");
+    resolved_free(&x);
+    write_scenario("[dem]\npressures = 10\nt_settle = 1");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, NULL, 0), EKM_EINPUT);
+    assert_string_equal(x.err.message,
+                        FILE_NAME ":32: [dem] t_settle: a key of the inclined-flow sweep, but [dem] pressures is one "
+                        "of the simple-shear sweep: expected the keys of one sweep only (inclined flow: t_settle "
+                        "t_flow angles; simple shear: strain rates, and phis or pressures)");
+    resolved_free(&x);
+    /* a pressure sweep with no list at this size */
+    write_scenario("[dem]\nref.pressures = 10 100\nrates = 1");
+    assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "smoke", NULL, 0), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ": [dem] pressures: missing for this engine and size (only other "
+                                                 "variants are given; a pressure x rate sweep needs its list of "
+                                                 "normal stresses)");
+    resolved_free(&x);
+    /* dump_strain: needs dt, and rates > 0 */
+    write_scenario("[dem]\npressures = 10\nrates = 1\ndump_strain = 0.1");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, NULL, 0), EKM_EINPUT);
+    assert_string_equal(x.err.message,
+                        FILE_NAME ":33: [dem] dump_strain: needs [dem] dt (dump_every = dump_strain / (rate dt))");
+    resolved_free(&x);
+    write_scenario("[dem]\npressures = 10\nref.rates = 1 0\ndump_strain = 0.1\ndt = 1e-5");
+    assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ":33: [dem] dump_strain: expected dump_strain, dt and every rate > 0 "
+                                                 "(got dump_strain 0.1, dt 1e-5, rate 0 of [dem] ref.rates)");
     resolved_free(&x);
     write_scenario("");
     assert_int_equal(resolve_file(&x, FILE_NAME, "spring", NULL, NULL, 0), EKM_EINPUT);
@@ -541,7 +657,7 @@ static void test_sweep_errors(void **state)
 static void test_shipped_scenarios(void **state)
 {
     (void)state;
-    const char *names[] = {"chute", "cooling", "filling", "hypoplastic_cycle", "shear_cell", "simple_shear",
+    const char *names[] = {"chute", "cooling", "filling", "hypoplastic_cycle", "shear_cell", "simple_shear", "simple_shear_p",
                            "thesis_column_incline", "thesis_filling", "thesis_kinetic_flow", "tilting_layer"};
     const char *engines[] = {"liggghts", "lammps"}, *sizes[] = {"smoke", "ref"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
@@ -571,6 +687,7 @@ int main(void)
         cmocka_unit_test(test_chute_points),
         cmocka_unit_test(test_chute_smoke_point),
         cmocka_unit_test(test_simple_shear_points),
+        cmocka_unit_test(test_simple_shear_p_points),
         cmocka_unit_test(test_rate_formatting),
         cmocka_unit_test(test_sweep_errors),
         cmocka_unit_test(test_shipped_scenarios),
