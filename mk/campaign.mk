@@ -2,7 +2,9 @@
 # (workflow/Snakefile). Included by the top-level Makefile.
 #
 #   make campaign [SIZE=smoke|ref] [ENGINES="liggghts lammps"] [NP=1] [-jN | JOBS=N]
-#        every scenario with [dem] and [compare] sections: DEM runs (both
+#                 [SCENARIOS="simple_shear simple_shear_p"]
+#        every scenario with [dem] and [compare] sections (or those of
+#        SCENARIOS; the table keeps every scenario's row): DEM runs (both
 #        engines), coarse-graining, the EKM run, scores, the score table and
 #        the figures; results in results/ (SIZE=ref, committed) or
 #        results/smoke/ (SIZE=smoke, the default; not committed)
@@ -24,7 +26,7 @@ CAMPAIGN_RUNS = $(abspath $(or $(RUNS),runs))
 # jobs: JOBS=N, else make's -jN (in MAKEFLAGS inside a recipe), else 1
 CAMPAIGN_JOBS = $${JOBS:-$$(echo " $$MAKEFLAGS" | sed -n 's/.* -[a-zA-Z]*j\([0-9][0-9]*\).*/\1/p')}
 CAMPAIGN_ARGS = $(CAMPAIGN_SIZE) '$(ENGINES)' $(CAMPAIGN_NP) $(CAMPAIGN_RES) $(CAMPAIGN_RUNS) \
-  $(abspath $(BUILD)) "$$j"
+  $(abspath $(BUILD)) "$$j" '$(SCENARIOS)'
 
 .PHONY: campaign campaign-deps campaign-table figures
 

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # campaign.sh: `make campaign` (and campaign-table, figures): the
 # Snakemake workflow workflow/Snakefile with the campaign's options.
-#   campaign.sh all|table|figures SIZE "ENGINES" NP RES RUNS BUILD JOBS
+#   campaign.sh all|table|figures SIZE "ENGINES" NP RES RUNS BUILD JOBS ["SCENARIOS"]
+# SCENARIOS (blank-separated; empty: all): the campaign scenarios whose
+# steps run (the Snakefile's config scenarios).
 # all: removes the campaign's stale temporaries (an interrupted table or
 # figure, a stamp), says "everything is up to date" when Snakemake has
 # nothing to do, else runs the steps up to the scores (--keep-going: a
@@ -10,8 +12,8 @@
 # parsed again and sees the scores just made). Exit status 1 if a step
 # failed (Snakemake's messages and the failed step's log above).
 set -uo pipefail
-[ $# -eq 8 ] || { echo "campaign.sh: usage: campaign.sh all|table|figures SIZE \"ENGINES\" NP RES RUNS BUILD JOBS" >&2; exit 1; }
-mode=$1 size=$2 engines=$3 np=$4 res=$5 runs=$6 build=$7 jobs=$8
+[ $# -eq 8 ] || [ $# -eq 9 ] || { echo "campaign.sh: usage: campaign.sh all|table|figures SIZE \"ENGINES\" NP RES RUNS BUILD JOBS [\"SCENARIOS\"]" >&2; exit 1; }
+mode=$1 size=$2 engines=$3 np=$4 res=$5 runs=$6 build=$7 jobs=$8 scenarios=${9:-}
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root" || exit 3
 command -v snakemake > /dev/null || { echo "campaign.sh: snakemake not installed (scripts/deps.sh campaign)" >&2; exit 7; }
@@ -23,7 +25,7 @@ command -v snakemake > /dev/null || { echo "campaign.sh: snakemake not installed
 # (--config, --quiet and --rerun-triggers take lists: each ends at the next
 # option, and the last option is a flag, so that targets can follow)
 smk=(snakemake --snakefile workflow/Snakefile -j "$jobs"
-     --config "size=$size" "engines=$engines" "np=$np" "res=$res" "runs=$runs" "build=$build"
+     --config "size=$size" "engines=$engines" "np=$np" "res=$res" "runs=$runs" "build=$build" "scenarios=$scenarios"
      --quiet progress rules --rerun-triggers mtime --drop-metadata --rerun-incomplete --keep-going)
 # Snakemake's scheduler chatter off; its errors and summaries stay
 quiet() { grep -v -E '^(Select jobs to execute\.\.\.|Building DAG of jobs\.\.\.|Using shell: |Provided cores: |Rules claiming more threads will be scaled down\.|Complete log: )'; return 0; }
