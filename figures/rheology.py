@@ -14,6 +14,16 @@ of that apart): an upper bound. The EKM value is the mean over the cells
 of its last output (walls at -+V/2; the steady state is homogeneous).
 The DEM markers are drawn 5% left of their shear rate so as not to hide the
 EKM's, which stay on their rate (and on the closed-form line).
+
+Figure 3b (rheology_simple_shear_p), when the pressure-controlled sweep
+simple_shear_p has results: the DEM points of both simple-shear sweeps
+(fixed volume, fixed normal stress) in the inertial-number plane, mu =
+|sxz|/P and phi against I = rate d / sqrt(P / rho_p), with P the DEM's mean
+pressure and d the CG's mean diameter; the line is the EKM's closed form
+below phi_co (MODEL.md 7): I = d sqrt(3 eps0 (1 - phi/phi_cp) / (2 eta0)),
+mu = sqrt(3 eta0 eps0 / (2 phi)). A pressure point's EKM run is a
+fixed-gap run at its rate and [initial] phi (the EKM has no pressure-held
+wall yet): it is not drawn.
 """
 import re
 
@@ -22,6 +32,7 @@ import numpy as np
 import common as C
 
 SCENARIO = "simple_shear"
+SCENARIO_P = "simple_shear_p"
 
 
 def closed_form_P(m, phi, gdot):
@@ -41,6 +52,17 @@ def closed_form_mu(m, phi):
 
 
 MATERIAL = ("rho_p", "phi_co", "phi_cp", "T0", "eta0", "eps0", "nu")
+
+
+def point_rate(pt):
+    """Shear rate [1/s] of a point: from its tag (...-rate<R>), else (a
+    single case) from its EKM run's walls."""
+    m = re.fullmatch(r"(phi|p)([0-9.eE+-]+)-rate([0-9.eE+-]+)", pt.name)
+    if m:
+        return float(m.group(3))
+    e = pt.ekm
+    why = "the shear rate of the single simple-shear case"
+    return abs(e.number("top.velocity", why) - e.number("bottom.velocity", why)) / e.number("domain.length", why)
 
 
 def point_state(pt):
@@ -88,7 +110,95 @@ def collect(sc):
     return rows, mat
 
 
+def inertial_rows(sc):
+    """DEM rows (engine, I, mu, mu_se, phi, phi_se) of a simple-shear
+    scenario's points, and the material (None without an EKM run)."""
+    rows, mat = [], None
+    for pt in sc.points:
+        if pt.ekm is None:
+            continue
+        if mat is None:
+            mat = {k: pt.ekm.number("material." + k, "the closed-form rheology lines") for k in MATERIAL}
+        rate = point_rate(pt)
+        for e, cg in pt.cg.items():
+            P, Pse = dem_mean(cg, "P")
+            S, Sse = dem_mean(cg, "sxz")
+            ph, phse = dem_mean(cg, "phi")
+            S = abs(S)
+            if not (P > 0 and S > 0):
+                continue
+            mu = S / P
+            rows.append((e, rate * cg.d / np.sqrt(P / mat["rho_p"]), mu,
+                         mu * np.sqrt((Sse / S) ** 2 + (Pse / P) ** 2), ph, phse, cg.d))
+    return rows, mat
+
+
+def make_inertial(scenarios, writer):
+    """Figure 3b: mu(I) and phi(I) of both simple-shear sweeps."""
+    sp = next((s for s in scenarios if s.name == SCENARIO_P), None)
+    if sp is None:
+        return []
+    if not all(f in sp.fields for f in ("phi", "P", "sxz")):
+        return ["%s: phi, P and sxz are not all scored: no inertial-number figure" % SCENARIO_P]
+    sets = []
+    mat = None
+    for name, label, mk in ((SCENARIO, "fixed volume", "s"), (SCENARIO_P, "fixed normal stress", "o")):
+        sc = next((s for s in scenarios if s.name == name), None)
+        if sc is None or not all(f in sc.fields for f in ("phi", "P", "sxz")):
+            continue
+        rows, m = inertial_rows(sc)
+        if rows:
+            sets.append((label, mk, rows))
+            mat = mat or m
+    if not any(lab == "fixed normal stress" for lab, _m, _r in sets):
+        return ["%s: no DEM profiles with an EKM run: no inertial-number figure" % SCENARIO_P]
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(C.PAGE_W, 2.6))
+    colours = {"fixed volume": C.POINT_COLOURS[0], "fixed normal stress": C.POINT_COLOURS[1 % len(C.POINT_COLOURS)]}
+    Is = []
+    for label, mk, rows in sets:
+        c = colours[label]
+        for (_e, I, mu, mu_se, ph, phse, _d) in rows:
+            kw = dict(color=c, marker=mk, ls="none", ms=4, mew=0.9, zorder=2)
+            a1.errorbar([I], [mu], yerr=[2 * mu_se] if np.isfinite(mu_se) else None, **kw)
+            a2.errorbar([I], [ph], yerr=[2 * phse] if np.isfinite(phse) else None, **kw)
+            Is.append(I)
+    notes = []
+    d = sets[0][2][0][6]
+    # the EKM closed form below phi_co (MODEL.md 7): I(phi), mu(phi)
+    ph = np.linspace(0.30, mat["phi_co"], 80, endpoint=False)
+    I_line = d * np.sqrt(3 * mat["eps0"] * (1 - ph / mat["phi_cp"]) / (2 * mat["eta0"]))
+    if mat["nu"] == 1.0:
+        a1.plot(I_line, closed_form_mu(mat, ph), color="0.2", lw=0.9, zorder=1)
+    else:
+        notes.append("%s: material.nu = %g: no closed form for |sxz|/P (MODEL.md 7 has nu = 1)"
+                     % (SCENARIO_P, mat["nu"]))
+    a2.plot(I_line, ph, color="0.2", lw=0.9, zorder=1)
+    lo, hi = min(Is + [I_line.min()]) / 1.5, max(Is + [I_line.max()]) * 1.5
+    for ax in (a1, a2):
+        ax.set_xscale("log")
+        ax.set_xlim(lo, hi)
+        ax.set_xlabel(r"inertial number $I = \dot\gamma d / \sqrt{P/\rho_p}$")
+    a1.set_ylabel(r"stress ratio $|\sigma_{xz}|/P$")
+    a2.set_ylabel(r"volume fraction $\phi$")
+    for ax, letter in ((a1, "(a)"), (a2, "(b)")):
+        ax.text(0.0, 1.02, letter, transform=ax.transAxes, ha="left", va="bottom", fontweight="bold")
+    h = [Line2D([], [], color=colours[lab], marker=mk, ls="none", ms=4,
+                label="%s, %s" % (C.ENGINE_LABEL["lammps"] if rows[0][0] == "lammps" else C.ENGINE_LABEL[rows[0][0]],
+                                  lab) + r" ($\pm$2 SE)") for lab, mk, rows in sets]
+    h.append(Line2D([], [], color="0.2", lw=0.9, label=r"EKM closed form ($\phi < \phi_{co}$)"))
+    fig.legend(handles=h, loc="upper center", ncol=len(h), bbox_to_anchor=(0.5, 1.0))
+    fig.tight_layout(rect=(0, 0, 1, 0.88), w_pad=1.5)
+    writer.save(fig, "rheology_%s" % SCENARIO_P)
+    return notes
+
+
 def make(scenarios, writer):
+    return make_phi_rate(scenarios, writer) + make_inertial(scenarios, writer)
+
+
+def make_phi_rate(scenarios, writer):
     sc = next((s for s in scenarios if s.name == SCENARIO), None)
     if sc is None:
         return []

@@ -29,9 +29,11 @@ EXPECTED = {
     "ref": ["profiles_chute", "profiles_filling", "profiles_shear_cell",
             "profiles_simple_shear_phi0.50-rate5", "profiles_simple_shear_phi0.50-rate10",
             "profiles_simple_shear_phi0.53-rate5", "profiles_simple_shear_phi0.53-rate10",
-            "filling_phi_map", "filling_bed_height", "rheology_simple_shear", "cost"],
+            "profiles_simple_shear_p",
+            "filling_phi_map", "filling_bed_height", "rheology_simple_shear", "rheology_simple_shear_p", "cost"],
     "smoke": ["profiles_chute", "profiles_filling", "profiles_shear_cell", "profiles_simple_shear",
-              "filling_phi_map", "filling_bed_height", "rheology_simple_shear", "cost"],
+              "profiles_simple_shear_p",
+              "filling_phi_map", "filling_bed_height", "rheology_simple_shear", "rheology_simple_shear_p", "cost"],
 }
 
 failures = []

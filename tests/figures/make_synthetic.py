@@ -7,7 +7,8 @@ of the real ones (compare/cgrun.c, continuum/h5out.c, scripts/campaign/).
 
 ref:   chute at theta22, theta24 (both engines), filling and shear_cell
        single cases, simple_shear at phi0.50-rate5, phi0.50-rate10,
-       phi0.53-rate5, phi0.53-rate10 (LAMMPS only)
+       phi0.53-rate5, phi0.53-rate10 (LAMMPS only), simple_shear_p at
+       p10-rate10, p100-rate10 (LAMMPS only)
 smoke: every scenario a single case (simple_shear's phi and rate then come
        from the EKM attributes)
 Profiles are smooth made-up shapes (a Bagnold-like chute, a filling front,
@@ -30,9 +31,11 @@ EKM_FIELDS = ("phi", "vx", "vz", "T", "P", "sxz", "szz")
 UNITS = {"phi": "1", "rho": "kg/m^3", "vx": "m/s", "vy": "m/s", "vz": "m/s", "T": "m^2/s^2",
          "P": "Pa", "sxz": "Pa", "szz": "Pa", "mu": "1", "I": "1", "z": "m", "t": "s"}
 FIELDS = {"chute": "phi,vx,T,P,sxz,szz", "filling": "phi,vz,T,P,szz",
-          "shear_cell": "phi,vx,T,P,sxz,szz", "simple_shear": "phi,T,P,sxz,szz"}
+          "shear_cell": "phi,vx,T,P,sxz,szz", "simple_shear": "phi,T,P,sxz,szz",
+          "simple_shear_p": "phi,T,P,sxz,szz"}
 # [compare] ekm_time of the scenario files (what the scores record)
-EKM_TIME = {"chute": "last", "filling": "interp", "shear_cell": "last", "simple_shear": "last"}
+EKM_TIME = {"chute": "last", "filling": "interp", "shear_cell": "last", "simple_shear": "last",
+            "simple_shear_p": "last"}
 
 
 def _str(f, k, v):
@@ -164,6 +167,18 @@ def simple_shear(phi, rate, dem):
     return full(prof)
 
 
+def simple_shear_p(P, rate):
+    """The DEM side of a pressure-controlled point: made-up mu(I), phi(I)."""
+    I = rate * D / np.sqrt(P / RHO_P)
+    phi = 0.60 - 0.2 * I
+
+    def prof(z, t):
+        return {"phi": phi * np.ones_like(z), "vx": rate * (z - 0.01),
+                "T": 1e-4 * rate * np.ones_like(z), "P": P * np.ones_like(z),
+                "sxz": (0.38 + 0.3 * I) * P * np.ones_like(z), "szz": -P * np.ones_like(z)}
+    return full(prof)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--layout", choices=("ref", "smoke"), required=True)
@@ -244,6 +259,20 @@ def main():
                   {"initial.phi": phi, "top.velocity": v, "bottom.velocity": -v,
                    "domain.length": 0.02, "domain.cells": 20.0, "gravity.magnitude": 0.0}, 0.06)
         add_rows("simple_shear", p, ("lammps",))
+    # simple_shear_p: LAMMPS only; pressures x rates (ref); the EKM at a fixed
+    # gap ([initial] phi 0.55) at the point's rate
+    for p in (["p10-rate10", "p100-rate10"] if ref else [""]):
+        P, rate = (float(p[1:].split("-")[0]), float(p.split("rate")[1])) if p else (100.0, 10.0)
+        d = point_dir("simple_shear_p", p)
+        write_cg(os.path.join(d, "cg_lammps.h5"), zc(0.0029, 0.0169, 7), [0.175],
+                 simple_shear_p(P, rate), rng, "lammps")
+        write_dem_json(os.path.join(d, "dem_lammps.json"), "simple_shear_p", "lammps", p, 4.2)
+        v = rate * 0.02 / 2
+        write_ekm(os.path.join(d, "ekm.h5"), zc(0, 0.02, 20), np.linspace(0, 50, 11),
+                  simple_shear(0.55, rate, False), "simple_shear_p",
+                  {"initial.phi": 0.55, "top.velocity": v, "bottom.velocity": -v,
+                   "domain.length": 0.02, "domain.cells": 20.0, "gravity.magnitude": 0.0}, 0.06)
+        add_rows("simple_shear_p", p, ("lammps",))
     with open(os.path.join(a.out, "scores.json"), "w") as fh:
         json.dump({"size": a.layout, "engines": ["liggghts", "lammps"], "created": "2026-01-01T00:00:00Z",
                    "code_version": "synthetic", "rows": rows}, fh, indent=1)
