@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "atomic.h"
+#include "bc.h"
 #include "ekm_version.h"
 #include "h5out.h"
 #include "resolve.h"
@@ -158,6 +159,15 @@ static int cmd_run(int argc, char **argv)
             const size_t n = sc.hypo.enabled ? n_all : n_all - 6;
             for (size_t i = 0; i < n && st == EKM_OK; i++)
                 st = ekm_h5_writer_set_attr(fc.writer, attrs[i].name, attrs[i].value, &err);
+            /* [run] stop = steady: the verdict of the steady-state test */
+            const struct { const char *name; double value; } steady_attrs[] = {
+                {"steady", (double)stats.steady}, {"steady_drift", stats.steady_drift},
+                {"steady_time", stats.steady_time}, {"steady_acceleration", stats.steady_acceleration},
+            };
+            for (size_t i = 0; sc.stop == EKM_STOP_STEADY && i < 4 && st == EKM_OK; i++)
+                st = ekm_h5_writer_set_attr(fc.writer, steady_attrs[i].name, steady_attrs[i].value, &err);
+            if (st == EKM_OK && ekm_bc_pressure_wall(&sc.top))
+                st = ekm_h5_writer_set_attr(fc.writer, "gap_final", s->n * s->dz, &err);
         }
         if (st == EKM_OK)
             st = ekm_h5_writer_commit(fc.writer, &err);
@@ -183,6 +193,15 @@ static int cmd_run(int argc, char **argv)
                        stats.fail_angle, stats.fail_fY);
             printf("\n");
         }
+        if (sc.stop == EKM_STOP_STEADY && stats.steady)
+            printf("%-20s steady at t = %.6g s (held from %.6g s, drift %.2e 1/s < steady_tol %.2e 1/s)\n", "",
+                   s->t, stats.steady_time, stats.steady_drift, sc.steady_tol);
+        else if (sc.stop == EKM_STOP_STEADY)
+            printf("%-20s NOT steady at t_end = %.6g s (drift %.2e 1/s, acceleration %.3e m/s^2)\n", "", s->t,
+                   stats.steady_drift, stats.steady_acceleration);
+        if (ekm_bc_pressure_wall(&sc.top))
+            printf("%-20s gap %.6g m (initial %.6g m) at top pressure %.6g Pa\n", "", s->n * s->dz, sc.length,
+                   sc.top.pressure);
     }
     ekm_step_free(stepper);
     ekm_state_free(s);

@@ -41,7 +41,9 @@ typedef struct {
     BC(side, T, KEY_DOUBLE, "inflow"),                                 \
     BC(side, t_stop, KEY_DOUBLE, "inflow"),                            \
     BC(side, period, KEY_DOUBLE, "piston"),                            \
-    BC(side, w_return, KEY_DOUBLE, "piston")
+    BC(side, w_return, KEY_DOUBLE, "piston"),                          \
+    BC(side, pressure, KEY_DOUBLE, "wall"),                            \
+    BC(side, pressure_rate, KEY_DOUBLE, "wall")
 
 static const key_spec KEYS[] = {
     {"scenario", "name", KEY_STRING, SC(name), sizeof(((ekm_scenario *)0)->name), 0, NULL},
@@ -67,6 +69,9 @@ static const key_spec KEYS[] = {
     BC_KEYS(top),
     {"run", "t_end", KEY_DOUBLE, SC(t_end), 0, 1, NULL},
     {"run", "output_dt", KEY_DOUBLE, SC(output_dt), 0, 0, NULL},
+    {"run", "stop", KEY_STRING, 0, 0, 0, NULL},
+    {"run", "steady_tol", KEY_DOUBLE, SC(steady_tol), 0, 0, NULL},
+    {"run", "steady_window", KEY_DOUBLE, SC(steady_window), 0, 0, NULL},
     {"numerics", "cfl", KEY_DOUBLE, SC(numerics.cfl), 0, 0, NULL},
     {"numerics", "convection", KEY_STRING, 0, 0, 0, NULL},
     {"numerics", "limiter", KEY_STRING, SC(numerics.limiter), sizeof(((ekm_numerics *)0)->limiter), 0, NULL},
@@ -105,7 +110,12 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->bottom.kind = s->top.kind = EKM_BC_WALL;
     s->bottom.t_stop = s->top.t_stop = INFINITY;
     s->bottom.w_return = s->top.w_return = NAN; /* piston: -w */
+    s->bottom.pressure = s->top.pressure = NAN; /* the wall stays put */
+    s->bottom.pressure_rate = s->top.pressure_rate = 1.0;
     s->output_dt = 0.0; /* 0: t_end / 100 */
+    s->stop = EKM_STOP_T_END;
+    s->steady_tol = 1e-3;
+    s->steady_window = 0.0; /* 0: 10 output_dt */
     s->numerics = (ekm_numerics){
         .cfl = 0.4, .convection = EKM_CONVECTION_UPWIND, .limiter = "vanleer",
         .dt_max = INFINITY, .dt_min = 1e-12, .phi_dry = 1e-9, .phi_vacuum = 0.0, .T_floor = 1e-16,
@@ -255,6 +265,10 @@ static int handler(void *user, const char *section, const char *key, const char 
         if (strcmp(value, "upwind") == 0) c->s->numerics.convection = EKM_CONVECTION_UPWIND;
         else if (strcmp(value, "tvd") == 0) c->s->numerics.convection = EKM_CONVECTION_TVD;
         else return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'upwind' or 'tvd', got '%s'", section, key, value);
+    } else if (strcmp(key, "stop") == 0) {
+        if (strcmp(value, "t_end") == 0) c->s->stop = EKM_STOP_T_END;
+        else if (strcmp(value, "steady") == 0) c->s->stop = EKM_STOP_STEADY;
+        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected 't_end' or 'steady', got '%s'", section, key, value);
     } else if (strcmp(key, "type") == 0) {
         ekm_bc *bc = strcmp(section, "bottom") == 0 ? &c->s->bottom : &c->s->top;
         if (strcmp(value, "wall") == 0) bc->kind = EKM_BC_WALL;
@@ -348,6 +362,12 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
         RANGE(bc->T >= 0.0, side, "T", "a temperature >= 0 [m^2/s^2]", bc->T);
         RANGE(bc->t_stop > 0.0, side, "t_stop", "a time > 0 [s]", bc->t_stop);
     }
+    if (bc->kind == EKM_BC_WALL && !isnan(bc->pressure)) {
+        RANGE(strcmp(side, "top") == 0, side, "pressure", "no pressure on the bottom wall (only the top wall moves)",
+              bc->pressure);
+        RANGE(bc->pressure > 0.0, side, "pressure", "a pressure > 0 [Pa]", bc->pressure);
+        RANGE(bc->pressure_rate > 0.0, side, "pressure_rate", "a rate > 0 [1/s]", bc->pressure_rate);
+    }
     if (bc->kind == EKM_BC_PISTON) {
         RANGE(bc->w != 0.0, side, "w", "a velocity != 0 [m/s]", bc->w);
         RANGE(bc->period > 0.0, side, "period", "a time > 0 [s]", bc->period);
@@ -376,6 +396,10 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     if (s->output_dt == 0.0)
         s->output_dt = s->t_end / 100.0;
     RANGE(s->output_dt > 0.0, "run", "output_dt", "a time > 0 [s]", s->output_dt);
+    RANGE(s->steady_tol > 0.0, "run", "steady_tol", "a rate > 0 [1/s]", s->steady_tol);
+    if (s->steady_window == 0.0)
+        s->steady_window = 10.0 * s->output_dt;
+    RANGE(s->steady_window > 0.0, "run", "steady_window", "a time > 0 [s]", s->steady_window);
     const ekm_numerics *n = &s->numerics;
     RANGE(n->cfl > 0.0 && n->cfl <= 1.0, "numerics", "cfl", "a number in (0, 1]", n->cfl);
     RANGE(n->dt_max > 0.0, "numerics", "dt_max", "a time > 0 [s]", n->dt_max);
@@ -514,6 +538,8 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
         snprintf(value, size, "%s", s->variant == EKM_VARIANT_THESIS ? "thesis" : "full");
     else if (strcmp(ks->key, "convection") == 0)
         snprintf(value, size, "%s", s->numerics.convection == EKM_CONVECTION_TVD ? "tvd" : "upwind");
+    else if (strcmp(ks->key, "stop") == 0)
+        snprintf(value, size, "%s", s->stop == EKM_STOP_STEADY ? "steady" : "t_end");
     else if (bc && strcmp(ks->key, "type") == 0)
         snprintf(value, size, "%s", ekm_bc_kind_name(bc->kind));
     else if (ks->type == KEY_DOUBLE) {

@@ -35,7 +35,14 @@ typedef struct {
     double t_stop;      /* inflow: time it closes to a resting wall [s] */
     double period;      /* piston: period of the velocity program [s] */
     double w_return;    /* piston: w in the second half of each period, NAN: -w [m/s] */
+    double pressure;    /* wall (top only): normal stress held on the moving wall, NAN: the wall
+                         * stays put (bc.h, the gap L(t)) [Pa] */
+    double pressure_rate; /* wall with pressure: relative gap speed per relative stress
+                           * mismatch, dL/dt = rate L (P_top - P)/P [1/s] */
 } ekm_bc;
+
+/* When a run ends ([run] stop): at t_end, or when steady (run.h). */
+typedef enum { EKM_STOP_T_END = 0, EKM_STOP_STEADY = 1 } ekm_stop;
 
 typedef enum { EKM_CONVECTION_UPWIND = 0, EKM_CONVECTION_TVD = 1 } ekm_convection;
 
@@ -115,6 +122,9 @@ typedef struct {
     ekm_bc bottom, top;
     double t_end;           /* end time [s] */
     double output_dt;       /* output interval [s] */
+    ekm_stop stop;          /* [run] stop: t_end, or steady (t_end the longest run) */
+    double steady_tol;      /* steady when every drift stays below this [1/s] (run.h) */
+    double steady_window;   /* ... over this long [s] */
     ekm_numerics numerics;
     ekm_hypo_params hypo;
     ekm_entry *entries;     /* every key of ekm's sections read, in order (provenance;
