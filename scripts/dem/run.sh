@@ -178,7 +178,7 @@ case $scen in
     addv phi0 "$(get initial phi)"
     addv v_top "$(get top velocity)"
     addv v_bot "$(get bottom velocity)"
-    addv pressure "$(dem pressure)"
+    addv pressure "$(dem pressure "$(get top pressure)")"   # shared with the EKM
     addv wall_damp "$(dem wall_damping)"
     addv t_compress "$(dem t_compress 0)"
     addv t_run "$(dem t_run)"
