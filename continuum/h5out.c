@@ -59,6 +59,8 @@ static ekm_status write_root_attributes(ekm_h5_file *file, const ekm_scenario *s
         rc = ekm_h5_attr_set_string(file, NULL, "variant", sc->variant == EKM_VARIANT_THESIS ? "thesis" : "full", err);
     if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "code_version", EKMBENCH_VERSION, err);
     if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "scenario_file", sc->source, err);
+    if (rc == EKM_OK && sc->material_source[0])
+        rc = ekm_h5_attr_set_string(file, NULL, "material_file", sc->material_source, err);
     if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "scenario", sc->name, err);
     if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "created", created, err);
     return rc;

@@ -20,9 +20,10 @@
 static void usage(FILE *fp)
 {
     fprintf(fp,
-        "usage: ekm run FILE.ini [-o OUT.h5] [--set section.key=value ...] [--quiet]\n"
+        "usage: ekm run FILE.ini [-o OUT.h5] [--material FIT.ini] [--set section.key=value ...]\n"
+        "               [--quiet]\n"
         "       ekm scenario FILE.ini [--engine liggghts|lammps] [--size smoke|ref]\n"
-        "                    [--point TAG] [--set section.key=value ...] --json\n"
+        "                    [--point TAG] [--material FIT.ini] [--set section.key=value ...] --json\n"
         "       ekm --help | --version\n"
         "\n"
         "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
@@ -30,6 +31,9 @@ static void usage(FILE *fp)
         "\n"
         "  -o OUT.h5        output file (default: the scenario file's name with .h5,\n"
         "                   in the current directory); written atomically\n"
+        "  --material FIT.ini  the whole [material] section from FIT.ini (only\n"
+        "                   [material] and comments, e.g. `ekmcompare fit --ini`)\n"
+        "                   instead of FILE.ini's; --set still applies after it\n"
         "  --set S.K=V      override key K of section S (repeatable), e.g.\n"
         "                   --set domain.cells=200 --set model.variant=thesis\n"
         "  --quiet          no progress line and no summary\n"
@@ -80,7 +84,7 @@ static int fail(const ekm_error *err, ekm_status st)
 
 static int cmd_run(int argc, char **argv)
 {
-    const char *ini = NULL, *out = NULL;
+    const char *ini = NULL, *out = NULL, *material = NULL;
     int quiet = 0;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     size_t n_sets = 0;
@@ -90,6 +94,7 @@ static int cmd_run(int argc, char **argv)
     }
     for (int i = 0; i < argc; i++) {
         if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) out = argv[++i];
+        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc) material = argv[++i];
         else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc) sets[n_sets++] = argv[++i];
         else if (strcmp(argv[i], "--quiet") == 0) quiet = 1;
         else if (argv[i][0] == '-' || ini) {
@@ -111,16 +116,17 @@ static int cmd_run(int argc, char **argv)
     ekm_error err = {0};
     /* neither the output nor its sidecar may replace the scenario file */
     ekm_h5_xdmf_path(out, xdmf, sizeof xdmf);
-    const char *const inputs[] = {ini};
-    ekm_status st = ekm_atomic_refuse_input(out, inputs, 1, &err);
+    const char *const inputs[] = {ini, material};
+    const size_t n_inputs = material ? 2 : 1;
+    ekm_status st = ekm_atomic_refuse_input(out, inputs, n_inputs, &err);
     if (st == EKM_OK)
-        st = ekm_atomic_refuse_input(xdmf, inputs, 1, &err);
+        st = ekm_atomic_refuse_input(xdmf, inputs, n_inputs, &err);
     if (st != EKM_OK) {
         free(sets);
         return fail(&err, st);
     }
     ekm_scenario sc;
-    st = ekm_scenario_load(&sc, ini, sets, n_sets, &err);
+    st = ekm_scenario_load_material(&sc, ini, material, sets, n_sets, &err);
     free(sets);
     if (st != EKM_OK) {
         ekm_scenario_free(&sc);
@@ -211,7 +217,7 @@ static int cmd_run(int argc, char **argv)
 
 static int cmd_scenario(int argc, char **argv)
 {
-    const char *ini = NULL, *engine = NULL, *size = NULL, *point = NULL;
+    const char *ini = NULL, *engine = NULL, *size = NULL, *point = NULL, *material = NULL;
     int json = 0;
     const char **sets = calloc((size_t)argc + 1, sizeof *sets);
     size_t n_sets = 0;
@@ -223,6 +229,7 @@ static int cmd_scenario(int argc, char **argv)
         if (strcmp(argv[i], "--engine") == 0 && i + 1 < argc) engine = argv[++i];
         else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc) size = argv[++i];
         else if (strcmp(argv[i], "--point") == 0 && i + 1 < argc) point = argv[++i];
+        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc) material = argv[++i];
         else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc) sets[n_sets++] = argv[++i];
         else if (strcmp(argv[i], "--json") == 0) json = 1;
         else if (argv[i][0] == '-' || ini) {
@@ -240,7 +247,7 @@ static int cmd_scenario(int argc, char **argv)
     ekm_error err = {0};
     ekm_scenario sc;
     ekm_resolved res = {0};
-    ekm_status st = ekm_scenario_load(&sc, ini, sets, n_sets, &err);
+    ekm_status st = ekm_scenario_load_material(&sc, ini, material, sets, n_sets, &err);
     free(sets);
     if (st == EKM_OK)
         st = ekm_resolve(&sc, engine, size, &res, &err);

@@ -292,7 +292,7 @@ static void entry_from(const ekm_scenario *s, const ekm_entry *e, char *buf, siz
     if (e->origin == EKM_FROM_SET)
         snprintf(buf, size, "--set");
     else
-        snprintf(buf, size, "%s:%d", s->source, e->line);
+        snprintf(buf, size, "%s:%d", e->origin == EKM_FROM_MATERIAL ? s->material_source : s->source, e->line);
 }
 
 /* The entry of tool key section.base by the lookup rule: a --set of the

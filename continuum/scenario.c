@@ -134,6 +134,8 @@ typedef struct {
     int line;          /* current line number */
     ekm_origin origin; /* EKM_FROM_FILE, or EKM_FROM_SET while reading the --set overrides */
     int long_line;     /* line number of a line too long for inih, or 0 */
+    int skip_material; /* 1: [material] of this file is ignored (a material file replaces it) */
+    int material_only; /* 1: reading the material file: [material] only */
     int failed;
     ekm_error *err;
     int seen[N_KEYS];  /* 1 + entry index where the key was set, 0 if not */
@@ -232,6 +234,11 @@ static int handler(void *user, const char *section, const char *key, const char 
     parse_ctx *c = user;
     if (c->failed)
         return 0;
+    if (c->skip_material && strcmp(section, "material") == 0)
+        return 1;
+    if (c->material_only && strcmp(section, "material") != 0)
+        return fail_once(c, EKM_EINPUT, "[%s] %s: a material file holds only [material] (and comments)%s", section,
+                         key, "");
     if (ekm_resolve_is_tool_section(section)) {
         /* the other tools' keys: checked here, resolved by resolve.c */
         char why[700];
@@ -309,8 +316,10 @@ static const char *where(const parse_ctx *c, const char *section, const char *ke
 {
     for (size_t k = 0; k < N_KEYS; k++)
         if (strcmp(KEYS[k].section, section) == 0 && strcmp(KEYS[k].key, key) == 0 && c->seen[k]) {
+            const char *file = strcmp(section, "material") == 0 && c->s->material_source[0] ? c->s->material_source
+                                                                                             : c->file;
             if (c->seen_line[k] > 0)
-                snprintf(buf, n, "%s:%d", c->file, c->seen_line[k]);
+                snprintf(buf, n, "%s:%d", file, c->seen_line[k]);
             else
                 snprintf(buf, n, "--set %s.%s", section, key);
             return buf;
@@ -377,13 +386,15 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
 
 static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error *err)
 {
+    const char *material_file = s->material_source[0] ? s->material_source : c->file;
     for (size_t k = 0; k < N_KEYS; k++)
         if (KEYS[k].required && !c->seen[k])
-            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: missing (a required key)", c->file,
-                            KEYS[k].section, KEYS[k].key);
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: missing (a required key)",
+                            strcmp(KEYS[k].section, "material") == 0 ? material_file : c->file, KEYS[k].section,
+                            KEYS[k].key);
     ekm_error merr;
     if (ekm_material_check(&s->material, &merr) != EKM_OK)
-        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", c->file, merr.message);
+        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", material_file, merr.message);
     RANGE(s->length > 0.0, "domain", "length", "a length > 0 [m]", s->length);
     RANGE(s->cells >= 1 && s->cells <= 10000000, "domain", "cells", "an integer in [1, 1e7]", s->cells);
     RANGE(s->gravity >= 0.0, "gravity", "magnitude", "a number >= 0 [m/s^2]", s->gravity);
@@ -447,28 +458,55 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     return check_bc(c, s, "top", &s->top, err);
 }
 
-ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
-                             const char *const *overrides, size_t n_overrides,
-                             ekm_error *err)
+/* Parse one INI file into c (c->file names it). */
+static ekm_status parse_file(parse_ctx *c, const char *path, const char *what, ekm_error *err)
 {
-    ekm_scenario_init_defaults(s);
-    snprintf(s->source, sizeof s->source, "%s", path);
-    parse_ctx c = {.s = s, .file = path, .err = err};
-    c.fp = fopen(path, "r");
-    if (!c.fp)
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot open scenario file: %s", path, strerror(errno));
-    int rc = ini_parse_stream(reader, &c, handler, &c);
-    fclose(c.fp);
-    c.fp = NULL;
-    if (c.failed)
+    c->file = path;
+    c->line = 0;
+    c->long_line = 0;
+    c->fp = fopen(path, "r");
+    if (!c->fp)
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot open %s: %s", path, what, strerror(errno));
+    int rc = ini_parse_stream(reader, c, handler, c);
+    fclose(c->fp);
+    c->fp = NULL;
+    if (c->failed)
         return EKM_EINPUT;
-    if (c.long_line)
-        return EKM_FAIL(err, EKM_EINPUT, "%s:%d: line longer than %d characters", path, c.long_line,
+    if (c->long_line)
+        return EKM_FAIL(err, EKM_EINPUT, "%s:%d: line longer than %d characters", path, c->long_line,
                         INI_MAX_LINE - 2);
     if (rc > 0)
         return EKM_FAIL(err, EKM_EINPUT, "%s:%d: expected '[section]' or 'key = value'", path, rc);
     if (rc < 0)
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot read scenario file", path);
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot read %s", path, what);
+    return EKM_OK;
+}
+
+ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
+                             const char *const *overrides, size_t n_overrides,
+                             ekm_error *err)
+{
+    return ekm_scenario_load_material(s, path, NULL, overrides, n_overrides, err);
+}
+
+ekm_status ekm_scenario_load_material(ekm_scenario *s, const char *path, const char *material_path,
+                                      const char *const *overrides, size_t n_overrides, ekm_error *err)
+{
+    ekm_scenario_init_defaults(s);
+    snprintf(s->source, sizeof s->source, "%s", path);
+    parse_ctx c = {.s = s, .file = path, .err = err, .skip_material = material_path != NULL};
+    ekm_status pst = parse_file(&c, path, "scenario file", err);
+    if (pst != EKM_OK)
+        return pst;
+    if (material_path) {
+        snprintf(s->material_source, sizeof s->material_source, "%s", material_path);
+        c.skip_material = 0;
+        c.material_only = 1;
+        c.origin = EKM_FROM_MATERIAL;
+        if ((pst = parse_file(&c, material_path, "material file", err)) != EKM_OK)
+            return pst;
+        c.material_only = 0;
+    }
     for (size_t i = 0; i < n_overrides; i++) {
         const char *o = overrides[i];
         const char *dot = strchr(o, '.');

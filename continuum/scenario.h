@@ -91,14 +91,15 @@ typedef struct {
 } ekm_hypo_params;
 
 /* Where a key's value came from. */
-typedef enum { EKM_FROM_FILE = 0, EKM_FROM_SET, EKM_FROM_DEFAULT } ekm_origin;
+typedef enum { EKM_FROM_FILE = 0, EKM_FROM_SET, EKM_FROM_DEFAULT,
+               EKM_FROM_MATERIAL /* the material file (ekm_scenario_load_material) */ } ekm_origin;
 
 /* One key as given (file or --set), kept for provenance in the output. */
 typedef struct {
     char name[64];     /* "section.key" (for the other tools' sections the key as
                         * written, with its <engine>./<size>. prefix) */
     char value[160];   /* the value string as written */
-    ekm_origin origin; /* EKM_FROM_FILE or EKM_FROM_SET */
+    ekm_origin origin; /* EKM_FROM_FILE, EKM_FROM_MATERIAL or EKM_FROM_SET */
     int line;          /* file line, or the position of the --set (from 1) */
 } ekm_entry;
 
@@ -106,6 +107,7 @@ typedef struct {
     char name[64];          /* scenario name */
     char description[256];
     char source[512];       /* file it was read from */
+    char material_source[512]; /* the material file its [material] came from, "" : none */
     ekm_material material;
     ekm_variant variant;
     double length;          /* domain height, z in [0, length] [m] */
@@ -144,6 +146,14 @@ void ekm_scenario_init_defaults(ekm_scenario *s);
 ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
                              const char *const *overrides, size_t n_overrides,
                              ekm_error *err);
+
+/* The same with the whole [material] section taken from material_path
+ * (a file of only [material] and comments, as `ekmcompare fit --ini`
+ * writes) instead of path's: its keys' provenance is material_path:LINE,
+ * any other section there is an error naming material_path:LINE; the
+ * overrides still apply last.  material_path NULL: ekm_scenario_load. */
+ekm_status ekm_scenario_load_material(ekm_scenario *s, const char *path, const char *material_path,
+                                      const char *const *overrides, size_t n_overrides, ekm_error *err);
 
 void ekm_scenario_free(ekm_scenario *s);
 
