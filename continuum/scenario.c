@@ -285,6 +285,8 @@ static int handler(void *user, const char *section, const char *key, const char 
         else if (strcmp(value, "piston") == 0) bc->kind = EKM_BC_PISTON;
         else return fail_once(c, EKM_EINPUT, "[%s] %s: expected one of wall inflow outflow free piston, got '%s'",
                               section, key, value);
+    } else if (strcmp(key, "pressure") == 0 && strcmp(value, "none") == 0) {
+        *(double *)(base + ks->offset) = NAN; /* the wall stays put (the default) */
     } else if (ks->type == KEY_DOUBLE) {
         if (!parse_double(value, (double *)(base + ks->offset)))
             return fail_once(c, EKM_EINPUT, "[%s] %s: expected a number, got '%s'", section, key, value);
