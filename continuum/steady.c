@@ -14,7 +14,8 @@ ekm_status ekm_steady_init(ekm_steady *sd, int n, ekm_error *err)
     sd->phi = calloc((size_t)n, sizeof *sd->phi);
     sd->u = calloc((size_t)n, sizeof *sd->u);
     sd->T = calloc((size_t)n, sizeof *sd->T);
-    if (!sd->phi || !sd->u || !sd->T) {
+    sd->mask = calloc((size_t)n, 1);
+    if (!sd->phi || !sd->u || !sd->T || !sd->mask) {
         ekm_steady_free(sd);
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the steady-state test (%d cells)", n);
     }
@@ -26,9 +27,11 @@ void ekm_steady_free(ekm_steady *sd)
     free(sd->phi);
     free(sd->u);
     free(sd->T);
+    free(sd->mask);
     free(sd->hist_t);
     free(sd->hist_v);
     sd->phi = sd->u = sd->T = sd->hist_t = sd->hist_v = NULL;
+    sd->mask = NULL;
 }
 
 /* ||a - b|| / max(||a||, floor sqrt(count)) over the cells of mask. */
@@ -83,9 +86,7 @@ ekm_status ekm_steady_check(ekm_steady *sd, const ekm_scenario *sc, const ekm_st
     if (rc != EKM_OK)
         return rc;
     if (sd->t_prev >= 0.0 && s->t > sd->t_prev) {
-        unsigned char *mask = calloc((size_t)n, 1);
-        if (!mask)
-            return EKM_FAIL(err, EKM_ENOMEM, "out of memory in the steady-state test");
+        unsigned char *mask = sd->mask;
         for (int j = 0; j < n; j++)
             mask[j] = s->phi[j] >= phi_dry || sd->phi[j] >= phi_dry;
         const double dt = s->t - sd->t_prev;
@@ -93,7 +94,6 @@ ekm_status ekm_steady_check(ekm_steady *sd, const ekm_scenario *sc, const ekm_st
         change = fmax(change, relative_change(s->u, sd->u, mask, n, FLOOR_U));
         change = fmax(change, relative_change(s->T, sd->T, mask, n, FLOOR_T));
         change = fmax(change, fabs(Q - sd->Q_prev) / fmax(fabs(Q), FLOOR_U * depth));
-        free(mask);
         sd->drift = change / dt;
         if (sd->drift < sc->steady_tol) {
             if (isnan(sd->steady_since))

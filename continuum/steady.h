@@ -29,6 +29,7 @@
 typedef struct {
     int n;                  /* cells */
     double *phi, *u, *T;    /* profiles at the previous check, n */
+    unsigned char *mask;    /* cells with material now or then, n */
     double t_prev;          /* time of the previous check [s], < 0: none yet */
     double Q_prev;          /* flow rate then [m^2/s] */
     double drift;           /* drift at the last check [1/s] (NAN before the second) */
