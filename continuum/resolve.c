@@ -50,7 +50,7 @@ static const tool_key TOOL_KEYS[] = {
     {"dem", "t_settle", TYPE_NUMBER, NULL, NULL, SWEEP_THETA},
     {"dem", "t_flow", TYPE_NUMBER, NULL, NULL, SWEEP_THETA},
     {"dem", "angles", TYPE_NUMBERS, NULL, NULL, SWEEP_THETA}, /* default: [gravity] angle */
-    {"dem", "pressure", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "pressure", TYPE_NUMBER, NULL, NULL, SWEEP_NONE}, /* default: [top] pressure */
     {"dem", "wall_damping", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
     {"dem", "t_compress", TYPE_NUMBER, NULL, "0", SWEEP_NONE},
     {"dem", "t_run", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
@@ -292,7 +292,7 @@ static void entry_from(const ekm_scenario *s, const ekm_entry *e, char *buf, siz
     if (e->origin == EKM_FROM_SET)
         snprintf(buf, size, "--set");
     else
-        snprintf(buf, size, "%s:%d", s->source, e->line);
+        snprintf(buf, size, "%s:%d", e->origin == EKM_FROM_MATERIAL ? s->material_source : s->source, e->line);
 }
 
 /* The entry of tool key section.base by the lookup rule: a --set of the
@@ -383,6 +383,8 @@ static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, c
                 src = ekm_resolve_find(r, "dem.restitution");
             else if (strcmp(name, "dem.t_end") == 0)
                 src = ekm_resolve_find(r, "run.t_end");
+            else if (strcmp(name, "dem.pressure") == 0)
+                src = ekm_resolve_find(r, "top.pressure");
             else if (strcmp(name, "dem.angles") == 0 && sweep == SWEEP_THETA)
                 src = ekm_resolve_find(r, "gravity.angle");
             else if (strcmp(name, "dem.phis") == 0 && sweep == SWEEP_PHI_RATE)

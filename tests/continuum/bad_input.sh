@@ -61,6 +61,17 @@ check "bad --set value" 2 "--set.*\[domain\] cells: expected an integer, got 'ma
 check "--set out of range" 2 "--set domain.length.*expected a length > 0" \
     run "$base" -o out.h5 --set domain.length=-1
 
+check "bad stop" 2 "--set:1: \[run\] stop: expected 't_end' or 'steady', got 'never'" \
+    run "$base" -o out.h5 --set run.stop=never
+check "steady_tol out of range" 2 "--set run.steady_tol: \[run\] steady_tol: expected a rate > 0" \
+    run "$base" -o out.h5 --set run.steady_tol=0
+check "pressure on the bottom wall" 2 "--set bottom.pressure: \[bottom\] pressure: expected no pressure on the bottom wall" \
+    run "$base" -o out.h5 --set bottom.pressure=100
+check "pressure not positive" 2 "--set top.pressure: \[top\] pressure: expected a pressure > 0" \
+    run "$src/scenarios/shear_cell.ini" -o out.h5 --set top.pressure=-5
+check "pressure on a free top" 2 "--set top.pressure: \[top\] pressure: only allowed with type = wall" \
+    run "$base" -o out.h5 --set top.pressure=100
+
 check "unknown limiter" 2 "--set numerics.limiter: \[numerics\] limiter: unknown limiter 'foo' \(known: minmod vanleer superbee mc\)" \
     run "$base" -o out.h5 --set numerics.limiter=foo
 

@@ -63,9 +63,13 @@ json "chute lammps ref: variants with their line" \
 json "chute lammps ref: defaults" \
     '.keys["dem.thermo_every"] == {"value": "1000", "from": "default"}
      and .keys["numerics.cfl"] == {"value": "0.4", "from": "default"}
-     and .keys["dem.t_end"] == {"value": "5", "from": "default"}
+     and .keys["dem.t_end"].value == "5" and (.keys["dem.t_end"].from | test("chute.ini:[0-9]+$"))
      and (.keys["dem.seed"].from | test("chute.ini:[0-9]+$"))' \
     "$chute" --engine lammps --size ref --json
+json "derived defaults: dem.t_end from [run] t_end, dem.pressure from [top] pressure" \
+    '.keys["dem.t_end"] == {"value": "100", "from": "default"}
+     and .keys["dem.pressure"] == {"value": "100", "from": "default"}' \
+    "$src/scenarios/shear_cell.ini" --engine lammps --size ref --json
 json "chute --set" \
     '.keys["dem.lx"] == {"value": "30", "from": "--set"} and .keys["gravity.angle"] == {"value": "30", "from": "--set"}
      and .points == [{"tag": "theta30", "vars": {"theta": "30"}, "ekm_set": ["gravity.angle=30"]},
