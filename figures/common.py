@@ -1,16 +1,20 @@
 """common.py: style, loading and checking of a campaign results folder, and
 atomic figure output for figures/make_figures.py.
 
-A results folder RES (docs: mk/campaign.mk, scripts/campaign/plan.sh):
+A results folder RES (docs/campaign.md, workflow/Snakefile):
     RES/scores.json                  the score table: scenarios, sweep points,
                                      scored fields, engines (the index here)
     RES/S[/P]/cg_<engine>.h5         coarse-grained DEM profiles (docs/compare.md)
     RES/S[/P]/ekm.h5                 the EKM run (docs/output-format.md)
     RES/S[/P]/dem_<engine>.json      the DEM run manifest (wall_time_s)
+    RES/S[/P]/score_ekm_<engine>.json   the score: its "options" give the
+                                     coordinate shift and the EKM time matching
+                                     the comparison was made with
+The figures read results only (no scenario file): shift and time matching
+from the scores' options, units from the HDF5 datasets' `units` attributes.
 Everything is read and checked before any figure is drawn: a missing file
 or dataset stops the program with one line naming it (InputError).
 """
-import configparser
 import json
 import os
 import re
@@ -42,8 +46,6 @@ FIELD_LABEL = {
     "sxz": r"$\sigma_{xz}$",
     "szz": r"$\sigma_{zz}$",
 }
-FIELD_UNIT = {"phi": "", "vx": "m/s", "vz": "m/s", "T": r"m$^2$/s$^2$",
-              "P": "Pa", "sxz": "Pa", "szz": "Pa"}
 FIELD_ORDER = ("phi", "vx", "vz", "T", "P", "sxz", "szz")
 
 
@@ -83,9 +85,19 @@ def style():
     })
 
 
-def field_axis_label(name, scale_exp=0):
-    """'T [10^-4 m^2/s^2]' style label, with the scale factor folded in."""
-    unit = FIELD_UNIT[name]
+def unit_label(units):
+    """The `units` attribute of a dataset as an axis unit: '1' (dimensionless)
+    is none, powers become superscripts ('m^2/s^2' -> 'm$^2$/s$^2$')."""
+    if units == "1":
+        return ""
+    return re.sub(r"\^(-?[0-9]+)", lambda m: "$^%s$" % (m.group(1) if len(m.group(1)) == 1
+                                                         else "{%s}" % m.group(1)), units)
+
+
+def field_axis_label(name, units, scale_exp=0):
+    """'T [10^-4 m^2/s^2]' style label, with the scale factor folded in;
+    units: the dataset's `units` attribute."""
+    unit = unit_label(units)
     if scale_exp:
         unit = (r"$10^{%d}$ " % scale_exp) + unit
     return FIELD_LABEL[name] + (" [%s]" % unit if unit else "")
@@ -128,6 +140,7 @@ class Point:
         self.cg = {}                # engine -> CgData
         self.dem_json = {}          # engine -> dict
         self.ekm = None             # EkmRun
+        self.shift = {}             # engine -> shift [m] of its score's options
 
     def label(self):
         return self.name if self.name else "-"
@@ -139,8 +152,8 @@ class Scenario:
         self.fields = []            # scored fields, table order
         self.points = []            # Point, table order
         self.engines = []           # engines that can run it (not n/a)
-        self.shift = 0.0            # [compare] shift [m]
-        self.steady = True          # [compare] ekm_time = last
+        self.steady = True          # scored with ekm_time = last
+        self.units = {}             # field -> `units` attribute of its datasets
 
     def velocity(self):
         return "vz" if "vz" in self.fields else "vx"
@@ -198,42 +211,24 @@ def load_index(res):
     return sc_list
 
 
-# --- scenario file: [compare] shift and ekm_time ---------------------------------
+# --- score files: the options a comparison was made with -------------------------
 
-def compare_keys(root, sc, size):
-    """[compare] shift and ekm_time of scenarios/S.ini, looked up like
-    scripts/campaign/lib.sh cmpkey (<engine>.<size>.k, <size>.k,
-    <engine>.k, k). Defaults when the scenario file is not there: no shift;
-    steady when the DEM has a single profile (decided later)."""
-    ini = os.path.join(root, "scenarios", sc.name + ".ini")
-    sc.shift, sc.steady = 0.0, None
-    if not os.path.isfile(ini):
-        return
-    cp = configparser.ConfigParser(interpolation=None, strict=False,
-                                   inline_comment_prefixes=(";", "#"),
-                                   comment_prefixes=(";", "#"))
-    try:
-        cp.read(ini)
-    except configparser.Error as e:
-        raise InputError("%s: cannot parse (%s)" % (rel(ini), str(e).splitlines()[0]))
-    if not cp.has_section("compare"):
-        return
-    eng = sc.engines[-1] if sc.engines else "lammps"
-
-    def key(k):
-        for cand in ("%s.%s.%s" % (eng, size, k), "%s.%s" % (size, k), "%s.%s" % (eng, k), k):
-            if cp.has_option("compare", cand):
-                return cp.get("compare", cand).strip()
-        return None
-    v = key("shift")
-    if v is not None:
-        try:
-            sc.shift = float(v)
-        except ValueError:
-            raise InputError("%s: [compare] shift: expected a number, got '%s'" % (rel(ini), v))
-    v = key("ekm_time")
-    if v is not None:
-        sc.steady = (v == "last")
+def score_options(path, what):
+    """(shift [m], ekm_time) of a score file: its "options" (written by
+    `ekmcompare score`: fields, ekm_time, shift_m)."""
+    js = read_json(path, what)
+    opts = js.get("options") if isinstance(js, dict) else None
+    if not isinstance(opts, dict):
+        raise InputError("%s: 'options': missing (the shift and EKM time matching the score was "
+                         "made with; written by ekmcompare score)" % rel(path))
+    shift = opts.get("shift_m")
+    if not isinstance(shift, (int, float)) or isinstance(shift, bool) or not np.isfinite(shift):
+        raise InputError("%s: 'options.shift_m': expected a number, got %r" % (rel(path), shift))
+    etime = opts.get("ekm_time")
+    if etime not in ("last", "interp"):
+        raise InputError("%s: 'options.ekm_time': expected \"last\" or \"interp\", got %r"
+                         % (rel(path), etime))
+    return float(shift), etime
 
 
 # --- HDF5 -------------------------------------------------------------------------
@@ -285,16 +280,32 @@ def _profiles(f, path, names, what):
     return out
 
 
+def _units(f, path, names):
+    """name -> the `units` attribute of each dataset."""
+    out = {}
+    for n in names:
+        u = f[n].attrs.get("units")
+        if isinstance(u, bytes):
+            u = u.decode()
+        if not isinstance(u, str):
+            raise InputError("%s: dataset /%s: attribute 'units': missing (the axis label)" % (rel(path), n))
+        out[n] = u
+    return out
+
+
 class CgData:
-    """Coarse-grained DEM profiles (docs/compare.md)."""
+    """Coarse-grained DEM profiles (docs/compare.md); shift [m]: added to z to
+    put them in the EKM's coordinates (the score's options)."""
 
     def __init__(self, path, engine, fields, what):
         self.path, self.engine = path, engine
+        self.shift = 0.0
         with _open(path, what) as f:
             need = []
             for n in fields:
                 need += [n, n + "_se"]
             d = _profiles(f, path, need, what)
+            self.units = _units(f, path, fields)
             self.d = _attr(f, path, "mean_diameter", "the grain diameter d that scales z")
         self.z, self.t = d["z"], d["t"]
         self.val = {n: d[n] for n in fields}
@@ -308,6 +319,7 @@ class EkmRun:
         self.path = path
         with _open(path, what) as f:
             d = _profiles(f, path, list(fields), what)
+            self.units = _units(f, path, fields)
             self.attrs = {}
             for k, v in f.attrs.items():
                 if isinstance(v, bytes):
@@ -345,17 +357,30 @@ class EkmRun:
         return (1 - w) * v[j - 1] + w * v[j]
 
 
-def load_campaign(res, size, root):
+def load_campaign(res, size):
     """Read and check everything the figures need; returns the scenarios.
-    Rules: a comparison scored 'ok' needs its cg_<engine>.h5 and
-    dem_<engine>.json; a 'missing' one (a failed step) uses the cg file if
-    it is there and is skipped with a note if not; any cg file needs the
-    point's ekm.h5."""
+    Rules: a comparison scored 'ok' needs its cg_<engine>.h5,
+    dem_<engine>.json and score_ekm_<engine>.json (whose options give the
+    shift and time matching); a 'missing' one (a failed step) uses the cg
+    file if it is there (with the shift of the engine's other scores of the
+    scenario; left out when there is none) and is skipped with a note if
+    not; any cg file needs the point's ekm.h5. size: the campaign size (the
+    folder layout is the same for both)."""
     notes = []
     scenarios = load_index(res)
     for sc in scenarios:
-        compare_keys(root, sc, size)
         fields = sc.plotted_fields()
+        # the options of every score that exists: engine -> [(shift, ekm_time)]
+        opts = {}
+        for pt in sc.points:
+            for e in sc.engines:
+                sj = os.path.join(pt.folder, "score_ekm_%s.json" % e)
+                if pt.status.get(e) == "ok" or os.path.isfile(sj):
+                    o = score_options(sj, "the score of %s against %s: its options give the shift "
+                                          "and EKM time" % (sc.name + (" " + pt.name if pt.name else ""),
+                                                            ENGINE_LABEL[e]))
+                    opts.setdefault(e, []).append(o)
+                    pt.shift[e] = o[0]
         for pt in sc.points:
             where = sc.name + (" " + pt.name if pt.name else "")
             for e in sc.engines:
@@ -365,12 +390,19 @@ def load_campaign(res, size, root):
                 cg = os.path.join(pt.folder, "cg_%s.h5" % e)
                 dj = os.path.join(pt.folder, "dem_%s.json" % e)
                 name = ENGINE_LABEL[e]
+                shift = pt.shift.get(e)
+                if shift is None and opts.get(e):
+                    shift = opts[e][0][0]
                 if st == "missing" and not os.path.isfile(cg):
                     notes.append("%s: no %s profiles (%s missing: a failed step): left out"
                                  % (where, name, rel(cg)))
+                elif shift is None:
+                    notes.append("%s: no score of %s in the scenario (a failed step), so no "
+                                 "shift for %s: left out" % (where, name, rel(cg)))
                 else:
                     pt.cg[e] = CgData(cg, e, fields, "the coarse-grained %s profiles of %s, "
                                       "plotted against the EKM" % (name, where))
+                    pt.cg[e].shift = shift
                 if st == "ok" or os.path.isfile(dj):
                     js = read_json(dj, "the %s run manifest of %s: its wall time for the cost chart"
                                    % (name, where))
@@ -392,7 +424,15 @@ def load_campaign(res, size, root):
                 notes.append("%s: no DEM profiles: EKM in the cost chart only" % where)
             else:
                 notes.append("%s: neither DEM profiles nor an EKM run: left out" % where)
-        if sc.steady is None:
+            for src in list(pt.cg.values()) + ([pt.ekm] if pt.ekm is not None else []):
+                for n, u in src.units.items():
+                    sc.units.setdefault(n, u)
+        # the time matching of the scores (the last engine's, as the table's
+        # fields); without any score: steady when the DEM has a single profile
+        scored = [opts[e] for e in sc.engines if opts.get(e)]
+        if scored:
+            sc.steady = scored[-1][0][1] == "last"
+        else:
             nts = [c.t.size for p in sc.points for c in p.cg.values()]
             sc.steady = bool(nts) and max(nts) == 1
     return scenarios, notes

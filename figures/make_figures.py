@@ -51,9 +51,8 @@ def main(argv=None):
               file=sys.stderr)
         return 1
     C.style()
-    root = os.path.dirname(HERE)
     try:
-        scenarios, notes = C.load_campaign(a.res, a.size, root)
+        scenarios, notes = C.load_campaign(a.res, a.size)
     except C.InputError as e:
         print("%s: %s" % (C.PROG, e), file=sys.stderr)
         return 1

@@ -1,12 +1,12 @@
 """profiles.py: figure 1, EKM profiles over DEM profiles (+-2 SE bands).
 
-Steady scenarios ([compare] ekm_time = last): the DEM's time-averaged
+Steady scenarios (scored with ekm_time = last: the score's options): the DEM's time-averaged
 profile against the EKM's last output. Time series (filling): one row per
 chosen DEM window, the EKM interpolated linearly in time to the window's
 mid-time (as `ekmcompare score` does). Fields: the scenario's scored fields
 ([compare] fields) in the order phi, velocity, T, P, sxz, szz. z is shown
 as z/d, d the DEM's mean grain diameter; the DEM z = 0 is the base, as the
-EKM's ([compare] shift added). Field axes are scaled to the profiles
+EKM's (shift of the score's options added). Field axes are scaled to the profiles
 themselves: an SE band much wider than that runs off the axis.
 """
 import math
@@ -93,7 +93,7 @@ class Extent:
         return 0 if name == "phi" or not self.lines else C.scale_exponent(np.concatenate(self.lines))
 
 
-def draw_point(ax, name, pt, d, shift, mode, colour, ext, its=None, t=None):
+def draw_point(ax, name, pt, d, mode, colour, ext, its=None, t=None):
     """One field of one point: each DEM engine (window its[engine], or the
     time average) with its +-2 SE band, then the EKM (at time t, or its last
     output)."""
@@ -102,7 +102,7 @@ def draw_point(ax, name, pt, d, shift, mode, colour, ext, its=None, t=None):
         v, s = dem_profile(cg, name, it)
         phi = dem_profile(cg, "phi", it)[0] if "phi" in cg.val else None
         v = masked(name, v, phi)
-        zz = (cg.z + shift) / d
+        zz = (cg.z + cg.shift) / d
         st = style(mode, e, colour)
         ok = np.isfinite(v) & np.isfinite(s)
         lo, hi = np.where(ok, v - 2 * s, np.nan), np.where(ok, v + 2 * s, np.nan)
@@ -119,13 +119,13 @@ def draw_point(ax, name, pt, d, shift, mode, colour, ext, its=None, t=None):
     ext.add(v)
 
 
-def z_range(points, d, shift):
+def z_range(points, d):
     """z limits [m]: from the base (or the lowest DEM bin with material, if
     lower) to 2 d above the highest material, within the domains."""
     lo, hi, top = 0.0, 0.0, 0.0
     for pt in points:
         for cg in pt.cg.values():
-            z = cg.z + shift
+            z = cg.z + cg.shift
             top = max(top, z[-1])
             if "phi" not in cg.val:
                 continue
@@ -145,7 +145,7 @@ def z_range(points, d, shift):
     return lo - 0.25 * d, min(hi + 2 * d, top)
 
 
-def finish_panel(ax, name, ext, exp, zlim, d, letter, xlabel=True):
+def finish_panel(ax, name, units, ext, exp, zlim, d, letter, xlabel=True):
     import matplotlib.ticker as mt
     lim = ext.limits(name)
     if lim is not None:
@@ -155,7 +155,7 @@ def finish_panel(ax, name, ext, exp, zlim, d, letter, xlabel=True):
         ax.xaxis.set_major_formatter(mt.FuncFormatter(lambda x, _p, f=f: "%g" % round(x / f, 6)))
     ax.xaxis.set_major_locator(mt.MaxNLocator(4))
     if xlabel:
-        ax.set_xlabel(C.field_axis_label(name, exp))
+        ax.set_xlabel(C.field_axis_label(name, units, exp))
     ax.set_ylim(zlim[0] / d, zlim[1] / d)
     if zlim[0] < 0:
         ax.axhline(0.0, color="0.6", lw=0.5, zorder=0)
@@ -213,12 +213,12 @@ def steady_figure(sc, points, writer, stem):
                              sharey=True, squeeze=False)
     flat = list(axes.ravel())
     d = mean_d(points)
-    zlim = z_range(points, d, sc.shift)
+    zlim = z_range(points, d)
     for k, (ax, name) in enumerate(zip(flat, fields)):
         ext = Extent()
         for pt, col in zip(points, C.POINT_COLOURS):
-            draw_point(ax, name, pt, d, sc.shift, mode, col, ext)
-        finish_panel(ax, name, ext, ext.scale(name), zlim, d, LETTERS[k])
+            draw_point(ax, name, pt, d, mode, col, ext)
+        finish_panel(ax, name, sc.units[name], ext, ext.scale(name), zlim, d, LETTERS[k])
     for r in range(nrows):
         axes[r, 0].set_ylabel(zlabel(d))
     hs, ls = [a for a, _ in handles], [b for _, b in handles]
@@ -263,20 +263,20 @@ def series_figure(sc, pt, writer, stem):
     fig, axes = plt.subplots(nrows, n, figsize=(C.PAGE_W, 1.8 * nrows + top_h), sharey=True,
                              sharex="col", squeeze=False)
     d = mean_d([pt])
-    zlim = z_range([pt], d, sc.shift)
+    zlim = z_range([pt], d)
     exts = [Extent() for _ in fields]
     for r, it in enumerate(rows):
         t = float(first.t[it])
         its = {e: int(np.argmin(np.abs(cg.t - t))) for e, cg in pt.cg.items()}
         for c, name in enumerate(fields):
-            draw_point(axes[r, c], name, pt, d, sc.shift, "single", None, exts[c], its=its, t=t)
+            draw_point(axes[r, c], name, pt, d, "single", None, exts[c], its=its, t=t)
         axes[r, 0].set_ylabel(zlabel(d))
         axes[r, 0].text(1.0, 1.02, r"$t$ = %.2f s" % t, transform=axes[r, 0].transAxes,
                         ha="right", va="bottom", fontsize=7)
     for c, name in enumerate(fields):
         exp = exts[c].scale(name)
         for r in range(nrows):
-            finish_panel(axes[r, c], name, exts[c], exp, zlim, d, LETTERS[r * n + c],
+            finish_panel(axes[r, c], name, sc.units[name], exts[c], exp, zlim, d, LETTERS[r * n + c],
                          xlabel=(r == nrows - 1))
     h = legend_handles([pt], "single", None)
     fig.legend([a for a, _ in h], [b for _, b in h], loc="upper center", ncol=len(h),

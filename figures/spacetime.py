@@ -30,18 +30,18 @@ def bed_height(z, phi, phi_bed):
     return h
 
 
-def _sources(pt, shift):
+def _sources(pt):
     """(key, label, z [m], t [s], phi [nt][nz]) of each engine, then EKM."""
     out = []
     for e, cg in pt.cg.items():
-        out.append((e, C.ENGINE_LABEL[e], cg.z + shift, cg.t, cg.val["phi"]))
+        out.append((e, C.ENGINE_LABEL[e], cg.z + cg.shift, cg.t, cg.val["phi"]))
     out.append(("ekm", C.EKM_LABEL, pt.ekm.z, pt.ekm.t, pt.ekm.val["phi"]))
     return out
 
 
 def maps_figure(sc, pt, writer, stem):
     import matplotlib.pyplot as plt
-    srcs = _sources(pt, sc.shift)
+    srcs = _sources(pt)
     d = float(np.mean([c.d for c in pt.cg.values()]))
     vmax = max(float(np.nanmax(s[4])) for s in srcs)
     vmax = np.ceil(vmax * 20) / 20          # to 0.05 above the densest
@@ -75,7 +75,7 @@ def maps_figure(sc, pt, writer, stem):
 
 def height_figure(sc, pt, writer, stem):
     import matplotlib.pyplot as plt
-    srcs = _sources(pt, sc.shift)
+    srcs = _sources(pt)
     d = float(np.mean([c.d for c in pt.cg.values()]))
     fig, ax = plt.subplots(figsize=(C.COLUMN_W, 2.4))
     for key, label, z, t, phi in srcs:

@@ -18,22 +18,24 @@ DEM_FLAGS      = $(if $(filter 1,$(FORCE)),-f) -n $(or $(NP),1) $(foreach s,$(DE
 dem-deps:
 	@scripts/deps.sh dem
 
-dem: dem-deps
+dem: dem-deps build
 	@test -n "$(SCENARIO)" -a -n "$(ENGINE)" || \
-	  { echo "usage: make dem SCENARIO=<$(DEM_SCENARIOS)> ENGINE=<$(DEM_ENGINES)> SIZE=<smoke|ref> [NP=n] [FORCE=1]" >&2; exit 2; }
-	scripts/dem/run.sh $(DEM_FLAGS) $(SCENARIO) $(ENGINE) $(DEM_SIZE)
+	  { echo "usage: make dem SCENARIO=<$(DEM_SCENARIOS)> ENGINE=<$(DEM_ENGINES)> SIZE=<smoke|ref> [NP=n] [FORCE=1]" >&2; exit 1; }
+	EKM=$(abspath $(EKM)) scripts/dem/run.sh $(DEM_FLAGS) $(SCENARIO) $(ENGINE) $(DEM_SIZE)
 
-# Runs every case one after the other; unsupported pairs (exit 5) are
-# skipped, any other failure makes the target fail after all have run.
-dem-all: dem-deps
+# Runs every case one after the other; unsupported pairs
+# (dem_inputs/<engine>/<scenario>.unsupported) are skipped, any failure
+# makes the target fail after all have run. run.sh reads the scenario
+# through `ekm scenario --json`, hence `build`.
+dem-all: dem-deps build
 	@rc=0; for s in $(DEM_SCENARIOS); do for e in $(DEM_ENGINES); do \
-	  scripts/dem/run.sh $(DEM_FLAGS) $$s $$e $(DEM_SIZE); r=$$?; \
-	  if [ $$r -ne 0 ] && [ $$r -ne 5 ]; then rc=1; fi; \
+	  [ -e dem_inputs/$$e/$$s.unsupported ] && continue; \
+	  EKM=$(abspath $(EKM)) scripts/dem/run.sh $(DEM_FLAGS) $$s $$e $(DEM_SIZE) || rc=1; \
 	done; done; exit $$rc
 
-dem-collision: dem-deps
-	scripts/dem/collision.sh -o runs liggghts
-	scripts/dem/collision.sh -o runs lammps
+dem-collision: dem-deps build
+	EKM=$(abspath $(EKM)) scripts/dem/collision.sh -o runs liggghts
+	EKM=$(abspath $(EKM)) scripts/dem/collision.sh -o runs lammps
 
-dem-calibrate: dem-deps
-	scripts/dem/collision.sh --calibrate -o runs $(or $(ENGINE),lammps)
+dem-calibrate: dem-deps build
+	EKM=$(abspath $(EKM)) scripts/dem/collision.sh --calibrate -o runs $(or $(ENGINE),lammps)

@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
-# table.sh: the campaign's score table from the per-point score files.
-#   table.sh SIZE RES "ENGINES"
+# table.sh: the campaign's score table from the per-point score files
+# (rule table of workflow/Snakefile).
+#   table.sh SIZE RES "ENGINES" PLAN.json
+# PLAN.json (written by the Snakefile from the resolved scenarios): one
+# object per campaign scenario, {"scenario", "engines": [the engines that
+# can run it, of ENGINES], "fields": "phi,vx,...", "points": [tags]}.
 # Writes RES/scores.json and RES/scores.md (atomically) and prints the
 # markdown table. One row per scenario x sweep point x scored field, with
 # the relative L2 error and the noise-normalised error (MODEL.md section 9)
@@ -11,11 +15,13 @@
 # step itself).
 set -uo pipefail
 prog=table.sh
-. "$(dirname "$0")/lib.sh"
-[ $# -eq 3 ] || die "usage: table.sh SIZE RES \"ENGINES\""
-size=$1 res=$2 engines=$3
-command -v jq > /dev/null || die "jq not installed (scripts/deps.sh)"
-cd "$root" || exit 2
+root=$(cd "$(dirname "$0")/../.." && pwd)
+die() { echo "$prog: $*" >&2; exit "${2:-1}"; }
+[ $# -eq 4 ] || die "usage: table.sh SIZE RES \"ENGINES\" PLAN.json"
+size=$1 res=$2 engines=$3 plan=$4
+command -v jq > /dev/null || die "jq not installed (scripts/deps.sh)" 7
+jq -e 'type == "array"' "$plan" > /dev/null 2>&1 || die "$plan: expected a JSON array (the campaign plan)" 2
+cd "$root" || exit 3
 # code version as in the tools' outputs (cmake/version.cmake): -dirty when
 # tracked sources other than results/ differ from the commit
 version() {
@@ -33,17 +39,14 @@ cell() {
        else {status: "ok", rel_l2: $r.rel_l2, noise_normalised: $r.noise_normalised, points: $r.points, file: $file} end' "$1"
   fi
 }
-for s in $(campaign_scenarios); do
-  ini=scenarios/$s.ini
+while IFS=$'\t' read -r s sup fields tags; do
   ok_l=0 ok_m=0
-  case " $engines " in *" liggghts "*) supported "$s" liggghts && ok_l=1 ;; esac
-  case " $engines " in *" lammps "*) supported "$s" lammps && ok_m=1 ;; esac
-  [ $ok_l = 1 ] || [ $ok_m = 1 ] || continue
-  e0=$([ $ok_m = 1 ] && echo lammps || echo liggghts)
-  fields=$(cmpkey "$ini" "$e0" "$size" fields) || exit 2
+  case " $sup " in *" liggghts "*) ok_l=1 ;; esac
+  case " $sup " in *" lammps "*) ok_m=1 ;; esac
   both=$(( ok_l & ok_m ))
-  while IFS= read -r line; do
-    tag=${line%%|*}
+  # tags: space-separated, "-" for the single case
+  for tag in $tags; do
+    [ "$tag" = - ] && tag=
     d=$res/$s${tag:+/$tag}
     for f in ${fields//,/ }; do
       jq -cn --arg s "$s" --arg p "$tag" --arg f "$f" \
@@ -52,8 +55,9 @@ for s in $(campaign_scenarios); do
         --argjson c "$(cell "$d/score_liggghts_lammps.json" "$f" $both)" \
         '{scenario: $s, point: $p, field: $f, ekm_vs_liggghts: $a, ekm_vs_lammps: $b, liggghts_vs_lammps: $c}' >> "$rows"
     done
-  done <<< "$(scripts/dem/run.sh -l "$s" "$e0" "$size")"
-done
+  done
+done < <(jq -r '.[] | [.scenario, (.engines | join(" ")), .fields,
+                       ([.points[] | if . == "" then "-" else . end] | join(" "))] | @tsv' "$plan")
 missing=0
 grep -q '"status":"missing"' "$rows" && missing=1
 mkdir -p "$res"

@@ -9,7 +9,10 @@
 # log and deck copies exist. With --filling also the mass balance: mass in
 # the box at the end equals the mass inserted (to 1e-9 relative) and the
 # scenario's target rho phi |w| A t_stop to 1%, and the bed is at rest
-# (kinetic energy per unit mass below [dem] rest_ke). Exit 0 if all pass.
+# (kinetic energy per unit mass below [dem] rest_ke, as the scenario reader
+# resolves it for the run's scenario file, engine and size: `ekm scenario
+# ... --json`, EKM= names the binary). Exit 0 if all pass, 1 if a check
+# fails.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -35,8 +38,13 @@ fi
 if [ $filling -eq 1 ]; then
   line=$(grep '^EKMDEM_MASS' "$dir/screen.txt")
   [ -n "$line" ] || { bad "no EKMDEM_MASS line"; exit 1; }
-  ini=$root/$(sed -n 's/.*"scenario_file": "\([^"]*\)".*/\1/p' "$dir/run.json")
-  rest=$(awk -v sec=dem -v key=rest_ke -f "$here/ini.awk" "$ini") || rest=1e-5
+  ini=$root/$(jq -r .scenario_file "$dir/run.json")
+  ekm=${EKM:-$root/build/continuum/ekm}
+  [ -x "$ekm" ] || { echo "check_run: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
+  resolved=$("$ekm" scenario "$ini" --engine "$(jq -r .engine "$dir/run.json")" \
+             --size "$(jq -r .size "$dir/run.json")" --json) || exit
+  rest=$(jq -r '.keys["dem.rest_ke"].value // empty' <<< "$resolved")
+  [ -n "$rest" ] || { bad "$ini: [dem] rest_ke: missing key"; exit 1; }
   echo "$line" | awk -v rest="$rest" -v dir="$dir" '{
     for (i = 2; i < NF; i += 2) v[$i] = $(i + 1)
     t = v["target"]; ins = v["inserted"]; fin = v["final"]; ke = v["ke_per_mass"]

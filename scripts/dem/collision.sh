@@ -7,6 +7,8 @@
 #       collisions at 0.1, 0.5, 1 and 2 m/s; prints the realised restitution
 #       of each and fails (exit 1) if any differs from [dem] restitution by
 #       more than TOL (default 0.01).
+#       [dem] restitution as the scenario reader resolves it (`ekm scenario
+#       FILE --engine ENGINE --size smoke --json`; EKM= names the binary).
 #   scripts/dem/collision.sh --calibrate [-c FILE] ENGINE
 #       bisects the engine's input coefficient until the mean realised
 #       restitution equals [dem] restitution; prints the value to put in
@@ -25,11 +27,14 @@ while [ $# -gt 0 ]; do
     *) break ;;
   esac
 done
-[ $# -eq 1 ] || { echo "usage: collision.sh [-o OUT] [-c FILE] [-t TOL] [--calibrate] ENGINE" >&2; exit 2; }
+[ $# -eq 1 ] || { echo "usage: collision.sh [-o OUT] [-c FILE] [-t TOL] [--calibrate] ENGINE" >&2; exit 1; }
 engine=$1
+ekm=${EKM:-$root/build/continuum/ekm}
+[ -x "$ekm" ] || { echo "collision.sh: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
+resolved=$("$ekm" scenario "$ini" --engine "$engine" --size smoke --json) || exit
+target=$(jq -r '.keys["dem.restitution"].value // empty' <<< "$resolved")
+[ -n "$target" ] || { echo "collision.sh: $ini: [dem] restitution: missing key" >&2; exit 2; }
 [ -n "$out" ] || out=$(mktemp -d)
-target=$(awk -v sec=dem -v key=restitution -f "$here/ini.awk" "$ini") ||
-  { echo "collision.sh: $ini: [dem] restitution: missing key" >&2; exit 2; }
 
 # realised IN: run with input coefficient IN (or the file's, if empty);
 # prints "v e" lines

@@ -10,90 +10,101 @@
 #   SIZE      smoke | ref (selects the '<size>.' keys of [dem])
 #   -n NP     MPI ranks (default 1; NP > 1 runs through mpirun)
 #   -f        overwrite a finished run (FORCE=1 in make)
-#   -s k=v    override a [dem] key for this run (repeatable)
+#   -s k=v    override a [dem] key for this run (repeatable): passed to the
+#             scenario reader as --set dem.k=v
 #   -o DIR    output root (default runs/)
 #   -l        list the sweep points, one "TAG|name value ..." per line (TAG
 #             empty: a single case in the top directory), and run nothing
+#   -p        print the deck variables of every point ("== TAG" and then
+#             vars.txt as it would be written), and run nothing
 #
-# The scenario file is the single source of truth: shared values (geometry,
-# gravity, wall speeds, inflow) come from its continuum sections, DEM-only
-# values from [dem]; docs/dem.md lists the mapping. Every case writes
+# Every value comes from the resolved scenario, `ekm scenario FILE --engine
+# ENGINE --size SIZE --json` (docs/resolved-scenario.md; EKM= names the ekm
+# binary, default build/continuum/ekm): shared values (geometry, gravity,
+# wall speeds, inflow) from its continuum sections, DEM-only values from
+# [dem], the sweep points from its points; docs/dem.md lists the mapping to
+# the deck variables. Every case writes
 # runs/<scenario>/<engine>-<size>[/<point>]/ with the deck (deck.in), the
 # variables (vars.txt), the engine log (log.txt), its screen output
 # (screen.txt), dumps, a monitor series (monitor.txt) and run.json.
 #
-# Exit status: 0 ok (or already done), 1 run failed (deck error, lost atoms,
-# NaN, timeout, missing completion marker), 2 usage or scenario error,
-# 3 engine missing, 4 run finished but not steady where steadiness is required,
-# 5 scenario not supported by this engine (dem_inputs/<engine>/<scenario>.unsupported).
+# Exit status (docs/exit-codes.md): 0 ok (or already done), 1 usage,
+# 2 scenario error (the reader's message), 3 output folder not writable,
+# 4 run failed (deck error, lost atoms, NaN, timeout, missing completion
+# marker), 6 run finished but not steady where steadiness is required,
+# 7 engine, mpirun or ekm missing, or scenario not supported by this engine
+# (dem_inputs/<engine>/<scenario>.unsupported). With several points the
+# status of the worst: a failed run (4) before a not steady one (6).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 prog=run.sh
 
+usage() { echo "$prog: $*" >&2; exit 1; }
 die() { echo "$prog: $*" >&2; exit 2; }
 
-force=0; np=1; outroot="$root/runs"; sets=(); cfile=""; list=0
-while getopts "fln:s:o:c:h" opt; do
+force=0; np=1; outroot="$root/runs"; sets=(); cfile=""; list=0; printvars=0
+while getopts "flpn:s:o:c:h" opt; do
   case $opt in
     f) force=1 ;;
     l) list=1 ;;
+    p) printvars=1 ;;
     n) np=$OPTARG ;;
     s) sets+=("$OPTARG") ;;
     o) outroot=$OPTARG ;;
     c) cfile=$OPTARG ;;
-    h) sed -n '2,28p' "$0"; exit 0 ;;
-    *) die "bad option (see -h)" ;;
+    h) sed -n '2,40p' "$0"; exit 0 ;;
+    *) usage "bad option (see -h)" ;;
   esac
 done
 shift $((OPTIND - 1))
-[ $# -eq 3 ] || die "usage: run.sh [-f] [-n NP] [-s key=value] SCENARIO ENGINE SIZE"
+[ $# -eq 3 ] || usage "usage: run.sh [-f] [-n NP] [-s key=value] SCENARIO ENGINE SIZE"
 scen=$1; engine=$2; size=$3
-case $engine in liggghts|lammps) ;; *) die "unknown engine '$engine' (liggghts, lammps)" ;; esac
-case $size in smoke|ref) ;; *) die "unknown size '$size' (smoke, ref)" ;; esac
-[[ $np =~ ^[1-9][0-9]*$ ]] || die "NP must be a positive integer, got '$np'"
+case $engine in liggghts|lammps) ;; *) usage "unknown engine '$engine' (liggghts, lammps)" ;; esac
+case $size in smoke|ref) ;; *) usage "unknown size '$size' (smoke, ref)" ;; esac
+[[ $np =~ ^[1-9][0-9]*$ ]] || usage "NP must be a positive integer, got '$np'"
+dry=$(( list | printvars ))
 
 if [ "$scen" = collision ]; then
   ini=${cfile:-$root/scenarios/chute.ini}
 else
+  [[ $scen =~ ^[A-Za-z0-9_-]+$ ]] || usage "bad scenario name '$scen'"
   ini=$root/scenarios/$scen.ini
 fi
 [ -r "$ini" ] || die "no scenario file $ini"
-grep -q '^\[dem\]' "$ini" || die "$ini: no [dem] section"
-deck=$root/dem_inputs/$engine/$scen.in
 if [ -r "$root/dem_inputs/$engine/$scen.unsupported" ]; then
   echo "$prog: UNSUPPORTED: $scen in $engine:" >&2
   sed 's/^/  /' "$root/dem_inputs/$engine/$scen.unsupported" >&2
-  exit 5
+  exit 7
 fi
-[ -r "$deck" ] || die "no deck $deck for scenario '$scen' in $engine"
+deck=$root/dem_inputs/$engine/$scen.in
+[ -r "$deck" ] || { echo "$prog: no deck $deck: $engine cannot run '$scen'" >&2; exit 7; }
 
-# --- INI access --------------------------------------------------------
-# get SECTION KEY [DEFAULT]: value, or DEFAULT, or a loud error.
+# --- the resolved scenario ------------------------------------------------
+ekm=${EKM:-$root/build/continuum/ekm}
+[ -x "$ekm" ] || { echo "$prog: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
+command -v jq > /dev/null || { echo "$prog: jq not installed (scripts/deps.sh base)" >&2; exit 7; }
+setargs=()
+for s in "${sets[@]+"${sets[@]}"}"; do
+  [[ $s == ?*=* ]] || usage "-s expects key=value, got '$s'"
+  setargs+=(--set "dem.$s")
+done
+resolved=$("$ekm" scenario "$ini" --engine "$engine" --size "$size" "${setargs[@]+"${setargs[@]}"}" --json)
+rc=$?
+[ $rc -eq 0 ] || exit $rc   # the reader named file, line and key on stderr
+# K[section.key] = value as written; F[...] = where it came from
+declare -A K=() F=()
+while IFS=$'\t' read -r k v f; do K[$k]=$v; F[$k]=$f; done < <(
+  jq -r '.keys | to_entries[] | [.key, .value.value, .value.from] | @tsv' <<< "$resolved")
+has_dem=0
+for k in "${!F[@]}"; do
+  [[ $k == dem.* ]] && [ "${F[$k]}" != default ] && { has_dem=1; break; }
+done
+[ $has_dem -eq 1 ] || die "$ini: no [dem] section"
+# get SECTION.KEY: its value, or a loud error (exit 2) naming the key
 get() {
-  local v
-  if v=$(awk -v sec="$1" -v key="$2" -f "$here/ini.awk" "$ini"); then
-    echo "$v"
-  elif [ $# -ge 3 ]; then
-    echo "$3"
-  else
-    echo "$prog: $ini: [$1] $2: missing key" >&2; kill -TERM $$; exit 2
-  fi
-}
-# dem KEY [DEFAULT]: [dem] value with precedence -s override, then
-# '<engine>.<size>.KEY', '<size>.KEY', '<engine>.KEY', 'KEY'.
-dem() {
-  local k=$1 s v
-  for s in "${sets[@]+"${sets[@]}"}"; do
-    [ "${s%%=*}" = "$k" ] && { echo "${s#*=}"; return; }
-  done
-  for cand in "$engine.$size.$k" "$size.$k" "$engine.$k" "$k"; do
-    if v=$(awk -v sec=dem -v key="$cand" -f "$here/ini.awk" "$ini"); then
-      echo "$v"; return
-    fi
-  done
-  if [ $# -ge 2 ]; then echo "$2"; return; fi
-  echo "$prog: $ini: [dem] $k: missing key (also tried $size.$k, $engine.$k)" >&2
+  if [ -n "${K[$1]+set}" ]; then printf '%s' "${K[$1]}"; return 0; fi
+  echo "$prog: $ini: [${1%%.*}] ${1#*.}: missing key" >&2
   kill -TERM $$; exit 2
 }
 trap 'exit 2' TERM
@@ -108,100 +119,102 @@ case $engine in   # LIGGGHTS_EXE, LAMMPS_EXE override the binaries
   liggghts) exe=${LIGGGHTS_EXE:-liggghts} ;;
   lammps)   exe=${LAMMPS_EXE:-lmp} ;;
 esac
-[ $list -eq 1 ] || command -v "$exe" >/dev/null ||
-  { echo "$prog: engine '$exe' not found (run scripts/deps.sh dem)" >&2; exit 3; }
-if [ "$np" -gt 1 ] && [ $list -eq 0 ]; then
+[ $dry -eq 1 ] || command -v "$exe" >/dev/null ||
+  { echo "$prog: engine '$exe' not found (run scripts/deps.sh dem)" >&2; exit 7; }
+if [ "$np" -gt 1 ] && [ $dry -eq 0 ]; then
   command -v mpirun >/dev/null ||
-    { echo "$prog: NP=$np needs mpirun (openmpi-bin)" >&2; exit 3; }
+    { echo "$prog: NP=$np needs mpirun (openmpi-bin)" >&2; exit 7; }
 fi
-[ $list -eq 1 ] || version=$("$exe" -h 2>/dev/null | grep -m1 -oE '(LIGGGHTS-PUBLIC [0-9.]+|[0-9]+ [A-Z][a-z]{2} [0-9]{4}( - Update [0-9]+)?)')
+[ $dry -eq 1 ] || version=$("$exe" -h 2>/dev/null | grep -m1 -oE '(LIGGGHTS-PUBLIC [0-9.]+|[0-9]+ [A-Z][a-z]{2} [0-9]{4}( - Update [0-9]+)?)')
 
 # --- variables common to every deck ------------------------------------
 declare -a vars=()
 addv() { num "$1" "$2"; vars+=("$1" "$2"); }
-d=$(dem diameter);      addv d "$d"
-addv spread "$(dem spread)"
-addv rho "$(get material rho_p)"
-addv E "$(dem youngs)"
-nu=$(dem poisson);      addv nu "$nu"
-addv e_in "$(dem restitution_input "$(dem restitution)")"
-addv mu "$(dem friction)"
+d=$(get dem.diameter);  addv d "$d"
+addv spread "$(get dem.spread)"
+addv rho "$(get material.rho_p)"
+addv E "$(get dem.youngs)"
+nu=$(get dem.poisson);  addv nu "$nu"
+addv e_in "$(get dem.restitution_input)"
+addv mu "$(get dem.friction)"
 # LAMMPS: tangential/normal damping ratio that reproduces LIGGGHTS's
 # gamma_t/gamma_n = sqrt(S_t/S_n) = sqrt(2 (1-nu)/(2-nu)) (docs/dem.md).
 [ "$engine" = lammps ] && addv xgt "$(calc "sqrt(2*(1-$nu)/(2-$nu))")"
-addv dt "$(dem dt)"
-seed=$(dem seed 15485863); addv seed "$seed"
+addv dt "$(get dem.dt)"
+seed=$(get dem.seed); addv seed "$seed"
 # seed2, seed3: the next primes after seed (LIGGGHTS accepts only primes > 10000)
 nextprime() { awk -v s="$1" 'BEGIN { for (n = s + 1; ; n++) { p = 1
   for (k = 2; k * k <= n; k++) if (n % k == 0) { p = 0; break }
   if (p) { print n; exit } } }'; }
 seed2=$(nextprime "$seed"); addv seed2 "$seed2"; addv seed3 "$(nextprime "$seed2")"
-addv thermo_every "$(dem thermo_every 1000)"
-addv dump_every "$(dem dump_every 5000)"
+addv thermo_every "$(get dem.thermo_every)"
+addv dump_every "$(get dem.dump_every)"
 lateral() { # lx, ly: [dem] lx, ly are in grain diameters
-  local x y; x=$(dem lx) && y=$(dem ly) || exit 2
+  local x y; x=$(get dem.lx) && y=$(get dem.ly) || exit 2
   num lx "$x"; num ly "$y"
   addv lx "$(calc "$x * $d")"; addv ly "$(calc "$y * $d")"
 }
 
-# --- scenario-specific variables and sweep points ------------------------
-# points: one "tag|name value name value ..." per case; tag '' = top dir.
-points=()
+# --- scenario-specific variables ------------------------------------------
+# pointvars: the deck variables each sweep point sets, in deck order (the
+# values come from the resolved scenario's points)
+pointvars=()
 case $scen in
-  collision)
-    points+=("|") ;;
+  collision) ;;
   filling)
     lateral
-    addv lz "$(get domain length)"
-    addv g "$(get gravity magnitude)"
-    addv phi_in "$(get top phi)"
-    addv w_in "$(get top w)"
-    addv t_stop "$(get top t_stop)"
-    addv t_end "$(dem t_end "$(get run t_end)")"
-    points+=("|") ;;
+    addv lz "$(get domain.length)"
+    addv g "$(get gravity.magnitude)"
+    addv phi_in "$(get top.phi)"
+    addv w_in "$(get top.w)"
+    addv t_stop "$(get top.t_stop)"
+    addv t_end "$(get dem.t_end)" ;;
   chute)
     lateral
-    addv h "$(get initial layer_height)"
-    addv phi0 "$(get initial phi)"
-    addv g "$(get gravity magnitude)"
-    addv t_settle "$(dem t_settle)"
-    addv t_flow "$(dem t_flow)"
-    angles=$(dem angles "$(get gravity angle)")
-    set -f; na=$(echo $angles | wc -w)
-    for a in $angles; do
-      num angle "$a"
-      if [ "$na" -eq 1 ]; then points+=("|theta $a"); else points+=("theta$a|theta $a"); fi
-    done; set +f ;;
+    addv h "$(get initial.layer_height)"
+    addv phi0 "$(get initial.phi)"
+    addv g "$(get gravity.magnitude)"
+    addv t_settle "$(get dem.t_settle)"
+    addv t_flow "$(get dem.t_flow)"
+    pointvars=(theta) ;;
   shear_cell)
     lateral
-    addv gap "$(get domain length)"
-    addv phi0 "$(get initial phi)"
-    addv v_top "$(get top velocity)"
-    addv v_bot "$(get bottom velocity)"
-    addv pressure "$(dem pressure)"
-    addv wall_damp "$(dem wall_damping)"
-    addv t_compress "$(dem t_compress 0)"
-    addv t_run "$(dem t_run)"
-    points+=("|") ;;
+    addv gap "$(get domain.length)"
+    addv phi0 "$(get initial.phi)"
+    addv v_top "$(get top.velocity)"
+    addv v_bot "$(get bottom.velocity)"
+    addv pressure "$(get dem.pressure)"
+    addv wall_damp "$(get dem.wall_damping)"
+    addv t_compress "$(get dem.t_compress)"
+    addv t_run "$(get dem.t_run)" ;;
   simple_shear)
-    L=$(get domain length)
-    rate0=$(calc "($(get top velocity) - $(get bottom velocity)) / $L")
-    addv L "$L"
-    addv t_compress "$(dem t_compress)"
-    addv strain "$(dem strain)"
-    phis=$(dem phis "$(get initial phi)"); rates=$(dem rates "$rate0")
-    set -f; n=$(( $(echo $phis | wc -w) * $(echo $rates | wc -w) ))
-    for p in $phis; do for r in $rates; do
-      num phi "$p"; num rate "$r"
-      if [ "$n" -eq 1 ]; then points+=("|phi $p rate $r")
-      else points+=("phi${p}-rate${r}|phi $p rate $r"); fi
-    done; done; set +f ;;
+    addv L "$(get domain.length)"
+    addv t_compress "$(get dem.t_compress)"
+    addv strain "$(get dem.strain)"
+    pointvars=(phi rate) ;;
   *) die "no variable mapping for scenario '$scen' (see docs/dem.md)" ;;
 esac
+
+# --- sweep points: one "tag|name value name value ..." per case; tag '' = top dir
+points=()
+if [ "$scen" = collision ]; then
+  points=("|")
+else
+  pv=$(printf '%s\n' "${pointvars[@]+"${pointvars[@]}"}" | jq -R . | jq -sc .)
+  while IFS= read -r line; do points+=("$line"); done < <(
+    jq -r --argjson pv "$pv" '.points[] | . as $p
+      | "\(.tag)|" + ([$pv[] | select(. != "") | "\(.) \($p.vars[.] // error("point \($p.tag): no value for \(.)"))"] | join(" "))' <<< "$resolved") ||
+    die "$ini: the resolved sweep points lack a deck variable"
+  [ ${#points[@]} -gt 0 ] || die "$ini: no sweep points"
+  for p in "${points[@]}"; do
+    set -f; pset=(${p#*|}); set +f
+    for ((i = 0; i < ${#pset[@]}; i += 2)); do num "${pset[i]}" "${pset[i+1]}"; done
+  done
+fi
 if [ $list -eq 1 ]; then printf '%s\n' "${points[@]}"; exit 0; fi
-timeout_s=$(dem timeout 900)
-require_steady=$(dem require_steady 0)
-steady_tol=$(dem steady_tol 0.05)
+timeout_s=$(get dem.timeout)
+require_steady=$(get dem.require_steady)
+steady_tol=$(get dem.steady_tol)
 
 # --- run one case --------------------------------------------------------
 json_escape() { sed -e 's/\\/\\\\/g' -e 's/"/\\"/g' | tr -d '\n'; }
@@ -216,6 +229,7 @@ run_case() { # run_case TAG "name value ..."
     newvars+=$(printf '%s = %s' "${all[i]}" "${all[i+1]}")$'\n'
     args+=(-var "${all[i]}" "${all[i+1]}")
   done
+  if [ $printvars -eq 1 ]; then printf '== %s\n%s' "$tag" "$newvars"; return 0; fi
   # A finished run (ok, or complete but not steady) is kept unless forced
   # or its inputs changed (deck, includes, variables: compared by content,
   # so editing a comment or another section of the scenario file does not
@@ -233,10 +247,10 @@ run_case() { # run_case TAG "name value ..."
     if grep -q '"status": "ok"' "$dir/run.json"; then
       echo "$prog: $dir is done (status ok); FORCE=1 (-f) to redo"; return 0
     elif grep -q '"status": "not_steady"' "$dir/run.json"; then
-      echo "$prog: $dir is done (status not_steady); FORCE=1 (-f) to redo" >&2; return 4
+      echo "$prog: $dir is done (status not_steady); FORCE=1 (-f) to redo" >&2; return 6
     fi
   fi
-  rm -rf "$dir"; mkdir -p "$dir" || { echo "$prog: cannot create $dir" >&2; return 1; }
+  rm -rf "$dir"; mkdir -p "$dir" || { echo "$prog: cannot create $dir" >&2; return 3; }
   cp "$deck" "$dir/deck.in"
   cp "$root/dem_inputs/$engine/"*.inc "$dir/" 2>/dev/null
   printf '%s' "$newvars" > "$dir/vars.txt"
@@ -291,7 +305,7 @@ run_case() { # run_case TAG "name value ..."
     echo "  \"scenario\": \"$scen\", \"engine\": \"$engine\", \"version\": \"$version\","
     echo "  \"size\": \"$size\", \"point\": \"$tag\", \"scenario_file\": \"${ini#$root/}\","
     echo "  \"command\": \"$(echo "$cmdstr" | json_escape)\","
-    echo "  \"ranks\": $np, \"steps\": ${steps:-null}, \"dt\": $(dem dt),"
+    echo "  \"ranks\": $np, \"steps\": ${steps:-null}, \"dt\": ${K[dem.dt]},"
     echo "  \"particles\": ${natoms:-null}, \"wall_time_s\": $wall,"
     echo "  \"steady\": $steady, \"monitor_drift\": $drift, \"steady_tol\": $steady_tol,"
     echo "  \"status\": \"$st\", \"message\": \"$(echo "$msg" | json_escape)\","
@@ -300,8 +314,8 @@ run_case() { # run_case TAG "name value ..."
   } > "$dir/run.json"
   if [ "$st" != ok ]; then
     echo "$prog: FAILED $scen $engine $size${tag:+ $tag}: $st: $msg (see $dir/screen.txt)" >&2
-    [ "$st" = not_steady ] && return 4
-    return 1
+    [ "$st" = not_steady ] && return 6
+    return 4
   fi
   echo "$prog: ok $scen $engine $size${tag:+ $tag}: $natoms particles, $steps steps, ${wall%.*} s"
   return 0
@@ -310,6 +324,7 @@ run_case() { # run_case TAG "name value ..."
 worst=0
 for p in "${points[@]}"; do
   run_case "${p%%|*}" "${p#*|}"; r=$?
-  [ $r -gt $worst ] && worst=$r
+  # the first failure other than "not steady" wins over "not steady"
+  if [ $r -ne 0 ] && { [ $worst -eq 0 ] || [ $worst -eq 6 ]; }; then worst=$r; fi
 done
 exit $worst

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# campaign_test.sh: `make campaign SIZE=smoke` end to end, into a scratch
-# results and runs folder.
+# campaign_test.sh: `make campaign SIZE=smoke` (the Snakemake workflow
+# workflow/Snakefile) end to end, into a scratch results and runs folder.
 #   campaign_test.sh SOURCE_DIR BUILD_DIR WORK_DIR
 # Checks: exit 0; the score table has one row per scenario x sweep point x
 # scored field ([compare] fields), and every comparison that can exist is
@@ -18,23 +18,27 @@ fail() { echo "FAIL: $*" >&2; fails=$((fails + 1)); }
 camp() { make -s -C "$src" -j2 campaign SIZE=smoke BUILD="$build" RES="$work/results" RUNS="$work/runs" "$@"; }
 
 # 1. the whole smoke campaign
-camp > "$work/run1.log" 2>&1 || { tail -30 "$work/run1.log" >&2; fail "make campaign exit status $?"; }
-js=$work/results/scores.json
-[ -s "$js" ] || { fail "no $js"; echo "$fails failure(s)" >&2; exit 1; }
+camp > "$work/run1.log" 2>&1; rc=$?
+[ $rc -eq 0 ] || { tail -30 "$work/run1.log" >&2; fail "make campaign exit status $rc"; }
+scores=$work/results/scores.json
+[ -s "$scores" ] || { fail "no $scores"; echo "$fails failure(s)" >&2; exit 1; }
 expected=0
 for ini in "$src"/scenarios/*.ini; do
-  grep -q '^\[dem\]' "$ini" && grep -q '^\[compare\]' "$ini" || continue
-  f=$(awk -v sec=compare -v key=fields -f "$src/scripts/dem/ini.awk" "$ini")
+  # the campaign's scenarios: [dem] and [compare] in the file itself
+  js=$("$build/continuum/ekm" scenario "$ini" --json) || { fail "ekm scenario $ini failed"; continue; }
+  jq -e '[.keys | to_entries[] | select(.value.from != "default") | .key | split(".")[0]]
+         | index("dem") != null and index("compare") != null' <<< "$js" > /dev/null || continue
+  f=$(jq -r '.keys["compare.fields"].value' <<< "$js")
   n=$(echo "$f" | tr ',' '\n' | grep -c .)
   expected=$((expected + n))   # one sweep point per scenario at smoke size
 done
-rows=$(jq '.rows | length' "$js")
+rows=$(jq '.rows | length' "$scores")
 [ "$rows" -eq "$expected" ] && [ "$rows" -gt 0 ] || fail "score table has $rows rows, expected $expected"
 bad=$(jq '[.rows[] | (.ekm_vs_liggghts, .ekm_vs_lammps, .liggghts_vs_lammps)
            | select(.status != "n/a")
-           | select(.status != "ok" or (.rel_l2 | type) != "number" or (.noise_normalised | type) != "number")] | length' "$js")
-[ "$bad" -eq 0 ] || fail "$bad comparisons are missing or not finite in $js"
-okn=$(jq '[.rows[] | (.ekm_vs_liggghts, .ekm_vs_lammps, .liggghts_vs_lammps) | select(.status == "ok")] | length' "$js")
+           | select(.status != "ok" or (.rel_l2 | type) != "number" or (.noise_normalised | type) != "number")] | length' "$scores")
+[ "$bad" -eq 0 ] || fail "$bad comparisons are missing or not finite in $scores"
+okn=$(jq '[.rows[] | (.ekm_vs_liggghts, .ekm_vs_lammps, .liggghts_vs_lammps) | select(.status == "ok")] | length' "$scores")
 [ "$okn" -ge $((2 * expected)) ] || fail "only $okn comparisons made"
 grep -q "| chute | - | phi |" "$work/results/scores.md" || fail "scores.md has no chute phi row"
 figs=$work/results/figures/figures.txt
@@ -54,6 +58,7 @@ grep -q "campaign: EKM chute" "$work/run3.log" || fail "touching chute.ini did n
 grep -q "campaign: CG chute" "$work/run3.log" || fail "touching chute.ini did not redo the chute coarse-graining"
 grep -E "campaign: (DEM|CG|EKM) (filling|shear_cell|simple_shear)" "$work/run3.log" && fail "touching chute.ini redid other scenarios"
 grep -q "chute.*is done (status ok)" "$work/run3.log" || fail "touching chute.ini re-ran its DEM (inputs unchanged)"
+[ -s "$work/runs/chute/lammps-smoke/atoms.dump" ] || fail "the chute DEM run folder is gone"
 
 # 4. a failing engine: reported with its log, the rest goes on
 printf '#!/bin/sh\necho "ERROR: fake engine for the campaign test" \nexit 1\n' > "$work/fake_liggghts"
@@ -61,7 +66,7 @@ chmod +x "$work/fake_liggghts"
 LIGGGHTS_EXE=$work/fake_liggghts make -s -C "$src" -j2 campaign SIZE=smoke BUILD="$build" \
   RES="$work/results_fail" RUNS="$work/runs_fail" ENGINES=liggghts > "$work/run4.log" 2>&1 &&
   fail "a failing DEM engine gave exit status 0"
-grep -q "DEM FAILED: chute liggghts smoke (run.sh exit 1); log: .*screen.txt" "$work/run4.log" ||
+grep -q "DEM FAILED: chute liggghts smoke (run.sh exit 4); log: .*screen.txt" "$work/run4.log" ||
   fail "the failed DEM run is not reported with its log: $(grep -m2 FAILED "$work/run4.log")"
 [ -s "$work/results_fail/filling/ekm.h5" ] || fail "the EKM steps did not go on after the DEM failure"
 jq -e '.rows[0].ekm_vs_liggghts.status == "missing"' "$work/results_fail/scores.json" > /dev/null ||

@@ -13,35 +13,42 @@ expect() { # expect STATUS DESCRIPTION CMD...
   if [ $rc -eq "$want" ]; then echo "ok: $what (exit $rc)"
   else echo "FAIL: $what: exit $rc, expected $want"; sed 's/^/  | /' "$out/last.txt"; fail=1; fi
 }
-# usage and scenario errors: exit 2
-expect 2 "unknown engine" "$run" -o "$out" chute nosuchengine smoke
-expect 2 "unknown size" "$run" -o "$out" chute lammps huge
+# usage errors: exit 1; scenario errors (the reader's): exit 2
+expect 1 "unknown engine" "$run" -o "$out" chute nosuchengine smoke
+expect 1 "unknown size" "$run" -o "$out" chute lammps huge
+expect 1 "-s without =" "$run" -o "$out" -s dt chute lammps smoke
 expect 2 "malformed number" "$run" -o "$out" -s dt=1e-5x chute lammps smoke
-grep -q "dt: expected a number, got '1e-5x'" "$out/last.txt" || { echo "FAIL: message does not name the key"; fail=1; }
-printf '[scenario]\nname = x\n' > "$out/nodem.ini"
+grep -q "dt.*1e-5x" "$out/last.txt" || { echo "FAIL: message does not name the key and value"; fail=1; }
+expect 2 "unknown [dem] key" "$run" -o "$out" -s no_such_key=1 chute lammps smoke
+grep -q "no_such_key" "$out/last.txt" || { echo "FAIL: message does not name the unknown key"; fail=1; }
+# chute.ini without its [dem] section (the rest is a valid scenario)
+sed '/^\[dem\]/,/^\[compare\]/{/^\[compare\]/!d}' "$root/scenarios/chute.ini" > "$out/nodem.ini"
 expect 2 "scenario file without [dem]" "$run" -o "$out" -c "$out/nodem.ini" collision lammps smoke
-sed '/^restitution *=/d; /^friction *=/d' "$root/scenarios/chute.ini" > "$out/nokey.ini"
+grep -q "nodem.ini: no \[dem\] section" "$out/last.txt" || { echo "FAIL: message does not say there is no [dem]"; fail=1; }
+sed '/^friction *=/d' "$root/scenarios/chute.ini" > "$out/nokey.ini"
 expect 2 "missing [dem] key" "$run" -o "$out" -c "$out/nokey.ini" collision lammps smoke
-grep -q "restitution: missing key" "$out/last.txt" || { echo "FAIL: message does not name the missing key"; fail=1; }
-# engine missing: exit 3
-expect 3 "engine missing" env LAMMPS_EXE=no-such-lmp "$run" -o "$out" chute lammps smoke
-# deck error: exit 1, status deck_error, engine message kept
-expect 1 "deck error (negative time step)" "$run" -f -o "$out" -s dt=-1e-5 collision lammps smoke
+grep -q "nokey.ini: \[dem\] friction: missing key" "$out/last.txt" || { echo "FAIL: message does not name the missing key"; fail=1; }
+# engine or ekm missing: exit 7
+expect 7 "ekm not built" env EKM=$out/no-such-ekm "$run" -o "$out" chute lammps smoke
+grep -q "ekm not built: run make build" "$out/last.txt" || { echo "FAIL: no 'ekm not built' line"; fail=1; }
+expect 7 "engine missing" env LAMMPS_EXE=no-such-lmp "$run" -o "$out" chute lammps smoke
+# deck error: exit 4, status deck_error, engine message kept
+expect 4 "deck error (negative time step)" "$run" -f -o "$out" -s dt=-1e-5 collision lammps smoke
 grep -q '"status": "deck_error"' "$out/collision/lammps-smoke/run.json" || { echo "FAIL: run.json status is not deck_error"; fail=1; }
 grep -q '"message": "ERROR' "$out/collision/lammps-smoke/run.json" || { echo "FAIL: run.json does not carry the engine's message"; fail=1; }
-expect 1 "deck error under LIGGGHTS (unbuffered output keeps the message)" "$run" -f -o "$out" -s dt=-1e-5 collision liggghts smoke
+expect 4 "deck error under LIGGGHTS (unbuffered output keeps the message)" "$run" -f -o "$out" -s dt=-1e-5 collision liggghts smoke
 grep -q '"message": "ERROR' "$out/collision/liggghts-smoke/run.json" || { echo "FAIL: LIGGGHTS message lost"; fail=1; }
-# NaN in thermo output (Poisson ratio 1: infinite effective modulus): exit 1
-expect 1 "NaN in thermo output" "$run" -f -o "$out" -s poisson=1 collision lammps smoke
+# NaN in thermo output (Poisson ratio 1: infinite effective modulus): exit 4
+expect 4 "NaN in thermo output" "$run" -f -o "$out" -s poisson=1 collision lammps smoke
 grep -q '"status": "nan"' "$out/collision/lammps-smoke/run.json" || { echo "FAIL: run.json status is not nan"; fail=1; }
-# lost atoms (a huge modulus blows the pairs out of the closed box): exit 1
-expect 1 "lost atoms" "$run" -f -o "$out" -s youngs=1e30 collision lammps smoke
+# lost atoms (a huge modulus blows the pairs out of the closed box): exit 4
+expect 4 "lost atoms" "$run" -f -o "$out" -s youngs=1e30 collision lammps smoke
 grep -q '"status": "lost_atoms"' "$out/collision/lammps-smoke/run.json" || { echo "FAIL: run.json status is not lost_atoms"; fail=1; }
-# timeout: exit 1, status timeout
-expect 1 "timeout" "$run" -f -o "$out" -s timeout=1 -s t_flow=100 chute lammps smoke
+# timeout: exit 4, status timeout
+expect 4 "timeout" "$run" -f -o "$out" -s timeout=1 -s t_flow=100 chute lammps smoke
 grep -q '"status": "timeout"' "$out/chute/lammps-smoke/run.json" || { echo "FAIL: run.json status is not timeout"; fail=1; }
-# unsupported engine/scenario: exit 5
-expect 5 "simple_shear in LIGGGHTS is unsupported" "$run" -o "$out" simple_shear liggghts smoke
+# unsupported engine/scenario: exit 7
+expect 7 "simple_shear in LIGGGHTS is unsupported" "$run" -o "$out" simple_shear liggghts smoke
 # a finished run is not redone without -f
 expect 0 "collision (good run)" "$run" -f -o "$out" collision lammps smoke
 expect 0 "finished run kept" "$run" -o "$out" collision lammps smoke

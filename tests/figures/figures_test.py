@@ -9,13 +9,15 @@ CASE:
                   PNG non-empty, exactly those listed in figures.txt
   complete-smoke  the same for the smoke layout (single cases)
   missing         one input file removed at a time (an EKM run next to its
-                  DEM profiles, a DEM manifest, scores.json): exit status 1,
+                  DEM profiles, a DEM manifest, a score file, scores.json): exit status 1,
                   one line on stderr naming the file, no figures.txt, no
                   figure at all
   failed-step     a DEM step that failed (comparison 'missing' in the table,
                   no CG file): a note, every figure still made
-  bad-data        a dataset removed / of the wrong shape: exit status 1,
-                  the message names file and dataset
+  bad-data        a dataset removed / of the wrong shape / without units, a
+                  score without options: exit status 1, the message names
+                  file and dataset (or key); and the shift is the score's:
+                  a score with another shift draws a different profile
 Exit status 77 (skipped) when /usr/bin/python3 lacks matplotlib or h5py.
 """
 import os
@@ -107,6 +109,7 @@ def failed_step(src, work):
         json.dump(js, fh)
     os.remove(os.path.join(res, "chute", "cg_liggghts.h5"))
     os.remove(os.path.join(res, "chute", "dem_liggghts.json"))
+    os.remove(os.path.join(res, "chute", "score_ekm_liggghts.json"))
     rc, out, err = figures(src, res, "smoke")
     check(rc == 0, "failed step: exit status %d, stderr: %s" % (rc, err.strip()))
     check("chute" in err and "cg_liggghts.h5" in err and "note" in err,
@@ -137,6 +140,7 @@ def missing(src, work):
         ("chute/theta24/ekm.h5", ["chute/theta24/ekm.h5", "missing", "EKM run"]),
         ("filling/dem_lammps.json", ["filling/dem_lammps.json", "missing", "wall time"]),
         ("scores.json", ["scores.json", "missing", "score table"]),
+        ("chute/theta22/score_ekm_lammps.json", ["chute/theta22/score_ekm_lammps.json", "missing", "shift"]),
         ("simple_shear/phi0.53-rate10/cg_lammps.h5",
          ["simple_shear/phi0.53-rate10/cg_lammps.h5", "missing"]),
     ]
@@ -175,6 +179,48 @@ def bad_data(src, work):
     with h5py.File(os.path.join(res, "chute", "ekm.h5"), "a") as f:
         del f.attrs["stats.wall_time_s"]
     expect_failure(src, res, "smoke", ["chute/ekm.h5", "stats.wall_time_s"], "without stats.wall_time_s")
+    res = os.path.join(work, "bad-3")
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res)
+    with h5py.File(os.path.join(res, "chute", "cg_lammps.h5"), "a") as f:
+        del f["T"].attrs["units"]
+    expect_failure(src, res, "smoke", ["chute/cg_lammps.h5", "/T", "units"], "dataset /T without units")
+    res = os.path.join(work, "bad-4")
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res)
+    edit_options(os.path.join(res, "filling", "score_ekm_liggghts.json"), lambda o: o.pop("shift_m"))
+    expect_failure(src, res, "smoke", ["filling/score_ekm_liggghts.json", "options.shift_m"],
+                   "score without options.shift_m")
+    res = os.path.join(work, "bad-5")
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res)
+    edit_options(os.path.join(res, "filling", "score_ekm_lammps.json"), lambda o: o.update(ekm_time="first"))
+    expect_failure(src, res, "smoke", ["filling/score_ekm_lammps.json", "options.ekm_time", "first"],
+                   "score with a bad options.ekm_time")
+    # the shift is the score's: 5 mm more for LAMMPS in shear_cell moves its profiles
+    rc, _, err = figures(src, base, "smoke")
+    check(rc == 0, "bad-data base: exit status %d: %s" % (rc, err.strip()))
+    res = os.path.join(work, "shifted")
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res)
+    edit_options(os.path.join(res, "shear_cell", "score_ekm_lammps.json"), lambda o: o.update(shift_m=0.005))
+    rc, _, err = figures(src, res, "smoke")
+    check(rc == 0, "shifted: exit status %d: %s" % (rc, err.strip()))
+    for stem, same in (("profiles_shear_cell", False), ("profiles_chute", True)):
+        with open(os.path.join(base, "figures", stem + ".png"), "rb") as a, \
+                open(os.path.join(res, "figures", stem + ".png"), "rb") as b:
+            check((a.read() == b.read()) == same, "shifted: %s.png %s" % (
+                stem, "differs (not shifted)" if same else "is the same: the score's shift_m was not used"))
+
+
+def edit_options(path, change):
+    """Change the "options" of a score file in place."""
+    import json
+    with open(path) as fh:
+        js = json.load(fh)
+    change(js["options"])
+    with open(path, "w") as fh:
+        json.dump(js, fh)
 
 
 def main():

@@ -31,6 +31,8 @@ UNITS = {"phi": "1", "rho": "kg/m^3", "vx": "m/s", "vy": "m/s", "vz": "m/s", "T"
          "P": "Pa", "sxz": "Pa", "szz": "Pa", "mu": "1", "I": "1", "z": "m", "t": "s"}
 FIELDS = {"chute": "phi,vx,T,P,sxz,szz", "filling": "phi,vz,T,P,szz",
           "shear_cell": "phi,vx,T,P,sxz,szz", "simple_shear": "phi,T,P,sxz,szz"}
+# [compare] ekm_time of the scenario files (what the scores record)
+EKM_TIME = {"chute": "last", "filling": "interp", "shear_cell": "last", "simple_shear": "last"}
 
 
 def _str(f, k, v):
@@ -178,6 +180,15 @@ def main():
         return d
 
     def add_rows(s, p, engines):
+        # the score files, with the options they were made with (as
+        # `ekmcompare score` writes them; the figures read shift and EKM time
+        # matching from there)
+        for e in engines:
+            with open(os.path.join(point_dir(s, p), "score_ekm_%s.json" % e), "w") as fh:
+                json.dump({"dem": "cg_%s.h5" % e, "ekm": "ekm.h5",
+                           "options": {"fields": FIELDS[s].split(","), "ekm_time": EKM_TIME[s],
+                                       "shift_m": 0.0},
+                           "fields": {}}, fh, indent=1)
         for f in FIELDS[s].split(","):
             row = {"scenario": s, "point": p, "field": f}
             for e in ("liggghts", "lammps"):

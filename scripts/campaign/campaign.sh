@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# campaign.sh: `make campaign` (and campaign-table, figures): the
+# Snakemake workflow workflow/Snakefile with the campaign's options.
+#   campaign.sh all|table|figures SIZE "ENGINES" NP RES RUNS BUILD JOBS
+# all: removes the campaign's stale temporaries (an interrupted table or
+# figure, a stamp), says "everything is up to date" when Snakemake has
+# nothing to do, else runs the steps up to the scores (--keep-going: a
+# failed step does not stop the others), then the table and the figures
+# from the scores that exist (a second invocation, so that the workflow is
+# parsed again and sees the scores just made). Exit status 1 if a step
+# failed (Snakemake's messages and the failed step's log above).
+set -uo pipefail
+[ $# -eq 8 ] || { echo "campaign.sh: usage: campaign.sh all|table|figures SIZE \"ENGINES\" NP RES RUNS BUILD JOBS" >&2; exit 1; }
+mode=$1 size=$2 engines=$3 np=$4 res=$5 runs=$6 build=$7 jobs=$8
+root=$(cd "$(dirname "$0")/../.." && pwd)
+cd "$root" || exit 3
+command -v snakemake > /dev/null || { echo "campaign.sh: snakemake not installed (scripts/deps.sh campaign)" >&2; exit 7; }
+[[ $jobs =~ ^[1-9][0-9]*$ ]] || { echo "campaign.sh: JOBS must be a positive integer, got '$jobs'" >&2; exit 1; }
+# mtime, as make: a step is redone when one of its inputs (scenario file,
+# deck, binaries, scripts) is newer than its outputs; --drop-metadata: no
+# recorded checksums, which would make Snakemake skip a newer input with the
+# content it last ran with (docs/campaign.md)
+# (--config, --quiet and --rerun-triggers take lists: each ends at the next
+# option, and the last option is a flag, so that targets can follow)
+smk=(snakemake --snakefile workflow/Snakefile -j "$jobs"
+     --config "size=$size" "engines=$engines" "np=$np" "res=$res" "runs=$runs" "build=$build"
+     --quiet progress rules --rerun-triggers mtime --drop-metadata --rerun-incomplete --keep-going)
+# Snakemake's scheduler chatter off; its errors and summaries stay
+quiet() { grep -v -E '^(Select jobs to execute\.\.\.|Building DAG of jobs\.\.\.|Using shell: |Provided cores: |Rules claiming more threads will be scaled down\.|Complete log: )'; return 0; }
+smk() { "${smk[@]}" "$@" 2>&1 | quiet; return "${PIPESTATUS[0]}"; }
+
+case $mode in
+  table) smk table && cat "$res/scores.md"; exit ;;
+  figures) smk figures; exit ;;
+  all) ;;
+  *) echo "campaign.sh: unknown mode '$mode' (all, table, figures)" >&2; exit 1 ;;
+esac
+[ -d "$res" ] && find "$res" -maxdepth 3 -type f \( -name '*.tmp.*' -o -name '*.tmp' \) -delete
+[ -d "$runs" ] && find "$runs" -maxdepth 3 -type f -name 'campaign.stamp.tmp' -delete
+if out=$("${smk[@]}" -n scores table figures 2>&1); then
+  case $out in
+    *"Nothing to be done"*)
+      echo "make campaign: everything is up to date ($res, SIZE=$size)"
+      cat "$res/scores.md"; exit 0 ;;
+  esac
+else
+  echo "$out" | quiet >&2; exit 1
+fi
+t0=$(date +%s); rc=0
+smk scores || rc=1
+smk table || rc=1
+cat "$res/scores.md"
+smk figures || rc=1
+echo "make campaign: SIZE=$size done in $(( $(date +%s) - t0 )) s: $res/scores.md, $res/figures/"
+[ $rc -eq 0 ] || echo "make campaign: some steps FAILED (messages above; the table marks them missing)" >&2
+exit $rc
