@@ -76,6 +76,8 @@ static void json_str(FILE *fp, const char *s)
   fputc('"', fp);
 }
 
+static ekm_status parse_scalars(const char *list, int *kinds, size_t *nk, ekm_error *err);
+
 /* a value in grain diameters (NaN without a diameter) */
 static double in_d(double v, double d)
 {
@@ -144,10 +146,15 @@ static ekm_status write_json(const cg_score_opts *o, const cg_score_field *res, 
   json_exact(fp, o->support);
   fputs(",\n    \"support_phi\": ", fp);
   json_exact(fp, sm->support_phi);
+  /* the scalars asked for (sets expanded), as --scalars takes them */
+  int kinds[CG_SCALAR_COUNT * 4];
+  size_t nk = 0;
+  ekm_status rc_k = parse_scalars(o->scalars, kinds, &nk, err);
+  if (rc_k) { ekm_atomic_abort(&out); return rc_k; }
   fputs(",\n    \"scalars\": [", fp);
-  for (size_t i = 0; i < sm->nscalars; i++) {
+  for (size_t i = 0; i < nk; i++) {
     if (i) fputs(", ", fp);
-    json_str(fp, sm->scalar[i].name);
+    json_str(fp, cg_scalar_name((cg_scalar_kind)kinds[i]));
   }
   fputs("]\n  }", fp);
   fputs(",\n  \"free_surface\": {\"definition\": \"layer height: the highest z where phi crosses half its "
