@@ -3,6 +3,8 @@
  * (fit_data.c), the fit (fit.c), the outputs (fit_out.c). */
 #include "fit_cli.h"
 
+#include "atomic.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -118,17 +120,13 @@ static ekm_status parse_fields(const char *list, unsigned *mask, ekm_error *err)
   }
 }
 
-/* The output must not be one of the inputs. */
+/* The output must not be one of the inputs (the CG files or --start). */
 static ekm_status check_not_input(const char *out, const fit_args *a, ekm_error *err)
 {
-  struct stat so, si;
-  if (!out || stat(out, &so) != 0) return EKM_OK;
-  for (size_t k = 0; k < a->ninputs; k++)
-    if (stat(a->inputs[k], &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
-      return EKM_FAIL(err, EKM_EIO, "%s: the output would overwrite the input %s", out, a->inputs[k]);
-  if (a->start && stat(a->start, &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
-    return EKM_FAIL(err, EKM_EIO, "%s: the output would overwrite the start file %s", out, a->start);
-  return EKM_OK;
+  if (!out) return EKM_OK;
+  ekm_status st = ekm_atomic_refuse_input(out, a->inputs, a->ninputs, err);
+  if (st == EKM_OK && a->start) st = ekm_atomic_refuse_input(out, &a->start, 1, err);
+  return st;
 }
 
 static void print_summary(const cg_fit_problem *pb, const cg_fit_result *res)

@@ -1,6 +1,8 @@
 /* fit_out.c: FIT.json and FIT.ini of `ekmcompare fit` (fit_out.h). */
 #include "fit_out.h"
 
+#include "atomic.h"
+
 #include <errno.h>
 #include <jansson.h>
 #include <math.h>
@@ -99,76 +101,38 @@ static void ini_write(FILE *fp, const cg_fit_outputs *o)
   }
 }
 
-typedef struct {
-  char tmp[4096];
-  int active;
-} tmp_file;
-
-/* Open a temporary file beside `path`. */
-static ekm_status tmp_open(tmp_file *t, const char *path, FILE **fp, ekm_error *err)
-{
-  const char *slash = strrchr(path, '/');
-  const int dirlen = slash ? (int)(slash - path + 1) : 0;
-  if ((size_t)snprintf(t->tmp, sizeof t->tmp, "%.*s.%s.XXXXXX", dirlen, path, slash ? slash + 1 : path) >=
-      sizeof t->tmp)
-    return EKM_FAIL(err, EKM_EIO, "%s: path too long", path);
-  const int fd = mkstemp(t->tmp);
-  if (fd < 0) return EKM_FAIL(err, EKM_EIO, "%s: cannot create the output file: %s", path, strerror(errno));
-  t->active = 1;
-  const mode_t mask = umask(0); /* mkstemp makes 0600; give the usual 0666 & ~umask */
-  umask(mask);
-  if (fchmod(fd, 0666 & ~mask) != 0) {
-    close(fd);
-    return EKM_FAIL(err, EKM_EIO, "%s: cannot set the file mode: %s", path, strerror(errno));
-  }
-  *fp = fdopen(fd, "w");
-  if (!*fp) {
-    close(fd);
-    return EKM_FAIL(err, EKM_EIO, "%s: cannot write: %s", path, strerror(errno));
-  }
-  return EKM_OK;
-}
-
-static ekm_status tmp_close(FILE *fp, const char *path, ekm_error *err)
-{
-  const int bad = ferror(fp) | (fflush(fp) != 0) | (fsync(fileno(fp)) != 0);
-  const int eno = errno;
-  if ((fclose(fp) != 0) | bad)
-    return EKM_FAIL(err, EKM_EIO, "%s: cannot write: %s", path, strerror(eno ? eno : EIO));
-  return EKM_OK;
-}
-
+/* Both outputs (FIT.json and, with --ini, FIT.ini) through common/atomic:
+ * written under temporary names, renamed only when both are complete, and
+ * the JSON removed again if the INI cannot be renamed (both or neither). */
 ekm_status cg_fit_write(const cg_fit_outputs *o, ekm_error *err)
 {
-  tmp_file tj = {{0}, 0}, ti = {{0}, 0};
-  FILE *fp = NULL;
-  ekm_status st = tmp_open(&tj, o->json_path, &fp, err);
-  if (st == EKM_OK) {
-    json_t *root = fit_json(o);
-    const int bad = !root || json_dumpf(root, fp, JSON_INDENT(1) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17));
-    json_decref(root);
-    if (!bad) fputc('\n', fp);
-    st = tmp_close(fp, o->json_path, err);
-    if (st == EKM_OK && bad) st = EKM_FAIL(err, EKM_EIO, "%s: cannot write the JSON", o->json_path);
+  ekm_atomic tj, ti;
+  ekm_status st = ekm_atomic_open(&tj, o->json_path, err);
+  if (st != EKM_OK) return st;
+  json_t *root = fit_json(o);
+  const int bad = !root || json_dumpf(root, tj.fp, JSON_INDENT(1) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17));
+  json_decref(root);
+  if (bad) {
+    ekm_atomic_abort(&tj);
+    return EKM_FAIL(err, EKM_EIO, "%s: cannot write the JSON", o->json_path);
   }
-  if (st == EKM_OK && o->ini_path) {
-    st = tmp_open(&ti, o->ini_path, &fp, err);
-    if (st == EKM_OK) {
-      ini_write(fp, o);
-      st = tmp_close(fp, o->ini_path, err);
+  fputc('\n', tj.fp);
+  if (o->ini_path) {
+    st = ekm_atomic_open(&ti, o->ini_path, err);
+    if (st != EKM_OK) {
+      ekm_atomic_abort(&tj);
+      return st;
     }
+    ini_write(ti.fp, o);
   }
-  if (st == EKM_OK && rename(tj.tmp, o->json_path) != 0)
-    st = EKM_FAIL(err, EKM_EIO, "%s: cannot rename the output into place: %s", o->json_path, strerror(errno));
-  else if (st == EKM_OK)
-    tj.active = 0;
-  if (st == EKM_OK && o->ini_path && rename(ti.tmp, o->ini_path) != 0) {
-    st = EKM_FAIL(err, EKM_EIO, "%s: cannot rename the output into place: %s", o->ini_path, strerror(errno));
-    unlink(o->json_path); /* both or neither */
-  } else if (st == EKM_OK) {
-    ti.active = 0;
+  st = ekm_atomic_commit(&tj, err);
+  if (st != EKM_OK) {
+    if (o->ini_path) ekm_atomic_abort(&ti);
+    return st;
   }
-  if (tj.active) unlink(tj.tmp);
-  if (ti.active) unlink(ti.tmp);
+  if (o->ini_path) {
+    st = ekm_atomic_commit(&ti, err);
+    if (st != EKM_OK) unlink(o->json_path); /* both or neither */
+  }
   return st;
 }

@@ -20,7 +20,8 @@
 #
 # Every value comes from the resolved scenario, `ekm scenario FILE --engine
 # ENGINE --size SIZE --json` (docs/resolved-scenario.md; EKM= names the ekm
-# binary, default build/continuum/ekm): shared values (geometry, gravity,
+# binary, default build/continuum/ekm; EKMCOMPARE= the ekmcompare binary,
+# default beside it, whose `steady` command judges the monitor series): shared values (geometry, gravity,
 # wall speeds, inflow) from its continuum sections, DEM-only values from
 # [dem], the sweep points from its points; docs/dem.md lists the mapping to
 # the deck variables. Every case writes
@@ -83,6 +84,8 @@ deck=$root/dem_inputs/$engine/$scen.in
 # --- the resolved scenario ------------------------------------------------
 ekm=${EKM:-$root/build/continuum/ekm}
 [ -x "$ekm" ] || { echo "$prog: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
+ekmcompare=${EKMCOMPARE:-$(dirname "$(dirname "$ekm")")/compare/ekmcompare}
+[ -x "$ekmcompare" ] || { echo "$prog: ekmcompare not built: run make build (no executable $ekmcompare)" >&2; exit 7; }
 command -v jq > /dev/null || { echo "$prog: jq not installed (scripts/deps.sh base)" >&2; exit 7; }
 setargs=()
 for s in "${sets[@]+"${sets[@]}"}"; do
@@ -285,17 +288,15 @@ run_case() { # run_case TAG "name value ..."
   # --- steady state: last quarter of the monitor series vs the one before ---
   local steady=null drift=null
   if [ "$st" = ok ] && [ -s "$dir/monitor.txt" ]; then
-    drift=$(awk '!/^#/ && NF>=2 {v[n++]=$2} END {
-        if (n < 8) { print "null"; exit }
-        q = int(n/4); a = 0; b = 0
-        for (i = n-2*q; i < n-q; i++) a += v[i]
-        for (i = n-q; i < n; i++) b += v[i]
-        a /= q; b /= q; s = (a < 0 ? -a : a) + (b < 0 ? -b : b)
-        if (s == 0) { print 0; exit }
-        dd = (b - a) / (0.5 * s); printf "%.4g", (dd < 0 ? -dd : dd) }' "$dir/monitor.txt")
-    if [ "$drift" != null ]; then
-      if awk "BEGIN { exit !($drift <= $steady_tol) }"; then steady=true; else steady=false; fi
-    fi
+    # one definition of "steady" (compare/steady.c, docs/compare.md):
+    # relative drift of the mean of the last quarter of the monitor series
+    # against the quarter before, 4 significant digits, steady if <= tol
+    local verdict
+    verdict=$("$ekmcompare" steady "$dir/monitor.txt" --column 2 --tol "$steady_tol") ||
+      { echo "$prog: $dir/monitor.txt: ekmcompare steady failed" >&2; return 4; }
+    # the numbers as printed (jq would reformat them; '//' would drop false)
+    drift=$(sed -n 's/.*"drift": *\([^,}]*\).*/\1/p' <<< "$verdict")
+    steady=$(sed -n 's/.*"steady": *\([a-z]*\).*/\1/p' <<< "$verdict")
     if [ "$require_steady" = 1 ] && [ "$steady" != true ]; then
       st=not_steady; msg="monitor drift $drift > $steady_tol between the last two quarters"
     fi
