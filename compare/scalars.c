@@ -152,11 +152,11 @@ static cg_scalar_value ratio(cg_scalar_value a, cg_scalar_value b)
 static cg_scalar_value flow(const cg_scalar_profile *p, int average)
 {
   if (!p->vx || p->n < 2) return UNDEFINED;
-  double q = 0, q_se = 0, hold = 0, u_se = 0;
+  double q = 0, q_se = 0, hold = 0, u_se = 0, trace = CG_SCALAR_TRACE * 2.0 * half_max_phi(p);
   size_t n = 0;
   for (size_t k = 0; k < p->n; k++) {
     double f = p->phi[k], v = p->vx[k], w = width(p, k);
-    if (!(f > 0) || !isfinite(v)) continue;
+    if (!(f > trace) || !isfinite(v)) continue;
     double a = v * se_at(p->phi_se, k), b = f * se_at(p->vx_se, k);
     q += f * v * w;
     q_se += w * sqrt(a * a + b * b);

@@ -17,8 +17,11 @@
  *   base              the lowest point in material.
  *   surface_velocity  vx at the highest point in material below the layer
  *                     height (m/s), its SE.
- *   flow_rate         q = sum phi_k vx_k w_k over the points with phi > 0
- *                     and finite vx: the volume flux per unit width (m^2/s);
+ *   flow_rate         q = sum phi_k vx_k w_k over the points with finite vx
+ *                     and phi > CG_SCALAR_TRACE x the largest phi (a trace
+ *                     below it is a grain that crossed the bin once or
+ *                     twice: its vx has no SE, and its share of q is below
+ *                     1e-6 of a full bin's): the volume flux per unit width (m^2/s);
  *                     SE = sum w_k sqrt((vx_k se_phi_k)^2 + (phi_k se_vx_k)^2):
  *                     the fully correlated bound (every bin averages the
  *                     same snapshots).
@@ -43,6 +46,10 @@
 #define CG_SCALARS_H
 
 #include <stddef.h>
+
+/* Bins with phi at or below this fraction of the profile's largest phi are
+ * traces (see flow_rate). */
+#define CG_SCALAR_TRACE 1e-3
 
 typedef struct {
   size_t n;
