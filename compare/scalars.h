@@ -20,8 +20,9 @@
  *   flow_rate         q = sum phi_k vx_k w_k over the points with finite vx
  *                     and phi > CG_SCALAR_TRACE x the largest phi (a trace
  *                     below it is a grain that crossed the bin once or
- *                     twice: its vx has no SE, and its share of q is below
- *                     1e-6 of a full bin's): the volume flux per unit width (m^2/s);
+ *                     twice: its vx has no SE, and it carries less than
+ *                     1e-3 of a full bin's flux): the volume flux per unit
+ *                     width (m^2/s);
  *                     SE = sum w_k sqrt((vx_k se_phi_k)^2 + (phi_k se_vx_k)^2):
  *                     the fully correlated bound (every bin averages the
  *                     same snapshots).
