@@ -64,6 +64,8 @@ static const tool_key TOOL_KEYS[] = {
     {"compare", "fields", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
     {"compare", "ekm_time", TYPE_ENUM, "last interp", "interp", SWEEP_NONE},
     {"compare", "shift", TYPE_NUMBER, NULL, "0", SWEEP_NONE},
+    {"compare", "support", TYPE_NUMBER, NULL, "0.1", SWEEP_NONE},
+    {"compare", "scalars", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
 };
 #define N_TOOL_KEYS (sizeof TOOL_KEYS / sizeof TOOL_KEYS[0])
 
