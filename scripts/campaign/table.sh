@@ -12,11 +12,12 @@
 # A comparison that cannot exist (engine cannot run the scenario, or not in
 # ENGINES) is "n/a"; one whose score file is missing (failed step) is
 # "missing" (with a warning; the campaign's exit status reports the failed
-# step itself).
+# step itself). Exit status (docs/exit-codes.md): 1 usage, 2 bad plan,
+# 3 the table cannot be written, 7 no jq.
 set -uo pipefail
 prog=table.sh
 root=$(cd "$(dirname "$0")/../.." && pwd)
-die() { echo "$prog: $*" >&2; exit "${2:-1}"; }
+die() { echo "$prog: $1" >&2; exit "${2:-1}"; }
 [ $# -eq 4 ] || die "usage: table.sh SIZE RES \"ENGINES\" PLAN.json"
 size=$1 res=$2 engines=$3 plan=$4
 command -v jq > /dev/null || die "jq not installed (scripts/deps.sh)" 7
@@ -60,13 +61,13 @@ done < <(jq -r '.[] | [.scenario, (.engines | join(" ")), .fields,
                        ([.points[] | if . == "" then "-" else . end] | join(" "))] | @tsv' "$plan")
 missing=0
 grep -q '"status":"missing"' "$rows" && missing=1
-mkdir -p "$res"
+mkdir -p "$res" || die "$res: cannot create the results folder" 3
 jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%m-%dT%H:%M:%SZ)" \
   --arg version "$(version)" \
   '{size: $size, engines: ($engines | split(" ")), created: $created, code_version: $version,
     definitions: {rel_l2: "||f_model - f_DEM|| / ||f_DEM|| over the points both cover (MODEL.md 9)",
                   noise_normalised: "sqrt(mean(((f_model - f_DEM) / SE)^2)); 1 = as close as the DEM noise; SE of both engines in quadrature for engine vs engine"},
-    rows: .}' "$rows" > "$res/scores.json.tmp" || exit 1
+    rows: .}' "$rows" > "$res/scores.json.tmp" || die "$res/scores.json.tmp: cannot write the score table" 3
 {
   echo "# Campaign scores ($size size)"
   echo
@@ -80,8 +81,9 @@ jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%
              "\(if .rel_l2 == null then "-" else (.rel_l2 * 1000 | round / 1000 | tostring) end) / \(if .noise_normalised == null then "-" else (.noise_normalised * 100 | round / 100 | tostring) end)"
            else .status end;
          .rows[] | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.field) | \(.ekm_vs_liggghts | c) | \(.ekm_vs_lammps | c) | \(.liggghts_vs_lammps | c) |"' "$res/scores.json.tmp"
-} > "$res/scores.md.tmp" || exit 1
-mv "$res/scores.json.tmp" "$res/scores.json" && mv "$res/scores.md.tmp" "$res/scores.md"
+} > "$res/scores.md.tmp" || die "$res/scores.md.tmp: cannot write the score table" 3
+mv "$res/scores.json.tmp" "$res/scores.json" || die "$res/scores.json: cannot rename into place" 3
+mv "$res/scores.md.tmp" "$res/scores.md" || die "$res/scores.md: cannot rename into place" 3
 cat "$res/scores.md"
 [ $missing = 0 ] || echo "$prog: some comparisons are missing (failed steps above); the table marks them" >&2
 exit 0

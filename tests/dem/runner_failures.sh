@@ -47,6 +47,17 @@ grep -q '"status": "lost_atoms"' "$out/collision/lammps-smoke/run.json" || { ech
 # timeout: exit 4, status timeout
 expect 4 "timeout" "$run" -f -o "$out" -s timeout=1 -s t_flow=100 chute lammps smoke
 grep -q '"status": "timeout"' "$out/chute/lammps-smoke/run.json" || { echo "FAIL: run.json status is not timeout"; fail=1; }
+# a SIGTERM while the engine runs ends the runner as a signal does (128+15),
+# not with a made-up status
+printf '#!/bin/sh\ncase "$1" in -h) echo "LAMMPS (2 Aug 2023)"; exit 0 ;; esac\nsleep 4\nexit 1\n' > "$out/slow_lmp"
+chmod +x "$out/slow_lmp"
+LAMMPS_EXE=$out/slow_lmp "$run" -f -o "$out/term" collision lammps smoke > "$out/term.txt" 2>&1 &
+pid=$!
+for _ in $(seq 100); do grep -q "running in" "$out/term.txt" 2> /dev/null && break; sleep 0.1; done
+sleep 0.3; kill -TERM $pid; wait $pid; rc=$?
+if [ $rc -eq 143 ]; then echo "ok: SIGTERM during a run (exit 143)"
+else echo "FAIL: SIGTERM during a run: exit $rc, expected 143"; sed 's/^/  | /' "$out/term.txt"; fail=1; fi
+sleep 4   # the orphaned fake engine ends
 # unsupported engine/scenario: exit 7
 expect 7 "simple_shear in LIGGGHTS is unsupported" "$run" -o "$out" simple_shear liggghts smoke
 # a finished run is not redone without -f
