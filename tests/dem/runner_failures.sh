@@ -64,4 +64,17 @@ expect 7 "simple_shear in LIGGGHTS is unsupported" "$run" -o "$out" simple_shear
 expect 0 "collision (good run)" "$run" -f -o "$out" collision lammps smoke
 expect 0 "finished run kept" "$run" -o "$out" collision lammps smoke
 grep -q "is done" "$out/last.txt" || { echo "FAIL: finished run was redone"; fail=1; }
+# the helper scripts: usage 1, a missing run file 3, a failed check or run 4
+expect 1 "check_run.sh without a folder" "$root/scripts/dem/check_run.sh"
+expect 3 "check_run.sh on a folder without run.json" "$root/scripts/dem/check_run.sh" "$out/nokey.ini.d"
+grep -q "no run.json" "$out/last.txt" || { echo "FAIL: check_run does not name run.json"; fail=1; }
+expect 1 "monitor_stats.sh without a folder" "$root/scripts/dem/monitor_stats.sh"
+expect 1 "monitor_stats.sh with an unknown option" "$root/scripts/dem/monitor_stats.sh" -x "$out"
+expect 3 "monitor_stats.sh on a folder without monitor.txt" "$root/scripts/dem/monitor_stats.sh" "$out"
+expect 1 "chute_profile.sh with an unknown option" "$root/scripts/dem/chute_profile.sh" -x "$out"
+expect 3 "chute_profile.sh on a folder without a run" "$root/scripts/dem/chute_profile.sh" "$out"
+expect 4 "collision.sh whose DEM run fails" "$root/scripts/dem/collision.sh" -o "$out" -c "$out/nokey.ini" lammps
+grep -q "collision run failed" "$out/last.txt" || { echo "FAIL: collision.sh does not report the failed run"; fail=1; }
+expect 4 "collision.sh restitution off target (tolerance 0)" "$root/scripts/dem/collision.sh" -o "$out" -t 0 lammps
+grep -q "FAIL" "$out/last.txt" || { echo "FAIL: collision.sh does not mark the mismatch"; fail=1; }
 exit $fail
