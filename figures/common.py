@@ -153,6 +153,8 @@ class Point:
         self.dem_json = {}          # engine -> dict
         self.ekm = None             # EkmRun
         self.shift = {}             # engine -> shift [m] of its score's options
+        self.vars = {}              # sweep variable -> value as the reader resolved it
+        self.where = ""             # "RES/scores.json: rows[i]" of its first row
 
     def label(self):
         return self.name if self.name else "-"
@@ -213,6 +215,12 @@ def load_index(res):
         pt = next((q for q in sc.points if q.name == p), None)
         if pt is None:
             pt = Point(s, p, os.path.join(res, s, p) if p else os.path.join(res, s))
+            v = row.get("vars", {})
+            if not (isinstance(v, dict) and all(isinstance(x, str) for x in v.values())):
+                raise InputError("%s: rows[%d]: 'vars': expected an object of strings (the point's "
+                                 "sweep variables), got %r" % (rel(path), i, v))
+            pt.vars = v
+            pt.where = "%s: rows[%d]" % (rel(path), i)
             sc.points.append(pt)
         for e, v in st.items():
             if v != "n/a":

@@ -4,7 +4,10 @@
 #   table.sh SIZE RES "ENGINES" PLAN.json
 # PLAN.json (written by the Snakefile from the resolved scenarios): one
 # object per campaign scenario, {"scenario", "engines": [the engines that
-# can run it, of ENGINES], "fields": "phi,vx,...", "points": [tags]}.
+# can run it, of ENGINES], "fields": "phi,vx,...", "points": [{"tag",
+# "vars"}]} (vars: the point's sweep variables from the resolved scenario,
+# `points[].vars` of docs/resolved-scenario.md; each row carries them, so
+# that the figures read a point's phi and rate from the table).
 # Writes RES/scores.json and RES/scores.md (atomically) and prints the
 # markdown table. One row per scenario x sweep point x scored field, with
 # the relative L2 error and the noise-normalised error (MODEL.md section 9)
@@ -40,25 +43,23 @@ cell() {
        else {status: "ok", rel_l2: $r.rel_l2, noise_normalised: $r.noise_normalised, points: $r.points, file: $file} end' "$1"
   fi
 }
-while IFS=$'\t' read -r s sup fields tags; do
+# one line per scenario x point; tag "-" for the single case
+while IFS=$'\t' read -r s sup fields tag pvars; do
   ok_l=0 ok_m=0
   case " $sup " in *" liggghts "*) ok_l=1 ;; esac
   case " $sup " in *" lammps "*) ok_m=1 ;; esac
   both=$(( ok_l & ok_m ))
-  # tags: space-separated, "-" for the single case
-  for tag in $tags; do
-    [ "$tag" = - ] && tag=
-    d=$res/$s${tag:+/$tag}
-    for f in ${fields//,/ }; do
-      jq -cn --arg s "$s" --arg p "$tag" --arg f "$f" \
-        --argjson a "$(cell "$d/score_ekm_liggghts.json" "$f" $ok_l)" \
-        --argjson b "$(cell "$d/score_ekm_lammps.json" "$f" $ok_m)" \
-        --argjson c "$(cell "$d/score_liggghts_lammps.json" "$f" $both)" \
-        '{scenario: $s, point: $p, field: $f, ekm_vs_liggghts: $a, ekm_vs_lammps: $b, liggghts_vs_lammps: $c}' >> "$rows"
-    done
+  [ "$tag" = - ] && tag=
+  d=$res/$s${tag:+/$tag}
+  for f in ${fields//,/ }; do
+    jq -cn --arg s "$s" --arg p "$tag" --arg f "$f" --argjson v "$pvars" \
+      --argjson a "$(cell "$d/score_ekm_liggghts.json" "$f" $ok_l)" \
+      --argjson b "$(cell "$d/score_ekm_lammps.json" "$f" $ok_m)" \
+      --argjson c "$(cell "$d/score_liggghts_lammps.json" "$f" $both)" \
+      '{scenario: $s, point: $p, vars: $v, field: $f, ekm_vs_liggghts: $a, ekm_vs_lammps: $b, liggghts_vs_lammps: $c}' >> "$rows"
   done
-done < <(jq -r '.[] | [.scenario, (.engines | join(" ")), .fields,
-                       ([.points[] | if . == "" then "-" else . end] | join(" "))] | @tsv' "$plan")
+done < <(jq -r '.[] | . as $sc | .points[] | [$sc.scenario, ($sc.engines | join(" ")), $sc.fields,
+                       (if .tag == "" then "-" else .tag end), (.vars | tojson)] | @tsv' "$plan")
 missing=0
 grep -q '"status":"missing"' "$rows" && missing=1
 mkdir -p "$res" || die "$res: cannot create the results folder" 3

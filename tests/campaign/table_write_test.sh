@@ -7,7 +7,7 @@ set -u
 src=$1 work=$2
 command -v jq > /dev/null || { echo "jq not installed: skipped"; exit 77; }
 rm -rf "$work"; mkdir -p "$work/res"
-echo '[{"scenario": "chute", "engines": ["lammps"], "fields": "phi", "points": [""]}]' > "$work/plan.json"
+echo '[{"scenario": "chute", "engines": ["lammps"], "fields": "phi", "points": [{"tag": "", "vars": {"theta": "24"}}]}]' > "$work/plan.json"
 mkdir "$work/res/scores.json.tmp"   # a folder where the temporary goes: the write fails
 "$src/scripts/campaign/table.sh" smoke "$work/res" lammps "$work/plan.json" > "$work/out.txt" 2> "$work/err.txt"
 rc=$? fails=0

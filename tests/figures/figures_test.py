@@ -2,7 +2,10 @@
 """figures_test.py: tests of figures/make_figures.py on synthetic results
 folders (make_synthetic.py), written under WORK (the build directory).
 
-    /usr/bin/python3 figures_test.py SOURCE_DIR WORK CASE
+    /usr/bin/python3 figures_test.py SOURCE_DIR WORK CASE FIELDS_JSON
+
+FIELDS_JSON: build/generated/fields.json (the field schema the synthetic
+files take their units from).
 
 CASE:
   complete-ref    ref layout (sweep points): every expected figure, PDF and
@@ -39,6 +42,7 @@ EXPECTED = {
 }
 
 failures = []
+FIELDS_JSON = []   # [path]: set by main() from the command line
 
 
 def check(cond, msg):
@@ -51,7 +55,7 @@ def synth(src, out, layout):
     if os.path.exists(out):
         shutil.rmtree(out)
     subprocess.run([sys.executable, os.path.join(src, "tests", "figures", "make_synthetic.py"),
-                    "--layout", layout, out], check=True)
+                    "--layout", layout, "--fields", FIELDS_JSON[0], out], check=True)
 
 
 def figures(src, res, size, extra=(), env=None):
@@ -283,10 +287,11 @@ def edit_options(path, change):
 
 
 def main():
-    if len(sys.argv) != 4:
-        print("usage: figures_test.py SOURCE_DIR WORK CASE", file=sys.stderr)
+    if len(sys.argv) != 5:
+        print("usage: figures_test.py SOURCE_DIR WORK CASE FIELDS_JSON", file=sys.stderr)
         return 2
-    src, work, case = sys.argv[1:]
+    src, work, case, fields = sys.argv[1:]
+    FIELDS_JSON.append(fields)
     try:
         import matplotlib  # noqa: F401
         import h5py  # noqa: F401
