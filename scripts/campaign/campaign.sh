@@ -26,6 +26,7 @@ command -v snakemake > /dev/null || { echo "campaign.sh: snakemake not installed
 # option, and the last option is a flag, so that targets can follow)
 smk=(snakemake --snakefile workflow/Snakefile -j "$jobs"
      --config "size=$size" "engines=$engines" "np=$np" "res=$res" "runs=$runs" "build=$build"
+              "from_cg=${FROM_CG:-0}"
      --quiet progress rules --rerun-triggers mtime --drop-metadata --rerun-incomplete --keep-going)
 # Snakemake's scheduler chatter off; its errors and summaries stay
 quiet() { grep -v -E '^(Select jobs to execute\.\.\.|Building DAG of jobs\.\.\.|Using shell: |Provided cores: |Rules claiming more threads will be scaled down\.|Complete log: )'; return 0; }
