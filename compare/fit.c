@@ -64,6 +64,11 @@ double cg_fit_param_get(const ekm_material *m, int index)
   return *(const double *)((const char *)m + PARAMS[index].offset);
 }
 
+void cg_fit_param_set(ekm_material *m, int index, double v)
+{
+  *param_ptr(m, index) = v;
+}
+
 /* ---- the driver's context ---- */
 
 typedef struct {

@@ -41,6 +41,8 @@ const char *cg_fit_param_name(int index);
 int cg_fit_param_count(void);
 /* The value of parameter `index` in m. */
 double cg_fit_param_get(const ekm_material *m, int index);
+/* Set parameter `index` of m to v. */
+void cg_fit_param_set(ekm_material *m, int index, double v);
 
 /* The generic problem of the trust-region driver (cg_fit_solve): the
  * residual callback and what is fitted. --rheology (cg_fit_run) and
