@@ -229,7 +229,8 @@ static ekm_status fit_free(const fit_ctx *c, const double *xs, double *xbest, do
     res->starts_run++;
     if (gsl_multifit_nlinear_init(x0, &fdf, w) != GSL_SUCCESS) continue;
     int info;
-    const int st = gsl_multifit_nlinear_driver(500, 1e-12, 1e-12, 0.0, NULL, NULL, &info, w);
+    const int st = gsl_multifit_nlinear_driver(c->sp->max_iter, c->sp->xtol, c->sp->gtol, c->sp->ftol, NULL, NULL,
+                                               &info, w);
     if (st != GSL_SUCCESS) continue;
     double chi;
     gsl_blas_ddot(gsl_multifit_nlinear_residual(w), gsl_multifit_nlinear_residual(w), &chi);
@@ -494,7 +495,8 @@ ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *e
   if (ekm_material_check(&pb->start, &merr) != EKM_OK)
     return EKM_FAIL(err, EKM_EINPUT, "start material: %s", merr.message);
   cg_fit_spec sp = {.residuals = rheology_residuals, .why_insensitive = rheology_why, .ctx = (void *)pb,
-                    .jac_rel_step = 1e-6, .start = pb->start, .nparams = pb->nparams, .nstarts = pb->nstarts,
+                    .jac_rel_step = 1e-6, .xtol = 1e-12, .gtol = 1e-12, .ftol = 0.0, .max_iter = 500,
+                    .start = pb->start, .nparams = pb->nparams, .nstarts = pb->nstarts,
                     .seed = pb->seed};
   memcpy(sp.param, pb->param, sizeof sp.param);
   double phi_max = 0.0;

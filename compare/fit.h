@@ -63,6 +63,8 @@ typedef struct {
   double phi_floor;           /* phi_cp is kept above this (and above phi_co when held) [-] */
   double jac_rel_step;        /* relative step of the identifiability Jacobian (1e-6 for --rheology) */
   double fd_step;             /* GSL's finite-difference step h_df of the trust region (0: GSL's default) */
+  double xtol, gtol, ftol;    /* gsl_multifit_nlinear_driver's tests (--rheology: 1e-12, 1e-12, 0) */
+  size_t max_iter;            /* its iterations per start (--rheology: 500) */
   ekm_material start;         /* start values; also the values of every key not fitted */
   size_t nparams;             /* parameters asked for, in order */
   int param[CG_FIT_MAXP];     /* their indices (cg_fit_param_lookup) */

@@ -489,6 +489,10 @@ void cg_fitsc_spec(cg_fitsc_problem *pb, const ekm_material *start, cg_fit_spec 
   sp->phi_floor = phi_floor;
   sp->jac_rel_step = CG_FITSC_JAC_STEP;
   sp->fd_step = CG_FITSC_FD_STEP;
+  sp->xtol = CG_FITSC_XTOL;
+  sp->gtol = CG_FITSC_GTOL;
+  sp->ftol = CG_FITSC_FTOL;
+  sp->max_iter = CG_FITSC_MAX_ITER;
   sp->start = *start;
   sp->nparams = pb->nparams;
   memcpy(sp->param, pb->param, sizeof sp->param);

@@ -45,6 +45,14 @@ enum cg_fitsc_field { CG_FITSC_PHI, CG_FITSC_VX, CG_FITSC_T, CG_FITSC_P, CG_FITS
  * identifiability test (relative to the value). */
 #define CG_FITSC_FD_STEP 1e-4
 #define CG_FITSC_JAC_STEP 1e-4
+/* The trust region's tests: steps below 1e-6 relative (xtol), gradient
+ * below 1e-6 (gtol) or a chi2 change below 1e-8 relative (ftol) end a
+ * start; at most 100 iterations. Tighter tests (those of --rheology) chase
+ * the runs' own round-off for hundreds of evaluations. */
+#define CG_FITSC_XTOL 1e-6
+#define CG_FITSC_GTOL 1e-6
+#define CG_FITSC_FTOL 1e-8
+#define CG_FITSC_MAX_ITER 100
 #define CG_FITSC_STARTS 1    /* default starts: each evaluation is a set of EKM runs */
 
 const char *cg_fitsc_field_name(int f); /* "phi", "vx", "T", "P", "sxz" */
