@@ -21,6 +21,8 @@ static const char usage_text[] =
   "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [--support F] [--scalars L] [-o SCORE.json]\n"
   "       ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu [--start FILE.ini]\n"
   "                      [--fields P,sxz,T] -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
+  "       ekmcompare fit --scenario CASES.json --params eta0,eps0 [--fields phi,vx,T,P,sxz]\n"
+  "                      -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
   "       ekmcompare steady MONITOR.txt [--column N] [--tol X]\n"
   "       ekmcompare --help | --version\n"
   "\n"

@@ -22,9 +22,7 @@ cg_score_opts cg_score_opts_default(void)
   return o;
 }
 
-/* Linear interpolation in a sorted array x[0..n-1]: index i and fraction a
- * with x[i] + a (x[i+1]-x[i]) = v. Returns 0 if v is outside [x0, x_n-1]. */
-static int locate(const double *x, size_t n, double v, size_t *i, double *a)
+int cg_score_locate(const double *x, size_t n, double v, size_t *i, double *a)
 {
   if (n == 0 || !(v >= x[0] - 1e-12 * fabs(x[0])) || !(v <= x[n - 1] + 1e-12 * fabs(x[n - 1])))
     return 0;
@@ -40,6 +38,14 @@ static int locate(const double *x, size_t n, double v, size_t *i, double *a)
   if (*a < 0) *a = 0;
   if (*a > 1) *a = 1;
   return 1;
+}
+
+double cg_score_interp(const double *r0, const double *r1, size_t nze, size_t zi, double az, double at)
+{
+  size_t z1 = zi + 1 < nze ? zi + 1 : zi;
+  double e0 = r0[zi] + az * (r0[z1] - r0[zi]);
+  double e1 = r1[zi] + az * (r1[z1] - r1[zi]);
+  return e0 + at * (e1 - e0);
 }
 
 static int increasing(const double *x, size_t n)
@@ -459,7 +465,7 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
   if (!rc) {
     size_t nin = 0;
     for (size_t j = 0; j < ax.ntd; j++) {
-      tin[j] = locate(ax.te, ax.nte, ax.td[j], &ti[j], &ta[j]);
+      tin[j] = cg_score_locate(ax.te, ax.nte, ax.td[j], &ti[j], &ta[j]);
       nin += (size_t)tin[j];
     }
     if (!last && nin == 0) {
@@ -539,26 +545,17 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
         for (size_t k = 0; k < ax.nzd; k++) {
           size_t zi;
           double az;
-          if (!locate(ax.ze, ax.nze, ax.zd[k], &zi, &az)) continue;
-          size_t z1 = zi + 1 < ax.nze ? zi + 1 : zi;
+          if (!cg_score_locate(ax.ze, ax.nze, ax.zd[k], &zi, &az)) continue;
           if (support_phi > 0) {
             /* common support: material on both sides */
-            const double *p0 = smod.f[S_PHI] + i0 * ax.nze, *p1 = smod.f[S_PHI] + i1 * ax.nze;
-            double m0 = p0[zi] + az * (p0[z1] - p0[zi]);
-            double m1 = p1[zi] + az * (p1[z1] - p1[zi]);
-            double mphi = m0 + at * (m1 - m0), dphi = sdem.f[S_PHI][j * ax.nzd + k];
+            double mphi = cg_score_interp(smod.f[S_PHI] + i0 * ax.nze, smod.f[S_PHI] + i1 * ax.nze, ax.nze, zi, az, at);
+            double dphi = sdem.f[S_PHI][j * ax.nzd + k];
             if (!(mphi > support_phi && dphi > support_phi)) { left_out++; continue; }
           }
-          const double *r0 = fe + i0 * ax.nze, *r1 = fe + i1 * ax.nze;
-          double e0 = r0[zi] + az * (r0[z1] - r0[zi]);
-          double e1 = r1[zi] + az * (r1[z1] - r1[zi]);
-          double e = e0 + at * (e1 - e0), d = fd[j * ax.nzd + k];
+          double e = cg_score_interp(fe + i0 * ax.nze, fe + i1 * ax.nze, ax.nze, zi, az, at), d = fd[j * ax.nzd + k];
           double s = sd ? sd[j * ax.nzd + k] : NAN;
           if (fse) {
-            const double *q0 = fse + i0 * ax.nze, *q1 = fse + i1 * ax.nze;
-            double s0 = q0[zi] + az * (q0[z1] - q0[zi]);
-            double s1 = q1[zi] + az * (q1[z1] - q1[zi]);
-            double s2 = s0 + at * (s1 - s0);
+            double s2 = cg_score_interp(fse + i0 * ax.nze, fse + i1 * ax.nze, ax.nze, zi, az, at);
             s = sqrt(s * s + s2 * s2);
           }
           pm[np] = e;

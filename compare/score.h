@@ -20,6 +20,7 @@
 #ifndef CG_SCORE_H
 #define CG_SCORE_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 #include "status.h"
@@ -86,6 +87,18 @@ typedef struct {
   int se_both;         /* 1: the --ekm file had FIELD_se too (a second DEM
                           run): SE = sqrt(SE_dem^2 + SE_other^2) */
 } cg_score_field;
+
+/* The interpolation of `score`, as pure functions (also used by
+ * `ekmcompare fit --scenario`, fit_scen.c):
+ * cg_score_locate: index i and fraction a in a sorted array x[0..n-1] with
+ * x[i] + a (x[i+1]-x[i]) = v (a clipped to [0, 1]); 0 if v is outside
+ * [x_0, x_n-1] (1e-12 relative tolerance): the point is not compared.
+ * cg_score_interp: the model's value there, linear in z between cells zi
+ * and zi+1 (fraction az) of the two output rows r0, r1 (nze values each),
+ * then linear in time (fraction at). With --ekm-time last r0 = r1 = the
+ * last row and at = 0. */
+int cg_score_locate(const double *x, size_t n, double v, size_t *i, double *a);
+double cg_score_interp(const double *r0, const double *r1, size_t nze, size_t zi, double az, double at);
 
 /* Score; results (up to 16 fields) in res/nres when res != NULL. */
 ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err);
