@@ -17,8 +17,6 @@
 #include "scenario.h"
 #include "status.h"
 
-#define EXIT_USAGE 1 /* docs/exit-codes.md: bad command line */
-
 static const char fit_usage[] =
   "usage: ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu[,...]\n"
   "                      [--start FILE.ini] [--fields P,sxz,T] [--starts N] -o FIT.json [--ini FIT.ini]\n"
@@ -38,7 +36,7 @@ static int usage(const char *fmt, const char *arg)
   fprintf(stderr, "ekmcompare fit: ");
   fprintf(stderr, fmt, arg);
   fprintf(stderr, " (see ekmcompare fit --help)\n");
-  return EXIT_USAGE;
+  return ekm_status_exit_code(EKM_EUSAGE);
 }
 
 static int parse_args(int argc, char **argv, fit_args *a)
@@ -200,10 +198,7 @@ int cg_fit_main(int argc, char **argv)
   if (!rc) {
     ekm_error err = {.message = ""};
     const ekm_status st = run_fit(&a, &err);
-    if (st != EKM_OK) {
-      fprintf(stderr, "%s\n", err.message);
-      if (getenv("EKMCOMPARE_DEBUG")) fprintf(stderr, "  (raised at %s:%d)\n", err.src_file, err.src_line);
-    }
+    if (st != EKM_OK) ekm_error_print("ekmcompare", &err);
     rc = ekm_status_exit_code(st);
   }
   free(a.inputs);

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #define DEG (3.14159265358979323846 / 180.0)
 
@@ -433,6 +434,11 @@ ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
     c.fp = fopen(path, "r");
     if (!c.fp)
         return EKM_FAIL(err, EKM_EIO, "%s: cannot open scenario file: %s", path, strerror(errno));
+    struct stat fst;
+    if (fstat(fileno(c.fp), &fst) != 0 || !S_ISREG(fst.st_mode)) {
+        fclose(c.fp);
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot read scenario file: not a regular file", path);
+    }
     int rc = ini_parse_stream(reader, &c, handler, &c);
     fclose(c.fp);
     c.fp = NULL;

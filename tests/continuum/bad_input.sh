@@ -43,6 +43,11 @@ check "malformed number" 2 "malformed.ini:[0-9]+: \[material\] eps0: expected a 
     run malformed.ini -o out.h5
 
 check "unreadable file" 3 "nonexistent.ini: cannot open scenario file" run nonexistent.ini -o out.h5
+mkdir -p dir.ini
+mkdir -p outdir
+check "output a directory" 3 "outdir/: cannot write the output: is a directory" run "$base" -o outdir/
+check "output directory missing" 3 "nodir/out.h5: cannot write the output: directory nodir" run "$base" -o nodir/out.h5
+check "not a regular file" 3 "dir.ini: cannot read scenario file: not a regular file" run dir.ini -o out.h5
 
 cp "$base" unreadable.ini && chmod 000 unreadable.ini
 if [ "$(id -u)" -ne 0 ]; then

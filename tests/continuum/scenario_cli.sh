@@ -103,6 +103,8 @@ error "usage: no file" 1 "ekm scenario: missing scenario file" scenario --json
 error "usage: no --json" 1 "ekm scenario: missing --json" scenario "$chute"
 error "usage: unknown option" 1 "unexpected argument '--yaml'" scenario "$chute" --yaml
 error "unreadable file" 3 "none.ini: cannot open scenario file" scenario none.ini --json
+mkdir -p adir.ini
+error "not a regular file" 3 "adir.ini: cannot read scenario file: not a regular file" scenario adir.ini --json
 error "unknown engine" 2 "--engine spring: unknown engine" scenario "$chute" --engine spring --json
 error "unknown size" 2 "--size huge: unknown size" scenario "$chute" --size huge --json
 error "unknown point" 2 "--point theta23: unknown point \(the points are: theta22 theta24 theta26\)" \
