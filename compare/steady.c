@@ -181,8 +181,8 @@ ekm_status cg_steady_monitor_read(const char *path, int column, double **v, size
     while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = '\0';
     if (line[0] == '#') continue;
     size_t nf = split_fields(line, field, sizeof field / sizeof *field);
-    if (nf == 0) continue; /* a blank line */
-    if (nf < need) {       /* a data line without the column: bad input, not "no samples" */
+    if (nf < 2) continue; /* not a data line (blank, or one field: run.sh's awk NF >= 2) */
+    if (nf < need) {      /* a data line without the column: bad input, not "no samples" */
       rc = EKM_FAIL_AT(err, EKM_EINPUT, path, lineno > INT_MAX ? 0 : (int)lineno,
                        "column %d: missing (expected at least %zu columns, got %zu)", column, need, nf);
       break;

@@ -426,6 +426,20 @@ static ekm_status split_list(const ekm_resolve_key *k, item_list *out, ekm_error
     return EKM_OK;
 }
 
+/* Every item of a [dem] sweep list in (lo, hi) (hi <= 0: no upper bound). */
+static ekm_status check_sweep_items(const ekm_resolve_key *k, const item_list *l, double lo, double hi,
+                                    const char *expected, ekm_error *err)
+{
+    const char *key = k->as[0] ? k->as : k->name + 4;
+    for (size_t i = 0; i < l->n; i++) {
+        const double x = strtod(l->item[i], NULL);
+        if (!(x > lo) || (hi > 0 && !(x < hi)))
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: expected %s, got '%s'", k->from, key, expected,
+                            l->item[i]);
+    }
+    return EKM_OK;
+}
+
 static ekm_resolve_point *add_point(ekm_resolved *r, ekm_error *err)
 {
     ekm_resolve_point *p = realloc(r->points, (r->n_points + 1) * sizeof *p);
@@ -465,8 +479,14 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
         }
     } else if (sweep == SWEEP_PHI_RATE && phis && rates) {
         st = split_list(phis, &a[0], err);
+        char phi_range[64];
+        snprintf(phi_range, sizeof phi_range, "volume fractions in (0, phi_cp = %g)", s->material.phi_cp);
+        if (st == EKM_OK)
+            st = check_sweep_items(phis, &a[0], 0.0, s->material.phi_cp, phi_range, err);
         if (st == EKM_OK)
             st = split_list(rates, &a[1], err);
+        if (st == EKM_OK)
+            st = check_sweep_items(rates, &a[1], 0.0, 0.0, "shear rates > 0 [1/s]", err);
         const size_t n = a[0].n * a[1].n;
         for (size_t i = 0; i < a[0].n && st == EKM_OK; i++)
             for (size_t j = 0; j < a[1].n && st == EKM_OK; j++) {
@@ -482,13 +502,13 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
                 snprintf(p->var_value[0], sizeof p->var_value[0], "%s", a[0].item[i]);
                 snprintf(p->var_name[1], sizeof p->var_name[1], "rate");
                 snprintf(p->var_value[1], sizeof p->var_value[1], "%s", a[1].item[j]);
-                /* the walls at -+ R L/2, as scripts/campaign/ekm_step.sh set them
-                 * (awk: r * L / 2, printf "%.10g") */
+                /* the walls at -+ R L/2 (r * L / 2 printed "%.10g": the digits
+                 * the DEM campaign has always used) */
                 const double v = strtod(a[1].item[j], NULL) * s->length / 2;
                 p->n_sets = 3;
                 snprintf(p->set[0], sizeof p->set[0], "initial.phi=%s", a[0].item[i]);
                 snprintf(p->set[1], sizeof p->set[1], "top.velocity=%.10g", v);
-                snprintf(p->set[2], sizeof p->set[2], "bottom.velocity=-%.10g", v);
+                snprintf(p->set[2], sizeof p->set[2], "bottom.velocity=%.10g", -v);
             }
     } else if (!add_point(r, err)) {
         st = EKM_ENOMEM;

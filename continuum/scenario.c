@@ -237,8 +237,8 @@ static int handler(void *user, const char *section, const char *key, const char 
     }
     if (!section_known(section))
         return fail_once(c, EKM_EINPUT,
-                         "[%s]%s: unknown section (ekm reads scenario material model domain gravity "
-                         "initial bottom top run numerics hypo; skips dem compare campaign figures)%s",
+                         "[%s]%s: unknown section (the sections are scenario material model domain gravity "
+                         "initial bottom top run numerics hypo dem compare campaign figures)%s",
                          section, "", "");
     size_t k;
     for (k = 0; k < N_KEYS; k++)

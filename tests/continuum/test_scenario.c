@@ -46,6 +46,8 @@ static const char BASE[] =
     "t_end = 5\n";
 
 #define FILE_NAME "scenario_test.ini"
+/* 65 characters: longer than the 63 [scenario] name holds */
+#define NAME_65 "abcdefghijklmnopqrstuvwxyzabcdefghijklmnopqrstuvwxyzabcdefghijklm"
 
 static void write_file(const char *text)
 {
@@ -103,12 +105,14 @@ static const error_case EKM_ERRORS[] = {
     {"prefixed key of ekm", "[domain]\nref.cells = 1", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [domain] ref.cells: unknown key"},
     {"unknown section", "[materal]\nrho_p = 1", {NULL}, EKM_EINPUT,
-     FILE_NAME ":31: [materal]: unknown section (ekm reads scenario material model domain gravity initial "
-     "bottom top run numerics hypo; skips dem compare campaign figures)"},
+     FILE_NAME ":31: [materal]: unknown section (the sections are scenario material model domain gravity initial "
+     "bottom top run numerics hypo dem compare campaign figures)"},
     {"section in capitals", "[DEM]\nlx = 1", {NULL}, EKM_EINPUT,
-     FILE_NAME ":31: [DEM]: unknown section (ekm reads scenario material model domain gravity initial "
-     "bottom top run numerics hypo; skips dem compare campaign figures)"},
+     FILE_NAME ":31: [DEM]: unknown section (the sections are scenario material model domain gravity initial "
+     "bottom top run numerics hypo dem compare campaign figures)"},
     {"missing key", "-eps0", {NULL}, EKM_EINPUT, FILE_NAME ": [material] eps0: missing (a required key)"},
+    {"value longer than allowed", "[scenario]\nname = " NAME_65, {NULL}, EKM_EINPUT,
+     FILE_NAME ":31: [scenario] name: value longer than allowed: '" NAME_65 "'"},
     {"syntax", "this is not ini", {NULL}, EKM_EINPUT, FILE_NAME ":30: expected '[section]' or 'key = value'"},
     {"variant", "[model]\nvariant = half", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [model] variant: expected 'full' or 'thesis', got 'half'"},
@@ -505,7 +509,7 @@ static void test_rate_formatting(void **state)
     assert_string_equal(x.r.points[1].set[2], "bottom.velocity=-0.2625");
     resolved_free(&x);
     /* the default rate: (0.1 + 0.0333) / 0.07 = 1.904285714..., and its
-     * walls from the rate as written (what run.sh -l and ekm_step.sh gave) */
+     * walls from the rate as written (%.10g, as the DEM deck's walls) */
     write_scenario("[dem]\nstrain = 2");
     assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, sets, 4), EKM_OK);
     assert_key(&x, "dem.rates", "1.904285714", "default", "");
@@ -520,6 +524,16 @@ static void test_sweep_errors(void **state)
     resolved x;
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);
     assert_string_equal(x.err.message, FILE_NAME ":31: [dem] ref.angles: value '22' given twice (each point needs its own tag)");
+    resolved_free(&x);
+    /* a rate <= 0 (once formatted as bottom.velocity=--...) and a phi outside (0, phi_cp) */
+    const char *walls[] = {"top.type=wall", "top.velocity=0.1", "bottom.velocity=-0.0333", "domain.length=0.07"};
+    write_scenario("[dem]\nstrain = 2\nphis = 0.5\nrates = 3 -4");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, walls, 4), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ":33: [dem] rates: expected shear rates > 0 [1/s], got '-4'");
+    resolved_free(&x);
+    write_scenario("[dem]\nstrain = 2\nphis = 0.5 0.7\nrates = 3");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, walls, 4), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ":32: [dem] phis: expected volume fractions in (0, phi_cp = 0.64), got '0.7'");
     resolved_free(&x);
     write_scenario("[dem]\nt_flow = 1\nsmoke.rates = 3");
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);
