@@ -129,6 +129,7 @@ typedef struct {
     ekm_error *err;
     int seen[N_KEYS];  /* 1 + entry index where the key was set, 0 if not */
     int seen_line[N_KEYS];
+    char set_name[140]; /* "section.key" of the --set being read (messages: "--set section.key: ...") */
 } parse_ctx;
 
 static char *reader(char *str, int num, void *stream)
@@ -154,7 +155,10 @@ static int fail_once(parse_ctx *c, ekm_status code, const char *fmt, const char 
         c->failed = 1;
         char buf[700];
         snprintf(buf, sizeof buf, fmt, section, key, detail);
-        EKM_FAIL(c->err, code, "%s:%d: %s", c->file, c->line, buf);
+        if (c->origin == EKM_FROM_SET)
+            EKM_FAIL(c->err, code, "--set %s: %s", c->set_name, buf);
+        else
+            EKM_FAIL(c->err, code, "%s:%d: %s", c->file, c->line, buf);
     }
     return 0;
 }
@@ -363,8 +367,13 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
             return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: missing (a required key)", c->file,
                             KEYS[k].section, KEYS[k].key);
     ekm_error merr;
-    if (ekm_material_check(&s->material, &merr) != EKM_OK)
-        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", c->file, merr.message);
+    if (ekm_material_check(&s->material, &merr) != EKM_OK) {
+        /* merr says "[material] KEY: ..."; prefix where KEY came from (file:line or --set) */
+        char key[64] = "", w_[600];
+        if (sscanf(merr.message, "[material] %63[^:]", key) != 1)
+            key[0] = '\0';
+        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", where(c, "material", key, w_, sizeof w_), merr.message);
+    }
     RANGE(s->length > 0.0, "domain", "length", "a length > 0 [m]", s->length);
     RANGE(s->cells >= 1 && s->cells <= 10000000, "domain", "cells", "an integer in [1, 1e7]", s->cells);
     RANGE(s->gravity >= 0.0, "gravity", "magnitude", "a number >= 0 [m/s^2]", s->gravity);
@@ -463,6 +472,7 @@ ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
         c.file = "--set";
         c.line = (int)i + 1;
         c.origin = EKM_FROM_SET;
+        snprintf(c.set_name, sizeof c.set_name, "%s.%s", section, key);
         if (!handler(&c, section, key, eq + 1))
             return EKM_EINPUT;
         /* --set entries are marked with line 0 so messages say "--set". */

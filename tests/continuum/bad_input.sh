@@ -37,6 +37,7 @@ check "unknown key" 2 "unknown.ini:[0-9]+: \[material\] foo: unknown key" run un
 
 sed 's/^phi_cp .*/phi_cp = -0.64/' "$base" > negative.ini
 check "negative phi_cp" 2 "negative.ini.*\[material\] phi_cp: expected" run negative.ini -o out.h5
+check "--set range names the override" 2 "^ekm: --set material.phi_cp: \[material\] phi_cp: expected" run "$base" --set material.phi_cp=-1 -o out.h5
 
 sed 's/^eps0 .*/eps0 = 5x0/' "$base" > malformed.ini
 check "malformed number" 2 "malformed.ini:[0-9]+: \[material\] eps0: expected a number, got '5x0'" \

@@ -114,7 +114,7 @@ n=$(line unknown.ini ref.lxx)
 error "unknown [dem] key" 2 "unknown.ini:$n: \[dem\] ref.lxx: unknown key" scenario unknown.ini --json
 error "unknown [dem] key in ekm run" 2 "unknown.ini:$n: \[dem\] ref.lxx: unknown key" run unknown.ini -o out.h5
 [ -e out.h5 ] && bad "ekm run left out.h5" || ok "ekm run left no output"
-error "bad [compare] value" 2 "--set:1: \[compare\] ekm_time: expected one of last interp, got 'now'" \
+error "bad [compare] value" 2 "--set compare.ekm_time: \[compare\] ekm_time: expected one of last interp, got 'now'" \
     scenario "$chute" --set compare.ekm_time=now --json
 
 { cat "$src/scenarios/cooling.ini"; printf '[scenario]\ndescription = caf\xe9\n'; } > latin1.ini
