@@ -212,6 +212,38 @@ static int is_choice(const char *choices, const char *v)
     return 0;
 }
 
+/* The range of a [dem] key whose value has its type, or NULL when the
+ * value is in range (or the key has no range): docs/scenario-format.md. */
+static const char *dem_range(const char *base, const char *value)
+{
+    const double x = strtod(value, NULL);
+    static const struct {
+        const char *key, *expected;
+        double lo, hi;
+        int lo_open, hi_open; /* 1: the bound itself is outside; hi = HUGE_VAL: none */
+    } R[] = {
+        {"diameter", "a diameter > 0 [m]", 0, HUGE_VAL, 1, 1},
+        {"dt", "a time step > 0 [s]", 0, HUGE_VAL, 1, 1},
+        {"youngs", "a modulus > 0 [Pa]", 0, HUGE_VAL, 1, 1},
+        {"friction", "a friction coefficient >= 0", 0, HUGE_VAL, 0, 1},
+        {"poisson", "a Poisson ratio in (-1, 0.5)", -1, 0.5, 1, 1},
+        {"restitution", "a restitution in (0, 1]", 0, 1, 1, 0},
+        {"restitution_input", "a restitution in (0, 1]", 0, 1, 1, 0},
+        {"timeout", "a timeout >= 1 [s]", 1, HUGE_VAL, 0, 1},
+        {"dump_every", "an interval >= 1 [steps]", 1, HUGE_VAL, 0, 1},
+        {"thermo_every", "an interval >= 1 [steps]", 1, HUGE_VAL, 0, 1},
+        {"steady_tol", "a tolerance > 0", 0, HUGE_VAL, 1, 1},
+        {"spread", "a size spread in [0, 1)", 0, 1, 0, 1},
+    };
+    for (size_t i = 0; i < sizeof R / sizeof R[0]; i++)
+        if (strcmp(R[i].key, base) == 0) {
+            const int low_ok = R[i].lo_open ? x > R[i].lo : x >= R[i].lo;
+            const int high_ok = R[i].hi_open ? x < R[i].hi : x <= R[i].hi;
+            return low_ok && high_ok ? NULL : R[i].expected;
+        }
+    return NULL;
+}
+
 int ekm_resolve_check_key(const char *section, const char *key, const char *value, char *why, size_t size)
 {
     const char *base;
@@ -263,6 +295,8 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
         }
         break;
     }
+    if (!expected && strcmp(section, "dem") == 0)
+        expected = dem_range(base, value);
     if (expected) {
         snprintf(why, size, "[%s] %s: expected %s, got '%s'", section, key, expected, value);
         return 0;
