@@ -1,6 +1,7 @@
 /* resolve.c: the keys of the other tools' sections, their lookup rule and
  * defaults, and the sweep points (resolve.h, docs/resolved-scenario.md). */
 #include "resolve.h"
+#include "schema.h"
 
 #include <errno.h>
 #include <math.h>
@@ -200,6 +201,23 @@ static int is_field_list(const char *v)
     }
 }
 
+/* Whether every name of a valid field list is a field of common/schema.h;
+ * otherwise 0 and what was expected, naming the first unknown one. */
+static int fields_in_schema(const char *v, char *expected, size_t size)
+{
+    for (const char *p = v; *p;) {
+        const size_t len = strcspn(p, ",");
+        char name[64];
+        snprintf(name, sizeof name, "%.*s", (int)len, p);
+        if (!ekm_field_lookup(name)) {
+            snprintf(expected, size, "field names of the schema (common/schema.c), not '%s'", name);
+            return 0;
+        }
+        p += len + (p[len] == ',');
+    }
+    return 1;
+}
+
 static int is_choice(const char *choices, const char *v)
 {
     const size_t n = strlen(v);
@@ -287,6 +305,8 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
     case TYPE_FIELDS:
         if (!is_field_list(value))
             expected = "field names separated by commas (e.g. phi,vx,T)";
+        else if (!fields_in_schema(value, choices, sizeof choices))
+            expected = choices;
         break;
     case TYPE_ENUM:
         if (!is_choice(tk->choices, value)) {

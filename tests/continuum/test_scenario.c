@@ -189,6 +189,12 @@ static const error_case TOOL_ERRORS[] = {
      FILE_NAME ":31: [compare] fields: expected field names separated by commas (e.g. phi,vx,T), got 'phi,,T'"},
     {"[compare] fields with blanks", "[compare]\nfields = phi, T", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [compare] fields: expected field names separated by commas (e.g. phi,vx,T), got 'phi, T'"},
+    {"[compare] unknown field", "[compare]\nfields = phi,bogus", {NULL}, EKM_EINPUT,
+     FILE_NAME ":31: [compare] fields: expected field names of the schema (common/schema.c), not 'bogus', got "
+               "'phi,bogus'"},
+    {"[compare] unknown field --set", NULL, {"compare.fields=phi,bogus", NULL}, EKM_EINPUT,
+     "--set compare.fields: [compare] fields: expected field names of the schema (common/schema.c), not 'bogus', "
+     "got 'phi,bogus'"},
     {"[compare] enum", "[compare]\nlammps.ekm_time = first", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [compare] lammps.ekm_time: expected one of last interp, got 'first'"},
     {"[compare] shift", "[compare]\nshift = -", {NULL}, EKM_EINPUT, FILE_NAME ":31: [compare] shift: expected a number, got '-'"},
