@@ -20,8 +20,6 @@
 #include "scenario.h"
 #include "status.h"
 
-#define EXIT_USAGE 1 /* docs/exit-codes.md: bad command line */
-
 static const char fit_usage[] =
   "usage: ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu[,...]\n"
   "                      [--start FILE.ini] [--fields P,sxz,T] [--starts N] -o FIT.json [--ini FIT.ini]\n"
@@ -47,7 +45,7 @@ static int usage(const char *fmt, const char *arg)
   fprintf(stderr, "ekmcompare fit: ");
   fprintf(stderr, fmt, arg);
   fprintf(stderr, " (see ekmcompare fit --help)\n");
-  return EXIT_USAGE;
+  return ekm_status_exit_code(EKM_EUSAGE);
 }
 
 static int parse_args(int argc, char **argv, fit_args *a)
@@ -310,10 +308,7 @@ int cg_fit_main(int argc, char **argv)
     ekm_error err = {.message = ""};
     if (a.rheology && !a.nstarts) a.nstarts = 8;
     const ekm_status st = a.scenario ? run_scenario_fit(&a, &err) : run_fit(&a, &err);
-    if (st != EKM_OK) {
-      fprintf(stderr, "%s\n", err.message);
-      if (getenv("EKMCOMPARE_DEBUG")) fprintf(stderr, "  (raised at %s:%d)\n", err.src_file, err.src_line);
-    }
+    if (st != EKM_OK) ekm_error_print("ekmcompare", &err);
     rc = ekm_status_exit_code(st);
   }
   free(a.inputs);

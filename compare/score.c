@@ -10,6 +10,7 @@
 #include "h5.h"
 #include "metric.h"
 #include "scalars.h"
+#include "schema.h"
 
 #define MAXF 16
 static const char *const default_fields[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
@@ -407,6 +408,35 @@ static ekm_status summarise(const cg_score_opts *o, const axes *ax, const side *
   return rc;
 }
 
+/* A --fields name must be a field of the schema (common/schema.h). */
+static ekm_status check_field_name(const char *name, ekm_error *err)
+{
+  if (ekm_field_lookup(name)) return EKM_OK;
+  char known[512] = "";
+  size_t used = 0;
+  for (size_t i = 0; i < ekm_field_count() && used < sizeof known; i++) {
+    const char *n = ekm_field_at(i)->name;
+    const size_t len = strlen(n);
+    if (len > 3 && !strcmp(n + len - 3, "_se")) continue; /* standard errors come with their field */
+    used += (size_t)snprintf(known + used, sizeof known - used, "%s%s", used ? " " : "", n);
+  }
+  return EKM_FAIL(err, EKM_EINPUT, "--fields: unknown field '%s' (the fields are: %s)", name, known);
+}
+
+/* Dataset name of file f must carry the schema's units attribute. */
+static ekm_status check_units(ekm_h5_file *f, const char *path, const char *name, ekm_error *err)
+{
+  const char *want = ekm_field_units(name);
+  if (!want) return EKM_OK;
+  char got[64];
+  ekm_status rc = ekm_h5_attr_get_string(f, name, "units", got, sizeof got, err);
+  if (rc) return rc;
+  if (strcmp(got, want))
+    return EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: units '%s', expected '%s' (the field schema)", path, name, got,
+                    want);
+  return EKM_OK;
+}
+
 ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err)
 {
   cg_score_field loc[MAXF];
@@ -430,7 +460,9 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
       if (len == 0 || len >= 32 || nf == MAXF)
         return EKM_FAIL(err, EKM_EUSAGE, "--fields: expected a comma-separated list of field names, got '%s'", o->fields);
       memcpy(names[nf], p, len);
-      names[nf++][len] = '\0';
+      names[nf][len] = '\0';
+      ekm_status st = check_field_name(names[nf++], err);
+      if (st) return st;
       p += len + (q ? 1 : 0);
     }
   }
@@ -511,6 +543,8 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
     snprintf(sename, sizeof sename, "%s_se", names[f]);
     if (!ekm_h5_exists(dem, names[f])) rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->dem, names[f]);
     else if (!ekm_h5_exists(ekm, names[f])) rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->ekm, names[f]);
+    if (!rc) rc = check_units(dem, o->dem, names[f], err);
+    if (!rc) rc = check_units(ekm, o->ekm, names[f], err);
     if (!rc) rc = read_array(dem, names[f], &fd, &nt1, &n1, err);
     if (!rc && (nt1 != ax.ntd || n1 != ax.nzd))
       rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, names[f], ax.ntd, ax.nzd);

@@ -118,7 +118,9 @@ static int cmd_run(int argc, char **argv)
     ekm_h5_xdmf_path(out, xdmf, sizeof xdmf);
     const char *const inputs[] = {ini, material};
     const size_t n_inputs = material ? 2 : 1;
-    ekm_status st = ekm_atomic_refuse_input(out, inputs, n_inputs, &err);
+    ekm_status st = ekm_atomic_check_target(out, &err);
+    if (st == EKM_OK)
+        st = ekm_atomic_refuse_input(out, inputs, n_inputs, &err);
     if (st == EKM_OK)
         st = ekm_atomic_refuse_input(xdmf, inputs, n_inputs, &err);
     if (st != EKM_OK) {
@@ -138,7 +140,7 @@ static int cmd_run(int argc, char **argv)
         if (!s) EKM_FAIL(&err, EKM_ENOMEM, "out of memory (%d cells)", sc.cells);
         ekm_state_free(s);
         ekm_scenario_free(&sc);
-        return fail(&err, s ? EKM_EINPUT : EKM_ENOMEM);
+        return fail(&err, err.code); /* the status ekm_step_alloc recorded */
     }
     ekm_state_init(s, &sc);
     frame_ctx fc = {0};

@@ -1,6 +1,7 @@
 /* resolve.c: the keys of the other tools' sections, their lookup rule and
  * defaults, and the sweep points (resolve.h, docs/resolved-scenario.md). */
 #include "resolve.h"
+#include "schema.h"
 
 #include <errno.h>
 #include <math.h>
@@ -202,6 +203,23 @@ static int is_field_list(const char *v)
     }
 }
 
+/* Whether every name of a valid field list is a field of common/schema.h;
+ * otherwise 0 and what was expected, naming the first unknown one. */
+static int fields_in_schema(const char *v, char *expected, size_t size)
+{
+    for (const char *p = v; *p;) {
+        const size_t len = strcspn(p, ",");
+        char name[64];
+        snprintf(name, sizeof name, "%.*s", (int)len, p);
+        if (!ekm_field_lookup(name)) {
+            snprintf(expected, size, "field names of the schema (common/schema.c), not '%s'", name);
+            return 0;
+        }
+        p += len + (p[len] == ',');
+    }
+    return 1;
+}
+
 static int is_choice(const char *choices, const char *v)
 {
     const size_t n = strlen(v);
@@ -212,6 +230,38 @@ static int is_choice(const char *choices, const char *v)
         p += len;
     }
     return 0;
+}
+
+/* The range of a [dem] key whose value has its type, or NULL when the
+ * value is in range (or the key has no range): docs/scenario-format.md. */
+static const char *dem_range(const char *base, const char *value)
+{
+    const double x = strtod(value, NULL);
+    static const struct {
+        const char *key, *expected;
+        double lo, hi;
+        int lo_open, hi_open; /* 1: the bound itself is outside; hi = HUGE_VAL: none */
+    } R[] = {
+        {"diameter", "a diameter > 0 [m]", 0, HUGE_VAL, 1, 1},
+        {"dt", "a time step > 0 [s]", 0, HUGE_VAL, 1, 1},
+        {"youngs", "a modulus > 0 [Pa]", 0, HUGE_VAL, 1, 1},
+        {"friction", "a friction coefficient >= 0", 0, HUGE_VAL, 0, 1},
+        {"poisson", "a Poisson ratio in (-1, 0.5)", -1, 0.5, 1, 1},
+        {"restitution", "a restitution in (0, 1]", 0, 1, 1, 0},
+        {"restitution_input", "a restitution in (0, 1]", 0, 1, 1, 0},
+        {"timeout", "a timeout >= 1 [s]", 1, HUGE_VAL, 0, 1},
+        {"dump_every", "an interval >= 1 [steps]", 1, HUGE_VAL, 0, 1},
+        {"thermo_every", "an interval >= 1 [steps]", 1, HUGE_VAL, 0, 1},
+        {"steady_tol", "a tolerance > 0", 0, HUGE_VAL, 1, 1},
+        {"spread", "a size spread in [0, 1)", 0, 1, 0, 1},
+    };
+    for (size_t i = 0; i < sizeof R / sizeof R[0]; i++)
+        if (strcmp(R[i].key, base) == 0) {
+            const int low_ok = R[i].lo_open ? x > R[i].lo : x >= R[i].lo;
+            const int high_ok = R[i].hi_open ? x < R[i].hi : x <= R[i].hi;
+            return low_ok && high_ok ? NULL : R[i].expected;
+        }
+    return NULL;
 }
 
 int ekm_resolve_check_key(const char *section, const char *key, const char *value, char *why, size_t size)
@@ -257,6 +307,8 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
     case TYPE_FIELDS:
         if (!is_field_list(value))
             expected = "field names separated by commas (e.g. phi,vx,T)";
+        else if (!fields_in_schema(value, choices, sizeof choices))
+            expected = choices;
         break;
     case TYPE_ENUM:
         if (!is_choice(tk->choices, value)) {
@@ -265,6 +317,8 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
         }
         break;
     }
+    if (!expected && strcmp(section, "dem") == 0)
+        expected = dem_range(base, value);
     if (expected) {
         snprintf(why, size, "[%s] %s: expected %s, got '%s'", section, key, expected, value);
         return 0;
@@ -430,6 +484,20 @@ static ekm_status split_list(const ekm_resolve_key *k, item_list *out, ekm_error
     return EKM_OK;
 }
 
+/* Every item of a [dem] sweep list in (lo, hi) (hi <= 0: no upper bound). */
+static ekm_status check_sweep_items(const ekm_resolve_key *k, const item_list *l, double lo, double hi,
+                                    const char *expected, ekm_error *err)
+{
+    const char *key = k->as[0] ? k->as : k->name + 4;
+    for (size_t i = 0; i < l->n; i++) {
+        const double x = strtod(l->item[i], NULL);
+        if (!(x > lo) || (hi > 0 && !(x < hi)))
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: expected %s, got '%s'", k->from, key, expected,
+                            l->item[i]);
+    }
+    return EKM_OK;
+}
+
 static ekm_resolve_point *add_point(ekm_resolved *r, ekm_error *err)
 {
     ekm_resolve_point *p = realloc(r->points, (r->n_points + 1) * sizeof *p);
@@ -469,8 +537,14 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
         }
     } else if (sweep == SWEEP_PHI_RATE && phis && rates) {
         st = split_list(phis, &a[0], err);
+        char phi_range[64];
+        snprintf(phi_range, sizeof phi_range, "volume fractions in (0, phi_cp = %g)", s->material.phi_cp);
+        if (st == EKM_OK)
+            st = check_sweep_items(phis, &a[0], 0.0, s->material.phi_cp, phi_range, err);
         if (st == EKM_OK)
             st = split_list(rates, &a[1], err);
+        if (st == EKM_OK)
+            st = check_sweep_items(rates, &a[1], 0.0, 0.0, "shear rates > 0 [1/s]", err);
         const size_t n = a[0].n * a[1].n;
         for (size_t i = 0; i < a[0].n && st == EKM_OK; i++)
             for (size_t j = 0; j < a[1].n && st == EKM_OK; j++) {
@@ -486,13 +560,13 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
                 snprintf(p->var_value[0], sizeof p->var_value[0], "%s", a[0].item[i]);
                 snprintf(p->var_name[1], sizeof p->var_name[1], "rate");
                 snprintf(p->var_value[1], sizeof p->var_value[1], "%s", a[1].item[j]);
-                /* the walls at -+ R L/2, as scripts/campaign/ekm_step.sh set them
-                 * (awk: r * L / 2, printf "%.10g") */
+                /* the walls at -+ R L/2 (r * L / 2 printed "%.10g": the digits
+                 * the DEM campaign has always used) */
                 const double v = strtod(a[1].item[j], NULL) * s->length / 2;
                 p->n_sets = 3;
                 snprintf(p->set[0], sizeof p->set[0], "initial.phi=%s", a[0].item[i]);
                 snprintf(p->set[1], sizeof p->set[1], "top.velocity=%.10g", v);
-                snprintf(p->set[2], sizeof p->set[2], "bottom.velocity=-%.10g", v);
+                snprintf(p->set[2], sizeof p->set[2], "bottom.velocity=%.10g", -v);
             }
     } else if (!add_point(r, err)) {
         st = EKM_ENOMEM;

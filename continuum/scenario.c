@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #define DEG (3.14159265358979323846 / 180.0)
 
@@ -140,6 +141,7 @@ typedef struct {
     ekm_error *err;
     int seen[N_KEYS];  /* 1 + entry index where the key was set, 0 if not */
     int seen_line[N_KEYS];
+    char set_name[140]; /* "section.key" of the --set being read (messages: "--set section.key: ...") */
 } parse_ctx;
 
 static char *reader(char *str, int num, void *stream)
@@ -165,7 +167,10 @@ static int fail_once(parse_ctx *c, ekm_status code, const char *fmt, const char 
         c->failed = 1;
         char buf[700];
         snprintf(buf, sizeof buf, fmt, section, key, detail);
-        EKM_FAIL(c->err, code, "%s:%d: %s", c->file, c->line, buf);
+        if (c->origin == EKM_FROM_SET)
+            EKM_FAIL(c->err, code, "--set %s: %s", c->set_name, buf);
+        else
+            EKM_FAIL(c->err, code, "%s:%d: %s", c->file, c->line, buf);
     }
     return 0;
 }
@@ -253,8 +258,8 @@ static int handler(void *user, const char *section, const char *key, const char 
     }
     if (!section_known(section))
         return fail_once(c, EKM_EINPUT,
-                         "[%s]%s: unknown section (ekm reads scenario material model domain gravity "
-                         "initial bottom top run numerics hypo; skips dem compare campaign figures)%s",
+                         "[%s]%s: unknown section (the sections are scenario material model domain gravity "
+                         "initial bottom top run numerics hypo dem compare campaign figures)%s",
                          section, "", "");
     size_t k;
     for (k = 0; k < N_KEYS; k++)
@@ -395,8 +400,15 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
                             strcmp(KEYS[k].section, "material") == 0 ? material_file : c->file, KEYS[k].section,
                             KEYS[k].key);
     ekm_error merr;
-    if (ekm_material_check(&s->material, &merr) != EKM_OK)
-        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", material_file, merr.message);
+    if (ekm_material_check(&s->material, &merr) != EKM_OK) {
+        if (strcmp(material_file, c->file) != 0) /* --material FIT.ini: the whole section is its */
+            return EKM_FAIL(err, EKM_EINPUT, "%s: %s", material_file, merr.message);
+        /* merr says "[material] KEY: ..."; prefix where KEY came from (file:line or --set) */
+        char key[64] = "", w_[600];
+        if (sscanf(merr.message, "[material] %63[^:]", key) != 1)
+            key[0] = '\0';
+        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", where(c, "material", key, w_, sizeof w_), merr.message);
+    }
     RANGE(s->length > 0.0, "domain", "length", "a length > 0 [m]", s->length);
     RANGE(s->cells >= 1 && s->cells <= 10000000, "domain", "cells", "an integer in [1, 1e7]", s->cells);
     RANGE(s->gravity >= 0.0, "gravity", "magnitude", "a number >= 0 [m/s^2]", s->gravity);
@@ -469,6 +481,12 @@ static ekm_status parse_file(parse_ctx *c, const char *path, const char *what, e
     c->fp = fopen(path, "r");
     if (!c->fp)
         return EKM_FAIL(err, EKM_EIO, "%s: cannot open %s: %s", path, what, strerror(errno));
+    struct stat fst;
+    if (fstat(fileno(c->fp), &fst) != 0 || !S_ISREG(fst.st_mode)) {
+        fclose(c->fp);
+        c->fp = NULL;
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot read %s: not a regular file", path, what);
+    }
     int rc = ini_parse_stream(reader, c, handler, c);
     fclose(c->fp);
     c->fp = NULL;
@@ -521,6 +539,7 @@ ekm_status ekm_scenario_load_material(ekm_scenario *s, const char *path, const c
         c.file = "--set";
         c.line = (int)i + 1;
         c.origin = EKM_FROM_SET;
+        snprintf(c.set_name, sizeof c.set_name, "%s.%s", section, key);
         if (!handler(&c, section, key, eq + 1))
             return EKM_EINPUT;
         /* --set entries are marked with line 0 so messages say "--set". */

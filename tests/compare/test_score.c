@@ -8,6 +8,7 @@
 #include <math.h>
 
 #include "h5.h"
+#include "schema.h"
 #include "score.h"
 #include "test_util.h"
 
@@ -36,7 +37,7 @@ static void write_ekm(const char *path, size_t nz, double z0, double z1, size_t 
   put(w, "z", z, 0, nz, "m");
   put(w, "t", t, 0, nt, "s");
   const char *names[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
-  for (size_t i = 0; i < 7; i++) put(w, names[i], f, nt, nz, "1");
+  for (size_t i = 0; i < 7; i++) put(w, names[i], f, nt, nz, ekm_field_units(names[i]));
   /* the contract's int32 /regime dataset */
   int *reg = calloc(nt * nz, sizeof *reg);
   size_t dims[2] = {nt, nz};
@@ -68,9 +69,9 @@ static void write_dem(const char *path, size_t nz, double z0, double z1, size_t 
   const char *names[] = {"phi", "vx", "T"};
   char sen[32];
   for (size_t i = 0; i < 3; i++) {
-    put(w, names[i], f, nt, nz, "1");
+    put(w, names[i], f, nt, nz, ekm_field_units(names[i]));
     snprintf(sen, sizeof sen, "%s_se", names[i]);
-    put(w, sen, s, nt, nz, "1");
+    put(w, sen, s, nt, nz, ekm_field_units(names[i]));
   }
   assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
   assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
@@ -368,6 +369,33 @@ static void test_bad_inputs(void **state)
   assert_non_null(strstr(err.message, "score_dem3.h5: expected a dataset P"));
   o.fields = "phi,,T";
   assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
+  /* a name the field schema does not know */
+  o.fields = "phi,bogus";
+  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+  assert_non_null(strstr(err.message, "--fields: unknown field 'bogus' (the fields are: "));
+  assert_non_null(strstr(err.message, " phi "));
+  /* units other than the schema's */
+  char wrong[512];
+  tmp_path(wrong, sizeof wrong, "score_wrong_units.h5");
+  ekm_h5_file *w;
+  assert_int_equal(ekm_h5_create(&w, wrong, &err), EKM_OK);
+  double z[10], tt[2] = {0.0, 1.0}, f[20];
+  for (size_t k = 0; k < 10; k++) z[k] = ((double)k + 0.5) / 10.0;
+  for (size_t k = 0; k < 20; k++) f[k] = 1.0;
+  put(w, "z", z, 0, 10, "m");
+  put(w, "t", tt, 0, 2, "s");
+  put(w, "phi", f, 2, 10, "kg");
+  int reg[20] = {0};
+  size_t dims[2] = {2, 10};
+  assert_int_equal(ekm_h5_write_int(w, "regime", 2, dims, reg, "1", NULL, &err), EKM_OK);
+  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "variant", "full", &err), EKM_OK);
+  assert_int_equal(ekm_h5_attr_set_double(w, NULL, "gravity_z", -9.81, &err), EKM_OK);
+  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "code_version", "test", &err), EKM_OK);
+  assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+  o.ekm = wrong;
+  o.fields = "phi";
+  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+  assert_non_null(strstr(err.message, "score_wrong_units.h5: dataset phi: units 'kg', expected '1' (the field schema)"));
 }
 
 int main(void)
