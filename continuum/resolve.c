@@ -307,8 +307,9 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
     case TYPE_FIELDS:
         if (!is_field_list(value))
             expected = "field names separated by commas (e.g. phi,vx,T)";
-        else if (!fields_in_schema(value, choices, sizeof choices))
-            expected = choices;
+        else if (strcmp(section, "compare") == 0 && strcmp(base, "fields") == 0 &&
+                 !fields_in_schema(value, choices, sizeof choices))
+            expected = choices; /* [compare] scalars names scalars and sets, not fields */
         break;
     case TYPE_ENUM:
         if (!is_choice(tk->choices, value)) {

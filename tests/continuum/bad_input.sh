@@ -67,7 +67,7 @@ check "bad --set value" 2 "--set.*\[domain\] cells: expected an integer, got 'ma
 check "--set out of range" 2 "--set domain.length.*expected a length > 0" \
     run "$base" -o out.h5 --set domain.length=-1
 
-check "bad stop" 2 "--set:1: \[run\] stop: expected 't_end' or 'steady', got 'never'" \
+check "bad stop" 2 "--set run.stop: \[run\] stop: expected 't_end' or 'steady', got 'never'" \
     run "$base" -o out.h5 --set run.stop=never
 check "steady_tol out of range" 2 "--set run.steady_tol: \[run\] steady_tol: expected a rate > 0" \
     run "$base" -o out.h5 --set run.steady_tol=0
