@@ -26,34 +26,54 @@ static double now_s(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-static int load(ekm_scenario *sc, const char *src, const char *name, const char *const *sets, size_t n)
+static ekm_status load(ekm_scenario *sc, const char *src, const char *name, const char *const *sets, size_t n)
 {
     char path[1024];
     snprintf(path, sizeof path, "%s/scenarios/%s.ini", src, name);
     ekm_error err;
-    if (ekm_scenario_load(sc, path, sets, n, &err) != EKM_OK) {
-        fprintf(stderr, "ekm_bench: %s\n", err.message);
-        return 0;
-    }
-    return 1;
+    const ekm_status st = ekm_scenario_load(sc, path, sets, n, &err);
+    if (st != EKM_OK)
+        ekm_error_print("ekm_bench", &err);
+    return st;
 }
 
-/* Cell-updates per second, or a negative number on failure. */
-static double throughput(const char *src, const char *name, int cells)
+/* Allocate the state and the stepper of sc; on failure prints the error
+ * and returns its status (*s and *st freed and NULL). */
+static ekm_status alloc_run(const ekm_scenario *sc, ekm_state **s, ekm_stepper **st)
+{
+    ekm_error err = {0};
+    *st = NULL;
+    *s = ekm_state_alloc(sc->cells, sc->length);
+    if (!*s) {
+        EKM_FAIL(&err, EKM_ENOMEM, "out of memory (%d cells)", sc->cells);
+    } else if (!(*st = ekm_step_alloc(sc, &err))) {
+        ekm_state_free(*s);
+        *s = NULL;
+    }
+    if (!*s) {
+        ekm_error_print("ekm_bench", &err);
+        return err.code;
+    }
+    return EKM_OK;
+}
+
+/* Cell-updates per second into *rate; the failure's status otherwise. */
+static ekm_status throughput(const char *src, const char *name, int cells, double *rate)
 {
     char set_cells[64];
     snprintf(set_cells, sizeof set_cells, "domain.cells=%d", cells);
     const char *sets[] = {set_cells};
     ekm_scenario sc;
-    if (!load(&sc, src, name, sets, 1)) {
+    ekm_status status = load(&sc, src, name, sets, 1);
+    if (status != EKM_OK) {
         ekm_scenario_free(&sc);
-        return -1;
+        return status;
     }
-    ekm_error err;
-    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
-    ekm_stepper *st = s ? ekm_step_alloc(&sc, &err) : NULL;
-    double rate = -1;
-    if (s && st) {
+    ekm_error err = {0};
+    ekm_state *s = NULL;
+    ekm_stepper *st = NULL;
+    status = alloc_run(&sc, &s, &st);
+    if (status == EKM_OK) {
         ekm_state_init(s, &sc);
         long updates = 0, steps = 0;
         const double t0 = now_s();
@@ -62,7 +82,13 @@ static double throughput(const char *src, const char *name, int cells)
             double dt = ekm_control_max_dt(&sc, s);
             int accepted = 0;
             while (!accepted) {
-                if (ekm_step_apply(st, s, dt, &accepted, &err) != EKM_OK || dt < sc.numerics.dt_min) {
+                status = ekm_step_apply(st, s, dt, &accepted, &err);
+                if (status != EKM_OK) {
+                    fprintf(stderr, "ekm_bench: %s at %d cells failed: %s\n", name, cells, err.message);
+                    goto done;
+                }
+                if (dt < sc.numerics.dt_min) {
+                    status = EKM_ENUMERIC;
                     fprintf(stderr, "ekm_bench: %s at %d cells failed: %s\n", name, cells, st->reject_reason);
                     goto done;
                 }
@@ -74,34 +100,37 @@ static double throughput(const char *src, const char *name, int cells)
                 elapsed = now_s() - t0;
         }
         elapsed = now_s() - t0;
-        rate = updates / elapsed;
+        *rate = updates / elapsed;
         fprintf(stderr, "  %-12s %6d cells: %8ld steps in %.2f s, %.3g cell-updates/s\n", name, cells, steps,
-                elapsed, rate);
+                elapsed, *rate);
     }
 done:
     ekm_step_free(st);
     ekm_state_free(s);
     ekm_scenario_free(&sc);
-    return rate;
+    return status;
 }
 
-static double thesis_filling_wall(const char *src, long *steps)
+/* Wall time of a whole thesis_filling run into *wall, its steps into *steps. */
+static ekm_status thesis_filling_wall(const char *src, double *wall, long *steps)
 {
     ekm_scenario sc;
-    double wall = -1;
-    if (!load(&sc, src, "thesis_filling", NULL, 0)) {
+    ekm_status status = load(&sc, src, "thesis_filling", NULL, 0);
+    if (status != EKM_OK) {
         ekm_scenario_free(&sc);
-        return -1;
+        return status;
     }
-    ekm_error err;
-    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
-    ekm_stepper *st = s ? ekm_step_alloc(&sc, &err) : NULL;
-    if (s && st) {
+    ekm_error err = {0};
+    ekm_state *s = NULL;
+    ekm_stepper *st = NULL;
+    status = alloc_run(&sc, &s, &st);
+    if (status == EKM_OK) {
         ekm_state_init(s, &sc);
         ekm_run_stats stats;
         const double t0 = now_s();
-        if (ekm_run(&sc, s, st, NULL, &stats, &err) == EKM_OK) {
-            wall = now_s() - t0;
+        status = ekm_run(&sc, s, st, NULL, &stats, &err);
+        if (status == EKM_OK) {
+            *wall = now_s() - t0;
             *steps = stats.steps;
         } else {
             fprintf(stderr, "ekm_bench: thesis_filling failed: %s\n", err.message);
@@ -110,7 +139,7 @@ static double thesis_filling_wall(const char *src, long *steps)
     ekm_step_free(st);
     ekm_state_free(s);
     ekm_scenario_free(&sc);
-    return wall;
+    return status;
 }
 
 int main(int argc, char **argv)
@@ -129,14 +158,15 @@ int main(int argc, char **argv)
     const char *names[] = {"shear_cell", "filling"};
     const int sizes[] = {100, 1000, 10000};
     double rates[2][3];
+    ekm_status bench_st;
     for (int i = 0; i < 2; i++)
         for (int k = 0; k < 3; k++)
-            if ((rates[i][k] = throughput(src, names[i], sizes[k])) < 0)
-                return 4;
+            if ((bench_st = throughput(src, names[i], sizes[k], &rates[i][k])) != EKM_OK)
+                return ekm_status_exit_code(bench_st);
     long steps = 0;
-    const double wall = thesis_filling_wall(src, &steps);
-    if (wall < 0)
-        return 4;
+    double wall = 0;
+    if ((bench_st = thesis_filling_wall(src, &wall, &steps)) != EKM_OK)
+        return ekm_status_exit_code(bench_st);
     fprintf(stderr, "  thesis_filling (30 cells, 40 s): %ld steps, %.3f s\n", steps, wall);
     ekm_error err = {0};
     ekm_atomic out;

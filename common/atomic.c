@@ -161,6 +161,23 @@ static void directory_of(const char *path, char *out, size_t size)
         snprintf(out, size, "%.*s", (int)(slash - path), path);
 }
 
+ekm_status ekm_atomic_check_target(const char *path, ekm_error *err)
+{
+    struct stat st;
+    const size_t len = strlen(path);
+    if (len == 0 || path[len - 1] == '/' || (stat(path, &st) == 0 && S_ISDIR(st.st_mode)))
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output: is a directory", path);
+    char dir[EKM_ATOMIC_PATH_MAX];
+    directory_of(path, dir, sizeof dir);
+    if (stat(dir, &st) != 0)
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output: directory %s: %s", path, dir, strerror(errno));
+    if (!S_ISDIR(st.st_mode))
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output: %s is not a directory", path, dir);
+    if (access(dir, W_OK) != 0)
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output: directory %s: %s", path, dir, strerror(errno));
+    return EKM_OK;
+}
+
 static int fsync_path(const char *path, int flags)
 {
     const int fd = open(path, O_RDONLY | flags);

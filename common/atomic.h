@@ -68,4 +68,9 @@ void ekm_atomic_unregister(int slot);
 ekm_status ekm_atomic_refuse_input(const char *out_path, const char *const *inputs, size_t n,
                                    ekm_error *err);
 
+/* EKM_EIO unless an output could be written at path: not a directory (nor
+ * a name ending in '/'), its directory existing, a directory and writable.
+ * Call before any work, so a bad -o fails at once, not at the rename. */
+ekm_status ekm_atomic_check_target(const char *path, ekm_error *err);
+
 #endif

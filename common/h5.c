@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "atomic.h"
@@ -104,6 +105,9 @@ ekm_status ekm_h5_open(ekm_h5_file **out, const char *path, ekm_error *err)
     ekm_h5_quiet();
     if (access(path, R_OK) != 0)
         return EKM_FAIL(err, EKM_EIO, "%s: cannot open: no such readable file", path);
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot open: not a regular file", path);
     if (H5Fis_hdf5(path) <= 0)
         return EKM_FAIL(err, EKM_EINPUT, "%s: expected an HDF5 file", path);
     ekm_h5_file *f = calloc(1, sizeof *f);

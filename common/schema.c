@@ -12,6 +12,7 @@ static const ekm_field FIELDS[] = {
     {"x", "m", "bin centres along x (CG with --axis x)"},
     {"y", "m", "bin centres along y (CG with --axis y)"},
     {"t", "s", "output times (EKM), snapshot-window times (CG)"},
+    {"gap", "m", "wall-to-wall gap at each output time (EKM with a pressure-controlled top wall)"},
     {"nsnapshots", "1", "number of DEM snapshots averaged into each time row (CG)"},
     {"phi", "1", "solid volume fraction"},
     {"rho", "kg/m^3", "bulk density (CG)"},

@@ -52,8 +52,8 @@ static ekm_status make_grid(const cg_run_opts *o, const cg_input *src, double wi
   return EKM_OK;
 }
 
-/* No output may replace an input (dumps and pair dumps), nor the HDF5
- * output the CSV: refused before any work. */
+/* Every output must be writable, and none may replace an input (dumps and
+ * pair dumps), nor the HDF5 output the CSV: refused before any work. */
 static ekm_status refuse_inputs(const cg_run_opts *o, ekm_error *err)
 {
   size_t n = o->ninputs + o->npairs;
@@ -62,7 +62,9 @@ static ekm_status refuse_inputs(const cg_run_opts *o, ekm_error *err)
   for (size_t i = 0; i < o->ninputs; i++) in[i] = o->inputs[i];
   for (size_t i = 0; i < o->npairs; i++) in[o->ninputs + i] = o->pairs[i];
   ekm_status rc = EKM_OK;
-  if (o->out) rc = ekm_atomic_refuse_input(o->out, in, n, err);
+  if (o->out) rc = ekm_atomic_check_target(o->out, err);
+  if (!rc && o->csv) rc = ekm_atomic_check_target(o->csv, err);
+  if (!rc && o->out) rc = ekm_atomic_refuse_input(o->out, in, n, err);
   if (!rc && o->csv) {
     if (o->out) in[n++] = o->out;
     rc = ekm_atomic_refuse_input(o->csv, in, n, err);

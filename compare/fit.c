@@ -1,4 +1,6 @@
-/* fit.c: the fitting engine of `ekmcompare fit --rheology` (see fit.h). */
+/* fit.c: the fitting engine of `ekmcompare fit` (see fit.h): the trust-region
+ * driver cg_fit_solve, shared by --rheology (cg_fit_run, below) and
+ * --scenario (fit_scen.c). */
 #include "fit.h"
 
 #include <gsl/gsl_blas.h>
@@ -62,10 +64,15 @@ double cg_fit_param_get(const ekm_material *m, int index)
   return *(const double *)((const char *)m + PARAMS[index].offset);
 }
 
-/* ---- the model's residuals ---- */
+void cg_fit_param_set(ekm_material *m, int index, double v)
+{
+  *param_ptr(m, index) = v;
+}
+
+/* ---- the driver's context ---- */
 
 typedef struct {
-  const cg_fit_problem *pb;
+  const cg_fit_spec *sp;
   ekm_material base;         /* start values with held parameters in place */
   size_t nfree;
   int free_param[CG_FIT_MAXP]; /* indices into PARAMS of the fitted ones */
@@ -125,27 +132,6 @@ static ekm_status material_to_x(const fit_ctx *c, const ekm_material *m, double 
   return EKM_OK;
 }
 
-/* Residuals (model - data)/SE at material m into r (nres), and the model
- * values (npts x CG_FIT_NFIELD, may be NULL). Non-zero if the model
- * cannot be evaluated. */
-static int model_residuals(const cg_fit_problem *pb, const ekm_material *m, double *r, double *model)
-{
-  size_t i = 0;
-  for (size_t k = 0; k < pb->npts; k++) {
-    const cg_fit_point *pt = &pb->pts[k];
-    ekm_homog_state h;
-    ekm_error e;
-    if (ekm_homog_shear(m, pb->variant, pt->phi, pt->gdot, &h, &e) != EKM_OK) return 1;
-    const double mv[CG_FIT_NFIELD] = {[CG_FIT_P] = h.P, [CG_FIT_SXZ] = h.sxz, [CG_FIT_T] = h.T,
-                                      [CG_FIT_MU] = h.mu};
-    for (int f = 0; f < CG_FIT_NFIELD; f++) {
-      if (model) model[k * CG_FIT_NFIELD + f] = mv[f];
-      if (pb->fields & (1u << f)) r[i++] = (mv[f] - pt->value[f]) / pt->se[f];
-    }
-  }
-  return 0;
-}
-
 static int resid_gsl(const gsl_vector *x, void *params, gsl_vector *f)
 {
   const fit_ctx *c = params;
@@ -155,7 +141,7 @@ static int resid_gsl(const gsl_vector *x, void *params, gsl_vector *f)
   x_to_material(c, xv, &m);
   double *r = malloc(c->nres * sizeof *r);
   if (!r) return GSL_ENOMEM;
-  int bad = model_residuals(c->pb, &m, r, NULL);
+  int bad = c->sp->residuals(c->sp->ctx, &m, r);
   for (size_t i = 0; i < c->nres && !bad; i++) {
     if (!isfinite(r[i])) bad = 1;
     gsl_vector_set(f, i, r[i]);
@@ -166,29 +152,30 @@ static int resid_gsl(const gsl_vector *x, void *params, gsl_vector *f)
 
 /* Jacobian of the residuals with respect to the parameters idx[0..np),
  * column j scaled by p_j (p_j dr/dp_j; dr/dp_j when p_j = 0): central
- * differences with step 1e-6 |p_j|, one-sided where the model's range
- * ends. J is nres x np. */
+ * differences with step jac_rel_step |p_j|, one-sided where the model's
+ * range ends. J is nres x np. */
 static ekm_status scaled_jacobian(const fit_ctx *c, const ekm_material *m, const int *idx, size_t np,
                                   gsl_matrix *J, ekm_error *err)
 {
+  const cg_fit_spec *sp = c->sp;
   const size_t n = c->nres;
   double *rp = malloc(2 * n * sizeof *rp);
   if (!rp) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   double *rm = rp + n;
   for (size_t j = 0; j < np; j++) {
     const double p = cg_fit_param_get(m, idx[j]);
-    const double h = p != 0.0 ? 1e-6 * fabs(p) : 1e-8;
+    const double h = p != 0.0 ? sp->jac_rel_step * fabs(p) : 1e-8;
     ekm_material mp = *m, mm = *m;
     *param_ptr(&mp, idx[j]) = p + h;
     *param_ptr(&mm, idx[j]) = p - h;
-    const int okp = !model_residuals(c->pb, &mp, rp, NULL), okm = !model_residuals(c->pb, &mm, rm, NULL);
+    const int okp = !sp->residuals(sp->ctx, &mp, rp), okm = !sp->residuals(sp->ctx, &mm, rm);
     double step = 2.0 * h;
     if (!okp && !okm) {
       free(rp);
       return EKM_FAIL(err, EKM_ENUMERIC, "%s = %g: the model cannot be evaluated around it", PARAMS[idx[j]].name, p);
     }
     if (!okp || !okm) { /* one-sided: the missing side is r(p) */
-      model_residuals(c->pb, m, okp ? rm : rp, NULL);
+      sp->residuals(sp->ctx, m, okp ? rm : rp);
       step = h;
     }
     const double scale = p != 0.0 ? p : 1.0;
@@ -204,28 +191,12 @@ static double column_norm(const gsl_matrix *J, size_t j)
   return gsl_blas_dnrm2(&col.vector);
 }
 
-/* ---- the reasons ---- */
-
-static int all_below_phi_co(const cg_fit_problem *pb, const ekm_material *m)
-{
-  for (size_t k = 0; k < pb->npts; k++)
-    if (pb->pts[k].phi > m->phi_co) return 0;
-  return 1;
-}
-
-static void why_insensitive(const cg_fit_problem *pb, const ekm_material *m, int i, double norm, int at_start,
+static void why_insensitive(const cg_fit_spec *sp, const ekm_material *m, int i, double norm, int at_start,
                             char *buf, size_t size)
 {
-  const param_spec *ps = &PARAMS[i];
-  if (!ps->enters)
-    snprintf(buf, size, "steady homogeneous simple shear does not depend on %s (no gradients, w' = 0)", ps->name);
-  else if (ps->yield_only && all_below_phi_co(pb, m))
-    snprintf(buf, size, "every point has phi < phi_co (= %g%s): %s", m->phi_co,
-             at_start ? "" : ", as fitted", i == cg_fit_param_lookup("nu") ? "r = P_Y/P_K = 0, nu has no effect"
-             : "no yield pressure, P_Y = 0");
-  else
-    snprintf(buf, size, "its sensitivity vanishes on the data (|p dr/dp| = %.2g < %g%s)", norm, CG_FIT_SENS_MIN,
-             at_start ? " at the start" : " at the fitted values");
+  if (sp->why_insensitive && sp->why_insensitive(sp->ctx, m, i, at_start, buf, size)) return;
+  snprintf(buf, size, "its sensitivity vanishes on the data (|p dr/dp| = %.2g < %g%s)", norm, CG_FIT_SENS_MIN,
+           at_start ? " at the start" : " at the fitted values");
 }
 
 /* ---- the multistart fit ---- */
@@ -236,6 +207,7 @@ static ekm_status fit_free(const fit_ctx *c, const double *xs, double *xbest, do
   const size_t n = c->nres, p = c->nfree;
   gsl_multifit_nlinear_parameters fp = gsl_multifit_nlinear_default_parameters();
   fp.trs = gsl_multifit_nlinear_trs_lm;
+  if (c->sp->fd_step > 0.0) fp.h_df = c->sp->fd_step;
   gsl_multifit_nlinear_workspace *w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, n, p);
   gsl_vector *x0 = gsl_vector_alloc(p);
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
@@ -245,10 +217,10 @@ static ekm_status fit_free(const fit_ctx *c, const double *xs, double *xbest, do
     if (rng) gsl_rng_free(rng);
     return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   }
-  gsl_rng_set(rng, c->pb->seed);
+  gsl_rng_set(rng, c->sp->seed);
   gsl_multifit_nlinear_fdf fdf = {.f = resid_gsl, .df = NULL, .fvv = NULL, .n = n, .p = p, .params = (void *)c};
   *chi2best = INFINITY;
-  for (int s = 0; s < c->pb->nstarts; s++) {
+  for (int s = 0; s < c->sp->nstarts; s++) {
     for (size_t k = 0; k < p; k++) {
       const double width = PARAMS[c->free_param[k]].tr == TR_LOG ? log(3.0) : 2.0;
       const double u = gsl_rng_uniform(rng); /* drawn for every start: start s sees the same numbers */
@@ -257,7 +229,8 @@ static ekm_status fit_free(const fit_ctx *c, const double *xs, double *xbest, do
     res->starts_run++;
     if (gsl_multifit_nlinear_init(x0, &fdf, w) != GSL_SUCCESS) continue;
     int info;
-    const int st = gsl_multifit_nlinear_driver(500, 1e-12, 1e-12, 0.0, NULL, NULL, &info, w);
+    const int st = gsl_multifit_nlinear_driver(c->sp->max_iter, c->sp->xtol, c->sp->gtol, c->sp->ftol, NULL, NULL,
+                                               &info, w);
     if (st != GSL_SUCCESS) continue;
     double chi;
     gsl_blas_ddot(gsl_multifit_nlinear_residual(w), gsl_multifit_nlinear_residual(w), &chi);
@@ -273,7 +246,7 @@ static ekm_status fit_free(const fit_ctx *c, const double *xs, double *xbest, do
   gsl_vector_free(x0);
   gsl_rng_free(rng);
   if (!isfinite(*chi2best))
-    return EKM_FAIL(err, EKM_ENUMERIC, "the fit did not converge from any of %d starts", c->pb->nstarts);
+    return EKM_FAIL(err, EKM_ENUMERIC, "the fit did not converge from any of %d starts", c->sp->nstarts);
   return EKM_OK;
 }
 
@@ -294,86 +267,73 @@ static void mark_held(cg_fit_result *res, size_t j, ekm_material *base, const ek
   *param_ptr(base, res->param[j]) = cg_fit_param_get(start, res->param[j]);
 }
 
-ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *err)
+ekm_status cg_fit_solve(const cg_fit_spec *sp, cg_fit_result *res, ekm_error *err)
 {
   memset(res, 0, sizeof *res);
-  res->nparams = pb->nparams;
-  if (pb->nparams < 1 || pb->nparams > CG_FIT_MAXP)
-    return EKM_FAIL(err, EKM_EINPUT, "--params: expected 1 to %d parameters, got %zu", CG_FIT_MAXP, pb->nparams);
-  if (pb->npts < pb->nparams)
-    return EKM_FAIL(err, EKM_EINPUT, "%zu point%s for %zu parameters: expected at least as many points (input "
-                    "files) as parameters", pb->npts, pb->npts == 1 ? "" : "s", pb->nparams);
-  if (pb->fields == 0)
-    return EKM_FAIL(err, EKM_EINPUT, "--fields: expected at least one of P, sxz, T, mu");
-  if (pb->nstarts < 1)
+  res->nparams = sp->nparams;
+  if (sp->nparams < 1 || sp->nparams > CG_FIT_MAXP)
+    return EKM_FAIL(err, EKM_EINPUT, "--params: expected 1 to %d parameters, got %zu", CG_FIT_MAXP, sp->nparams);
+  if (sp->nres < sp->nparams)
+    return EKM_FAIL(err, EKM_EINPUT, "%zu residual%s for %zu parameters: expected at least as many data points "
+                    "as parameters", sp->nres, sp->nres == 1 ? "" : "s", sp->nparams);
+  if (sp->nstarts < 1)
     return EKM_FAIL(err, EKM_EINPUT, "--starts: expected at least 1");
   ekm_error merr;
-  if (ekm_material_check(&pb->start, &merr) != EKM_OK)
+  if (ekm_material_check(&sp->start, &merr) != EKM_OK)
     return EKM_FAIL(err, EKM_EINPUT, "start material: %s", merr.message);
-  fit_ctx c = {.pb = pb, .base = pb->start};
-  double phi_max = 0.0;
-  for (size_t k = 0; k < pb->npts; k++) {
-    const cg_fit_point *pt = &pb->pts[k];
-    if (!(pt->phi > 0.0 && pt->phi < pb->start.phi_cp))
-      return EKM_FAIL(err, EKM_EINPUT, "%s: phi = %g: expected a volume fraction in (0, phi_cp = %g of the start "
-                      "material)", pt->file, pt->phi, pb->start.phi_cp);
-    phi_max = fmax(phi_max, pt->phi);
-    for (int f = 0; f < CG_FIT_NFIELD; f++)
-      c.nres += (pb->fields >> f) & 1u;
-  }
+  fit_ctx c = {.sp = sp, .base = sp->start, .nres = sp->nres};
+  const double phi_max = sp->phi_floor;
   res->nres = c.nres;
-  res->resid = malloc(pb->npts * CG_FIT_NFIELD * sizeof *res->resid);
-  res->model = malloc(pb->npts * CG_FIT_NFIELD * sizeof *res->model);
-  gsl_matrix *Jall = gsl_matrix_alloc(c.nres, pb->nparams);
+  gsl_matrix *Jall = gsl_matrix_alloc(c.nres, sp->nparams);
   double *r = malloc(c.nres * sizeof *r);
-  if (!res->resid || !res->model || !Jall || !r) {
+  if (!Jall || !r) {
     if (Jall) gsl_matrix_free(Jall);
     free(r);
     return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
   }
-  for (size_t j = 0; j < pb->nparams; j++) {
-    res->param[j] = pb->param[j];
-    res->start[j] = res->value[j] = cg_fit_param_get(&pb->start, pb->param[j]);
+  for (size_t j = 0; j < sp->nparams; j++) {
+    res->param[j] = sp->param[j];
+    res->start[j] = res->value[j] = cg_fit_param_get(&sp->start, sp->param[j]);
     res->se[j] = NAN;
     res->identifiable[j] = 1;
-    for (size_t i = 0; i < pb->nparams; i++)
-      if (i < j && pb->param[i] == pb->param[j]) {
+    for (size_t i = 0; i < sp->nparams; i++)
+      if (i < j && sp->param[i] == sp->param[j]) {
         gsl_matrix_free(Jall);
         free(r);
-        return EKM_FAIL(err, EKM_EINPUT, "--params: %s is listed twice", PARAMS[pb->param[j]].name);
+        return EKM_FAIL(err, EKM_EINPUT, "--params: %s is listed twice", PARAMS[sp->param[j]].name);
       }
   }
   c.lo_cp = phi_max;
   ekm_status st = EKM_OK;
   /* Sensitivity at the start. */
-  st = scaled_jacobian(&c, &pb->start, pb->param, pb->nparams, Jall, err);
-  for (size_t j = 0; j < pb->nparams && st == EKM_OK; j++) {
+  st = scaled_jacobian(&c, &sp->start, sp->param, sp->nparams, Jall, err);
+  for (size_t j = 0; j < sp->nparams && st == EKM_OK; j++) {
     const double norm = column_norm(Jall, j);
     if (!(norm >= CG_FIT_SENS_MIN)) {
       char why[CG_FIT_WHY_MAX];
-      why_insensitive(pb, &pb->start, pb->param[j], norm, 1, why, sizeof why);
-      mark_held(res, j, &c.base, &pb->start, why);
+      why_insensitive(sp, &sp->start, sp->param[j], norm, 1, why, sizeof why);
+      mark_held(res, j, &c.base, &sp->start, why);
     }
   }
   gsl_matrix_free(Jall);
   double cov_s[CG_FIT_MAXP][CG_FIT_MAXP] = {{0}};
   size_t slot[CG_FIT_MAXP]; /* result slot of each free parameter */
-  ekm_material best = pb->start;
+  ekm_material best = sp->start;
   double chi2 = 0.0;
-  for (size_t round = 0; round <= pb->nparams && st == EKM_OK; round++) {
+  for (size_t round = 0; round <= sp->nparams && st == EKM_OK; round++) {
     c.nfree = 0;
     int phi_co_free = 0;
-    for (size_t j = 0; j < pb->nparams; j++)
+    for (size_t j = 0; j < sp->nparams; j++)
       if (res->identifiable[j]) {
         slot[c.nfree] = j;
-        c.free_param[c.nfree++] = pb->param[j];
-        phi_co_free |= PARAMS[pb->param[j]].tr == TR_PHI_CO;
+        c.free_param[c.nfree++] = sp->param[j];
+        phi_co_free |= PARAMS[sp->param[j]].tr == TR_PHI_CO;
       }
     /* phi_cp stays above every point's phi, and above phi_co when that is held */
     c.lo_cp = phi_co_free ? phi_max : fmax(phi_max, c.base.phi_co);
     best = c.base;
     if (c.nfree == 0) {
-      if (model_residuals(pb, &best, r, NULL))
+      if (sp->residuals(sp->ctx, &best, r))
         st = EKM_FAIL(err, EKM_EINPUT, "the start material cannot be evaluated at every point");
       chi2 = 0.0;
       for (size_t i = 0; i < c.nres; i++) chi2 += r[i] * r[i];
@@ -398,8 +358,8 @@ ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *e
       const double norm = column_norm(J, k);
       if (!(norm >= CG_FIT_SENS_MIN)) {
         char why[CG_FIT_WHY_MAX];
-        why_insensitive(pb, &best, c.free_param[k], norm, 0, why, sizeof why);
-        mark_held(res, slot[k], &c.base, &pb->start, why);
+        why_insensitive(sp, &best, c.free_param[k], norm, 0, why, sizeof why);
+        mark_held(res, slot[k], &c.base, &sp->start, why);
         changed = 1;
       }
     }
@@ -413,7 +373,7 @@ ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *e
           char why[CG_FIT_WHY_MAX];
           snprintf(why, sizeof why, "linearly dependent on the other parameters on this data (rank-deficient "
                    "Jacobian)");
-          mark_held(res, slot[a], &c.base, &pb->start, why);
+          mark_held(res, slot[a], &c.base, &sp->start, why);
           changed = 1;
           break;
         }
@@ -433,7 +393,7 @@ ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *e
         char why[CG_FIT_WHY_MAX];
         snprintf(why, sizeof why, "its correlation with %s is %.4f (|rho| > %g) on this data",
                  PARAMS[c.free_param[wb]].name, rho, CG_FIT_CORR_MAX);
-        mark_held(res, slot[wa], &c.base, &pb->start, why);
+        mark_held(res, slot[wa], &c.base, &sp->start, why);
         changed = 1;
       }
       if (!changed)
@@ -444,16 +404,19 @@ ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *e
     gsl_matrix_free(cov);
     if (!changed) break;
   }
+  free(r);
+  size_t nused = c.nres;
+  if (st == EKM_OK && sp->finish) st = sp->finish(sp->ctx, &best, &nused, err);
   if (st == EKM_OK) {
     res->fitted = best;
     res->nfree = c.nfree;
     res->chi2 = chi2;
-    res->dof = (long)c.nres - (long)c.nfree;
+    res->dof = (long)nused - (long)c.nfree;
     res->chi2_dof = res->dof > 0 ? chi2 / (double)res->dof : NAN;
     res->cov_scale = res->dof > 0 ? fmax(1.0, res->chi2_dof) : 1.0;
-    for (size_t j = 0; j < pb->nparams; j++) {
-      res->value[j] = cg_fit_param_get(&best, pb->param[j]);
-      for (size_t i = 0; i < pb->nparams; i++) res->corr[j][i] = NAN;
+    for (size_t j = 0; j < sp->nparams; j++) {
+      res->value[j] = cg_fit_param_get(&best, sp->param[j]);
+      for (size_t i = 0; i < sp->nparams; i++) res->corr[j][i] = NAN;
     }
     for (size_t a = 0; a < c.nfree; a++) {
       const double pa = cg_fit_param_get(&best, c.free_param[a]);
@@ -461,13 +424,107 @@ ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *e
       for (size_t b = 0; b < c.nfree; b++)
         res->corr[slot[a]][slot[b]] = cov_s[a][b] / sqrt(cov_s[a][a] * cov_s[b][b]);
     }
-    if (model_residuals(pb, &best, r, res->model))
-      st = EKM_FAIL(err, EKM_ENUMERIC, "the fitted material cannot be evaluated at every point");
-    size_t i = 0;
-    for (size_t k = 0; k < pb->npts && st == EKM_OK; k++)
-      for (int f = 0; f < CG_FIT_NFIELD; f++)
-        res->resid[k * CG_FIT_NFIELD + f] = pb->fields & (1u << f) ? r[i++] : NAN;
   }
+  return st;
+}
+
+/* ---- --rheology: steady homogeneous simple shear ---- */
+
+/* Residuals (model - data)/SE at material m into r (nres), and the model
+ * values (npts x CG_FIT_NFIELD, may be NULL). Non-zero if the model
+ * cannot be evaluated. */
+static int model_residuals(const cg_fit_problem *pb, const ekm_material *m, double *r, double *model)
+{
+  size_t i = 0;
+  for (size_t k = 0; k < pb->npts; k++) {
+    const cg_fit_point *pt = &pb->pts[k];
+    ekm_homog_state h;
+    ekm_error e;
+    if (ekm_homog_shear(m, pb->variant, pt->phi, pt->gdot, &h, &e) != EKM_OK) return 1;
+    const double mv[CG_FIT_NFIELD] = {[CG_FIT_P] = h.P, [CG_FIT_SXZ] = h.sxz, [CG_FIT_T] = h.T,
+                                      [CG_FIT_MU] = h.mu};
+    for (int f = 0; f < CG_FIT_NFIELD; f++) {
+      if (model) model[k * CG_FIT_NFIELD + f] = mv[f];
+      if (pb->fields & (1u << f)) r[i++] = (mv[f] - pt->value[f]) / pt->se[f];
+    }
+  }
+  return 0;
+}
+
+static int rheology_residuals(void *ctx, const ekm_material *m, double *r)
+{
+  return model_residuals(ctx, m, r, NULL);
+}
+
+static int all_below_phi_co(const cg_fit_problem *pb, const ekm_material *m)
+{
+  for (size_t k = 0; k < pb->npts; k++)
+    if (pb->pts[k].phi > m->phi_co) return 0;
+  return 1;
+}
+
+static int rheology_why(void *ctx, const ekm_material *m, int i, int at_start, char *buf, size_t size)
+{
+  const cg_fit_problem *pb = ctx;
+  const param_spec *ps = &PARAMS[i];
+  if (!ps->enters)
+    snprintf(buf, size, "steady homogeneous simple shear does not depend on %s (no gradients, w' = 0)", ps->name);
+  else if (ps->yield_only && all_below_phi_co(pb, m))
+    snprintf(buf, size, "every point has phi < phi_co (= %g%s): %s", m->phi_co,
+             at_start ? "" : ", as fitted", i == cg_fit_param_lookup("nu") ? "r = P_Y/P_K = 0, nu has no effect"
+             : "no yield pressure, P_Y = 0");
+  else
+    return 0;
+  return 1;
+}
+
+ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *err)
+{
+  memset(res, 0, sizeof *res);
+  res->nparams = pb->nparams;
+  if (pb->nparams < 1 || pb->nparams > CG_FIT_MAXP)
+    return EKM_FAIL(err, EKM_EINPUT, "--params: expected 1 to %d parameters, got %zu", CG_FIT_MAXP, pb->nparams);
+  if (pb->npts < pb->nparams)
+    return EKM_FAIL(err, EKM_EINPUT, "%zu point%s for %zu parameters: expected at least as many points (input "
+                    "files) as parameters", pb->npts, pb->npts == 1 ? "" : "s", pb->nparams);
+  if (pb->fields == 0)
+    return EKM_FAIL(err, EKM_EINPUT, "--fields: expected at least one of P, sxz, T, mu");
+  if (pb->nstarts < 1)
+    return EKM_FAIL(err, EKM_EINPUT, "--starts: expected at least 1");
+  ekm_error merr;
+  if (ekm_material_check(&pb->start, &merr) != EKM_OK)
+    return EKM_FAIL(err, EKM_EINPUT, "start material: %s", merr.message);
+  cg_fit_spec sp = {.residuals = rheology_residuals, .why_insensitive = rheology_why, .ctx = (void *)pb,
+                    .jac_rel_step = 1e-6, .xtol = 1e-12, .gtol = 1e-12, .ftol = 0.0, .max_iter = 500,
+                    .start = pb->start, .nparams = pb->nparams, .nstarts = pb->nstarts,
+                    .seed = pb->seed};
+  memcpy(sp.param, pb->param, sizeof sp.param);
+  double phi_max = 0.0;
+  for (size_t k = 0; k < pb->npts; k++) {
+    const cg_fit_point *pt = &pb->pts[k];
+    if (!(pt->phi > 0.0 && pt->phi < pb->start.phi_cp))
+      return EKM_FAIL(err, EKM_EINPUT, "%s: phi = %g: expected a volume fraction in (0, phi_cp = %g of the start "
+                      "material)", pt->file, pt->phi, pb->start.phi_cp);
+    phi_max = fmax(phi_max, pt->phi);
+    for (int f = 0; f < CG_FIT_NFIELD; f++)
+      sp.nres += (pb->fields >> f) & 1u;
+  }
+  sp.phi_floor = phi_max;
+  ekm_status st = cg_fit_solve(&sp, res, err);
+  if (st != EKM_OK) return st;
+  res->resid = malloc(pb->npts * CG_FIT_NFIELD * sizeof *res->resid);
+  res->model = malloc(pb->npts * CG_FIT_NFIELD * sizeof *res->model);
+  double *r = malloc(sp.nres * sizeof *r);
+  if (!res->resid || !res->model || !r) {
+    free(r);
+    return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+  }
+  if (model_residuals(pb, &res->fitted, r, res->model))
+    st = EKM_FAIL(err, EKM_ENUMERIC, "the fitted material cannot be evaluated at every point");
+  size_t i = 0;
+  for (size_t k = 0; k < pb->npts && st == EKM_OK; k++)
+    for (int f = 0; f < CG_FIT_NFIELD; f++)
+      res->resid[k * CG_FIT_NFIELD + f] = pb->fields & (1u << f) ? r[i++] : NAN;
   free(r);
   return st;
 }

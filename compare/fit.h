@@ -41,6 +41,36 @@ const char *cg_fit_param_name(int index);
 int cg_fit_param_count(void);
 /* The value of parameter `index` in m. */
 double cg_fit_param_get(const ekm_material *m, int index);
+/* Set parameter `index` of m to v. */
+void cg_fit_param_set(ekm_material *m, int index, double v);
+
+/* The generic problem of the trust-region driver (cg_fit_solve): the
+ * residual callback and what is fitted. --rheology (cg_fit_run) and
+ * --scenario (fit_scen.h) each supply their own residuals. */
+typedef struct {
+  size_t nres;                /* residuals */
+  /* (model - data)/SE at material m into r[0..nres); non-zero if the model
+   * cannot be evaluated there */
+  int (*residuals)(void *ctx, const ekm_material *m, double *r);
+  /* optional: a reason why parameter `param` (cg_fit_param_lookup index) has
+   * no sensitivity on this data; returns 0 to use the generic reason */
+  int (*why_insensitive)(void *ctx, const ekm_material *m, int param, int at_start, char *buf, size_t size);
+  /* optional: called once at the best fit; returns the number of residuals
+   * that count there (dof = that - parameters fitted); NULL: nres.
+   * Non-zero status: the best fit cannot be evaluated. */
+  ekm_status (*finish)(void *ctx, const ekm_material *m, size_t *nused, ekm_error *err);
+  void *ctx;
+  double phi_floor;           /* phi_cp is kept above this (and above phi_co when held) [-] */
+  double jac_rel_step;        /* relative step of the identifiability Jacobian (1e-6 for --rheology) */
+  double fd_step;             /* GSL's finite-difference step h_df of the trust region (0: GSL's default) */
+  double xtol, gtol, ftol;    /* gsl_multifit_nlinear_driver's tests (--rheology: 1e-12, 1e-12, 0) */
+  size_t max_iter;            /* its iterations per start (--rheology: 500) */
+  ekm_material start;         /* start values; also the values of every key not fitted */
+  size_t nparams;             /* parameters asked for, in order */
+  int param[CG_FIT_MAXP];     /* their indices (cg_fit_param_lookup) */
+  int nstarts;                /* starts (>= 1) */
+  unsigned long seed;         /* of the perturbed starts */
+} cg_fit_spec;
 
 typedef struct {
   const cg_fit_point *pts;   /* data points (not owned) */
@@ -64,18 +94,25 @@ typedef struct {
   char why_not[CG_FIT_MAXP][CG_FIT_WHY_MAX]; /* reason, "" if identifiable */
   double corr[CG_FIT_MAXP][CG_FIT_MAXP];     /* correlation, NAN if either is not identifiable */
   ekm_material fitted;         /* start with the fitted values in place */
-  size_t nres;                 /* residuals: points x fields */
+  size_t nres;                 /* residuals (--rheology: points x fields) */
   size_t nfree;                /* parameters fitted */
-  long dof;                    /* nres - nfree */
+  long dof;                    /* residuals that count - nfree */
   double chi2;                 /* sum of squared residuals at the best fit */
   double chi2_dof;             /* chi2 / dof, NAN if dof == 0 */
   double cov_scale;            /* factor applied to (J^T J)^-1 */
   int starts_run, starts_converged;
-  double *resid;               /* npts x CG_FIT_NFIELD, NAN for fields not fitted */
-  double *model;               /* the model's values, same layout */
+  double *resid;               /* --rheology: npts x CG_FIT_NFIELD, NAN for fields not fitted */
+  double *model;               /* --rheology: the model's values, same layout */
 } cg_fit_result;
 
-/* Fit; res must be released with cg_fit_result_free() in every case.
+/* The driver: multistart trust region, identifiability, covariance.
+ * Fills every field of res except resid and model (left NULL). res must
+ * be released with cg_fit_result_free() in every case. EKM_EINPUT: fewer
+ * residuals than parameters, an impossible start; EKM_ENUMERIC: no start
+ * converged. */
+ekm_status cg_fit_solve(const cg_fit_spec *sp, cg_fit_result *res, ekm_error *err);
+
+/* --rheology: fit; res must be released with cg_fit_result_free() in every case.
  * EKM_EINPUT: fewer points than parameters, a point outside the model's
  * range (phi >= phi_cp), an impossible start; EKM_ENUMERIC: no start
  * converged. */

@@ -6,10 +6,14 @@
 #define CG_FIT_OUT_H
 
 #include "fit.h"
+#include "fit_scen.h"
 #include "status.h"
 
 typedef struct {
-  const cg_fit_problem *pb;
+  const cg_fit_problem *pb;     /* --rheology, or NULL */
+  const cg_fitsc_problem *sc;   /* --scenario, or NULL */
+  int nstarts;                  /* starts requested */
+  ekm_variant variant;          /* of the start material */
   const cg_fit_result *res;
   const char *start_source; /* "thesis material (ekm_material_thesis)" or the --start file */
   const char *json_path;    /* required */

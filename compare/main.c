@@ -18,9 +18,11 @@
 
 static const char usage_text[] =
   "usage: ekmcompare cg [options] DUMP... (-o OUT.h5 | --csv OUT.csv)\n"
-  "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [-o SCORE.json]\n"
+  "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [--support F] [--scalars L] [-o SCORE.json]\n"
   "       ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu [--start FILE.ini]\n"
   "                      [--fields P,sxz,T] -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
+  "       ekmcompare fit --scenario CASES.json --params eta0,eps0 [--fields phi,vx,T,P,sxz]\n"
+  "                      -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
   "       ekmcompare steady MONITOR.txt [--column N] [--tol X]\n"
   "       ekmcompare --help | --version\n"
   "\n"
@@ -61,6 +63,10 @@ static const char usage_text[] =
   "  -o FILE              JSON output\n"
   "  --ekm-time last      compare with the EKM's last output (steady state)\n"
   "  --shift DZ           add DZ [m] to the DEM coordinate\n"
+  "  --support F          common support: a point counts only where phi > F x the DEM's\n"
+  "                       largest phi on both sides (default 0.1; 0: every point)\n"
+  "  --scalars LIST       scalar observables with SEs: set names (chute, shear_cell,\n"
+  "                       filling, simple_shear) or scalar names (docs/compare.md)\n"
   "\n"
   "steady: is a run steady? The drift criterion on a monitor series (column N, default 2,\n"
   "of the lines not starting with #): the relative change of the mean from the quarter\n"
@@ -293,6 +299,8 @@ static ekm_status cmd_score(int argc, char **argv, ekm_error *err)
       else if (!strcmp(v, "interp")) o.ekm_last = 0;
       else rc = usage_error(err, "--ekm-time: expected last or interp, got '%s'", v);
     }
+    else if (!strcmp(a, "--support")) { ARG(); rc = get_double(a, v, &o.support, err); }
+    else if (!strcmp(a, "--scalars")) { ARG(); o.scalars = v; }
     else if (!strcmp(a, "--quiet")) o.log = NULL;
     else rc = usage_error(err, "score: unknown argument '%s' (see ekmcompare --help)", a);
 #undef ARG

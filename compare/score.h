@@ -20,6 +20,7 @@
 #ifndef CG_SCORE_H
 #define CG_SCORE_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 #include "status.h"
@@ -31,6 +32,12 @@ typedef struct {
   const char *json;    /* JSON output path, or NULL */
   int ekm_last;        /* 1: compare with the EKM's last output time */
   double shift;        /* added to the DEM coordinate before comparing [m] */
+  double support;      /* common support: a point counts only where phi >
+                          support x max(DEM phi) on both sides (0: every
+                          point; default CG_SCORE_SUPPORT) */
+  const char *scalars; /* comma-separated scalar names or set names
+                          (scalars.h), or NULL */
+  struct cg_score_summary *summary; /* free surface and scalars out, or NULL */
   FILE *table;         /* markdown table (stdout), or NULL */
   FILE *log;           /* notes, or NULL */
 } cg_score_opts;
@@ -40,18 +47,58 @@ typedef struct {
  * out of the noise-normalised error. */
 #define CG_SCORE_SE_FLOOR 1e-6
 
+/* Default common-support threshold, a fraction of the DEM's largest phi:
+ * 10% of a bulk phi of about 0.6 cuts the dilute tail above a free surface
+ * (a few saltating grains under the kernel) and keeps the surface layer. */
+#define CG_SCORE_SUPPORT 0.1
+
+#define CG_SCORE_MAX_SCALARS 128
+
 cg_score_opts cg_score_opts_default(void);
+
+/* One scalar observable of both sides (scalars.h); NaN: undefined. */
+typedef struct {
+  char name[48];        /* e.g. flow_rate, bed_height@0.54s */
+  const char *units;
+  double t;             /* DEM time it was taken at [s] */
+  double dem, dem_se, model, model_se;
+} cg_score_scalar;
+
+/* The free surface (the layer height of scalars.h, at the last DEM time
+ * compared) and the scalars. */
+typedef struct cg_score_summary {
+  double support_phi;      /* the absolute phi threshold (0: none) */
+  double t;                /* DEM time of the layer heights [s] */
+  double dem_height;       /* [m], DEM coordinate with --shift; NaN: none */
+  double model_height;     /* [m] */
+  double mean_diameter;    /* [m] (the DEM file's, else the model file's), NaN */
+  size_t nscalars;
+  cg_score_scalar scalar[CG_SCORE_MAX_SCALARS];
+} cg_score_summary;
 
 /* Per-field result. */
 typedef struct {
   char name[32];
   size_t points;       /* points compared */
   size_t points_se;    /* of which with a positive standard error */
+  size_t points_left_out; /* covered points off the common support */
   double rel_l2;       /* relative L2 error (NAN if undefined) */
   double noise;        /* noise-normalised error (NAN if undefined) */
   int se_both;         /* 1: the --ekm file had FIELD_se too (a second DEM
                           run): SE = sqrt(SE_dem^2 + SE_other^2) */
 } cg_score_field;
+
+/* The interpolation of `score`, as pure functions (also used by
+ * `ekmcompare fit --scenario`, fit_scen.c):
+ * cg_score_locate: index i and fraction a in a sorted array x[0..n-1] with
+ * x[i] + a (x[i+1]-x[i]) = v (a clipped to [0, 1]); 0 if v is outside
+ * [x_0, x_n-1] (1e-12 relative tolerance): the point is not compared.
+ * cg_score_interp: the model's value there, linear in z between cells zi
+ * and zi+1 (fraction az) of the two output rows r0, r1 (nze values each),
+ * then linear in time (fraction at). With --ekm-time last r0 = r1 = the
+ * last row and at = 0. */
+int cg_score_locate(const double *x, size_t n, double v, size_t *i, double *a);
+double cg_score_interp(const double *r0, const double *r1, size_t nze, size_t zi, double az, double at);
 
 /* Score; results (up to 16 fields) in res/nres when res != NULL. */
 ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err);

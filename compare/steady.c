@@ -161,13 +161,15 @@ ekm_status cg_steady_monitor_read(const char *path, int column, double **v, size
   *v = NULL;
   *n = 0;
   if (column < 1) return EKM_FAIL(err, EKM_EUSAGE, "--column: expected a column number >= 1, got %d", column);
+  char *field[64];
+  if ((size_t)column > sizeof field / sizeof *field)
+    return EKM_FAIL(err, EKM_EUSAGE, "--column: expected at most %zu, got %d", sizeof field / sizeof *field, column);
   FILE *fp = fopen(path, "r");
   if (!fp) return EKM_FAIL(err, EKM_EIO, "%s: cannot open: %s", path, strerror(errno));
   char *line = NULL;
   size_t lcap = 0, cap = 0, need = column > 2 ? (size_t)column : 2;
   long lineno = 0;
   ekm_status rc = EKM_OK;
-  char *field[64];
   while (!rc) {
     errno = 0;
     ssize_t len = getline(&line, &lcap, fp);
@@ -179,9 +181,10 @@ ekm_status cg_steady_monitor_read(const char *path, int column, double **v, size
     while (len > 0 && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = '\0';
     if (line[0] == '#') continue;
     size_t nf = split_fields(line, field, sizeof field / sizeof *field);
-    if (nf < need) continue;
-    if ((size_t)column > sizeof field / sizeof *field) {
-      rc = EKM_FAIL(err, EKM_EUSAGE, "--column: expected at most %zu, got %d", sizeof field / sizeof *field, column);
+    if (nf < 2) continue; /* not a data line (blank, or one field: run.sh's awk NF >= 2) */
+    if (nf < need) {      /* a data line without the column: bad input, not "no samples" */
+      rc = EKM_FAIL_AT(err, EKM_EINPUT, path, lineno > INT_MAX ? 0 : (int)lineno,
+                       "column %d: missing (expected at least %zu columns, got %zu)", column, need, nf);
       break;
     }
     const char *tok = field[column - 1];

@@ -2,6 +2,8 @@
 
 #include <math.h>
 
+#include "model.h"
+
 static int adjacent_cell(ekm_side side, const ekm_state *s)
 {
     return side == EKM_SIDE_BOTTOM ? 0 : s->n - 1;
@@ -100,4 +102,28 @@ double ekm_bc_face_w(const ekm_bc_face *b, ekm_side side, const ekm_state *s)
     if (s->n < 2)
         return 0.0;
     return side == EKM_SIDE_BOTTOM ? s->w[1] : s->w[s->n - 1];
+}
+
+int ekm_bc_pressure_wall(const ekm_bc *bc)
+{
+    return bc->kind == EKM_BC_WALL && !isnan(bc->pressure);
+}
+
+/* dL/dt = rate L (-szz_top - P)/P with szz_top = -(P_K + P_Y) + mu_n (dL/dt
+ * - w_{n-1})/dz of a flowing top cell (fields.h) taken at the new dL/dt
+ * (implicit in the wall's own viscous stress, which an explicit wall
+ * velocity would drive unstably), the rest at the start of the step. */
+double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s)
+{
+    const int j = s->n - 1;
+    const double P = sc->top.pressure;
+    const double k = sc->top.pressure_rate * s->n * s->dz / P; /* [m/(s Pa)] */
+    if (s->solid[j])
+        return k * (-s->szz[j] - P);
+    if (s->phi[j] < sc->numerics.phi_dry)
+        return -k * P;
+    const ekm_material *m = &sc->material;
+    const ekm_transport c = ekm_transport_coefficients(m, sc->variant, s->phi[j], s->T[j]);
+    const double p_eq = ekm_pressure_kinetic(m, s->phi[j], s->T[j]) + ekm_pressure_yield(m, s->phi[j]);
+    return k * (p_eq + c.mu_n * s->w[j] / s->dz - P) / (1.0 + k * c.mu_n / s->dz);
 }

@@ -13,6 +13,12 @@
  *   free     open to vacuum: zero gradient of w, nothing enters, zero stress
  *   piston   w = w, w_return alternating each half period (a driven sample);
  *            zero gradient of phi, u, T; no slip
+ *
+ * A top wall with `pressure` P moves normally (massless wall with
+ * relaxation): dL/dt = pressure_rate L (-szz_top - P) / P, szz_top the
+ * normal stress of the top cell (fields.h) at the start of the step; the
+ * grid stretches uniformly with the gap (step.h), so the steady state has
+ * szz = -P at the wall.
  */
 #ifndef EKM_BC_H
 #define EKM_BC_H
@@ -34,6 +40,12 @@ typedef struct {
 
 /* The face description of boundary `side` at time t. */
 ekm_bc_face ekm_bc_evaluate(const ekm_bc *bc, ekm_side side, double t, const ekm_state *s);
+
+/* 1: bc is a wall held at a normal pressure (its gap moves). */
+int ekm_bc_pressure_wall(const ekm_bc *bc);
+
+/* dL/dt [m/s] of a pressure-controlled top wall for the state s. */
+double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s);
 
 /* Normal velocity at the boundary face given the interior solution. */
 double ekm_bc_face_w(const ekm_bc_face *b, ekm_side side, const ekm_state *s);

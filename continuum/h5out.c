@@ -1,4 +1,6 @@
 #include "h5out.h"
+
+#include "bc.h"
 #include "ekm_version.h"
 
 #include <math.h>
@@ -57,6 +59,8 @@ static ekm_status write_root_attributes(ekm_h5_file *file, const ekm_scenario *s
         rc = ekm_h5_attr_set_string(file, NULL, "variant", sc->variant == EKM_VARIANT_THESIS ? "thesis" : "full", err);
     if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "code_version", EKMBENCH_VERSION, err);
     if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "scenario_file", sc->source, err);
+    if (rc == EKM_OK && sc->material_source[0])
+        rc = ekm_h5_attr_set_string(file, NULL, "material_file", sc->material_source, err);
     if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "scenario", sc->name, err);
     if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "created", created, err);
     return rc;
@@ -89,6 +93,8 @@ static ekm_status write_layout(ekm_h5_writer *w, const ekm_state *s, ekm_error *
     for (int f = 0; f < N_FIELDS && st == EKM_OK; f++)
         st = ekm_h5_create_series(w->file, FIELD_NAMES[f], f == F_REGIME ? EKM_H5_INT : EKM_H5_DOUBLE, 2, dz, 1,
                                   ekm_field_units(FIELD_NAMES[f]), NULL, err);
+    if (st == EKM_OK && ekm_bc_pressure_wall(&w->sc->top))
+        st = ekm_h5_create_series(w->file, "gap", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("gap"), NULL, err);
     if (st == EKM_OK)
         st = write_root_attributes(w->file, w->sc, err);
     return st;
@@ -156,6 +162,9 @@ ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error 
     for (int f = 0; f < N_FIELDS && st == EKM_OK; f++)
         st = ekm_h5_append(w->file, FIELD_NAMES[f], f == F_REGIME ? (const void *)w->regime : (const void *)w->buf[f],
                            err);
+    const double gap = s->n * s->dz; /* [m] */
+    if (st == EKM_OK && ekm_bc_pressure_wall(&w->sc->top))
+        st = ekm_h5_append(w->file, "gap", &gap, err);
     if (st != EKM_OK)
         return st;
     w->nt++;

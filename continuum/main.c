@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "atomic.h"
+#include "bc.h"
 #include "ekm_version.h"
 #include "h5out.h"
 #include "resolve.h"
@@ -19,9 +20,10 @@
 static void usage(FILE *fp)
 {
     fprintf(fp,
-        "usage: ekm run FILE.ini [-o OUT.h5] [--set section.key=value ...] [--quiet]\n"
+        "usage: ekm run FILE.ini [-o OUT.h5] [--material FIT.ini] [--set section.key=value ...]\n"
+        "               [--quiet]\n"
         "       ekm scenario FILE.ini [--engine liggghts|lammps] [--size smoke|ref]\n"
-        "                    [--point TAG] [--set section.key=value ...] --json\n"
+        "                    [--point TAG] [--material FIT.ini] [--set section.key=value ...] --json\n"
         "       ekm --help | --version\n"
         "\n"
         "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
@@ -29,6 +31,9 @@ static void usage(FILE *fp)
         "\n"
         "  -o OUT.h5        output file (default: the scenario file's name with .h5,\n"
         "                   in the current directory); written atomically\n"
+        "  --material FIT.ini  the whole [material] section from FIT.ini (only\n"
+        "                   [material] and comments, e.g. `ekmcompare fit --ini`)\n"
+        "                   instead of FILE.ini's; --set still applies after it\n"
         "  --set S.K=V      override key K of section S (repeatable), e.g.\n"
         "                   --set domain.cells=200 --set model.variant=thesis\n"
         "  --quiet          no progress line and no summary\n"
@@ -79,7 +84,7 @@ static int fail(const ekm_error *err, ekm_status st)
 
 static int cmd_run(int argc, char **argv)
 {
-    const char *ini = NULL, *out = NULL;
+    const char *ini = NULL, *out = NULL, *material = NULL;
     int quiet = 0;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     size_t n_sets = 0;
@@ -89,6 +94,7 @@ static int cmd_run(int argc, char **argv)
     }
     for (int i = 0; i < argc; i++) {
         if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) out = argv[++i];
+        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc) material = argv[++i];
         else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc) sets[n_sets++] = argv[++i];
         else if (strcmp(argv[i], "--quiet") == 0) quiet = 1;
         else if (argv[i][0] == '-' || ini) {
@@ -110,16 +116,19 @@ static int cmd_run(int argc, char **argv)
     ekm_error err = {0};
     /* neither the output nor its sidecar may replace the scenario file */
     ekm_h5_xdmf_path(out, xdmf, sizeof xdmf);
-    const char *const inputs[] = {ini};
-    ekm_status st = ekm_atomic_refuse_input(out, inputs, 1, &err);
+    const char *const inputs[] = {ini, material};
+    const size_t n_inputs = material ? 2 : 1;
+    ekm_status st = ekm_atomic_check_target(out, &err);
     if (st == EKM_OK)
-        st = ekm_atomic_refuse_input(xdmf, inputs, 1, &err);
+        st = ekm_atomic_refuse_input(out, inputs, n_inputs, &err);
+    if (st == EKM_OK)
+        st = ekm_atomic_refuse_input(xdmf, inputs, n_inputs, &err);
     if (st != EKM_OK) {
         free(sets);
         return fail(&err, st);
     }
     ekm_scenario sc;
-    st = ekm_scenario_load(&sc, ini, sets, n_sets, &err);
+    st = ekm_scenario_load_material(&sc, ini, material, sets, n_sets, &err);
     free(sets);
     if (st != EKM_OK) {
         ekm_scenario_free(&sc);
@@ -131,7 +140,7 @@ static int cmd_run(int argc, char **argv)
         if (!s) EKM_FAIL(&err, EKM_ENOMEM, "out of memory (%d cells)", sc.cells);
         ekm_state_free(s);
         ekm_scenario_free(&sc);
-        return fail(&err, s ? EKM_EINPUT : EKM_ENOMEM);
+        return fail(&err, err.code); /* the status ekm_step_alloc recorded */
     }
     ekm_state_init(s, &sc);
     frame_ctx fc = {0};
@@ -158,6 +167,15 @@ static int cmd_run(int argc, char **argv)
             const size_t n = sc.hypo.enabled ? n_all : n_all - 6;
             for (size_t i = 0; i < n && st == EKM_OK; i++)
                 st = ekm_h5_writer_set_attr(fc.writer, attrs[i].name, attrs[i].value, &err);
+            /* [run] stop = steady: the verdict of the steady-state test */
+            const struct { const char *name; double value; } steady_attrs[] = {
+                {"steady", (double)stats.steady}, {"steady_drift", stats.steady_drift},
+                {"steady_time", stats.steady_time}, {"steady_acceleration", stats.steady_acceleration},
+            };
+            for (size_t i = 0; sc.stop == EKM_STOP_STEADY && i < 4 && st == EKM_OK; i++)
+                st = ekm_h5_writer_set_attr(fc.writer, steady_attrs[i].name, steady_attrs[i].value, &err);
+            if (st == EKM_OK && ekm_bc_pressure_wall(&sc.top))
+                st = ekm_h5_writer_set_attr(fc.writer, "gap_final", s->n * s->dz, &err);
         }
         if (st == EKM_OK)
             st = ekm_h5_writer_commit(fc.writer, &err);
@@ -183,6 +201,15 @@ static int cmd_run(int argc, char **argv)
                        stats.fail_angle, stats.fail_fY);
             printf("\n");
         }
+        if (sc.stop == EKM_STOP_STEADY && stats.steady)
+            printf("%-20s steady at t = %.6g s (held from %.6g s, drift %.2e 1/s < steady_tol %.2e 1/s)\n", "",
+                   s->t, stats.steady_time, stats.steady_drift, sc.steady_tol);
+        else if (sc.stop == EKM_STOP_STEADY)
+            printf("%-20s NOT steady at t_end = %.6g s (drift %.2e 1/s, acceleration %.3e m/s^2)\n", "", s->t,
+                   stats.steady_drift, stats.steady_acceleration);
+        if (ekm_bc_pressure_wall(&sc.top))
+            printf("%-20s gap %.6g m (initial %.6g m) at top pressure %.6g Pa\n", "", s->n * s->dz, sc.length,
+                   sc.top.pressure);
     }
     ekm_step_free(stepper);
     ekm_state_free(s);
@@ -192,7 +219,7 @@ static int cmd_run(int argc, char **argv)
 
 static int cmd_scenario(int argc, char **argv)
 {
-    const char *ini = NULL, *engine = NULL, *size = NULL, *point = NULL;
+    const char *ini = NULL, *engine = NULL, *size = NULL, *point = NULL, *material = NULL;
     int json = 0;
     const char **sets = calloc((size_t)argc + 1, sizeof *sets);
     size_t n_sets = 0;
@@ -204,6 +231,7 @@ static int cmd_scenario(int argc, char **argv)
         if (strcmp(argv[i], "--engine") == 0 && i + 1 < argc) engine = argv[++i];
         else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc) size = argv[++i];
         else if (strcmp(argv[i], "--point") == 0 && i + 1 < argc) point = argv[++i];
+        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc) material = argv[++i];
         else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc) sets[n_sets++] = argv[++i];
         else if (strcmp(argv[i], "--json") == 0) json = 1;
         else if (argv[i][0] == '-' || ini) {
@@ -221,7 +249,7 @@ static int cmd_scenario(int argc, char **argv)
     ekm_error err = {0};
     ekm_scenario sc;
     ekm_resolved res = {0};
-    ekm_status st = ekm_scenario_load(&sc, ini, sets, n_sets, &err);
+    ekm_status st = ekm_scenario_load_material(&sc, ini, material, sets, n_sets, &err);
     free(sets);
     if (st == EKM_OK)
         st = ekm_resolve(&sc, engine, size, &res, &err);

@@ -1,6 +1,7 @@
 /* resolve.c: the keys of the other tools' sections, their lookup rule and
  * defaults, and the sweep points (resolve.h, docs/resolved-scenario.md). */
 #include "resolve.h"
+#include "schema.h"
 
 #include <errno.h>
 #include <math.h>
@@ -52,7 +53,7 @@ static const tool_key TOOL_KEYS[] = {
     {"dem", "t_settle", TYPE_NUMBER, NULL, NULL, SWEEP_THETA},
     {"dem", "t_flow", TYPE_NUMBER, NULL, NULL, SWEEP_THETA},
     {"dem", "angles", TYPE_NUMBERS, NULL, NULL, SWEEP_THETA}, /* default: [gravity] angle */
-    {"dem", "pressure", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
+    {"dem", "pressure", TYPE_NUMBER, NULL, NULL, SWEEP_NONE}, /* default: [top] pressure */
     {"dem", "wall_damping", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
     {"dem", "t_compress", TYPE_NUMBER, NULL, "0", SWEEP_NONE},
     {"dem", "t_run", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
@@ -69,6 +70,8 @@ static const tool_key TOOL_KEYS[] = {
     {"compare", "fields", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
     {"compare", "ekm_time", TYPE_ENUM, "last interp", "interp", SWEEP_NONE},
     {"compare", "shift", TYPE_NUMBER, NULL, "0", SWEEP_NONE},
+    {"compare", "support", TYPE_NUMBER, NULL, "0.1", SWEEP_NONE},
+    {"compare", "scalars", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
 };
 #define N_TOOL_KEYS (sizeof TOOL_KEYS / sizeof TOOL_KEYS[0])
 
@@ -205,6 +208,23 @@ static int is_field_list(const char *v)
     }
 }
 
+/* Whether every name of a valid field list is a field of common/schema.h;
+ * otherwise 0 and what was expected, naming the first unknown one. */
+static int fields_in_schema(const char *v, char *expected, size_t size)
+{
+    for (const char *p = v; *p;) {
+        const size_t len = strcspn(p, ",");
+        char name[64];
+        snprintf(name, sizeof name, "%.*s", (int)len, p);
+        if (!ekm_field_lookup(name)) {
+            snprintf(expected, size, "field names of the schema (common/schema.c), not '%s'", name);
+            return 0;
+        }
+        p += len + (p[len] == ',');
+    }
+    return 1;
+}
+
 static int is_choice(const char *choices, const char *v)
 {
     const size_t n = strlen(v);
@@ -215,6 +235,38 @@ static int is_choice(const char *choices, const char *v)
         p += len;
     }
     return 0;
+}
+
+/* The range of a [dem] key whose value has its type, or NULL when the
+ * value is in range (or the key has no range): docs/scenario-format.md. */
+static const char *dem_range(const char *base, const char *value)
+{
+    const double x = strtod(value, NULL);
+    static const struct {
+        const char *key, *expected;
+        double lo, hi;
+        int lo_open, hi_open; /* 1: the bound itself is outside; hi = HUGE_VAL: none */
+    } R[] = {
+        {"diameter", "a diameter > 0 [m]", 0, HUGE_VAL, 1, 1},
+        {"dt", "a time step > 0 [s]", 0, HUGE_VAL, 1, 1},
+        {"youngs", "a modulus > 0 [Pa]", 0, HUGE_VAL, 1, 1},
+        {"friction", "a friction coefficient >= 0", 0, HUGE_VAL, 0, 1},
+        {"poisson", "a Poisson ratio in (-1, 0.5)", -1, 0.5, 1, 1},
+        {"restitution", "a restitution in (0, 1]", 0, 1, 1, 0},
+        {"restitution_input", "a restitution in (0, 1]", 0, 1, 1, 0},
+        {"timeout", "a timeout >= 1 [s]", 1, HUGE_VAL, 0, 1},
+        {"dump_every", "an interval >= 1 [steps]", 1, HUGE_VAL, 0, 1},
+        {"thermo_every", "an interval >= 1 [steps]", 1, HUGE_VAL, 0, 1},
+        {"steady_tol", "a tolerance > 0", 0, HUGE_VAL, 1, 1},
+        {"spread", "a size spread in [0, 1)", 0, 1, 0, 1},
+    };
+    for (size_t i = 0; i < sizeof R / sizeof R[0]; i++)
+        if (strcmp(R[i].key, base) == 0) {
+            const int low_ok = R[i].lo_open ? x > R[i].lo : x >= R[i].lo;
+            const int high_ok = R[i].hi_open ? x < R[i].hi : x <= R[i].hi;
+            return low_ok && high_ok ? NULL : R[i].expected;
+        }
+    return NULL;
 }
 
 int ekm_resolve_check_key(const char *section, const char *key, const char *value, char *why, size_t size)
@@ -260,6 +312,9 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
     case TYPE_FIELDS:
         if (!is_field_list(value))
             expected = "field names separated by commas (e.g. phi,vx,T)";
+        else if (strcmp(section, "compare") == 0 && strcmp(base, "fields") == 0 &&
+                 !fields_in_schema(value, choices, sizeof choices))
+            expected = choices; /* [compare] scalars names scalars and sets, not fields */
         break;
     case TYPE_ENUM:
         if (!is_choice(tk->choices, value)) {
@@ -268,6 +323,8 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
         }
         break;
     }
+    if (!expected && strcmp(section, "dem") == 0)
+        expected = dem_range(base, value);
     if (expected) {
         snprintf(why, size, "[%s] %s: expected %s, got '%s'", section, key, expected, value);
         return 0;
@@ -297,7 +354,7 @@ static void entry_from(const ekm_scenario *s, const ekm_entry *e, char *buf, siz
     if (e->origin == EKM_FROM_SET)
         snprintf(buf, size, "--set");
     else
-        snprintf(buf, size, "%s:%d", s->source, e->line);
+        snprintf(buf, size, "%s:%d", e->origin == EKM_FROM_MATERIAL ? s->material_source : s->source, e->line);
 }
 
 /* The entry of tool key section.base by the lookup rule: a --set of the
@@ -404,6 +461,8 @@ static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, c
                 src = ekm_resolve_find(r, "dem.restitution");
             else if (strcmp(name, "dem.t_end") == 0)
                 src = ekm_resolve_find(r, "run.t_end");
+            else if (strcmp(name, "dem.pressure") == 0)
+                src = ekm_resolve_find(r, "top.pressure");
             else if (strcmp(name, "dem.angles") == 0 && sweep == SWEEP_THETA)
                 src = ekm_resolve_find(r, "gravity.angle");
             else if (strcmp(name, "dem.phis") == 0 && sweep == SWEEP_PHI_RATE)
@@ -443,6 +502,20 @@ static ekm_status split_list(const ekm_resolve_key *k, item_list *out, ekm_error
                                 k->from, key, out->item[j]);
         snprintf(out->item[out->n++], sizeof out->item[0], "%.*s", (int)len, p);
         p += len;
+    }
+    return EKM_OK;
+}
+
+/* Every item of a [dem] sweep list in (lo, hi) (hi <= 0: no upper bound). */
+static ekm_status check_sweep_items(const ekm_resolve_key *k, const item_list *l, double lo, double hi,
+                                    const char *expected, ekm_error *err)
+{
+    const char *key = k->as[0] ? k->as : k->name + 4;
+    for (size_t i = 0; i < l->n; i++) {
+        const double x = strtod(l->item[i], NULL);
+        if (!(x > lo) || (hi > 0 && !(x < hi)))
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: expected %s, got '%s'", k->from, key, expected,
+                            l->item[i]);
     }
     return EKM_OK;
 }
@@ -516,8 +589,15 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
     } else if ((sweep == SWEEP_PHI_RATE && phis && rates) || (sweep == SWEEP_P_RATE && pressures && rates)) {
         const int by_p = sweep == SWEEP_P_RATE;
         st = split_list(by_p ? pressures : phis, &a[0], err);
+        char phi_range[64];
+        snprintf(phi_range, sizeof phi_range, "volume fractions in (0, phi_cp = %g)", s->material.phi_cp);
+        if (st == EKM_OK)
+            st = by_p ? check_sweep_items(pressures, &a[0], 0.0, 0.0, "normal stresses > 0 [Pa]", err)
+                      : check_sweep_items(phis, &a[0], 0.0, s->material.phi_cp, phi_range, err);
         if (st == EKM_OK)
             st = split_list(rates, &a[1], err);
+        if (st == EKM_OK)
+            st = check_sweep_items(rates, &a[1], 0.0, 0.0, "shear rates > 0 [1/s]", err);
         const size_t n = a[0].n * a[1].n;
         for (size_t i = 0; i < a[0].n && st == EKM_OK; i++)
             for (size_t j = 0; j < a[1].n && st == EKM_OK; j++) {
@@ -539,16 +619,16 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
                     snprintf(p->var_name[2], sizeof p->var_name[2], "dump_every");
                     p->n_vars = 3;
                 }
-                /* the walls at -+ R L/2, as scripts/campaign/ekm_step.sh set them
-                 * (awk: r * L / 2, printf "%.10g"); a pressure point runs the
-                 * EKM at a fixed gap (its [initial] phi): the EKM has no
-                 * pressure-held top wall yet */
+                /* the walls at -+ R L/2 (r * L / 2 printed "%.10g": the digits
+                 * the DEM campaign has always used); a pressure point runs the
+                 * EKM at a fixed gap (its [initial] phi): simple_shear_p's EKM
+                 * side does not use the [top] pressure wall yet */
                 const double v = strtod(a[1].item[j], NULL) * s->length / 2;
                 p->n_sets = 0;
                 if (!by_p)
                     snprintf(p->set[p->n_sets++], sizeof p->set[0], "initial.phi=%s", a[0].item[i]);
                 snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.velocity=%.10g", v);
-                snprintf(p->set[p->n_sets++], sizeof p->set[0], "bottom.velocity=-%.10g", v);
+                snprintf(p->set[p->n_sets++], sizeof p->set[0], "bottom.velocity=%.10g", -v);
             }
     } else if (sweep == SWEEP_P_RATE) {
         st = EKM_FAIL(err, EKM_EINPUT,

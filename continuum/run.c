@@ -1,5 +1,7 @@
 #include "run.h"
 
+#include "steady.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <time.h>
@@ -32,18 +34,30 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
                    const ekm_run_hooks *hooks, ekm_run_stats *stats, ekm_error *err)
 {
     const double rho_p = sc->material.rho_p;
-    *stats = (ekm_run_stats){.dt_min_used = INFINITY};
+    *stats = (ekm_run_stats){.dt_min_used = INFINITY, .steady_drift = NAN, .steady_time = NAN};
     stats->mass_initial = ekm_state_mass(s, rho_p);
     track_phi(stats, s);
     ekm_status rc;
     if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
         return rc;
+    ekm_steady steady = {0};
+    const int until_steady = sc->stop == EKM_STOP_STEADY;
+    int is_steady = 0;
+    if (until_steady) {
+        if ((rc = ekm_steady_init(&steady, s->n, err)) != EKM_OK)
+            return rc;
+        if ((rc = ekm_steady_check(&steady, sc, s, &is_steady, err)) != EKM_OK) {
+            ekm_steady_free(&steady);
+            return rc;
+        }
+    }
+    rc = EKM_OK;
     const double started = now_s();
     double last_progress = started;
     long frame = 0;
     /* the run starts (the load is applied) like a change of the driving */
     double dt_prev = ekm_control_restart_dt(sc, s) / 1.5;
-    while (s->t < sc->t_end * (1.0 - 1e-14)) {
+    while (!is_steady && s->t < sc->t_end * (1.0 - 1e-14)) {
         const double t_next_out = fmin(sc->t_end, (frame + 1) * sc->output_dt);
         double dt = fmin(ekm_control_max_dt(sc, s), 1.5 * dt_prev);
         int at_event; /* the step ends at a change of the driving */
@@ -54,15 +68,16 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
         for (;;) {
             int accepted;
             if ((rc = ekm_step_apply(st, s, dt, &accepted, err)) != EKM_OK)
-                return rc;
+                goto done;
             if (accepted)
                 break;
             stats->rejected++;
             dt *= 0.5;
-            if (dt < sc->numerics.dt_min)
-                return EKM_FAIL(err, EKM_ENUMERIC,
-                                "%s: time step fell below dt_min = %g s; last rejected step: %s",
-                                sc->source, sc->numerics.dt_min, st->reject_reason);
+            if (dt < sc->numerics.dt_min) {
+                rc = EKM_FAIL(err, EKM_ENUMERIC, "%s: time step fell below dt_min = %g s; last rejected step: %s",
+                              sc->source, sc->numerics.dt_min, st->reject_reason);
+                goto done;
+            }
         }
         if (dt < stats->dt_min_used)
             stats->dt_min_used = dt;
@@ -76,12 +91,14 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
         stats->newton_iterations += st->newton_iterations;
         stats->cell_updates += s->n;
         if (hooks && hooks->step && (rc = hooks->step(hooks->ctx, s, st, err)) != EKM_OK)
-            return rc;
+            goto done;
         if (s->t >= t_next_out * (1.0 - 1e-12)) {
             frame++;
             track_phi(stats, s);
             if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
-                return rc;
+                goto done;
+            if (until_steady && (rc = ekm_steady_check(&steady, sc, s, &is_steady, err)) != EKM_OK)
+                goto done;
         }
         if (hooks && hooks->progress && now_s() - last_progress > 0.25) {
             last_progress = now_s();
@@ -104,5 +121,14 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
     stats->fail_cell = st->fail_cell;
     stats->fail_phi = st->fail_phi;
     stats->fail_stress = st->fail_stress;
-    return EKM_OK;
+    if (until_steady) {
+        stats->steady = steady.steady;
+        stats->steady_drift = steady.drift;
+        stats->steady_time = steady.steady_time;
+        stats->steady_acceleration = ekm_steady_acceleration(&steady, sc);
+    }
+done:
+    if (until_steady)
+        ekm_steady_free(&steady);
+    return rc;
 }

@@ -2,7 +2,9 @@
  * control.h, grows at most x1.5 per step, ends on the next output time or
  * change of the driving (control.h, then restarts from the acoustic step),
  * is halved on a rejected step down to dt_min (below it: EKM_ENUMERIC with
- * the last rejection's reason); frames at output_dt, progress line. */
+ * the last rejection's reason); frames at output_dt, progress line.
+ * [run] stop = steady: the steady-state test of steady.h at every output;
+ * the run ends at the first output where it holds (t_end: the longest). */
 #ifndef EKM_RUN_H
 #define EKM_RUN_H
 
@@ -40,6 +42,11 @@ typedef struct {
     int fail_cell;          /* the failing cell (-1: none) */
     double fail_phi;        /* its phi then (the law's, as fail_fY) [-] */
     ekm_hypo_stress fail_stress; /* its stress then [Pa] */
+    /* [run] stop = steady (steady.h): */
+    int steady;             /* 1: ended steady, 0: reached t_end unsteady */
+    double steady_drift;    /* drift at the last output [1/s] */
+    double steady_time;     /* start of the held steady window [s], NAN: never */
+    double steady_acceleration; /* d(mean vx)/dt over the last steady_window [m/s^2] */
 } ekm_run_stats;
 
 ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #define DEG (3.14159265358979323846 / 180.0)
 
@@ -41,7 +42,9 @@ typedef struct {
     BC(side, T, KEY_DOUBLE, "inflow"),                                 \
     BC(side, t_stop, KEY_DOUBLE, "inflow"),                            \
     BC(side, period, KEY_DOUBLE, "piston"),                            \
-    BC(side, w_return, KEY_DOUBLE, "piston")
+    BC(side, w_return, KEY_DOUBLE, "piston"),                          \
+    BC(side, pressure, KEY_DOUBLE, "wall"),                            \
+    BC(side, pressure_rate, KEY_DOUBLE, "wall")
 
 static const key_spec KEYS[] = {
     {"scenario", "name", KEY_STRING, SC(name), sizeof(((ekm_scenario *)0)->name), 0, NULL},
@@ -67,6 +70,9 @@ static const key_spec KEYS[] = {
     BC_KEYS(top),
     {"run", "t_end", KEY_DOUBLE, SC(t_end), 0, 1, NULL},
     {"run", "output_dt", KEY_DOUBLE, SC(output_dt), 0, 0, NULL},
+    {"run", "stop", KEY_STRING, 0, 0, 0, NULL},
+    {"run", "steady_tol", KEY_DOUBLE, SC(steady_tol), 0, 0, NULL},
+    {"run", "steady_window", KEY_DOUBLE, SC(steady_window), 0, 0, NULL},
     {"numerics", "cfl", KEY_DOUBLE, SC(numerics.cfl), 0, 0, NULL},
     {"numerics", "convection", KEY_STRING, 0, 0, 0, NULL},
     {"numerics", "limiter", KEY_STRING, SC(numerics.limiter), sizeof(((ekm_numerics *)0)->limiter), 0, NULL},
@@ -105,7 +111,12 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->bottom.kind = s->top.kind = EKM_BC_WALL;
     s->bottom.t_stop = s->top.t_stop = INFINITY;
     s->bottom.w_return = s->top.w_return = NAN; /* piston: -w */
+    s->bottom.pressure = s->top.pressure = NAN; /* the wall stays put */
+    s->bottom.pressure_rate = s->top.pressure_rate = 1.0;
     s->output_dt = 0.0; /* 0: t_end / 100 */
+    s->stop = EKM_STOP_T_END;
+    s->steady_tol = 1e-3;
+    s->steady_window = 0.0; /* 0: 10 output_dt */
     s->numerics = (ekm_numerics){
         .cfl = 0.4, .convection = EKM_CONVECTION_UPWIND, .limiter = "vanleer",
         .dt_max = INFINITY, .dt_min = 1e-12, .phi_dry = 1e-9, .phi_vacuum = 0.0, .T_floor = 1e-16,
@@ -124,10 +135,13 @@ typedef struct {
     int line;          /* current line number */
     ekm_origin origin; /* EKM_FROM_FILE, or EKM_FROM_SET while reading the --set overrides */
     int long_line;     /* line number of a line too long for inih, or 0 */
+    int skip_material; /* 1: [material] of this file is ignored (a material file replaces it) */
+    int material_only; /* 1: reading the material file: [material] only */
     int failed;
     ekm_error *err;
     int seen[N_KEYS];  /* 1 + entry index where the key was set, 0 if not */
     int seen_line[N_KEYS];
+    char set_name[140]; /* "section.key" of the --set being read (messages: "--set section.key: ...") */
 } parse_ctx;
 
 static char *reader(char *str, int num, void *stream)
@@ -153,7 +167,10 @@ static int fail_once(parse_ctx *c, ekm_status code, const char *fmt, const char 
         c->failed = 1;
         char buf[700];
         snprintf(buf, sizeof buf, fmt, section, key, detail);
-        EKM_FAIL(c->err, code, "%s:%d: %s", c->file, c->line, buf);
+        if (c->origin == EKM_FROM_SET)
+            EKM_FAIL(c->err, code, "--set %s: %s", c->set_name, buf);
+        else
+            EKM_FAIL(c->err, code, "%s:%d: %s", c->file, c->line, buf);
     }
     return 0;
 }
@@ -222,6 +239,11 @@ static int handler(void *user, const char *section, const char *key, const char 
     parse_ctx *c = user;
     if (c->failed)
         return 0;
+    if (c->skip_material && strcmp(section, "material") == 0)
+        return 1;
+    if (c->material_only && strcmp(section, "material") != 0)
+        return fail_once(c, EKM_EINPUT, "[%s] %s: a material file holds only [material] (and comments)%s", section,
+                         key, "");
     if (ekm_resolve_is_tool_section(section)) {
         /* the other tools' keys: checked here, resolved by resolve.c */
         char why[700];
@@ -236,8 +258,8 @@ static int handler(void *user, const char *section, const char *key, const char 
     }
     if (!section_known(section))
         return fail_once(c, EKM_EINPUT,
-                         "[%s]%s: unknown section (ekm reads scenario material model domain gravity "
-                         "initial bottom top run numerics hypo; skips dem compare campaign figures)%s",
+                         "[%s]%s: unknown section (the sections are scenario material model domain gravity "
+                         "initial bottom top run numerics hypo dem compare campaign figures)%s",
                          section, "", "");
     size_t k;
     for (k = 0; k < N_KEYS; k++)
@@ -255,6 +277,10 @@ static int handler(void *user, const char *section, const char *key, const char 
         if (strcmp(value, "upwind") == 0) c->s->numerics.convection = EKM_CONVECTION_UPWIND;
         else if (strcmp(value, "tvd") == 0) c->s->numerics.convection = EKM_CONVECTION_TVD;
         else return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'upwind' or 'tvd', got '%s'", section, key, value);
+    } else if (strcmp(key, "stop") == 0) {
+        if (strcmp(value, "t_end") == 0) c->s->stop = EKM_STOP_T_END;
+        else if (strcmp(value, "steady") == 0) c->s->stop = EKM_STOP_STEADY;
+        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected 't_end' or 'steady', got '%s'", section, key, value);
     } else if (strcmp(key, "type") == 0) {
         ekm_bc *bc = strcmp(section, "bottom") == 0 ? &c->s->bottom : &c->s->top;
         if (strcmp(value, "wall") == 0) bc->kind = EKM_BC_WALL;
@@ -264,6 +290,8 @@ static int handler(void *user, const char *section, const char *key, const char 
         else if (strcmp(value, "piston") == 0) bc->kind = EKM_BC_PISTON;
         else return fail_once(c, EKM_EINPUT, "[%s] %s: expected one of wall inflow outflow free piston, got '%s'",
                               section, key, value);
+    } else if (strcmp(key, "pressure") == 0 && strcmp(value, "none") == 0) {
+        *(double *)(base + ks->offset) = NAN; /* the wall stays put (the default) */
     } else if (ks->type == KEY_DOUBLE) {
         if (!parse_double(value, (double *)(base + ks->offset)))
             return fail_once(c, EKM_EINPUT, "[%s] %s: expected a number, got '%s'", section, key, value);
@@ -295,8 +323,10 @@ static const char *where(const parse_ctx *c, const char *section, const char *ke
 {
     for (size_t k = 0; k < N_KEYS; k++)
         if (strcmp(KEYS[k].section, section) == 0 && strcmp(KEYS[k].key, key) == 0 && c->seen[k]) {
+            const char *file = strcmp(section, "material") == 0 && c->s->material_source[0] ? c->s->material_source
+                                                                                             : c->file;
             if (c->seen_line[k] > 0)
-                snprintf(buf, n, "%s:%d", c->file, c->seen_line[k]);
+                snprintf(buf, n, "%s:%d", file, c->seen_line[k]);
             else
                 snprintf(buf, n, "--set %s.%s", section, key);
             return buf;
@@ -348,6 +378,12 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
         RANGE(bc->T >= 0.0, side, "T", "a temperature >= 0 [m^2/s^2]", bc->T);
         RANGE(bc->t_stop > 0.0, side, "t_stop", "a time > 0 [s]", bc->t_stop);
     }
+    if (bc->kind == EKM_BC_WALL && !isnan(bc->pressure)) {
+        RANGE(strcmp(side, "top") == 0, side, "pressure", "no pressure on the bottom wall (only the top wall moves)",
+              bc->pressure);
+        RANGE(bc->pressure > 0.0, side, "pressure", "a pressure > 0 [Pa]", bc->pressure);
+        RANGE(bc->pressure_rate > 0.0, side, "pressure_rate", "a rate > 0 [1/s]", bc->pressure_rate);
+    }
     if (bc->kind == EKM_BC_PISTON) {
         RANGE(bc->w != 0.0, side, "w", "a velocity != 0 [m/s]", bc->w);
         RANGE(bc->period > 0.0, side, "period", "a time > 0 [s]", bc->period);
@@ -357,13 +393,22 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
 
 static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error *err)
 {
+    const char *material_file = s->material_source[0] ? s->material_source : c->file;
     for (size_t k = 0; k < N_KEYS; k++)
         if (KEYS[k].required && !c->seen[k])
-            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: missing (a required key)", c->file,
-                            KEYS[k].section, KEYS[k].key);
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: missing (a required key)",
+                            strcmp(KEYS[k].section, "material") == 0 ? material_file : c->file, KEYS[k].section,
+                            KEYS[k].key);
     ekm_error merr;
-    if (ekm_material_check(&s->material, &merr) != EKM_OK)
-        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", c->file, merr.message);
+    if (ekm_material_check(&s->material, &merr) != EKM_OK) {
+        if (strcmp(material_file, c->file) != 0) /* --material FIT.ini: the whole section is its */
+            return EKM_FAIL(err, EKM_EINPUT, "%s: %s", material_file, merr.message);
+        /* merr says "[material] KEY: ..."; prefix where KEY came from (file:line or --set) */
+        char key[64] = "", w_[600];
+        if (sscanf(merr.message, "[material] %63[^:]", key) != 1)
+            key[0] = '\0';
+        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", where(c, "material", key, w_, sizeof w_), merr.message);
+    }
     RANGE(s->length > 0.0, "domain", "length", "a length > 0 [m]", s->length);
     RANGE(s->cells >= 1 && s->cells <= 10000000, "domain", "cells", "an integer in [1, 1e7]", s->cells);
     RANGE(s->gravity >= 0.0, "gravity", "magnitude", "a number >= 0 [m/s^2]", s->gravity);
@@ -376,6 +421,10 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     if (s->output_dt == 0.0)
         s->output_dt = s->t_end / 100.0;
     RANGE(s->output_dt > 0.0, "run", "output_dt", "a time > 0 [s]", s->output_dt);
+    RANGE(s->steady_tol > 0.0, "run", "steady_tol", "a rate > 0 [1/s]", s->steady_tol);
+    if (s->steady_window == 0.0)
+        s->steady_window = 10.0 * s->output_dt;
+    RANGE(s->steady_window > 0.0, "run", "steady_window", "a time > 0 [s]", s->steady_window);
     const ekm_numerics *n = &s->numerics;
     RANGE(n->cfl > 0.0 && n->cfl <= 1.0, "numerics", "cfl", "a number in (0, 1]", n->cfl);
     RANGE(n->dt_max > 0.0, "numerics", "dt_max", "a time > 0 [s]", n->dt_max);
@@ -423,28 +472,61 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     return check_bc(c, s, "top", &s->top, err);
 }
 
-ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
-                             const char *const *overrides, size_t n_overrides,
-                             ekm_error *err)
+/* Parse one INI file into c (c->file names it). */
+static ekm_status parse_file(parse_ctx *c, const char *path, const char *what, ekm_error *err)
 {
-    ekm_scenario_init_defaults(s);
-    snprintf(s->source, sizeof s->source, "%s", path);
-    parse_ctx c = {.s = s, .file = path, .err = err};
-    c.fp = fopen(path, "r");
-    if (!c.fp)
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot open scenario file: %s", path, strerror(errno));
-    int rc = ini_parse_stream(reader, &c, handler, &c);
-    fclose(c.fp);
-    c.fp = NULL;
-    if (c.failed)
+    c->file = path;
+    c->line = 0;
+    c->long_line = 0;
+    c->fp = fopen(path, "r");
+    if (!c->fp)
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot open %s: %s", path, what, strerror(errno));
+    struct stat fst;
+    if (fstat(fileno(c->fp), &fst) != 0 || !S_ISREG(fst.st_mode)) {
+        fclose(c->fp);
+        c->fp = NULL;
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot read %s: not a regular file", path, what);
+    }
+    int rc = ini_parse_stream(reader, c, handler, c);
+    fclose(c->fp);
+    c->fp = NULL;
+    if (c->failed)
         return EKM_EINPUT;
-    if (c.long_line)
-        return EKM_FAIL(err, EKM_EINPUT, "%s:%d: line longer than %d characters", path, c.long_line,
+    if (c->long_line)
+        return EKM_FAIL(err, EKM_EINPUT, "%s:%d: line longer than %d characters", path, c->long_line,
                         INI_MAX_LINE - 2);
     if (rc > 0)
         return EKM_FAIL(err, EKM_EINPUT, "%s:%d: expected '[section]' or 'key = value'", path, rc);
     if (rc < 0)
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot read scenario file", path);
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot read %s", path, what);
+    return EKM_OK;
+}
+
+ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
+                             const char *const *overrides, size_t n_overrides,
+                             ekm_error *err)
+{
+    return ekm_scenario_load_material(s, path, NULL, overrides, n_overrides, err);
+}
+
+ekm_status ekm_scenario_load_material(ekm_scenario *s, const char *path, const char *material_path,
+                                      const char *const *overrides, size_t n_overrides, ekm_error *err)
+{
+    ekm_scenario_init_defaults(s);
+    snprintf(s->source, sizeof s->source, "%s", path);
+    parse_ctx c = {.s = s, .file = path, .err = err, .skip_material = material_path != NULL};
+    ekm_status pst = parse_file(&c, path, "scenario file", err);
+    if (pst != EKM_OK)
+        return pst;
+    if (material_path) {
+        snprintf(s->material_source, sizeof s->material_source, "%s", material_path);
+        c.skip_material = 0;
+        c.material_only = 1;
+        c.origin = EKM_FROM_MATERIAL;
+        if ((pst = parse_file(&c, material_path, "material file", err)) != EKM_OK)
+            return pst;
+        c.material_only = 0;
+    }
     for (size_t i = 0; i < n_overrides; i++) {
         const char *o = overrides[i];
         const char *dot = strchr(o, '.');
@@ -457,6 +539,7 @@ ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
         c.file = "--set";
         c.line = (int)i + 1;
         c.origin = EKM_FROM_SET;
+        snprintf(c.set_name, sizeof c.set_name, "%s.%s", section, key);
         if (!handler(&c, section, key, eq + 1))
             return EKM_EINPUT;
         /* --set entries are marked with line 0 so messages say "--set". */
@@ -514,6 +597,8 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
         snprintf(value, size, "%s", s->variant == EKM_VARIANT_THESIS ? "thesis" : "full");
     else if (strcmp(ks->key, "convection") == 0)
         snprintf(value, size, "%s", s->numerics.convection == EKM_CONVECTION_TVD ? "tvd" : "upwind");
+    else if (strcmp(ks->key, "stop") == 0)
+        snprintf(value, size, "%s", s->stop == EKM_STOP_STEADY ? "steady" : "t_end");
     else if (bc && strcmp(ks->key, "type") == 0)
         snprintf(value, size, "%s", ekm_bc_kind_name(bc->kind));
     else if (ks->type == KEY_DOUBLE) {

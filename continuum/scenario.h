@@ -35,7 +35,14 @@ typedef struct {
     double t_stop;      /* inflow: time it closes to a resting wall [s] */
     double period;      /* piston: period of the velocity program [s] */
     double w_return;    /* piston: w in the second half of each period, NAN: -w [m/s] */
+    double pressure;    /* wall (top only): normal stress held on the moving wall, NAN: the wall
+                         * stays put (bc.h, the gap L(t)) [Pa] */
+    double pressure_rate; /* wall with pressure: relative gap speed per relative stress
+                           * mismatch, dL/dt = rate L (P_top - P)/P [1/s] */
 } ekm_bc;
+
+/* When a run ends ([run] stop): at t_end, or when steady (run.h). */
+typedef enum { EKM_STOP_T_END = 0, EKM_STOP_STEADY = 1 } ekm_stop;
 
 typedef enum { EKM_CONVECTION_UPWIND = 0, EKM_CONVECTION_TVD = 1 } ekm_convection;
 
@@ -84,14 +91,15 @@ typedef struct {
 } ekm_hypo_params;
 
 /* Where a key's value came from. */
-typedef enum { EKM_FROM_FILE = 0, EKM_FROM_SET, EKM_FROM_DEFAULT } ekm_origin;
+typedef enum { EKM_FROM_FILE = 0, EKM_FROM_SET, EKM_FROM_DEFAULT,
+               EKM_FROM_MATERIAL /* the material file (ekm_scenario_load_material) */ } ekm_origin;
 
 /* One key as given (file or --set), kept for provenance in the output. */
 typedef struct {
     char name[64];     /* "section.key" (for the other tools' sections the key as
                         * written, with its <engine>./<size>. prefix) */
     char value[160];   /* the value string as written */
-    ekm_origin origin; /* EKM_FROM_FILE or EKM_FROM_SET */
+    ekm_origin origin; /* EKM_FROM_FILE, EKM_FROM_MATERIAL or EKM_FROM_SET */
     int line;          /* file line, or the position of the --set (from 1) */
 } ekm_entry;
 
@@ -99,6 +107,7 @@ typedef struct {
     char name[64];          /* scenario name */
     char description[256];
     char source[512];       /* file it was read from */
+    char material_source[512]; /* the material file its [material] came from, "" : none */
     ekm_material material;
     ekm_variant variant;
     double length;          /* domain height, z in [0, length] [m] */
@@ -115,6 +124,9 @@ typedef struct {
     ekm_bc bottom, top;
     double t_end;           /* end time [s] */
     double output_dt;       /* output interval [s] */
+    ekm_stop stop;          /* [run] stop: t_end, or steady (t_end the longest run) */
+    double steady_tol;      /* steady when every drift stays below this [1/s] (run.h) */
+    double steady_window;   /* ... over this long [s] */
     ekm_numerics numerics;
     ekm_hypo_params hypo;
     ekm_entry *entries;     /* every key of ekm's sections read, in order (provenance;
@@ -134,6 +146,14 @@ void ekm_scenario_init_defaults(ekm_scenario *s);
 ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
                              const char *const *overrides, size_t n_overrides,
                              ekm_error *err);
+
+/* The same with the whole [material] section taken from material_path
+ * (a file of only [material] and comments, as `ekmcompare fit --ini`
+ * writes) instead of path's: its keys' provenance is material_path:LINE,
+ * any other section there is an error naming material_path:LINE; the
+ * overrides still apply last.  material_path NULL: ekm_scenario_load. */
+ekm_status ekm_scenario_load_material(ekm_scenario *s, const char *path, const char *material_path,
+                                      const char *const *overrides, size_t n_overrides, ekm_error *err);
 
 void ekm_scenario_free(ekm_scenario *s);
 

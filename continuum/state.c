@@ -53,6 +53,8 @@ void ekm_state_free(ekm_state *s)
 void ekm_state_copy(ekm_state *dst, const ekm_state *src)
 {
     const size_t n = (size_t)src->n;
+    dst->dz = src->dz; /* a pressure-controlled wall stretches the grid */
+    memcpy(dst->z, src->z, n * sizeof *dst->z);
     memcpy(dst->phi, src->phi, n * sizeof *dst->phi);
     memcpy(dst->T, src->T, n * sizeof *dst->T);
     memcpy(dst->u, src->u, n * sizeof *dst->u);

@@ -54,6 +54,7 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->rhs_face0 = calloc(f, sizeof(double));
     st->fail_time = -1.0;
     st->fail_cell = -1;
+    st->moving = ekm_bc_pressure_wall(&sc->top);
     if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P ||
         !st->eta || !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src ||
         !st->rho_face || !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face ||
@@ -100,12 +101,22 @@ static int mass_update(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
     double *F = st->F;
     F[0] = s->w[0] * (s->w[0] > 0.0 ? bb->phi_in : s->phi[0]);
     F[n] = s->w[n] * (s->w[n] < 0.0 ? bt->phi_in : s->phi[n - 1]);
-    for (int f = 1; f < n; f++)
-        F[f] = s->w[f] == 0.0 ? 0.0 : s->w[f] * ekm_flux_face_value(s->phi, n, f, s->w[f] > 0.0, st->psi);
+    if (st->moving) {
+        /* fluxes relative to the stretching grid; none through the walls */
+        F[0] = F[n] = 0.0;
+        for (int f = 1; f < n; f++) {
+            const double w_rel = s->w[f] - f * st->gap_rate / n;
+            F[f] = w_rel == 0.0 ? 0.0 : w_rel * ekm_flux_face_value(s->phi, n, f, w_rel > 0.0, st->psi);
+        }
+    } else {
+        for (int f = 1; f < n; f++)
+            F[f] = s->w[f] == 0.0 ? 0.0 : s->w[f] * ekm_flux_face_value(s->phi, n, f, s->w[f] > 0.0, st->psi);
+    }
     const double r = dt / s->dz;
     for (int j = 0; j < n; j++) {
         const double phi = s->phi[j];
-        const double phi_new = phi - r * (F[j + 1] - F[j]);
+        const double phi_new = st->moving ? (phi * s->dz - dt * (F[j + 1] - F[j])) / st->dz_new
+                                          : phi - r * (F[j + 1] - F[j]);
         st->phi_new[j] = phi_new;
         if (!(phi_new >= 0.0) || !(phi_new - phi <= st->sc->numerics.phi_step_max * (m->phi_cp - phi))) {
             snprintf(st->reject_reason, sizeof st->reject_reason,
@@ -127,6 +138,22 @@ static void convection(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
     const int n = s->n;
     const double rho_p = st->sc->material.rho_p;
     const double r = dt / s->dz;
+    if (st->moving) {
+        /* the content of each (stretching) cell, over its new height */
+        const double dz = s->dz, dz_new = st->dz_new;
+        ekm_flux_advect(n, st->F, s->u, bb->u_in, bt->u_in, st->psi, st->qF);
+        for (int j = 0; j < n; j++)
+            st->rhoU[j] = rho_p * (s->phi[j] * s->u[j] * dz - dt * (st->qF[j + 1] - st->qF[j])) / dz_new;
+        ekm_flux_advect(n, st->F, s->T, bb->T_in, bt->T_in, st->psi, st->qF);
+        for (int j = 0; j < n; j++)
+            st->rhoT[j] = rho_p * (s->phi[j] * s->T[j] * dz - dt * (st->qF[j + 1] - st->qF[j])) / dz_new;
+        ekm_flux_face_momentum(n, st->F, s->w, st->mom_c);
+        for (int f = 1; f < n; f++) {
+            const double phi_face = 0.5 * (s->phi[f - 1] + s->phi[f]);
+            st->rhs_face[f] = rho_p * (phi_face * s->w[f] * dz - dt * (st->mom_c[f] - st->mom_c[f - 1])) / dz_new;
+        }
+        return;
+    }
     ekm_flux_advect(n, st->F, s->u, bb->u_in, bt->u_in, st->psi, st->qF);
     for (int j = 0; j < n; j++)
         st->rhoU[j] = rho_p * (s->phi[j] * s->u[j] - r * (st->qF[j + 1] - st->qF[j]));
@@ -138,6 +165,18 @@ static void convection(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
         const double phi_face = 0.5 * (s->phi[f - 1] + s->phi[f]);
         st->rhs_face[f] = rho_p * (phi_face * s->w[f] - r * (st->mom_c[f] - st->mom_c[f - 1]));
     }
+}
+
+/* A pressure-controlled wall: the grid takes its new height after the
+ * transport (phases 2-3), and the walls' face data follow it. */
+static void stretch_grid(ekm_stepper *st, ekm_state *s, ekm_bc_face *bb, ekm_bc_face *bt)
+{
+    s->dz = st->dz_new;
+    for (int j = 0; j < s->n; j++)
+        s->z[j] = (j + 0.5) * s->dz;
+    *bb = ekm_bc_evaluate(&st->sc->bottom, EKM_SIDE_BOTTOM, s->t, s);
+    *bt = ekm_bc_evaluate(&st->sc->top, EKM_SIDE_TOP, s->t, s);
+    bt->w = st->gap_rate;
 }
 
 /* Phase 4: T*, dry flags and transport coefficients at (phi*, T*). */
@@ -209,6 +248,11 @@ static void boundaries(ekm_stepper *st, ekm_state *s, double dt, ekm_bc_face *bb
     const int n = s->n;
     *bb = ekm_bc_evaluate(&sc->bottom, EKM_SIDE_BOTTOM, s->t, s);
     *bt = ekm_bc_evaluate(&sc->top, EKM_SIDE_TOP, s->t, s);
+    if (st->moving) {
+        st->gap_rate = ekm_bc_gap_rate(sc, s);
+        st->dz_new = s->dz + dt * st->gap_rate / n;
+        bt->w = st->gap_rate;
+    }
     s->w[0] = ekm_bc_face_w(bb, EKM_SIDE_BOTTOM, s);
     s->w[n] = ekm_bc_face_w(bt, EKM_SIDE_TOP, s);
     /* Gravity at the end of the step (the momentum solves are implicit):
@@ -385,6 +429,8 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
         return reject(st, s, accepted);
     /* 3. convection */
     convection(st, s, &bb, &bt, dt);
+    if (st->moving)
+        stretch_grid(st, s, &bb, &bt);
     /* 4. properties */
     properties(st, n);
     if (n_solid)

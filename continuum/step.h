@@ -22,6 +22,14 @@
  * loop that retries a rejected step with half of it: run.h.  Gravity (a
  * tilting base) is taken at the end of the step.
  *
+ * A pressure-controlled top wall (bc.h) moves the top face at dL/dt: the
+ * grid stretches uniformly (z = zeta L(t), every cell L/n), the faces move
+ * at w_g = zeta dL/dt, phases 2-3 use the fluxes relative to them,
+ * F = (w - w_g) phi_face, and conserve the content of each cell,
+ * (phi dz)' = phi dz - dt dF (likewise rho u, rho T, the face momentum);
+ * the new dz then holds for phases 4-9.  Other runs take the fixed-grid
+ * arithmetic unchanged.
+ *
  * Empty cells (phi < phi_dry) keep their (tiny) mass but have T = u = 0 and
  * no stress; a wet cell's T never falls below T_floor.
  */
@@ -71,6 +79,9 @@ typedef struct {
     int fail_cell;          /* the failing cell (-1: none) */
     double fail_phi;        /* its phi (the law's: [hypo] phi_fixed when set) [-] and its stress then [Pa] (sigma_xz: mean of its faces) */
     ekm_hypo_stress fail_stress;
+    int moving;             /* 1: pressure-controlled top wall, the grid stretches */
+    double gap_rate;        /* dL/dt of this step [m/s] (moving) */
+    double dz_new;          /* cell height at the end of this step [m] (moving) */
     int newton_iterations;  /* of the last accepted step */
     char reject_reason[512];/* why the last step was rejected */
 } ekm_stepper;

@@ -13,7 +13,9 @@ A results folder RES (docs/campaign.md, workflow/Snakefile):
 The figures read results only (no scenario file): shift and time matching
 from the scores' options, units from the HDF5 datasets' `units` attributes.
 Everything is read and checked before any figure is drawn: a missing file
-or dataset stops the program with one line naming it (InputError).
+or dataset stops the program with one line naming it (InputError, whose
+status is the exit status of docs/exit-codes.md: 3 for a missing or
+unreadable file, 2 for a file that is there but not as expected).
 """
 import json
 import os
@@ -49,8 +51,18 @@ FIELD_LABEL = {
 FIELD_ORDER = ("phi", "vx", "vz", "T", "P", "sxz", "szz")
 
 
+BAD_INPUT = 2     # exit statuses, docs/exit-codes.md
+IO_ERROR = 3
+
+
 class InputError(Exception):
-    """A missing or malformed input: one line for stderr."""
+    """A missing or malformed input: one line for stderr, and the exit
+    status (BAD_INPUT: there but not as expected; IO_ERROR: a file missing
+    or unreadable)."""
+
+    def __init__(self, message, status=BAD_INPUT):
+        super().__init__(message)
+        self.status = status
 
 
 def style():
@@ -124,7 +136,7 @@ def rel(path):
 
 
 def missing(path, what):
-    return InputError("%s: missing (%s)" % (rel(path), what))
+    return InputError("%s: missing (%s)" % (rel(path), what), IO_ERROR)
 
 
 # --- scores.json: the index ------------------------------------------------------
@@ -141,6 +153,8 @@ class Point:
         self.dem_json = {}          # engine -> dict
         self.ekm = None             # EkmRun
         self.shift = {}             # engine -> shift [m] of its score's options
+        self.vars = {}              # sweep variable -> value as the reader resolved it
+        self.where = ""             # "RES/scores.json: rows[i]" of its first row
 
     def label(self):
         return self.name if self.name else "-"
@@ -169,7 +183,9 @@ def read_json(path, what):
     try:
         with open(path) as fh:
             return json.load(fh)
-    except (OSError, ValueError) as e:
+    except OSError as e:
+        raise InputError("%s: cannot read (%s): %s" % (rel(path), what, e.strerror or e), IO_ERROR)
+    except ValueError as e:
         raise InputError("%s: cannot read as JSON (%s): %s" % (rel(path), what, e))
 
 
@@ -199,6 +215,12 @@ def load_index(res):
         pt = next((q for q in sc.points if q.name == p), None)
         if pt is None:
             pt = Point(s, p, os.path.join(res, s, p) if p else os.path.join(res, s))
+            v = row.get("vars", {})
+            if not (isinstance(v, dict) and all(isinstance(x, str) for x in v.values())):
+                raise InputError("%s: rows[%d]: 'vars': expected an object of strings (the point's "
+                                 "sweep variables), got %r" % (rel(path), i, v))
+            pt.vars = v
+            pt.where = "%s: rows[%d]" % (rel(path), i)
             sc.points.append(pt)
         for e, v in st.items():
             if v != "n/a":
@@ -251,6 +273,8 @@ def _open(path, what):
     import h5py
     if not os.path.isfile(path):
         raise missing(path, what)
+    if not os.access(path, os.R_OK):
+        raise InputError("%s: cannot read (%s): permission denied" % (rel(path), what), IO_ERROR)
     try:
         return h5py.File(path, "r")
     except OSError as e:
@@ -467,8 +491,12 @@ class Writer:
     def finish(self, listname="figures.txt"):
         path = os.path.join(self.outdir, listname)
         tmp = os.path.join(self.outdir, "." + listname + ".tmp")
-        with open(tmp, "w") as fh:
-            for p in self.written:
-                fh.write(p + "\n")
-        os.replace(tmp, path)
+        try:
+            with open(tmp, "w") as fh:
+                for p in self.written:
+                    fh.write(p + "\n")
+            os.replace(tmp, path)
+        finally:
+            if os.path.exists(tmp):
+                os.remove(tmp)
         return path

@@ -18,13 +18,18 @@ the list of the files written (one path a line):
                           EKM runs and the EKM's closed form (MODEL.md 7)
   cost                    wall time of DEM (per engine) and EKM per scenario
 
-Every input is read and checked before anything is drawn. A missing file,
-dataset or attribute stops with one line on stderr naming it and what it
-is for, exit status 1, and no figures.txt (a previous one is removed once
-drawing starts). Usage errors: exit status 2.
+Every input is read and checked before anything is drawn. A missing or
+malformed input stops with one line on stderr naming it and what it is
+for, and no figures.txt (a previous one is removed once drawing starts).
+Exit status (docs/exit-codes.md): 0 done; 1 usage; 2 bad input (a dataset,
+attribute or key missing or not as expected); 3 a file missing or
+unreadable, or an output that cannot be written; 7 a Python package
+missing (numpy, h5py, matplotlib). SIGTERM and SIGHUP (and SIGINT) end it
+with 128+N after removing the temporary of the figure being written.
 """
 import argparse
 import os
+import signal
 import sys
 
 sys.dont_write_bytecode = True          # no __pycache__ in the source tree
@@ -34,14 +39,35 @@ sys.path.insert(0, HERE)
 import common as C  # noqa: E402
 
 
+USAGE = 1          # exit statuses, docs/exit-codes.md (common.py: 2, 3)
+UNAVAILABLE = 7
+
+
+class ArgParser(argparse.ArgumentParser):
+    """argparse with the table's usage status (argparse's own is 2, which
+    the table gives to bad input)."""
+
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        self.exit(USAGE, "%s: %s\n" % (self.prog, message))
+
+
+def on_signal(signum, _frame):
+    """A signal ends the program as an exception, so that the `finally`
+    clauses remove the temporaries; the status is the shell's 128+N."""
+    raise SystemExit(128 + signum)
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog=C.PROG, description="Paper figures of a campaign results folder.")
+    for sig in (signal.SIGTERM, signal.SIGHUP, signal.SIGINT):
+        signal.signal(sig, on_signal)
+    ap = ArgParser(prog=C.PROG, description="Paper figures of a campaign results folder.")
     ap.add_argument("--size", choices=("smoke", "ref"), required=True, help="campaign size")
     ap.add_argument("res", help="results folder (results/smoke or results)")
     a = ap.parse_args(argv)
     if not os.path.isdir(a.res):
         print("%s: %s: missing (the campaign results folder)" % (C.PROG, a.res), file=sys.stderr)
-        return 1
+        return C.IO_ERROR
     try:
         import numpy  # noqa: F401
         import h5py  # noqa: F401
@@ -49,13 +75,13 @@ def main(argv=None):
     except ImportError as e:
         print("%s: %s (install scripts/deps/figures.txt; use /usr/bin/python3)" % (C.PROG, e),
               file=sys.stderr)
-        return 1
+        return UNAVAILABLE
     C.style()
     try:
         scenarios, notes = C.load_campaign(a.res, a.size)
     except C.InputError as e:
         print("%s: %s" % (C.PROG, e), file=sys.stderr)
-        return 1
+        return e.status
     for n in notes:
         print("%s: note: %s" % (C.PROG, n), file=sys.stderr)
 
@@ -65,6 +91,20 @@ def main(argv=None):
     import cost
 
     outdir = os.path.join(a.res, "figures")
+    try:
+        return draw(scenarios, outdir, profiles, spacetime, rheology, cost)
+    except C.InputError as e:
+        print("%s: %s" % (C.PROG, e), file=sys.stderr)
+        return e.status
+    except OSError as e:
+        print("%s: %s: cannot write (%s)" % (C.PROG, C.rel(e.filename or outdir), e.strerror or e),
+              file=sys.stderr)
+        return C.IO_ERROR
+
+
+def draw(scenarios, outdir, *modules):
+    """Every figure into outdir, then the listing figures.txt."""
+    profiles, spacetime, rheology, cost = modules
     listing = os.path.join(outdir, "figures.txt")
     previous = []
     if os.path.isfile(listing):
@@ -72,14 +112,10 @@ def main(argv=None):
             previous = [l.strip() for l in fh if l.strip()]
         os.remove(listing)
     w = C.Writer(outdir)
-    try:
-        profiles.make(scenarios, w)
-        spacetime.make(scenarios, w)
-        for n in rheology.make(scenarios, w) + cost.make(scenarios, w):
-            print("%s: note: %s" % (C.PROG, n), file=sys.stderr)
-    except C.InputError as e:
-        print("%s: %s" % (C.PROG, e), file=sys.stderr)
-        return 1
+    profiles.make(scenarios, w)
+    spacetime.make(scenarios, w)
+    for n in rheology.make(scenarios, w) + cost.make(scenarios, w):
+        print("%s: note: %s" % (C.PROG, n), file=sys.stderr)
     # figures of a previous run that this one did not make again
     now = {os.path.basename(p) for p in w.written}
     for p in previous:

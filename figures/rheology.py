@@ -3,9 +3,10 @@ the shear rate at each phi. DEM (LAMMPS; Lees-Edwards) points with error
 bars, the EKM runs at the same points, and the EKM's closed form for steady
 homogeneous simple shear (../shared/MODEL.md section 7) as lines.
 
-A point's phi and shear rate come from its name (phi<P>-rate<R>, the ref
-sweep); a single case (smoke) takes them from its ekm.h5: [initial] phi and
-(top.velocity - bottom.velocity) / domain.length.
+A point's phi and shear rate are its sweep variables phi and rate in the
+score table (each row's `vars`: the resolved scenario's points[].vars, as
+the campaign's table.sh writes them); the figures do not map the rate to
+wall velocities themselves.
 
 DEM values are the spatial means of the steady profiles (the flow is
 homogeneous); their SE is the mean of the profile's SEs, which assumes the
@@ -25,7 +26,6 @@ mu = sqrt(3 eta0 eps0 / (2 phi)). A pressure point's EKM run is a
 fixed-gap run at its rate and [initial] phi (the EKM has no pressure-held
 wall yet): it is not drawn.
 """
-import re
 
 import numpy as np
 
@@ -66,17 +66,18 @@ def point_rate(pt):
 
 
 def point_state(pt):
-    """(phi, shear rate [1/s]) of a point."""
-    m = re.fullmatch(r"phi([0-9.]+)-rate([0-9.]+)", pt.name)
-    if m:
-        return float(m.group(1)), float(m.group(2))
-    e = pt.ekm
-    why = "phi and shear rate of the single simple-shear case"
-    phi = e.number("initial.phi", why)
-    L = e.number("domain.length", why)
-    vt = e.number("top.velocity", why)
-    vb = e.number("bottom.velocity", why)
-    return phi, abs(vt - vb) / L
+    """(phi, shear rate [1/s]) of a point: its sweep variables phi and rate
+    in the score table (the resolved scenario's points[].vars)."""
+    out = []
+    for name in ("phi", "rate"):
+        if name not in pt.vars:
+            raise C.InputError("%s: vars.%s: missing (the point's %s, from the resolved scenario)"
+                               % (pt.where, name, name))
+        try:
+            out.append(float(pt.vars[name]))
+        except ValueError:
+            raise C.InputError("%s: vars.%s: expected a number, got %r" % (pt.where, name, pt.vars[name]))
+    return tuple(out)
 
 
 def dem_mean(cg, name):

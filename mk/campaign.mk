@@ -11,6 +11,9 @@
 #   make figures [SIZE=...]      only the figures, from existing results
 #   RES=DIR, RUNS=DIR            other results / DEM-run folders (tests)
 #   make campaign-table [SIZE=...]   print the score table
+#   FROM_CG=1        take existing coarse-grained DEM files as they are (the
+#                    committed reference results on a fresh clone, without
+#                    their dumps): EKM runs, scores, table and figures only
 #
 # Snakemake decides what is redone (--rerun-triggers mtime --drop-metadata:
 # as make, a step whose inputs, i.e. scenario file, deck, binaries, scripts,
@@ -25,6 +28,7 @@ CAMPAIGN_RES  = $(abspath $(or $(RES),$(if $(filter ref,$(CAMPAIGN_SIZE)),result
 CAMPAIGN_RUNS = $(abspath $(or $(RUNS),runs))
 # jobs: JOBS=N, else make's -jN (in MAKEFLAGS inside a recipe), else 1
 CAMPAIGN_JOBS = $${JOBS:-$$(echo " $$MAKEFLAGS" | sed -n 's/.* -[a-zA-Z]*j\([0-9][0-9]*\).*/\1/p')}
+export FROM_CG
 CAMPAIGN_ARGS = $(CAMPAIGN_SIZE) '$(ENGINES)' $(CAMPAIGN_NP) $(CAMPAIGN_RES) $(CAMPAIGN_RUNS) \
   $(abspath $(BUILD)) "$$j" '$(SCENARIOS)'
 

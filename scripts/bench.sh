@@ -9,6 +9,14 @@ build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
 out="$root/$build/bench"
 mkdir -p "$out" "$root/results"
+# the temporaries go on every exit (an error under set -e, a signal); on a
+# signal the status is 128+N
+tmps=("$root/results/bench.json.tmp" "$root/results/bench.md.tmp")
+trap 'rm -f "${tmps[@]}"' EXIT
+for sig in INT TERM HUP; do
+  n=$(kill -l "$sig")
+  trap "rm -f \"\${tmps[@]}\"; trap - $sig EXIT; exit $((128 + n))" "$sig"
+done
 rm -f "$out"/*.json
 for b in "$root"/bench/*.sh; do
   echo "bench: running $(basename "$b")" >&2

@@ -9,8 +9,10 @@
 # nothing to do, else runs the steps up to the scores (--keep-going: a
 # failed step does not stop the others), then the table and the figures
 # from the scores that exist (a second invocation, so that the workflow is
-# parsed again and sees the scores just made). Exit status 1 if a step
-# failed (Snakemake's messages and the failed step's log above).
+# parsed again and sees the scores just made). Exit status (docs/exit-codes.md):
+# 4 if a step failed (Snakemake's messages and the failed step's log above),
+# the workflow's own status if it does not parse (2 when the scenario reader
+# refuses a scenario, with the reader's error line), 1 usage, 7 no snakemake.
 set -uo pipefail
 [ $# -eq 8 ] || [ $# -eq 9 ] || { echo "campaign.sh: usage: campaign.sh all|table|figures SIZE \"ENGINES\" NP RES RUNS BUILD JOBS [\"SCENARIOS\"]" >&2; exit 1; }
 mode=$1 size=$2 engines=$3 np=$4 res=$5 runs=$6 build=$7 jobs=$8 scenarios=${9:-}
@@ -26,14 +28,15 @@ command -v snakemake > /dev/null || { echo "campaign.sh: snakemake not installed
 # option, and the last option is a flag, so that targets can follow)
 smk=(snakemake --snakefile workflow/Snakefile -j "$jobs"
      --config "size=$size" "engines=$engines" "np=$np" "res=$res" "runs=$runs" "build=$build" "scenarios=$scenarios"
+              "from_cg=${FROM_CG:-0}"
      --quiet progress rules --rerun-triggers mtime --drop-metadata --rerun-incomplete --keep-going)
 # Snakemake's scheduler chatter off; its errors and summaries stay
 quiet() { grep -v -E '^(Select jobs to execute\.\.\.|Building DAG of jobs\.\.\.|Using shell: |Provided cores: |Rules claiming more threads will be scaled down\.|Complete log: )'; return 0; }
 smk() { "${smk[@]}" "$@" 2>&1 | quiet; return "${PIPESTATUS[0]}"; }
 
 case $mode in
-  table) smk table && cat "$res/scores.md"; exit ;;
-  figures) smk figures; exit ;;
+  table) smk table || exit $(( $? == 1 ? 4 : $? )); cat "$res/scores.md"; exit ;;
+  figures) smk figures || exit $(( $? == 1 ? 4 : $? )); exit ;;
   all) ;;
   *) echo "campaign.sh: unknown mode '$mode' (all, table, figures)" >&2; exit 1 ;;
 esac
@@ -46,13 +49,14 @@ if out=$("${smk[@]}" -n scores table figures 2>&1); then
       cat "$res/scores.md"; exit 0 ;;
   esac
 else
-  echo "$out" | quiet >&2; exit 1
+  rc=$?   # the workflow did not parse: its status (2 bad scenario, 1 bad --config)
+  echo "$out" | quiet >&2; exit $rc
 fi
 t0=$(date +%s); rc=0
-smk scores || rc=1
-smk table || rc=1
+smk scores || rc=4
+smk table || rc=4
 cat "$res/scores.md"
-smk figures || rc=1
+smk figures || rc=4
 echo "make campaign: SIZE=$size done in $(( $(date +%s) - t0 )) s: $res/scores.md, $res/figures/"
 [ $rc -eq 0 ] || echo "make campaign: some steps FAILED (messages above; the table marks them missing)" >&2
 exit $rc

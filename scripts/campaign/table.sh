@@ -4,7 +4,10 @@
 #   table.sh SIZE RES "ENGINES" PLAN.json
 # PLAN.json (written by the Snakefile from the resolved scenarios): one
 # object per campaign scenario, {"scenario", "engines": [the engines that
-# can run it, of ENGINES], "fields": "phi,vx,...", "points": [tags]}.
+# can run it, of ENGINES], "fields": "phi,vx,...", "points": [{"tag",
+# "vars"}]} (vars: the point's sweep variables from the resolved scenario,
+# `points[].vars` of docs/resolved-scenario.md; each row carries them, so
+# that the figures read a point's phi and rate from the table).
 # Writes RES/scores.json and RES/scores.md (atomically) and prints the
 # markdown table. One row per scenario x sweep point x scored field, with
 # the relative L2 error and the noise-normalised error (MODEL.md section 9)
@@ -12,11 +15,12 @@
 # A comparison that cannot exist (engine cannot run the scenario, or not in
 # ENGINES) is "n/a"; one whose score file is missing (failed step) is
 # "missing" (with a warning; the campaign's exit status reports the failed
-# step itself).
+# step itself). Exit status (docs/exit-codes.md): 1 usage, 2 bad plan,
+# 3 the table cannot be written, 7 no jq.
 set -uo pipefail
 prog=table.sh
 root=$(cd "$(dirname "$0")/../.." && pwd)
-die() { echo "$prog: $*" >&2; exit "${2:-1}"; }
+die() { echo "$prog: $1" >&2; exit "${2:-1}"; }
 [ $# -eq 4 ] || die "usage: table.sh SIZE RES \"ENGINES\" PLAN.json"
 size=$1 res=$2 engines=$3 plan=$4
 command -v jq > /dev/null || die "jq not installed (scripts/deps.sh)" 7
@@ -36,52 +40,91 @@ cell() {
   elif [ ! -f "$1" ]; then echo "{\"status\": \"missing\", \"file\": \"$1\"}"
   else jq -c --arg f "$2" --arg file "$1" \
       '.fields[$f] as $r | if $r == null then {status: "missing", file: $file}
-       else {status: "ok", rel_l2: $r.rel_l2, noise_normalised: $r.noise_normalised, points: $r.points, file: $file} end' "$1"
+       else {status: "ok", rel_l2: $r.rel_l2, noise_normalised: $r.noise_normalised, points: $r.points,
+             points_left_out: $r.points_left_out, offset_d: .free_surface.offset_d, offset_m: .free_surface.offset_m,
+             file: $file} end' "$1"
   fi
 }
-while IFS=$'\t' read -r s sup fields tags; do
+# scell FILE USABLE: the scalars of one comparison, {name: {...}}
+scell() {
+  if [ "$2" != 1 ] || [ ! -f "$1" ]; then echo '{}'
+  else jq -c --arg file "$1" '(.scalars // {}) | map_values(. + {file: $file})' "$1"
+  fi
+}
+srows=$(mktemp); trap 'rm -f "$rows" "$srows" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
+# one line per scenario x point; tag "-" for the single case
+while IFS=$'\t' read -r s sup fields tag pvars; do
   ok_l=0 ok_m=0
   case " $sup " in *" liggghts "*) ok_l=1 ;; esac
   case " $sup " in *" lammps "*) ok_m=1 ;; esac
   both=$(( ok_l & ok_m ))
-  # tags: space-separated, "-" for the single case
-  for tag in $tags; do
-    [ "$tag" = - ] && tag=
-    d=$res/$s${tag:+/$tag}
-    for f in ${fields//,/ }; do
-      jq -cn --arg s "$s" --arg p "$tag" --arg f "$f" \
-        --argjson a "$(cell "$d/score_ekm_liggghts.json" "$f" $ok_l)" \
-        --argjson b "$(cell "$d/score_ekm_lammps.json" "$f" $ok_m)" \
-        --argjson c "$(cell "$d/score_liggghts_lammps.json" "$f" $both)" \
-        '{scenario: $s, point: $p, field: $f, ekm_vs_liggghts: $a, ekm_vs_lammps: $b, liggghts_vs_lammps: $c}' >> "$rows"
-    done
+  [ "$tag" = - ] && tag=
+  d=$res/$s${tag:+/$tag}
+  for f in ${fields//,/ }; do
+    jq -cn --arg s "$s" --arg p "$tag" --arg f "$f" --argjson v "$pvars" \
+      --argjson a "$(cell "$d/score_ekm_liggghts.json" "$f" $ok_l)" \
+      --argjson b "$(cell "$d/score_ekm_lammps.json" "$f" $ok_m)" \
+      --argjson c "$(cell "$d/score_liggghts_lammps.json" "$f" $both)" \
+      '{scenario: $s, point: $p, vars: $v, field: $f, ekm_vs_liggghts: $a, ekm_vs_lammps: $b, liggghts_vs_lammps: $c}' >> "$rows"
   done
-done < <(jq -r '.[] | [.scenario, (.engines | join(" ")), .fields,
-                       ([.points[] | if . == "" then "-" else . end] | join(" "))] | @tsv' "$plan")
+  # the scalars (scalars of the score files; the names of the first that has them)
+  jq -cn --arg s "$s" --arg p "$tag" \
+    --argjson a "$(scell "$d/score_ekm_liggghts.json" $ok_l)" \
+    --argjson b "$(scell "$d/score_ekm_lammps.json" $ok_m)" \
+    --argjson c "$(scell "$d/score_liggghts_lammps.json" $both)" \
+    '[$b, $a, $c] as $all | ([$all[] | keys_unsorted] | map(select(length > 0)) | .[0] // [])[] as $k
+     | {scenario: $s, point: $p, scalar: $k, units: ([$all[][$k].units // empty][0]),
+        ekm_vs_liggghts: ($a[$k] // {status: "n/a"}), ekm_vs_lammps: ($b[$k] // {status: "n/a"}),
+        liggghts_vs_lammps: ($c[$k] // {status: "n/a"})}' >> "$srows"
+done < <(jq -r '.[] | . as $sc | .points[] | [$sc.scenario, ($sc.engines | join(" ")), $sc.fields,
+                       (if .tag == "" then "-" else .tag end), (.vars | tojson)] | @tsv' "$plan")
 missing=0
 grep -q '"status":"missing"' "$rows" && missing=1
-mkdir -p "$res"
+mkdir -p "$res" || die "$res: cannot create the results folder" 3
 jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%m-%dT%H:%M:%SZ)" \
   --arg version "$(version)" \
+  --slurpfile scalars "$srows" \
   '{size: $size, engines: ($engines | split(" ")), created: $created, code_version: $version,
     definitions: {rel_l2: "||f_model - f_DEM|| / ||f_DEM|| over the points both cover (MODEL.md 9)",
-                  noise_normalised: "sqrt(mean(((f_model - f_DEM) / SE)^2)); 1 = as close as the DEM noise; SE of both engines in quadrature for engine vs engine"},
-    rows: .}' "$rows" > "$res/scores.json.tmp" || exit 1
+                  noise_normalised: "sqrt(mean(((f_model - f_DEM) / SE)^2)); 1 = as close as the DEM noise; SE of both engines in quadrature for engine vs engine",
+                  points_left_out: "covered points off the common support (phi <= support x the DEM maximum on either side)",
+                  offset_d: "free-surface offset, model layer height - DEM layer height (phi crossing half its maximum), in mean grain diameters",
+                  rel_error: "scalar: (model - DEM) / |DEM|",
+                  error_over_se: "scalar: (model - DEM) / SE, SE = the DEM SE (and the model SE in quadrature for engine vs engine)"},
+    rows: ., scalar_rows: $scalars}' "$rows" > "$res/scores.json.tmp" || die "$res/scores.json.tmp: cannot write the score table" 3
 {
   echo "# Campaign scores ($size size)"
   echo
   echo "Each cell: relative L2 error / noise-normalised error (1 = as close as the"
-  echo "DEM's own noise). LIGGGHTS vs LAMMPS is the floor no model can beat."
+  echo "DEM's own noise), over the common support (phi above the support threshold"
+  echo "on both sides), then in brackets the points left out by it and the"
+  echo "free-surface offset (model - DEM layer height, grain diameters; - when a"
+  echo "side has no free surface). LIGGGHTS vs LAMMPS is the floor no model can beat."
   echo "Made $(date -u +%Y-%m-%d) by \`make campaign SIZE=$size\` ($(version))."
   echo
   echo "| scenario | point | field | EKM vs LIGGGHTS | EKM vs LAMMPS | LIGGGHTS vs LAMMPS |"
   echo "|---|---|---|---:|---:|---:|"
   jq -r 'def c: if .status == "ok" then
-             "\(if .rel_l2 == null then "-" else (.rel_l2 * 1000 | round / 1000 | tostring) end) / \(if .noise_normalised == null then "-" else (.noise_normalised * 100 | round / 100 | tostring) end)"
+             "\(if .rel_l2 == null then "-" else (.rel_l2 * 1000 | round / 1000 | tostring) end) / \(if .noise_normalised == null then "-" else (.noise_normalised * 100 | round / 100 | tostring) end) (\(.points_left_out // "-") out, \(if .offset_d == null then "-" else (.offset_d * 100 | round / 100 + 0 | tostring) + " d" end))"
            else .status end;
          .rows[] | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.field) | \(.ekm_vs_liggghts | c) | \(.ekm_vs_lammps | c) | \(.liggghts_vs_lammps | c) |"' "$res/scores.json.tmp"
-} > "$res/scores.md.tmp" || exit 1
-mv "$res/scores.json.tmp" "$res/scores.json" && mv "$res/scores.md.tmp" "$res/scores.md"
+  echo
+  echo "## Scalars"
+  echo
+  echo "Each cell: the DEM value (the first engine named) +- its SE, the model's, and"
+  echo "rel. error / error over SE (docs/compare.md \"Scalar observables\")."
+  echo
+  echo "| scenario | point | scalar | units | EKM vs LIGGGHTS | EKM vs LAMMPS | LIGGGHTS vs LAMMPS |"
+  echo "|---|---|---|---|---:|---:|---:|"
+  jq -r 'def n: if . == null then "-" else (. * 1e4 | round / 1e4 + 0 | tostring) end;
+         def g: if . == null then "-" elif . == 0 then "0"
+                else . as $x | ($x | fabs | log10 | floor) as $e | ($x / pow(10; $e) * 1000 | round / 1000 | tostring) + "e" + ($e | tostring) end;
+         def c: if .dem == null and .model == null then (.status // "-")
+                else "\(.dem | g) +- \(.dem_se | g), \(.model | g): \(.rel_error | n) / \(if .error_over_se == null then "-" else (.error_over_se * 100 | round / 100 + 0 | tostring) end)" end;
+         .scalar_rows[] | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.scalar) | \(.units) | \(.ekm_vs_liggghts | c) | \(.ekm_vs_lammps | c) | \(.liggghts_vs_lammps | c) |"' "$res/scores.json.tmp"
+} > "$res/scores.md.tmp" || die "$res/scores.md.tmp: cannot write the score table" 3
+mv "$res/scores.json.tmp" "$res/scores.json" || die "$res/scores.json: cannot rename into place" 3
+mv "$res/scores.md.tmp" "$res/scores.md" || die "$res/scores.md: cannot rename into place" 3
 cat "$res/scores.md"
 [ $missing = 0 ] || echo "$prog: some comparisons are missing (failed steps above); the table marks them" >&2
 exit 0

@@ -14,7 +14,13 @@
 # ... --json`, EKM= names the binary). With --pressure (simple_shear_p) the
 # barostat: the mean normal stress Pzz over the last half of monitor.txt
 # equals the target `pressure` of vars.txt within 3 block standard errors
-# (monitor_stats.sh). Exit 0 if all pass, 1 if a check fails.
+# (monitor_stats.sh). Exit status (docs/exit-codes.md):
+# 0 all pass; 1 usage; 3 run.json or another file of the run is missing;
+# 2 a file is there but not as expected (status not ok, too few frames, a
+# missing column or EKMDEM_MASS marker, no [dem] rest_ke, no pressure in
+# vars.txt, no v_Pzz column in monitor.txt); 4 the filling mass balance or
+# rest check, or the barostat check, fails; 7 ekm not built. The first
+# failing kind of check gives the status.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -23,33 +29,34 @@ case ${1:-} in
   --filling) filling=1; shift ;;
   --pressure) pressure=1; shift ;;
 esac
-[ $# -eq 1 ] || { echo "usage: check_run.sh [--filling | --pressure] DIR" >&2; exit 2; }
+[ $# -eq 1 ] || { echo "usage: check_run.sh [--filling | --pressure] DIR" >&2; exit 1; }
 dir=$1; fail=0
-bad() { echo "check_run: $dir: $*" >&2; fail=1; }
+# bad STATUS MESSAGE: report a failed check; the first one's status wins
+bad() { echo "check_run: $dir: $2" >&2; [ $fail -ne 0 ] || fail=$1; }
 
-[ -f "$dir/run.json" ] || { bad "no run.json"; exit 1; }
-grep -q '"status": "ok"' "$dir/run.json" || bad "status is not ok: $(grep -o '"status": "[a-z_]*"' "$dir/run.json")"
+[ -f "$dir/run.json" ] || { bad 3 "no run.json"; exit 3; }
+grep -q '"status": "ok"' "$dir/run.json" || bad 2 "status is not ok: $(grep -o '"status": "[a-z_]*"' "$dir/run.json")"
 for f in deck.in vars.txt log.txt screen.txt atoms.dump pairs.dump; do
-  [ -s "$dir/$f" ] || bad "missing or empty $f"
+  [ -s "$dir/$f" ] || bad 3 "missing or empty $f"
 done
 if [ -s "$dir/atoms.dump" ]; then
   frames=$(grep -c '^ITEM: TIMESTEP' "$dir/atoms.dump")
-  [ "$frames" -ge 2 ] || bad "atoms.dump has $frames frame(s), expected >= 2"
+  [ "$frames" -ge 2 ] || bad 2 "atoms.dump has $frames frame(s), expected >= 2"
   hdr=$(grep -m1 '^ITEM: ATOMS' "$dir/atoms.dump")
   for c in id type x y z vx vy vz radius mass 'c_sa\[1\]' 'c_sa\[6\]'; do
-    echo "$hdr" | grep -qE " $c( |$)" || bad "atoms.dump: ITEM: ATOMS has no column '${c//\\/}'"
+    echo "$hdr" | grep -qE " $c( |$)" || bad 2 "atoms.dump: ITEM: ATOMS has no column '${c//\\/}'"
   done
 fi
 if [ $filling -eq 1 ]; then
   line=$(grep '^EKMDEM_MASS' "$dir/screen.txt")
-  [ -n "$line" ] || { bad "no EKMDEM_MASS line"; exit 1; }
+  [ -n "$line" ] || { bad 2 "no EKMDEM_MASS line in screen.txt"; exit "$fail"; }
   ini=$root/$(jq -r .scenario_file "$dir/run.json")
   ekm=${EKM:-$root/build/continuum/ekm}
   [ -x "$ekm" ] || { echo "check_run: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
   resolved=$("$ekm" scenario "$ini" --engine "$(jq -r .engine "$dir/run.json")" \
              --size "$(jq -r .size "$dir/run.json")" --json) || exit
   rest=$(jq -r '.keys["dem.rest_ke"].value // empty' <<< "$resolved")
-  [ -n "$rest" ] || { bad "$ini: [dem] rest_ke: missing key"; exit 1; }
+  [ -n "$rest" ] || { bad 2 "$ini: [dem] rest_ke: missing key"; exit "$fail"; }
   echo "$line" | awk -v rest="$rest" -v dir="$dir" '{
     for (i = 2; i < NF; i += 2) v[$i] = $(i + 1)
     t = v["target"]; ins = v["inserted"]; fin = v["final"]; ke = v["ke_per_mass"]
@@ -60,16 +67,17 @@ if [ $filling -eq 1 ]; then
     if (e1 > 1e-9) { print "check_run: " dir ": mass lost after insertion" > "/dev/stderr"; f = 1 }
     if (e2 > 0.01) { print "check_run: " dir ": final mass differs from the inflow target by more than 1%" > "/dev/stderr"; f = 1 }
     if (ke + 0 > rest + 0) { print "check_run: " dir ": bed not at rest" > "/dev/stderr"; f = 1 }
-    exit f }' || fail=1
+    exit f }' || { [ $fail -ne 0 ] || fail=4; }
 fi
 if [ $pressure -eq 1 ]; then
   target=$(awk '$1 == "pressure" { print $3 }' "$dir/vars.txt")
-  [ -n "$target" ] || { bad "no pressure in vars.txt"; exit 1; }
+  [ -n "$target" ] || { bad 2 "no pressure in vars.txt"; exit 2; }
   "$here/monitor_stats.sh" "$dir" | awk -v t="$target" -v dir="$dir" '$1 == "v_Pzz" {
     m = $2; se = $4; dev = m - t; if (dev < 0) dev = -dev
     printf "pressure control: mean Pzz %.5g +- %.2g Pa, target %s Pa, |mean - target| = %.2f SE\n", m, se, t, (se > 0 ? dev / se : 0)
-    found = 1; if (dev > 3 * se) { print "check_run: " dir ": mean Pzz differs from the target by more than 3 standard errors" > "/dev/stderr"; exit 1 } }
-    END { if (!found) { print "check_run: " dir ": monitor.txt has no v_Pzz column" > "/dev/stderr"; exit 1 } }' || fail=1
+    found = 1; if (dev > 3 * se) { print "check_run: " dir ": mean Pzz differs from the target by more than 3 standard errors" > "/dev/stderr"; exit 4 } }
+    END { if (!found) { print "check_run: " dir ": monitor.txt has no v_Pzz column" > "/dev/stderr"; exit 2 } }' ||
+    { rc=$?; [ $fail -ne 0 ] || fail=$rc; }
 fi
 [ $fail -eq 0 ] && echo "check_run: $dir: ok"
 exit $fail

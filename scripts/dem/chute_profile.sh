@@ -15,8 +15,13 @@
 # This is a quick check, not the coarse-graining tool (compare/).
 set -euo pipefail
 frac=0.5; bin=0.5; tstart=""
-while getopts "w:b:s:" o; do case $o in w) frac=$OPTARG ;; b) bin=$OPTARG ;; s) tstart=$OPTARG ;; *) exit 2 ;; esac; done
-shift $((OPTIND - 1)); dir=$1
+while getopts "w:b:s:" o; do case $o in w) frac=$OPTARG ;; b) bin=$OPTARG ;; s) tstart=$OPTARG ;; *) exit 1 ;; esac; done
+shift $((OPTIND - 1))
+[ $# -eq 1 ] || { echo "usage: chute_profile.sh [-w FRACTION] [-b BIN_D] [-s TSTART] DIR" >&2; exit 1; }
+dir=$1
+for f in vars.txt atoms.dump; do
+  [ -r "$dir/$f" ] || { echo "chute_profile: $dir/$f: missing (a DEM run folder)" >&2; exit 3; }
+done
 v() { awk -v k="$1" '$1 == k { print $3 }' "$dir/vars.txt"; }
 if [ -n "$tstart" ]; then t0=$tstart; tf=0; else t0=$(v t_settle); tf=$(v t_flow); fi
 awk -v dt="$(v dt)" -v t0="$t0" -v tf="$tf" -v frac="$frac" \
@@ -39,7 +44,7 @@ inatoms && use {
 }
 BEGIN { bw = binw * d }
 END {
-  if (nf == 0) { print "chute_profile: no frames in the averaging window" > "/dev/stderr"; exit 1 }
+  if (nf == 0) { print "chute_profile: no frames in the averaging window" > "/dev/stderr"; exit 2 }
   A = lx * ly; nb = 0
   for (k in vol) if (k + 0 > nb) nb = k + 0
   for (k = 0; k <= nb; k++) { phi[k] = vol[k] / (A * bw * nf); uu[k] = (ms[k] > 0) ? mu[k] / ms[k] : 0 }

@@ -5,7 +5,7 @@
 #       runs dem_inputs/ENGINE/collision.in with the contact parameters of
 #       FILE's [dem] section (default scenarios/chute.ini): four head-on
 #       collisions at 0.1, 0.5, 1 and 2 m/s; prints the realised restitution
-#       of each and fails (exit 1) if any differs from [dem] restitution by
+#       of each and fails (exit 4) if any differs from [dem] restitution by
 #       more than TOL (default 0.01).
 #       [dem] restitution as the scenario reader resolves it (`ekm scenario
 #       FILE --engine ENGINE --size smoke --json`; EKM= names the binary).
@@ -49,7 +49,7 @@ if [ $calib -eq 1 ]; then
   lo=0.3; hi=0.99
   for i in $(seq 1 14); do
     mid=$(awk -v a=$lo -v b=$hi 'BEGIN { printf "%.5f", (a + b) / 2 }')
-    mean=$(realised "$mid" | awk '{ s += $2; n++ } END { printf "%.6f", s / n }') || exit 1
+    mean=$(realised "$mid" | awk '{ s += $2; n++ } END { printf "%.6f", s / n }') || exit 4
     if awk -v m="$mean" -v t="$target" 'BEGIN { exit !(m < t) }'; then lo=$mid; else hi=$mid; fi
     echo "collision.sh: input $mid -> mean realised $mean" >&2
   done
@@ -57,9 +57,9 @@ if [ $calib -eq 1 ]; then
   exit 0
 fi
 
-res=$(realised "") || { echo "collision.sh: $engine collision run failed (see $out/collision/$engine-smoke/screen.txt)" >&2; exit 1; }
+res=$(realised "") || { echo "collision.sh: $engine collision run failed (see $out/collision/$engine-smoke/screen.txt)" >&2; exit 4; }
 echo "$res" | awk -v t="$target" -v tol="$tol" -v e="$engine" '
   { d = $2 - t; if (d < 0) d = -d; bad = (d > tol)
     printf "%s: impact %4.1f m/s  restitution %.4f  (target %s, |diff| %.4f)%s\n", e, $1, $2, t, d, bad ? "  FAIL" : ""
-    if (bad) f = 1; n++ }
-  END { if (n != 4) { print e ": expected 4 collisions, got " n; exit 1 } exit f }'
+    if (bad) f = 4; n++ }
+  END { if (n != 4) { print e ": expected 4 collisions, got " n; exit 4 } exit f }'

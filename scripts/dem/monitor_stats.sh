@@ -9,15 +9,17 @@
 # header line.
 set -euo pipefail
 frac=0.5; nb=5
-while getopts "w:n:" o; do case $o in w) frac=$OPTARG ;; n) nb=$OPTARG ;; *) exit 2 ;; esac; done
+while getopts "w:n:" o; do case $o in w) frac=$OPTARG ;; n) nb=$OPTARG ;; *) exit 1 ;; esac; done
 shift $((OPTIND - 1))
+[ $# -eq 1 ] || { echo "usage: monitor_stats.sh [-w FRACTION] [-n NBLOCKS] DIR" >&2; exit 1; }
+[ -r "$1/monitor.txt" ] || { echo "monitor_stats: $1/monitor.txt: missing (a DEM run folder)" >&2; exit 3; }
 awk -v frac="$frac" -v nb="$nb" '
 /^# TimeStep/ { for (i = 3; i <= NF; i++) name[i - 1] = $i; nc = NF - 2; next }
 /^#/ { next }
 NF >= 2 { n++; for (i = 2; i <= NF; i++) x[n, i] = $i; nc = NF - 1 }
 END {
   s = int(n * (1 - frac)) + 1; m = n - s + 1; bl = int(m / nb)
-  if (bl < 1) { print "monitor_stats: too few rows" > "/dev/stderr"; exit 1 }
+  if (bl < 1) { print "monitor_stats: " FILENAME ": too few rows" > "/dev/stderr"; exit 2 }
   for (i = 2; i <= nc + 1; i++) {
     t = 0; for (k = s; k <= n; k++) t += x[k, i]; mean = t / m
     sb = 0; sbb = 0

@@ -20,7 +20,8 @@
 #
 # Every value comes from the resolved scenario, `ekm scenario FILE --engine
 # ENGINE --size SIZE --json` (docs/resolved-scenario.md; EKM= names the ekm
-# binary, default build/continuum/ekm): shared values (geometry, gravity,
+# binary, default build/continuum/ekm; EKMCOMPARE= the ekmcompare binary,
+# default beside it, whose `steady` command judges the monitor series): shared values (geometry, gravity,
 # wall speeds, inflow) from its continuum sections, DEM-only values from
 # [dem], the sweep points from its points; docs/dem.md lists the mapping to
 # the deck variables. Every case writes
@@ -83,6 +84,8 @@ deck=$root/dem_inputs/$engine/$scen.in
 # --- the resolved scenario ------------------------------------------------
 ekm=${EKM:-$root/build/continuum/ekm}
 [ -x "$ekm" ] || { echo "$prog: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
+ekmcompare=${EKMCOMPARE:-$(dirname "$(dirname "$ekm")")/compare/ekmcompare}
+[ -x "$ekmcompare" ] || { echo "$prog: ekmcompare not built: run make build (no executable $ekmcompare)" >&2; exit 7; }
 command -v jq > /dev/null || { echo "$prog: jq not installed (scripts/deps.sh base)" >&2; exit 7; }
 setargs=()
 for s in "${sets[@]+"${sets[@]}"}"; do
@@ -101,13 +104,15 @@ for k in "${!F[@]}"; do
   [[ $k == dem.* ]] && [ "${F[$k]}" != default ] && { has_dem=1; break; }
 done
 [ $has_dem -eq 1 ] || die "$ini: no [dem] section"
-# get SECTION.KEY: its value, or a loud error (exit 2) naming the key
-get() {
-  if [ -n "${K[$1]+set}" ]; then printf '%s' "${K[$1]}"; return 0; fi
-  echo "$prog: $ini: [${1%%.*}] ${1#*.}: missing key" >&2
-  kill -TERM $$; exit 2
+# need SECTION.KEY...: each key is in the resolved scenario, else a loud
+# error (exit 2) naming it; called in the main shell, so that it exits the
+# runner (the values are then read from K directly)
+need() {
+  local k
+  for k; do
+    [ -n "${K[$k]+set}" ] || die "$ini: [${k%%.*}] ${k#*.}: missing key"
+  done
 }
-trap 'exit 2' TERM
 num() { # num NAME VALUE: check VALUE is a number
   [[ $2 =~ ^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$ ]] ||
     { echo "$prog: $ini: $1: expected a number, got '$2'" >&2; exit 2; }
@@ -130,32 +135,33 @@ fi
 # --- variables common to every deck ------------------------------------
 declare -a vars=()
 addv() { num "$1" "$2"; vars+=("$1" "$2"); }
-d=$(get dem.diameter);  addv d "$d"
-addv spread "$(get dem.spread)"
-addv rho "$(get material.rho_p)"
-addv E "$(get dem.youngs)"
-nu=$(get dem.poisson);  addv nu "$nu"
-addv e_in "$(get dem.restitution_input)"
-addv mu "$(get dem.friction)"
+addk() { need "$2"; addv "$1" "${K[$2]}"; }   # addk NAME SECTION.KEY
+need dem.diameter; d=${K[dem.diameter]};  addv d "$d"
+addk spread dem.spread
+addk rho material.rho_p
+addk E dem.youngs
+need dem.poisson; nu=${K[dem.poisson]};  addv nu "$nu"
+addk e_in dem.restitution_input
+addk mu dem.friction
 # LAMMPS: tangential/normal damping ratio that reproduces LIGGGHTS's
 # gamma_t/gamma_n = sqrt(S_t/S_n) = sqrt(2 (1-nu)/(2-nu)) (docs/dem.md).
 [ "$engine" = lammps ] && addv xgt "$(calc "sqrt(2*(1-$nu)/(2-$nu))")"
-addv dt "$(get dem.dt)"
-seed=$(get dem.seed); addv seed "$seed"
+addk dt dem.dt
+need dem.seed; seed=${K[dem.seed]}; addv seed "$seed"
 # seed2, seed3: the next primes after seed (LIGGGHTS accepts only primes > 10000)
 nextprime() { awk -v s="$1" 'BEGIN { for (n = s + 1; ; n++) { p = 1
   for (k = 2; k * k <= n; k++) if (n % k == 0) { p = 0; break }
   if (p) { print n; exit } } }'; }
 seed2=$(nextprime "$seed"); addv seed2 "$seed2"; addv seed3 "$(nextprime "$seed2")"
-addv thermo_every "$(get dem.thermo_every)"
+addk thermo_every dem.thermo_every
 # With [dem] dump_strain (simple_shear_p) the reader gives every shear point
 # its own dump_every, one frame every dump_strain of shear (the rates span
 # 100x: a fixed step count would give 100x the frames); it is then a point
 # variable, after the point's others.
 point_dump=$(jq -r '.points[0].vars | has("dump_every")' <<< "$resolved")
-[ "$point_dump" = true ] || addv dump_every "$(get dem.dump_every)"
+[ "$point_dump" = true ] || addk dump_every dem.dump_every
 lateral() { # lx, ly: [dem] lx, ly are in grain diameters
-  local x y; x=$(get dem.lx) && y=$(get dem.ly) || exit 2
+  local x y; need dem.lx dem.ly; x=${K[dem.lx]} y=${K[dem.ly]}
   num lx "$x"; num ly "$y"
   addv lx "$(calc "$x * $d")"; addv ly "$(calc "$y * $d")"
 }
@@ -168,41 +174,41 @@ case $scen in
   collision) ;;
   filling)
     lateral
-    addv lz "$(get domain.length)"
-    addv g "$(get gravity.magnitude)"
-    addv phi_in "$(get top.phi)"
-    addv w_in "$(get top.w)"
-    addv t_stop "$(get top.t_stop)"
-    addv t_end "$(get dem.t_end)" ;;
+    addk lz domain.length
+    addk g gravity.magnitude
+    addk phi_in top.phi
+    addk w_in top.w
+    addk t_stop top.t_stop
+    addk t_end dem.t_end ;;
   chute)
     lateral
-    addv h "$(get initial.layer_height)"
-    addv phi0 "$(get initial.phi)"
-    addv g "$(get gravity.magnitude)"
-    addv t_settle "$(get dem.t_settle)"
-    addv t_flow "$(get dem.t_flow)"
+    addk h initial.layer_height
+    addk phi0 initial.phi
+    addk g gravity.magnitude
+    addk t_settle dem.t_settle
+    addk t_flow dem.t_flow
     pointvars=(theta) ;;
   shear_cell)
     lateral
-    addv gap "$(get domain.length)"
-    addv phi0 "$(get initial.phi)"
-    addv v_top "$(get top.velocity)"
-    addv v_bot "$(get bottom.velocity)"
-    addv pressure "$(get dem.pressure)"
-    addv wall_damp "$(get dem.wall_damping)"
-    addv t_compress "$(get dem.t_compress)"
-    addv t_run "$(get dem.t_run)" ;;
+    addk gap domain.length
+    addk phi0 initial.phi
+    addk v_top top.velocity
+    addk v_bot bottom.velocity
+    addk pressure dem.pressure
+    addk wall_damp dem.wall_damping
+    addk t_compress dem.t_compress
+    addk t_run dem.t_run ;;
   simple_shear)
-    addv L "$(get domain.length)"
-    addv t_compress "$(get dem.t_compress)"
-    addv strain "$(get dem.strain)"
+    addk L domain.length
+    addk t_compress dem.t_compress
+    addk strain dem.strain
     pointvars=(phi rate) ;;
   simple_shear_p)
-    addv L "$(get domain.length)"
-    addv phi0 "$(get initial.phi)"
-    addv t_compress "$(get dem.t_compress)"
-    addv strain "$(get dem.strain)"
-    addv p_gain "$(get dem.p_gain)"
+    addk L domain.length
+    addk phi0 initial.phi
+    addk t_compress dem.t_compress
+    addk strain dem.strain
+    addk p_gain dem.p_gain
     pointvars=(pressure rate) ;;
   *) die "no variable mapping for scenario '$scen' (see docs/dem.md)" ;;
 esac
@@ -225,9 +231,9 @@ else
   done
 fi
 if [ $list -eq 1 ]; then printf '%s\n' "${points[@]}"; exit 0; fi
-timeout_s=$(get dem.timeout)
-require_steady=$(get dem.require_steady)
-steady_tol=$(get dem.steady_tol)
+need dem.timeout; timeout_s=${K[dem.timeout]}
+need dem.require_steady; require_steady=${K[dem.require_steady]}
+need dem.steady_tol; steady_tol=${K[dem.steady_tol]}
 
 # --- run one case --------------------------------------------------------
 json_escape() { sed -e 's/\\/\\\\/g' -e 's/"/\\"/g' | tr -d '\n'; }
@@ -298,17 +304,15 @@ run_case() { # run_case TAG "name value ..."
   # --- steady state: last quarter of the monitor series vs the one before ---
   local steady=null drift=null
   if [ "$st" = ok ] && [ -s "$dir/monitor.txt" ]; then
-    drift=$(awk '!/^#/ && NF>=2 {v[n++]=$2} END {
-        if (n < 8) { print "null"; exit }
-        q = int(n/4); a = 0; b = 0
-        for (i = n-2*q; i < n-q; i++) a += v[i]
-        for (i = n-q; i < n; i++) b += v[i]
-        a /= q; b /= q; s = (a < 0 ? -a : a) + (b < 0 ? -b : b)
-        if (s == 0) { print 0; exit }
-        dd = (b - a) / (0.5 * s); printf "%.4g", (dd < 0 ? -dd : dd) }' "$dir/monitor.txt")
-    if [ "$drift" != null ]; then
-      if awk "BEGIN { exit !($drift <= $steady_tol) }"; then steady=true; else steady=false; fi
-    fi
+    # one definition of "steady" (compare/steady.c, docs/compare.md):
+    # relative drift of the mean of the last quarter of the monitor series
+    # against the quarter before, 4 significant digits, steady if <= tol
+    local verdict
+    verdict=$("$ekmcompare" steady "$dir/monitor.txt" --column 2 --tol "$steady_tol") ||
+      { echo "$prog: $dir/monitor.txt: ekmcompare steady failed" >&2; return 4; }
+    # the numbers as printed (jq would reformat them; '//' would drop false)
+    drift=$(sed -n 's/.*"drift": *\([^,}]*\).*/\1/p' <<< "$verdict")
+    steady=$(sed -n 's/.*"steady": *\([a-z]*\).*/\1/p' <<< "$verdict")
     if [ "$require_steady" = 1 ] && [ "$steady" != true ]; then
       st=not_steady; msg="monitor drift $drift > $steady_tol between the last two quarters"
     fi
@@ -324,7 +328,8 @@ run_case() { # run_case TAG "name value ..."
     echo "  \"status\": \"$st\", \"message\": \"$(echo "$msg" | json_escape)\","
     echo "  \"finished\": \"$(date -u +%Y-%m-%dT%H:%M:%SZ)\""
     echo "}"
-  } > "$dir/run.json"
+  } > "$dir/run.json.tmp" && mv "$dir/run.json.tmp" "$dir/run.json" ||
+    { rm -f "$dir/run.json.tmp"; echo "$prog: $dir/run.json: cannot write" >&2; return 3; }
   if [ "$st" != ok ]; then
     echo "$prog: FAILED $scen $engine $size${tag:+ $tag}: $st: $msg (see $dir/screen.txt)" >&2
     [ "$st" = not_steady ] && return 6

@@ -66,6 +66,10 @@ chmod +x "$work/fake_liggghts"
 LIGGGHTS_EXE=$work/fake_liggghts make -s -C "$src" -j2 campaign SIZE=smoke BUILD="$build" \
   RES="$work/results_fail" RUNS="$work/runs_fail" ENGINES=liggghts > "$work/run4.log" 2>&1 &&
   fail "a failing DEM engine gave exit status 0"
+# make's own status is 2 on any failure; campaign.sh's (a failed step: 4,
+# docs/exit-codes.md) is in make's error line
+grep -q "\] Error 4$" "$work/run4.log" ||
+  fail "a failing DEM engine did not give campaign.sh exit status 4: $(grep -m1 'Error [0-9]' "$work/run4.log")"
 grep -q "DEM FAILED: chute liggghts smoke (run.sh exit 4); log: .*screen.txt" "$work/run4.log" ||
   fail "the failed DEM run is not reported with its log: $(grep -m2 FAILED "$work/run4.log")"
 [ -s "$work/results_fail/filling/ekm.h5" ] || fail "the EKM steps did not go on after the DEM failure"

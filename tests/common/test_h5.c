@@ -300,6 +300,11 @@ static void test_read_errors(void **state)
     assert_int_equal(ekm_h5_open(&f, text, &err), EKM_EIO);
     snprintf(expected, sizeof expected, "%s: cannot open: no such readable file", text);
     assert_string_equal(err.message, expected);
+    /* a directory: an i/o error, not "expected an HDF5 file" */
+    assert_int_equal(ekm_h5_open(&f, dir, &err), EKM_EIO);
+    assert_null(f);
+    snprintf(expected, sizeof expected, "%s: cannot open: not a regular file", dir);
+    assert_string_equal(err.message, expected);
 }
 
 int main(void)

@@ -57,7 +57,7 @@ static void test_matches_output_format_doc(void **state)
         rows++;
     }
     free(doc);
-    assert_int_equal(rows, 10); /* z t phi vx vz T P sxz szz regime */
+    assert_int_equal(rows, 11); /* z t phi vx vz T P sxz szz regime gap */
 }
 
 static void test_generated_json_is_the_table(void **state)

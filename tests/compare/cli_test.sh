@@ -91,6 +91,8 @@ expect 0 "" -- "$ekmc" steady mon.txt --tol 0.04878
 grep -qx '{"steady": true, "drift": 0.04878, "tol": 0.04878, "samples": 8}' out.txt || fail "steady at the tolerance: $(cat out.txt)"
 expect 0 "" -- "$ekmc" steady mon.txt --column 1
 grep -qx '{"steady": false, "drift": 0.3636, "tol": 0.05, "samples": 8}' out.txt || fail "steady --column 1: $(cat out.txt)"
+# a column a data line lacks is bad input naming file:line, not "0 samples"
+expect 2 "mon.txt:[0-9]+: column 5: missing \(expected at least 5 columns, got 2\)" -- "$ekmc" steady mon.txt --column 5
 printf '0 1\n1 x\n' > bad_mon.txt
 expect 2 "bad_mon.txt:2: column 2: expected a finite number, got 'x'" -- "$ekmc" steady bad_mon.txt
 expect 3 "nonexistent.txt: cannot open" -- "$ekmc" steady nonexistent.txt
@@ -109,6 +111,14 @@ expect 2 "bad_nan.dump:16: column 'vx': expected a finite number, got 'nan'" -- 
 expect 2 "bad_col.dump:13: ITEM: ATOMS has no column 'vz'" -- "$ekmc" cg bad_col.dump -o bad.h5
 expect 2 "bad_count.dump:22: expected 9 atoms \(ITEM: NUMBER OF ATOMS\), got 8" -- "$ekmc" cg bad_count.dump -o bad.h5
 expect 3 "nonexistent.dump: cannot open" -- "$ekmc" cg nonexistent.dump -o bad.h5
+# an output that cannot be written fails at once (before reading any dump: the
+# dump named here does not exist), with nothing left behind
+mkdir -p outdir
+expect 3 "outdir/: cannot write the output: is a directory" -- "$ekmc" cg nonexistent.dump -o outdir/
+expect 3 "outdir: cannot write the output: is a directory" -- "$ekmc" cg nonexistent.dump -o outdir
+expect 3 "nodir/x.h5: cannot write the output: directory nodir: No such file" -- "$ekmc" cg nonexistent.dump -o nodir/x.h5
+expect 3 "x.csv: cannot write the output: directory nodir" -- "$ekmc" cg nonexistent.dump --csv nodir/x.csv
+[ -z "$(ls -A outdir)" ] || fail "cg -o outdir/: left $(ls outdir)"
 expect 1 "has no ITEM: TIME: give --dt" -- "$ekmc" cg "$fx/liggghts_deck.dump" -o bad.h5
 expect 1 "\-\-width: expected a positive width" -- "$ekmc" cg a.dump --width -1 -o bad.h5
 expect 1 "\-\-kernel: expected gauss, lucy or bins, got 'box'" -- "$ekmc" cg a.dump --kernel box -o bad.h5
@@ -116,6 +126,8 @@ expect 1 "expected -o OUT.h5" -- "$ekmc" cg a.dump
 expect 1 "unknown option '--bogus'" -- "$ekmc" cg a.dump --bogus -o bad.h5
 expect 2 "no snapshots selected" -- "$ekmc" cg a.dump --from 99 -o bad.h5
 expect 2 "expected an HDF5 file" -- "$ekmc" score --dem a.dump --ekm series.h5
+mkdir -p adir.h5
+expect 3 "adir.h5: cannot open: not a regular file" -- "$ekmc" score --dem adir.h5 --ekm series.h5
 # pair dumps: a step missing from the pair dump; both contact-stress sources
 zcat "$fx/chute_lammps_pairs.dump.gz" | sed 's/^30000$/30001/' > bad_pairs.dump
 pc='c_pid[1],c_pid[2],c_pl[2],c_pl[3],c_pl[4]'

@@ -5,14 +5,18 @@ usage: regression_test.py EKMCOMPARE ROOT WORKDIR
 
 For every results/**/score_*.json under ROOT, rerun `ekmcompare score` on the
 committed inputs it names (dem, ekm) with the options recorded in it
-(options.fields, options.ekm_time, options.shift_m) into a temporary file
-under WORKDIR, and assert that
-  - every field's points, points_with_se, rel_l2 and noise_normalised are
-    the committed file's, as printed (text equality of the JSON numbers),
-    and the time matching and the options come out the same;
+(options.fields, options.ekm_time, options.shift_m, options.support,
+options.scalars) into a temporary file under WORKDIR, and assert that
+  - every field's points, points_with_se, points_left_out, rel_l2 and
+    noise_normalised, the free surface (layer heights, offset) and every
+    scalar (dem, dem_se, model, model_se, rel_error, error_over_se, units)
+    are the committed file's, as printed (text equality of the JSON
+    numbers), and the time matching and the options come out the same;
   - every row of results/scores.json that names that file has the same
-    points, rel_l2 and noise_normalised to the digits printed in
-    scores.json, and every field of every score file has such a row.
+    points, points_left_out, rel_l2, noise_normalised and offset_d to the
+    digits printed in scores.json, and every field of every score file has
+    such a row; likewise every scalar row (scalar_rows) and every scalar of
+    every score file.
 A change of any scoring formula, of the interpolation or of the SE floor
 changes some of these numbers and fails the test.
 """
@@ -50,6 +54,8 @@ def main():
     work.mkdir(parents=True, exist_ok=True)
     fails = []
     rescored = {}  # score file (as scores.json names it) -> new fields
+    rescored_scalars = {}  # score file -> new scalars
+    offsets = {}  # score file -> free-surface offset [d]
     files = sorted(p.relative_to(root).as_posix() for p in root.glob("results/**/score_*.json"))
     if not files:
         sys.exit(f"regression_test.py: no results/**/score_*.json under {root}")
@@ -62,7 +68,8 @@ def main():
         with tempfile.NamedTemporaryFile(dir=work, suffix=".json", delete=False) as tmp:
             out = tmp.name
         cmd = [ekmc, "score", "--dem", old["dem"], "--ekm", old["ekm"], "--fields", ",".join(opt["fields"]),
-               "--ekm-time", opt["ekm_time"], "--shift", opt["shift_m"], "-o", out, "--quiet"]
+               "--ekm-time", opt["ekm_time"], "--shift", opt["shift_m"], "--support", opt["support"],
+               "--scalars", ",".join(opt["scalars"]), "-o", out, "--quiet"]
         run = subprocess.run(cmd, cwd=root, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if run.returncode != 0:
             fails.append(f"{rel}: {' '.join(cmd)}: exit {run.returncode}: {run.stderr.strip()}")
@@ -71,16 +78,23 @@ def main():
         new = load(out)
         os.unlink(out)
         rescored[rel] = new["fields"]
-        for key in ("time", "options"):
+        rescored_scalars[rel] = new["scalars"]
+        offsets[rel] = new["free_surface"].get("offset_d")
+        for key in ("time", "options", "free_surface"):
             if new.get(key) != old.get(key):
                 fails.append(f"{rel}: {key}: {new.get(key)} now, committed {old.get(key)}")
         if list(new["fields"]) != list(old["fields"]):
             fails.append(f"{rel}: fields {list(new['fields'])} now, committed {list(old['fields'])}")
         for field, was in old["fields"].items():
             now = new["fields"].get(field, {})
-            for k in ("points", "points_with_se", "rel_l2", "noise_normalised"):
+            for k in ("points", "points_with_se", "points_left_out", "rel_l2", "noise_normalised"):
                 if now.get(k) != was.get(k):
                     fails.append(f"{rel}: {field}.{k} = {now.get(k)} now, committed {was.get(k)}")
+        if list(new["scalars"]) != list(old.get("scalars", {})):
+            fails.append(f"{rel}: scalars {list(new['scalars'])} now, committed {list(old.get('scalars', {}))}")
+        for name, was in old.get("scalars", {}).items():
+            if new["scalars"].get(name) != was:
+                fails.append(f"{rel}: scalar {name} = {new['scalars'].get(name)} now, committed {was}")
     table = load(root / "results" / "scores.json")
     covered = set()
     for row in table["rows"]:
@@ -99,9 +113,33 @@ def main():
             covered.add((rel, row["field"]))
             if now["points"] != cell.get("points"):
                 fails.append(f"{where} {cmp}: points = {now['points']} now, {cell.get('points')} in the table")
+            if now["points_left_out"] != cell.get("points_left_out"):
+                fails.append(f"{where} {cmp}: points_left_out = {now['points_left_out']} now, "
+                             f"{cell.get('points_left_out')} in the table")
             for k in ("rel_l2", "noise_normalised"):
                 if not same_to_printed(cell.get(k), now.get(k)):
                     fails.append(f"{where} {cmp}: {k} = {now.get(k)} now, {cell.get(k)} in the table")
+            if not same_to_printed(cell.get("offset_d"), offsets[rel]):
+                fails.append(f"{where} {cmp}: offset_d = {offsets[rel]} now, {cell.get('offset_d')} in the table")
+    covered_scalars = set()
+    for row in table.get("scalar_rows", []):
+        where = f"results/scores.json: {row['scenario']} {row.get('point') or ''} {row['scalar']}".replace("  ", " ")
+        for cmp, cell in row.items():
+            if not isinstance(cell, dict) or "file" not in cell:
+                continue
+            rel = cell["file"]
+            now = rescored_scalars.get(rel, {}).get(row["scalar"])
+            if now is None:
+                fails.append(f"{where} {cmp}: {rel} has no scalar {row['scalar']} now")
+                continue
+            covered_scalars.add((rel, row["scalar"]))
+            for k in ("dem", "dem_se", "model", "model_se", "rel_error", "error_over_se"):
+                if not same_to_printed(cell.get(k), now.get(k)):
+                    fails.append(f"{where} {cmp}: {k} = {now.get(k)} now, {cell.get(k)} in the table")
+    for rel, scalars in rescored_scalars.items():
+        for name in scalars:
+            if (rel, name) not in covered_scalars:
+                fails.append(f"{rel}: scalar {name} has no row in results/scores.json")
     for rel, fields in rescored.items():
         for field in fields:
             if (rel, field) not in covered:
@@ -111,7 +149,9 @@ def main():
     if fails:
         sys.exit(f"regression_test.py: {len(fails)} failure(s)")
     nf = sum(len(f) for f in rescored.values())
-    print(f"regression_test.py: {len(rescored)} score files, {nf} fields, {len(covered)} table cells: all equal")
+    ns = sum(len(f) for f in rescored_scalars.values())
+    print(f"regression_test.py: {len(rescored)} score files, {nf} fields, {ns} scalars, "
+          f"{len(covered)} + {len(covered_scalars)} table cells: all equal")
 
 
 if __name__ == "__main__":

@@ -521,6 +521,9 @@ static void test_end_to_end(void **state)
     assert_int_equal(rc, bad[k].code);
     assert_int_equal(count_lines(errbuf), 1);
     assert_non_null(strstr(errbuf, bad[k].message));
+    /* usage errors name the subcommand; the others come through ekm_error_print */
+    const char *prefix = bad[k].code == 1 ? "ekmcompare fit: " : "ekmcompare: ";
+    assert_int_equal(strncmp(errbuf, prefix, strlen(prefix)), 0);
     assert_false(exists(out));
     assert_false(exists(ini));
   }

@@ -8,6 +8,7 @@
 #include <math.h>
 
 #include "h5.h"
+#include "schema.h"
 #include "score.h"
 #include "test_util.h"
 
@@ -36,7 +37,7 @@ static void write_ekm(const char *path, size_t nz, double z0, double z1, size_t 
   put(w, "z", z, 0, nz, "m");
   put(w, "t", t, 0, nt, "s");
   const char *names[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
-  for (size_t i = 0; i < 7; i++) put(w, names[i], f, nt, nz, "1");
+  for (size_t i = 0; i < 7; i++) put(w, names[i], f, nt, nz, ekm_field_units(names[i]));
   /* the contract's int32 /regime dataset */
   int *reg = calloc(nt * nz, sizeof *reg);
   size_t dims[2] = {nt, nz};
@@ -68,9 +69,9 @@ static void write_dem(const char *path, size_t nz, double z0, double z1, size_t 
   const char *names[] = {"phi", "vx", "T"};
   char sen[32];
   for (size_t i = 0; i < 3; i++) {
-    put(w, names[i], f, nt, nz, "1");
+    put(w, names[i], f, nt, nz, ekm_field_units(names[i]));
     snprintf(sen, sizeof sen, "%s_se", names[i]);
-    put(w, sen, s, nt, nz, "1");
+    put(w, sen, s, nt, nz, ekm_field_units(names[i]));
   }
   assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
   assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
@@ -130,7 +131,118 @@ static void test_known_errors(void **state)
    * time matching, no shift, an EKM run as the model */
   assert_non_null(strstr(buf, "\"options\": {\n    \"fields\": [\"phi\", \"vx\", \"T\"],\n"
                               "    \"ekm_time\": \"interp\",\n    \"shift_m\": 0,\n    \"model\": \"ekm\",\n"
-                              "    \"se\": \"dem\",\n    \"se_floor_rel_rms\": 1e-06\n  }"));
+                              "    \"se\": \"dem\",\n    \"se_floor_rel_rms\": 1e-06,\n    \"support\": 0.1,\n"));
+}
+
+/* A layer of phi = 0.6 up to a height h (the bins or cells wholly below it;
+ * empty above), vx = 10 z, on nz points over [0, top]; a DEM file (one
+ * time, t = 1, with SEs 0.01 and mean_diameter) or an ekm-format one
+ * (t = 0 and 1). */
+static void write_layer(const char *path, int dem, size_t nz, double top, double h, double diameter)
+{
+  ekm_h5_file *w;
+  ekm_error err;
+  assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
+  size_t nt = dem ? 1 : 2;
+  double z[64], t[2] = {dem ? 1.0 : 0.0, 1.0}, phi[128], vx[128], se[128];
+  for (size_t k = 0; k < nz; k++) z[k] = top * ((double)k + 0.5) / (double)nz;
+  for (size_t i = 0; i < nt; i++)
+    for (size_t k = 0; k < nz; k++) {
+      phi[i * nz + k] = z[k] < h ? 0.6 : 0.0;
+      vx[i * nz + k] = 10.0 * z[k];
+      se[i * nz + k] = 0.01;
+    }
+  put(w, "z", z, 0, nz, "m");
+  put(w, "t", t, 0, nt, "s");
+  put(w, "phi", phi, nt, nz, "1");
+  put(w, "vx", vx, nt, nz, "m/s");
+  if (dem) {
+    put(w, "phi_se", se, nt, nz, "1");
+    put(w, "vx_se", se, nt, nz, "m/s");
+    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_double(w, NULL, "mean_diameter", diameter, &err), EKM_OK);
+  }
+  assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+}
+
+/* Common support and the free-surface offset, exactly: the DEM layer
+ * (20 bins of 1 mm) fills the bins below 10 mm, the model's (40 cells of
+ * 0.5 mm) those below 7 mm. Layer heights (phi crossing 0.3 halfway between
+ * a full and an empty point): 9.5 mm + 0.5 x 1 mm = 10 mm and
+ * 6.75 mm + 0.5 x 0.5 mm = 7 mm, offset -3 mm = -3 d (d = 1 mm). The
+ * threshold is 0.1 x 0.6; the DEM bins at 0.5 .. 6.5 mm have material on
+ * both sides (7 points), the other 13 of the 20 (all inside the model's
+ * range) are left out. */
+static void test_common_support(void **state)
+{
+  (void)state;
+  char dem[512], ekm[512], js[512];
+  tmp_path(dem, sizeof dem, "support_dem.h5");
+  tmp_path(ekm, sizeof ekm, "support_ekm.h5");
+  write_layer(dem, 1, 20, 0.02, 0.0100, 0.001);
+  write_layer(ekm, 0, 40, 0.02, 0.0070, 0.0);
+  cg_score_opts o = cg_score_opts_default();
+  cg_score_summary sm;
+  o.dem = dem;
+  o.ekm = ekm;
+  o.ekm_last = 1;
+  o.summary = &sm;
+  o.json = tmp_path(js, sizeof js, "support.json");
+  cg_score_field r[16];
+  size_t n = score_ok(&o, r);
+  assert_int_equal(n, 2); /* phi, vx */
+  for (size_t i = 0; i < n; i++) {
+    assert_int_equal(r[i].points, 7);
+    assert_int_equal(r[i].points_left_out, 13);
+  }
+  /* on the support both layers are full and vx agrees: no error */
+  assert_close(r[0].rel_l2, 0.0, 1e-15);
+  assert_close(r[1].rel_l2, 0.0, 1e-12);
+  assert_close(sm.support_phi, 0.06, 1e-15);
+  assert_close(sm.dem_height, 0.010, 1e-15);
+  assert_close(sm.model_height, 0.007, 1e-15);
+  assert_close(sm.mean_diameter, 0.001, 0);
+  FILE *fp = fopen(js, "r");
+  assert_non_null(fp);
+  char buf[4096];
+  size_t len = fread(buf, 1, sizeof buf - 1, fp);
+  buf[len] = '\0';
+  fclose(fp);
+  assert_non_null(strstr(buf, "\"phi\": {\"points\": 7, \"points_with_se\": 7, \"points_left_out\": 13,"));
+  assert_non_null(strstr(buf, "\"dem_m\": 0.01, \"model_m\": 0.007, \"offset_m\": -0.003, "
+                              "\"mean_diameter_m\": 0.001, \"dem_d\": 10, \"model_d\": 7, \"offset_d\": -3}"));
+  assert_non_null(strstr(buf, "\"support\": 0.1,\n    \"support_phi\": 0.06"));
+  /* --support 0: every covered point, none left out */
+  o.support = 0.0;
+  o.json = NULL;
+  n = score_ok(&o, r);
+  for (size_t i = 0; i < n; i++) {
+    assert_int_equal(r[i].points, 20);
+    assert_int_equal(r[i].points_left_out, 0);
+  }
+  assert_close(sm.dem_height - sm.model_height, 0.003, 1e-15);
+  /* a fraction outside [0, 1) is a usage error */
+  ekm_error err;
+  o.support = 1.0;
+  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
+  assert_non_null(strstr(err.message, "--support"));
+  /* the scalars of both sides; an unknown name is refused */
+  o.support = 0.1;
+  o.scalars = "layer_height,surface_velocity";
+  score_ok(&o, r);
+  assert_int_equal(sm.nscalars, 2);
+  assert_string_equal(sm.scalar[0].name, "layer_height");
+  assert_close(sm.scalar[0].dem, 0.010, 1e-15);
+  assert_close(sm.scalar[0].model, 0.007, 1e-15);
+  /* phi falls 0.6 -> 0 over 1 mm, crossing halfway: se = 1 mm / 0.6 x
+   * sqrt((0.5 x 0.01)^2 + (0.5 x 0.01)^2) */
+  assert_close(sm.scalar[0].dem_se, 0.001 / 0.6 * sqrt(0.5) * 0.01, 1e-15);
+  assert_true(isnan(sm.scalar[0].model_se));
+  assert_close(sm.scalar[1].dem, 10.0 * 0.0095, 1e-14);
+  assert_close(sm.scalar[1].model, 10.0 * 0.00675, 1e-14);
+  o.scalars = "layer_height,speed";
+  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
+  assert_non_null(strstr(err.message, "unknown scalar 'speed'"));
 }
 
 /* Engine against engine: the second file is coarse-grained DEM with its
@@ -257,6 +369,33 @@ static void test_bad_inputs(void **state)
   assert_non_null(strstr(err.message, "score_dem3.h5: expected a dataset P"));
   o.fields = "phi,,T";
   assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
+  /* a name the field schema does not know */
+  o.fields = "phi,bogus";
+  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+  assert_non_null(strstr(err.message, "--fields: unknown field 'bogus' (the fields are: "));
+  assert_non_null(strstr(err.message, " phi "));
+  /* units other than the schema's */
+  char wrong[512];
+  tmp_path(wrong, sizeof wrong, "score_wrong_units.h5");
+  ekm_h5_file *w;
+  assert_int_equal(ekm_h5_create(&w, wrong, &err), EKM_OK);
+  double z[10], tt[2] = {0.0, 1.0}, f[20];
+  for (size_t k = 0; k < 10; k++) z[k] = ((double)k + 0.5) / 10.0;
+  for (size_t k = 0; k < 20; k++) f[k] = 1.0;
+  put(w, "z", z, 0, 10, "m");
+  put(w, "t", tt, 0, 2, "s");
+  put(w, "phi", f, 2, 10, "kg");
+  int reg[20] = {0};
+  size_t dims[2] = {2, 10};
+  assert_int_equal(ekm_h5_write_int(w, "regime", 2, dims, reg, "1", NULL, &err), EKM_OK);
+  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "variant", "full", &err), EKM_OK);
+  assert_int_equal(ekm_h5_attr_set_double(w, NULL, "gravity_z", -9.81, &err), EKM_OK);
+  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "code_version", "test", &err), EKM_OK);
+  assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+  o.ekm = wrong;
+  o.fields = "phi";
+  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+  assert_non_null(strstr(err.message, "score_wrong_units.h5: dataset phi: units 'kg', expected '1' (the field schema)"));
 }
 
 int main(void)
@@ -268,6 +407,7 @@ int main(void)
     cmocka_unit_test(test_dem_against_dem),
     cmocka_unit_test(test_se_floor),
     cmocka_unit_test(test_bad_inputs),
+    cmocka_unit_test(test_common_support),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

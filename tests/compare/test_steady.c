@@ -71,8 +71,12 @@ static void test_monitor_read(void **state)
   assert_int_equal(n, 3); /* "7" alone is still left out (fewer than 2 fields) */
   assert_true(v[0] == 100 && v[1] == 200 && v[2] == 300);
   free(v);
+  /* a data line (2 fields or more) without the column is bad input, not left out */
   assert_int_equal(cg_steady_monitor_read(path, 3, &v, &n, &err), EKM_EINPUT);
-  assert_non_null(strstr(err.message, "monitor.txt:5: column 3: expected a finite number, got 'x'"));
+  assert_non_null(strstr(err.message, "monitor.txt:2: column 3: missing (expected at least 3 columns, got 2)"));
+  write_text(path, "# step ke x\n100 1.5 1\n\n200\t2.5 x\r\n");
+  assert_int_equal(cg_steady_monitor_read(path, 3, &v, &n, &err), EKM_EINPUT);
+  assert_non_null(strstr(err.message, "monitor.txt:4: column 3: expected a finite number, got 'x'"));
   write_text(path, "1 2\n2 nan\n");
   assert_int_equal(cg_steady_monitor_read(path, 2, &v, &n, &err), EKM_EINPUT);
   assert_non_null(strstr(err.message, "monitor.txt:2: column 2: expected a finite number, got 'nan'"));

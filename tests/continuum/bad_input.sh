@@ -37,12 +37,18 @@ check "unknown key" 2 "unknown.ini:[0-9]+: \[material\] foo: unknown key" run un
 
 sed 's/^phi_cp .*/phi_cp = -0.64/' "$base" > negative.ini
 check "negative phi_cp" 2 "negative.ini.*\[material\] phi_cp: expected" run negative.ini -o out.h5
+check "--set range names the override" 2 "^ekm: --set material.phi_cp: \[material\] phi_cp: expected" run "$base" --set material.phi_cp=-1 -o out.h5
 
 sed 's/^eps0 .*/eps0 = 5x0/' "$base" > malformed.ini
 check "malformed number" 2 "malformed.ini:[0-9]+: \[material\] eps0: expected a number, got '5x0'" \
     run malformed.ini -o out.h5
 
 check "unreadable file" 3 "nonexistent.ini: cannot open scenario file" run nonexistent.ini -o out.h5
+mkdir -p dir.ini
+mkdir -p outdir
+check "output a directory" 3 "outdir/: cannot write the output: is a directory" run "$base" -o outdir/
+check "output directory missing" 3 "nodir/out.h5: cannot write the output: directory nodir" run "$base" -o nodir/out.h5
+check "not a regular file" 3 "dir.ini: cannot read scenario file: not a regular file" run dir.ini -o out.h5
 
 cp "$base" unreadable.ini && chmod 000 unreadable.ini
 if [ "$(id -u)" -ne 0 ]; then
@@ -60,6 +66,17 @@ check "bad --set value" 2 "--set.*\[domain\] cells: expected an integer, got 'ma
 
 check "--set out of range" 2 "--set domain.length.*expected a length > 0" \
     run "$base" -o out.h5 --set domain.length=-1
+
+check "bad stop" 2 "--set run.stop: \[run\] stop: expected 't_end' or 'steady', got 'never'" \
+    run "$base" -o out.h5 --set run.stop=never
+check "steady_tol out of range" 2 "--set run.steady_tol: \[run\] steady_tol: expected a rate > 0" \
+    run "$base" -o out.h5 --set run.steady_tol=0
+check "pressure on the bottom wall" 2 "--set bottom.pressure: \[bottom\] pressure: expected no pressure on the bottom wall" \
+    run "$base" -o out.h5 --set bottom.pressure=100
+check "pressure not positive" 2 "--set top.pressure: \[top\] pressure: expected a pressure > 0" \
+    run "$src/scenarios/shear_cell.ini" -o out.h5 --set top.pressure=-5
+check "pressure on a free top" 2 "--set top.pressure: \[top\] pressure: only allowed with type = wall" \
+    run "$base" -o out.h5 --set top.pressure=100
 
 check "unknown limiter" 2 "--set numerics.limiter: \[numerics\] limiter: unknown limiter 'foo' \(known: minmod vanleer superbee mc\)" \
     run "$base" -o out.h5 --set numerics.limiter=foo

@@ -63,9 +63,13 @@ json "chute lammps ref: variants with their line" \
 json "chute lammps ref: defaults" \
     '.keys["dem.thermo_every"] == {"value": "1000", "from": "default"}
      and .keys["numerics.cfl"] == {"value": "0.4", "from": "default"}
-     and .keys["dem.t_end"] == {"value": "5", "from": "default"}
+     and .keys["dem.t_end"].value == "5" and (.keys["dem.t_end"].from | test("chute.ini:[0-9]+$"))
      and (.keys["dem.seed"].from | test("chute.ini:[0-9]+$"))' \
     "$chute" --engine lammps --size ref --json
+json "derived defaults: dem.t_end from [run] t_end, dem.pressure from [top] pressure" \
+    '.keys["dem.t_end"] == {"value": "100", "from": "default"}
+     and .keys["dem.pressure"] == {"value": "100", "from": "default"}' \
+    "$src/scenarios/shear_cell.ini" --engine lammps --size ref --json
 json "chute --set" \
     '.keys["dem.lx"] == {"value": "30", "from": "--set"} and .keys["gravity.angle"] == {"value": "30", "from": "--set"}
      and .points == [{"tag": "theta30", "vars": {"theta": "30"}, "ekm_set": ["gravity.angle=30"]},
@@ -115,6 +119,8 @@ error "usage: no file" 1 "ekm scenario: missing scenario file" scenario --json
 error "usage: no --json" 1 "ekm scenario: missing --json" scenario "$chute"
 error "usage: unknown option" 1 "unexpected argument '--yaml'" scenario "$chute" --yaml
 error "unreadable file" 3 "none.ini: cannot open scenario file" scenario none.ini --json
+mkdir -p adir.ini
+error "not a regular file" 3 "adir.ini: cannot read scenario file: not a regular file" scenario adir.ini --json
 error "unknown engine" 2 "--engine spring: unknown engine" scenario "$chute" --engine spring --json
 error "unknown size" 2 "--size huge: unknown size" scenario "$chute" --size huge --json
 error "unknown point" 2 "--point theta23: unknown point \(the points are: theta22 theta24 theta26\)" \
@@ -124,7 +130,7 @@ n=$(line unknown.ini ref.lxx)
 error "unknown [dem] key" 2 "unknown.ini:$n: \[dem\] ref.lxx: unknown key" scenario unknown.ini --json
 error "unknown [dem] key in ekm run" 2 "unknown.ini:$n: \[dem\] ref.lxx: unknown key" run unknown.ini -o out.h5
 [ -e out.h5 ] && bad "ekm run left out.h5" || ok "ekm run left no output"
-error "bad [compare] value" 2 "--set:1: \[compare\] ekm_time: expected one of last interp, got 'now'" \
+error "bad [compare] value" 2 "--set compare.ekm_time: \[compare\] ekm_time: expected one of last interp, got 'now'" \
     scenario "$chute" --set compare.ekm_time=now --json
 
 sed '/^pressures *=/a phis = 0.5' "$shear_p" > both.ini

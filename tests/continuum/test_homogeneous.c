@@ -111,9 +111,9 @@ static void couette_case(double phi, double nu, const char *t_end, double tol)
     snprintf(set_T, sizeof set_T, "initial.T=%.17g", 2.0 * h.T);
     snprintf(set_nu, sizeof set_nu, "material.nu=%.17g", nu);
     snprintf(set_t, sizeof set_t, "run.t_end=%s", t_end);
-    const char *sets[] = {set_phi, set_rate, set_u, set_T, set_nu, set_t, "run.output_dt=1"};
+    const char *sets[] = {set_phi, set_rate, set_u, set_T, set_nu, set_t, "run.output_dt=1", "run.stop=t_end"};
     test_run r;
-    assert_int_equal(test_run_scenario(&r, "scenarios/simple_shear.ini", sets, 7, NULL, NULL), EKM_OK);
+    assert_int_equal(test_run_scenario(&r, "scenarios/simple_shear.ini", sets, 8, NULL, NULL), EKM_OK);
     const int n = r.s->n;
     double *buf = calloc((size_t)n * 5, sizeof(double));
     int *regime = calloc((size_t)n, sizeof(int));

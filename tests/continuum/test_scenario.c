@@ -46,6 +46,8 @@ static const char BASE[] =
     "t_end = 5\n";
 
 #define FILE_NAME "scenario_test.ini"
+/* 65 characters: longer than the 63 [scenario] name holds */
+#define NAME_65 "abcdefghijklmnopqrstuvwxyzabcdefghijklmnopqrstuvwxyzabcdefghijklm"
 
 static void write_file(const char *text)
 {
@@ -103,21 +105,23 @@ static const error_case EKM_ERRORS[] = {
     {"prefixed key of ekm", "[domain]\nref.cells = 1", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [domain] ref.cells: unknown key"},
     {"unknown section", "[materal]\nrho_p = 1", {NULL}, EKM_EINPUT,
-     FILE_NAME ":31: [materal]: unknown section (ekm reads scenario material model domain gravity initial "
-     "bottom top run numerics hypo; skips dem compare campaign figures)"},
+     FILE_NAME ":31: [materal]: unknown section (the sections are scenario material model domain gravity initial "
+     "bottom top run numerics hypo dem compare campaign figures)"},
     {"section in capitals", "[DEM]\nlx = 1", {NULL}, EKM_EINPUT,
-     FILE_NAME ":31: [DEM]: unknown section (ekm reads scenario material model domain gravity initial "
-     "bottom top run numerics hypo; skips dem compare campaign figures)"},
+     FILE_NAME ":31: [DEM]: unknown section (the sections are scenario material model domain gravity initial "
+     "bottom top run numerics hypo dem compare campaign figures)"},
     {"missing key", "-eps0", {NULL}, EKM_EINPUT, FILE_NAME ": [material] eps0: missing (a required key)"},
+    {"value longer than allowed", "[scenario]\nname = " NAME_65, {NULL}, EKM_EINPUT,
+     FILE_NAME ":31: [scenario] name: value longer than allowed: '" NAME_65 "'"},
     {"syntax", "this is not ini", {NULL}, EKM_EINPUT, FILE_NAME ":30: expected '[section]' or 'key = value'"},
     {"variant", "[model]\nvariant = half", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [model] variant: expected 'full' or 'thesis', got 'half'"},
     {"convection", "[numerics]\nconvection = weno", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [numerics] convection: expected 'upwind' or 'tvd', got 'weno'"},
     {"boundary type", NULL, {"bottom.type=moving", NULL}, EKM_EINPUT,
-     "--set:1: [bottom] type: expected one of wall inflow outflow free piston, got 'moving'"},
+     "--set bottom.type: [bottom] type: expected one of wall inflow outflow free piston, got 'moving'"},
     {"material check", "-phi_cp\n[material]\nphi_cp = -0.64", {NULL}, EKM_EINPUT,
-     FILE_NAME ": [material] phi_cp: expected a positive number, got -0.64"},
+     FILE_NAME ":30: [material] phi_cp: expected a positive number, got -0.64"},
     {"range in the file", "[numerics]\ncfl = 2", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [numerics] cfl: expected a number in (0, 1], got 2"},
     {"range of a --set", NULL, {"domain.length=-1", NULL}, EKM_EINPUT,
@@ -137,9 +141,11 @@ static const error_case EKM_ERRORS[] = {
     {"hypo phi_loose", "[hypo]\nphi_loose = 0.7", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [hypo] phi_loose: expected a number in (0, phi_co], got 0.7"},
     {"--set syntax", NULL, {"domain=1", NULL}, EKM_EINPUT, "--set domain=1: expected section.key=value"},
-    {"--set unknown key", NULL, {"domain.size=1", NULL}, EKM_EINPUT, "--set:1: [domain] size: unknown key"},
+    {"--set unknown key", NULL, {"domain.size=1", NULL}, EKM_EINPUT, "--set domain.size: [domain] size: unknown key"},
+    {"--set material range", NULL, {"material.phi_cp=-1", NULL}, EKM_EINPUT,
+     "--set material.phi_cp: [material] phi_cp: expected a positive number, got -1"},
     {"--set position", NULL, {"domain.cells=10", "gravity.angle=x", NULL}, EKM_EINPUT,
-     "--set:2: [gravity] angle: expected a number, got 'x'"},
+     "--set gravity.angle: [gravity] angle: expected a number, got 'x'"},
 };
 
 /* Reading errors of the other tools' sections. */
@@ -166,12 +172,29 @@ static const error_case TOOL_ERRORS[] = {
      FILE_NAME ":31: [dem] ref.require_steady: expected 0 or 1, got 'yes'"},
     {"[dem] list", "[dem]\nref.angles = 22,24", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [dem] ref.angles: expected numbers separated by blanks, got '22,24'"},
+    {"[dem] range", "[dem]\nlammps.ref.poisson = 0.5", {NULL}, EKM_EINPUT,
+     FILE_NAME ":31: [dem] lammps.ref.poisson: expected a Poisson ratio in (-1, 0.5), got '0.5'"},
+    {"[dem] range dt", "[dem]\ndt = 0", {NULL}, EKM_EINPUT, FILE_NAME ":31: [dem] dt: expected a time step > 0 [s], got '0'"},
+    {"[dem] range restitution", "[dem]\nrestitution = 1.2", {NULL}, EKM_EINPUT,
+     FILE_NAME ":31: [dem] restitution: expected a restitution in (0, 1], got '1.2'"},
+    {"[dem] range timeout", "[dem]\ntimeout = 0", {NULL}, EKM_EINPUT,
+     FILE_NAME ":31: [dem] timeout: expected a timeout >= 1 [s], got '0'"},
+    {"[dem] range spread", "[dem]\nspread = 1", {NULL}, EKM_EINPUT,
+     FILE_NAME ":31: [dem] spread: expected a size spread in [0, 1), got '1'"},
+    {"[dem] range friction --set", NULL, {"dem.friction=-0.1", NULL}, EKM_EINPUT,
+     "--set dem.friction: [dem] friction: expected a friction coefficient >= 0, got '-0.1'"},
     {"[dem] list --set", NULL, {"dem.phis=0.5 x", NULL}, EKM_EINPUT,
-     "--set:1: [dem] phis: expected numbers separated by blanks, got '0.5 x'"},
+     "--set dem.phis: [dem] phis: expected numbers separated by blanks, got '0.5 x'"},
     {"[compare] fields", "[compare]\nfields = phi,,T", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [compare] fields: expected field names separated by commas (e.g. phi,vx,T), got 'phi,,T'"},
     {"[compare] fields with blanks", "[compare]\nfields = phi, T", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [compare] fields: expected field names separated by commas (e.g. phi,vx,T), got 'phi, T'"},
+    {"[compare] unknown field", "[compare]\nfields = phi,bogus", {NULL}, EKM_EINPUT,
+     FILE_NAME ":31: [compare] fields: expected field names of the schema (common/schema.c), not 'bogus', got "
+               "'phi,bogus'"},
+    {"[compare] unknown field --set", NULL, {"compare.fields=phi,bogus", NULL}, EKM_EINPUT,
+     "--set compare.fields: [compare] fields: expected field names of the schema (common/schema.c), not 'bogus', "
+     "got 'phi,bogus'"},
     {"[compare] enum", "[compare]\nlammps.ekm_time = first", {NULL}, EKM_EINPUT,
      FILE_NAME ":31: [compare] lammps.ekm_time: expected one of last interp, got 'first'"},
     {"[compare] shift", "[compare]\nshift = -", {NULL}, EKM_EINPUT, FILE_NAME ":31: [compare] shift: expected a number, got '-'"},
@@ -588,7 +611,7 @@ static void test_rate_formatting(void **state)
     assert_string_equal(x.r.points[1].set[2], "bottom.velocity=-0.2625");
     resolved_free(&x);
     /* the default rate: (0.1 + 0.0333) / 0.07 = 1.904285714..., and its
-     * walls from the rate as written (what run.sh -l and ekm_step.sh gave) */
+     * walls from the rate as written (%.10g, as the DEM deck's walls) */
     write_scenario("[dem]\nstrain = 2");
     assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, sets, 4), EKM_OK);
     assert_key(&x, "dem.rates", "1.904285714", "default", "");
@@ -603,6 +626,16 @@ static void test_sweep_errors(void **state)
     resolved x;
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);
     assert_string_equal(x.err.message, FILE_NAME ":31: [dem] ref.angles: value '22' given twice (each point needs its own tag)");
+    resolved_free(&x);
+    /* a rate <= 0 (once formatted as bottom.velocity=--...) and a phi outside (0, phi_cp) */
+    const char *walls[] = {"top.type=wall", "top.velocity=0.1", "bottom.velocity=-0.0333", "domain.length=0.07"};
+    write_scenario("[dem]\nstrain = 2\nphis = 0.5\nrates = 3 -4");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, walls, 4), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ":33: [dem] rates: expected shear rates > 0 [1/s], got '-4'");
+    resolved_free(&x);
+    write_scenario("[dem]\nstrain = 2\nphis = 0.5 0.7\nrates = 3");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, walls, 4), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ":32: [dem] phis: expected volume fractions in (0, phi_cp = 0.64), got '0.7'");
     resolved_free(&x);
     write_scenario("[dem]\nt_flow = 1\nsmoke.rates = 3");
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);

@@ -47,6 +47,17 @@ grep -q '"status": "lost_atoms"' "$out/collision/lammps-smoke/run.json" || { ech
 # timeout: exit 4, status timeout
 expect 4 "timeout" "$run" -f -o "$out" -s timeout=1 -s t_flow=100 chute lammps smoke
 grep -q '"status": "timeout"' "$out/chute/lammps-smoke/run.json" || { echo "FAIL: run.json status is not timeout"; fail=1; }
+# a SIGTERM while the engine runs ends the runner as a signal does (128+15),
+# not with a made-up status
+printf '#!/bin/sh\ncase "$1" in -h) echo "LAMMPS (2 Aug 2023)"; exit 0 ;; esac\nsleep 4\nexit 1\n' > "$out/slow_lmp"
+chmod +x "$out/slow_lmp"
+LAMMPS_EXE=$out/slow_lmp "$run" -f -o "$out/term" collision lammps smoke > "$out/term.txt" 2>&1 &
+pid=$!
+for _ in $(seq 100); do grep -q "running in" "$out/term.txt" 2> /dev/null && break; sleep 0.1; done
+sleep 0.3; kill -TERM $pid; wait $pid; rc=$?
+if [ $rc -eq 143 ]; then echo "ok: SIGTERM during a run (exit 143)"
+else echo "FAIL: SIGTERM during a run: exit $rc, expected 143"; sed 's/^/  | /' "$out/term.txt"; fail=1; fi
+sleep 4   # the orphaned fake engine ends
 # unsupported engine/scenario: exit 7
 expect 7 "simple_shear in LIGGGHTS is unsupported" "$run" -o "$out" simple_shear liggghts smoke
 expect 7 "simple_shear_p in LIGGGHTS is unsupported" "$run" -o "$out" simple_shear_p liggghts smoke
@@ -54,4 +65,17 @@ expect 7 "simple_shear_p in LIGGGHTS is unsupported" "$run" -o "$out" simple_she
 expect 0 "collision (good run)" "$run" -f -o "$out" collision lammps smoke
 expect 0 "finished run kept" "$run" -o "$out" collision lammps smoke
 grep -q "is done" "$out/last.txt" || { echo "FAIL: finished run was redone"; fail=1; }
+# the helper scripts: usage 1, a missing run file 3, a failed check or run 4
+expect 1 "check_run.sh without a folder" "$root/scripts/dem/check_run.sh"
+expect 3 "check_run.sh on a folder without run.json" "$root/scripts/dem/check_run.sh" "$out/nokey.ini.d"
+grep -q "no run.json" "$out/last.txt" || { echo "FAIL: check_run does not name run.json"; fail=1; }
+expect 1 "monitor_stats.sh without a folder" "$root/scripts/dem/monitor_stats.sh"
+expect 1 "monitor_stats.sh with an unknown option" "$root/scripts/dem/monitor_stats.sh" -x "$out"
+expect 3 "monitor_stats.sh on a folder without monitor.txt" "$root/scripts/dem/monitor_stats.sh" "$out"
+expect 1 "chute_profile.sh with an unknown option" "$root/scripts/dem/chute_profile.sh" -x "$out"
+expect 3 "chute_profile.sh on a folder without a run" "$root/scripts/dem/chute_profile.sh" "$out"
+expect 4 "collision.sh whose DEM run fails" "$root/scripts/dem/collision.sh" -o "$out" -c "$out/nokey.ini" lammps
+grep -q "collision run failed" "$out/last.txt" || { echo "FAIL: collision.sh does not report the failed run"; fail=1; }
+expect 4 "collision.sh restitution off target (tolerance 0)" "$root/scripts/dem/collision.sh" -o "$out" -t 0 lammps
+grep -q "FAIL" "$out/last.txt" || { echo "FAIL: collision.sh does not mark the mismatch"; fail=1; }
 exit $fail

@@ -2,22 +2,29 @@
 """figures_test.py: tests of figures/make_figures.py on synthetic results
 folders (make_synthetic.py), written under WORK (the build directory).
 
-    /usr/bin/python3 figures_test.py SOURCE_DIR WORK CASE
+    /usr/bin/python3 figures_test.py SOURCE_DIR WORK CASE FIELDS_JSON
+
+FIELDS_JSON: build/generated/fields.json (the field schema the synthetic
+files take their units from).
 
 CASE:
   complete-ref    ref layout (sweep points): every expected figure, PDF and
                   PNG non-empty, exactly those listed in figures.txt
   complete-smoke  the same for the smoke layout (single cases)
   missing         one input file removed at a time (an EKM run next to its
-                  DEM profiles, a DEM manifest, a score file, scores.json): exit status 1,
+                  DEM profiles, a DEM manifest, a score file, scores.json): exit status 3,
                   one line on stderr naming the file, no figures.txt, no
                   figure at all
   failed-step     a DEM step that failed (comparison 'missing' in the table,
                   no CG file): a note, every figure still made
   bad-data        a dataset removed / of the wrong shape / without units, a
-                  score without options: exit status 1, the message names
+                  score without options: exit status 2, the message names
                   file and dataset (or key); and the shift is the score's:
                   a score with another shift draws a different profile
+  exit-codes      the other statuses of docs/exit-codes.md: usage 1 (an
+                  unknown option, no --size), a Python package missing 7,
+                  figures.txt that cannot be written 3 (no temporary left),
+                  SIGTERM while drawing 143 (no temporary left)
 Exit status 77 (skipped) when /usr/bin/python3 lacks matplotlib or h5py.
 """
 import os
@@ -37,6 +44,7 @@ EXPECTED = {
 }
 
 failures = []
+FIELDS_JSON = []   # [path]: set by main() from the command line
 
 
 def check(cond, msg):
@@ -49,12 +57,12 @@ def synth(src, out, layout):
     if os.path.exists(out):
         shutil.rmtree(out)
     subprocess.run([sys.executable, os.path.join(src, "tests", "figures", "make_synthetic.py"),
-                    "--layout", layout, out], check=True)
+                    "--layout", layout, "--fields", FIELDS_JSON[0], out], check=True)
 
 
-def figures(src, res, size):
+def figures(src, res, size, extra=(), env=None):
     p = subprocess.run([sys.executable, os.path.join(src, "figures", "make_figures.py"),
-                        "--size", size, res], capture_output=True, text=True)
+                        "--size", size, res] + list(extra), capture_output=True, text=True, env=env)
     return p.returncode, p.stdout, p.stderr
 
 
@@ -122,10 +130,10 @@ def failed_step(src, work):
     check(sorted(listed) == sorted(want), "failed step: figures.txt lists %s" % listed)
 
 
-def expect_failure(src, res, size, needle, what):
+def expect_failure(src, res, size, needle, what, status):
     rc, out, err = figures(src, res, size)
     lines = err.strip().splitlines()
-    check(rc == 1, "%s: exit status %d, expected 1 (stderr: %s)" % (what, rc, err.strip()))
+    check(rc == status, "%s: exit status %d, expected %d (stderr: %s)" % (what, rc, status, err.strip()))
     check(len(lines) == 1, "%s: expected one line on stderr, got %d: %r" % (what, len(lines), err))
     for n in needle:
         check(n in err, "%s: stderr does not name %r: %s" % (what, n, err.strip()))
@@ -152,7 +160,7 @@ def missing(src, work):
             shutil.rmtree(res)
         shutil.copytree(base, res)
         os.remove(os.path.join(res, rm))
-        expect_failure(src, res, "ref", needle, "without " + rm)
+        expect_failure(src, res, "ref", needle, "without " + rm, 3)
 
 
 def bad_data(src, work):
@@ -166,7 +174,7 @@ def bad_data(src, work):
     with h5py.File(os.path.join(res, "shear_cell", "cg_liggghts.h5"), "a") as f:
         del f["sxz_se"]
     expect_failure(src, res, "smoke", ["shear_cell/cg_liggghts.h5", "/sxz_se", "missing"],
-                   "without dataset /sxz_se")
+                   "without dataset /sxz_se", 2)
     res = os.path.join(work, "bad-1")
     shutil.rmtree(res, ignore_errors=True)
     shutil.copytree(base, res)
@@ -174,31 +182,31 @@ def bad_data(src, work):
         a = f["phi"][()]
         del f["phi"]
         f["phi"] = np.asarray(a)[:, :-1]
-    expect_failure(src, res, "smoke", ["filling/ekm.h5", "/phi", "shape"], "phi of the wrong shape")
+    expect_failure(src, res, "smoke", ["filling/ekm.h5", "/phi", "shape"], "phi of the wrong shape", 2)
     res = os.path.join(work, "bad-2")
     shutil.rmtree(res, ignore_errors=True)
     shutil.copytree(base, res)
     with h5py.File(os.path.join(res, "chute", "ekm.h5"), "a") as f:
         del f.attrs["stats.wall_time_s"]
-    expect_failure(src, res, "smoke", ["chute/ekm.h5", "stats.wall_time_s"], "without stats.wall_time_s")
+    expect_failure(src, res, "smoke", ["chute/ekm.h5", "stats.wall_time_s"], "without stats.wall_time_s", 2)
     res = os.path.join(work, "bad-3")
     shutil.rmtree(res, ignore_errors=True)
     shutil.copytree(base, res)
     with h5py.File(os.path.join(res, "chute", "cg_lammps.h5"), "a") as f:
         del f["T"].attrs["units"]
-    expect_failure(src, res, "smoke", ["chute/cg_lammps.h5", "/T", "units"], "dataset /T without units")
+    expect_failure(src, res, "smoke", ["chute/cg_lammps.h5", "/T", "units"], "dataset /T without units", 2)
     res = os.path.join(work, "bad-4")
     shutil.rmtree(res, ignore_errors=True)
     shutil.copytree(base, res)
     edit_options(os.path.join(res, "filling", "score_ekm_liggghts.json"), lambda o: o.pop("shift_m"))
     expect_failure(src, res, "smoke", ["filling/score_ekm_liggghts.json", "options.shift_m"],
-                   "score without options.shift_m")
+                   "score without options.shift_m", 2)
     res = os.path.join(work, "bad-5")
     shutil.rmtree(res, ignore_errors=True)
     shutil.copytree(base, res)
     edit_options(os.path.join(res, "filling", "score_ekm_lammps.json"), lambda o: o.update(ekm_time="first"))
     expect_failure(src, res, "smoke", ["filling/score_ekm_lammps.json", "options.ekm_time", "first"],
-                   "score with a bad options.ekm_time")
+                   "score with a bad options.ekm_time", 2)
     # the shift is the score's: 5 mm more for LAMMPS in shear_cell moves its profiles
     rc, _, err = figures(src, base, "smoke")
     check(rc == 0, "bad-data base: exit status %d: %s" % (rc, err.strip()))
@@ -215,6 +223,61 @@ def bad_data(src, work):
                 stem, "differs (not shifted)" if same else "is the same: the score's shift_m was not used"))
 
 
+def tmp_files(folder):
+    return [f for f in os.listdir(folder) if f.endswith(".tmp")] if os.path.isdir(folder) else []
+
+
+def exit_codes(src, work):
+    base = os.path.join(work, "codes-base")
+    synth(src, base, "ref")
+    # usage: exit 1 (argparse's own status would be 2)
+    rc, _, err = figures(src, base, "ref", ["--no-such-option"])
+    check(rc == 1, "unknown option: exit status %d, expected 1 (%s)" % (rc, err.strip()))
+    p = subprocess.run([sys.executable, os.path.join(src, "figures", "make_figures.py"), base],
+                       capture_output=True, text=True)
+    check(p.returncode == 1, "no --size: exit status %d, expected 1" % p.returncode)
+    # a missing results folder: 3
+    rc, _, err = figures(src, os.path.join(work, "no-such-folder"), "ref")
+    check(rc == 3, "missing results folder: exit status %d, expected 3" % rc)
+    # a Python package missing: 7 (h5py shadowed by a module that cannot be imported)
+    fake = os.path.join(work, "no-h5py")
+    os.makedirs(fake, exist_ok=True)
+    with open(os.path.join(fake, "h5py.py"), "w") as fh:
+        fh.write("raise ImportError(\"No module named 'h5py'\")\n")
+    env = dict(os.environ, PYTHONPATH=fake)
+    rc, _, err = figures(src, base, "ref", env=env)
+    check(rc == 7 and "h5py" in err, "h5py missing: exit status %d, expected 7 (%s)" % (rc, err.strip()))
+    # figures.txt cannot be written (a folder of that name): 3, no temporary left
+    res = os.path.join(work, "codes-listing")
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res)
+    os.makedirs(os.path.join(res, "figures", "figures.txt"))
+    rc, _, err = figures(src, res, "ref")
+    check(rc == 3 and "figures.txt" in err,
+          "figures.txt not writable: exit status %d, expected 3 (%s)" % (rc, err.strip()))
+    check(len(err.strip().splitlines()) == 1, "figures.txt not writable: not one line: %r" % err)
+    left = tmp_files(os.path.join(res, "figures"))
+    check(not left, "figures.txt not writable: temporaries left: %s" % left)
+    # SIGTERM while drawing: 143, no temporary left
+    res = os.path.join(work, "codes-term")
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res)
+    figdir = os.path.join(res, "figures")
+    proc = subprocess.Popen([sys.executable, os.path.join(src, "figures", "make_figures.py"),
+                             "--size", "ref", res], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    import time
+    for _ in range(600):   # until the first figure is there: drawing has started
+        if os.path.isdir(figdir) and any(f.endswith(".png") for f in os.listdir(figdir)):
+            break
+        time.sleep(0.05)
+    proc.terminate()
+    _, err = proc.communicate()
+    check(proc.returncode == 143, "SIGTERM: exit status %d, expected 143 (%s)" % (proc.returncode, err))
+    left = tmp_files(figdir)
+    check(not left, "SIGTERM: temporaries left: %s" % left)
+    check(not os.path.exists(os.path.join(figdir, "figures.txt")), "SIGTERM: figures.txt written")
+
+
 def edit_options(path, change):
     """Change the "options" of a score file in place."""
     import json
@@ -226,10 +289,11 @@ def edit_options(path, change):
 
 
 def main():
-    if len(sys.argv) != 4:
-        print("usage: figures_test.py SOURCE_DIR WORK CASE", file=sys.stderr)
+    if len(sys.argv) != 5:
+        print("usage: figures_test.py SOURCE_DIR WORK CASE FIELDS_JSON", file=sys.stderr)
         return 2
-    src, work, case = sys.argv[1:]
+    src, work, case, fields = sys.argv[1:]
+    FIELDS_JSON.append(fields)
     try:
         import matplotlib  # noqa: F401
         import h5py  # noqa: F401
@@ -248,6 +312,8 @@ def main():
         failed_step(src, work)
     elif case == "bad-data":
         bad_data(src, work)
+    elif case == "exit-codes":
+        exit_codes(src, work)
     else:
         print("figures_test: unknown case %r" % case, file=sys.stderr)
         return 2

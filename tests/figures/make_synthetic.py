@@ -28,8 +28,15 @@ MATERIAL = {"rho_p": RHO_P, "phi_co": 0.6, "phi_cp": 0.64, "T0": 1.5, "eta0": 3.
             "alpha": 0.0}
 CG_FIELDS = ("phi", "rho", "vx", "vy", "vz", "T", "P", "sxz", "szz", "mu", "I")
 EKM_FIELDS = ("phi", "vx", "vz", "T", "P", "sxz", "szz")
-UNITS = {"phi": "1", "rho": "kg/m^3", "vx": "m/s", "vy": "m/s", "vz": "m/s", "T": "m^2/s^2",
-         "P": "Pa", "sxz": "Pa", "szz": "Pa", "mu": "1", "I": "1", "z": "m", "t": "s"}
+# field -> units, from the field schema (common/schema.c) as the build
+# writes it, build/generated/fields.json (--fields): filled by main()
+UNITS = {}
+
+
+def load_units(path):
+    """field -> units of the generated schema file."""
+    with open(path) as fh:
+        return {k: v["units"] for k, v in json.load(fh)["fields"].items()}
 FIELDS = {"chute": "phi,vx,T,P,sxz,szz", "filling": "phi,vz,T,P,szz",
           "shear_cell": "phi,vx,T,P,sxz,szz", "simple_shear": "phi,T,P,sxz,szz",
           "simple_shear_p": "phi,T,P,sxz,szz"}
@@ -45,9 +52,9 @@ def _str(f, k, v):
 def write_cg(path, z, t, prof, rng, engine, extra=None):
     """prof(z, t) -> dict of [nz] arrays per field; SE 3% plus noise."""
     with h5py.File(path, "w") as f:
-        f.create_dataset("z", data=z).attrs.create("units", np.bytes_("m"))
-        f.create_dataset("t", data=np.asarray(t, float)).attrs.create("units", np.bytes_("s"))
-        f.create_dataset("nsnapshots", data=np.full(len(t), 8.0)).attrs.create("units", np.bytes_("1"))
+        f.create_dataset("z", data=z).attrs.create("units", np.bytes_(UNITS["z"]))
+        f.create_dataset("t", data=np.asarray(t, float)).attrs.create("units", np.bytes_(UNITS["t"]))
+        f.create_dataset("nsnapshots", data=np.full(len(t), 8.0)).attrs.create("units", np.bytes_(UNITS["nsnapshots"]))
         rows = [prof(z, tt) for tt in t]
         for n in CG_FIELDS:
             v = np.array([r[n] for r in rows]) * (1 + 0.01 * rng.standard_normal((len(t), z.size)))
@@ -72,15 +79,15 @@ def write_cg(path, z, t, prof, rng, engine, extra=None):
 
 def write_ekm(path, z, t, prof, scenario, attrs, wall):
     with h5py.File(path, "w") as f:
-        f.create_dataset("z", data=z).attrs.create("units", np.bytes_("m"))
-        f.create_dataset("t", data=np.asarray(t, float)).attrs.create("units", np.bytes_("s"))
+        f.create_dataset("z", data=z).attrs.create("units", np.bytes_(UNITS["z"]))
+        f.create_dataset("t", data=np.asarray(t, float)).attrs.create("units", np.bytes_(UNITS["t"]))
         rows = [prof(z, tt) for tt in t]
         for n in EKM_FIELDS:
             f.create_dataset(n, data=np.array([r[n] for r in rows])).attrs.create(
                 "units", np.bytes_(UNITS[n]))
         reg = np.where(np.array([r["phi"] for r in rows]) > 1e-4, 1, 0).astype(np.int32)
         f.create_dataset("regime", data=reg).attrs.create(
-            "units", np.bytes_("1 (0 empty, 1 kinetic, 2 dense flow, 3 solid)"))
+            "units", np.bytes_(UNITS["regime"]))
         for k, v in MATERIAL.items():
             f.attrs["material." + k] = float(v)
         for k, v in attrs.items():
@@ -182,8 +189,10 @@ def simple_shear_p(P, rate):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--layout", choices=("ref", "smoke"), required=True)
+    ap.add_argument("--fields", required=True, help="build/generated/fields.json (the field schema)")
     ap.add_argument("out")
     a = ap.parse_args()
+    UNITS.update(load_units(a.fields))
     rng = np.random.default_rng(1)
     ref = a.layout == "ref"
     rows = []
@@ -194,7 +203,7 @@ def main():
         os.makedirs(d, exist_ok=True)
         return d
 
-    def add_rows(s, p, engines):
+    def add_rows(s, p, engines, pvars):
         # the score files, with the options they were made with (as
         # `ekmcompare score` writes them; the figures read shift and EKM time
         # matching from there)
@@ -205,7 +214,7 @@ def main():
                                        "shift_m": 0.0},
                            "fields": {}}, fh, indent=1)
         for f in FIELDS[s].split(","):
-            row = {"scenario": s, "point": p, "field": f}
+            row = {"scenario": s, "point": p, "vars": pvars, "field": f}
             for e in ("liggghts", "lammps"):
                 row["ekm_vs_" + e] = {"status": "ok", "rel_l2": 0.1, "noise_normalised": 3.0,
                                       "points": 40} if e in engines else {"status": "n/a"}
@@ -225,7 +234,7 @@ def main():
         write_ekm(os.path.join(d, "ekm.h5"), zc(0, 0.06, 60), np.linspace(0, 5, 11), chute(theta, False),
                   "chute", {"gravity.angle": theta, "gravity.magnitude": 9.81, "top.type": "free",
                             "bottom.type": "wall", "domain.length": 0.06, "domain.cells": 60.0}, 0.7)
-        add_rows("chute", p, both)
+        add_rows("chute", p, both, {"theta": "%g" % theta})
     # filling: a time series
     d = point_dir("filling", "")
     tdem = [0.04, 0.14, 0.24, 0.34, 0.44, 0.54, 0.64, 0.74, 0.84, 0.94, 1.0]
@@ -235,7 +244,7 @@ def main():
     write_ekm(os.path.join(d, "ekm.h5"), zc(0, 0.1, 50), np.linspace(0, 1, 51), filling(False),
               "filling", {"top.type": "inflow", "top.t_stop": 0.5, "top.phi": 0.05, "top.w": -1.0,
                           "domain.length": 0.1, "domain.cells": 50.0}, 0.09)
-    add_rows("filling", "", both)
+    add_rows("filling", "", both, {})
     # shear_cell
     d = point_dir("shear_cell", "")
     for e in both:
@@ -244,7 +253,7 @@ def main():
     write_ekm(os.path.join(d, "ekm.h5"), zc(0, 0.042, 42), np.linspace(0, 100, 11), shear_cell(False),
               "shear_cell", {"top.velocity": 0.42, "bottom.velocity": 0.0, "domain.length": 0.042,
                              "domain.cells": 42.0}, 1.4)
-    add_rows("shear_cell", "", both)
+    add_rows("shear_cell", "", both, {})
     # simple_shear: LAMMPS only; sweep over phi and rate (ref)
     pts = ["phi0.50-rate5", "phi0.50-rate10", "phi0.53-rate5", "phi0.53-rate10"] if ref else [""]
     for p in pts:
@@ -258,7 +267,8 @@ def main():
                   simple_shear(phi, rate, False), "simple_shear",
                   {"initial.phi": phi, "top.velocity": v, "bottom.velocity": -v,
                    "domain.length": 0.02, "domain.cells": 20.0, "gravity.magnitude": 0.0}, 0.06)
-        add_rows("simple_shear", p, ("lammps",))
+        # the point's sweep variables as the scenario reader prints them
+        add_rows("simple_shear", p, ("lammps",), {"phi": "%.2f" % phi, "rate": "%g" % rate})
     # simple_shear_p: LAMMPS only; pressures x rates (ref); the EKM at a fixed
     # gap ([initial] phi 0.55) at the point's rate
     for p in (["p10-rate10", "p100-rate10"] if ref else [""]):
@@ -272,7 +282,7 @@ def main():
                   simple_shear(0.55, rate, False), "simple_shear_p",
                   {"initial.phi": 0.55, "top.velocity": v, "bottom.velocity": -v,
                    "domain.length": 0.02, "domain.cells": 20.0, "gravity.magnitude": 0.0}, 0.06)
-        add_rows("simple_shear_p", p, ("lammps",))
+        add_rows("simple_shear_p", p, ("lammps",), {"pressure": "%g" % P, "rate": "%g" % rate})
     with open(os.path.join(a.out, "scores.json"), "w") as fh:
         json.dump({"size": a.layout, "engines": ["liggghts", "lammps"], "created": "2026-01-01T00:00:00Z",
                    "code_version": "synthetic", "rows": rows}, fh, indent=1)

@@ -1,0 +1,121 @@
+/* fit_scen.h: `ekmcompare fit --scenario CASES.json`: [material]
+ * parameters fitted to steady DEM profiles (chute, shear cell) by running
+ * the EKM in-process (libekm: ekm_scenario_load, ekm_run, ekm_fields_compute)
+ * at every trial parameter vector (docs/compare.md, "fit --scenario").
+ *
+ * CASES.json (written by the campaign from the resolved scenarios):
+ *   {"cases": [{"dem": "results/chute/theta22/cg_lammps.h5",
+ *               "scenario": "scenarios/chute.ini", "set": ["gravity.angle=22"],
+ *               "fields": ["phi","vx","T","P","sxz"], "shift_m": 0, "weight": 1}, ...]}
+ * dem and scenario are required (paths relative to the current directory);
+ * set (default []), fields (default all five), shift_m (default 0, added
+ * to the DEM coordinate as `score --shift`) and weight (default 1, > 0:
+ * the case's residuals are multiplied by sqrt(weight)) are optional; any
+ * other key is an error.
+ *
+ * Per trial material and case: the scenario is loaded through libekm's
+ * reader with the case's set overrides followed by material.K=V (%.17g)
+ * for every fitted key (so the reader validates the trial), run to its end
+ * with ekm_run (whatever the scenario's [run] asks for), and the last state
+ * interpolated onto the DEM points exactly as `ekmcompare score --ekm-time
+ * last` does (cg_score_locate/cg_score_interp; every DEM window against the
+ * EKM's last state). Residuals sqrt(weight) (model - DEM)/SE on the
+ * candidate points: inside the EKM's cell-centre range, DEM value finite,
+ * SE_DEM > CG_SCORE_SE_FLOOR x RMS of the DEM field (as score), and DEM
+ * phi > support x (the largest DEM phi of the case). A candidate counts
+ * only where the EKM has material too (its interpolated phi above the same
+ * threshold); elsewhere its residual is 0 and it is not counted in dof.
+ */
+#ifndef CG_FIT_SCEN_H
+#define CG_FIT_SCEN_H
+
+#include <stddef.h>
+
+#include "fit.h"
+#include "status.h"
+
+/* Profiles a residual can be formed of. */
+enum cg_fitsc_field { CG_FITSC_PHI, CG_FITSC_VX, CG_FITSC_T, CG_FITSC_P, CG_FITSC_SXZ, CG_FITSC_NFIELD };
+#define CG_FITSC_SUPPORT 0.1 /* default support threshold: fraction of the largest DEM phi */
+/* Steps of the finite differences. An EKM run's result is not smooth in the
+ * parameters below about 1e-8 relative (the adaptive time steps and the
+ * iteration tolerances change it in steps: measured, docs/compare.md), so
+ * both Jacobians step 1e-4: GSL's forward differences of the trust region
+ * (h_df, in the transformed parameters) and the central differences of the
+ * identifiability test (relative to the value). */
+#define CG_FITSC_FD_STEP 1e-4
+#define CG_FITSC_JAC_STEP 1e-4
+/* The trust region's tests: steps below 1e-6 relative (xtol), gradient
+ * below 1e-6 (gtol) or a chi2 change below 1e-8 relative (ftol) end a
+ * start; at most 100 iterations. Tighter tests (those of --rheology) chase
+ * the runs' own round-off for hundreds of evaluations. */
+#define CG_FITSC_XTOL 1e-6
+#define CG_FITSC_GTOL 1e-6
+#define CG_FITSC_FTOL 1e-8
+#define CG_FITSC_MAX_ITER 100
+#define CG_FITSC_STARTS 1    /* default starts: each evaluation is a set of EKM runs */
+
+const char *cg_fitsc_field_name(int f); /* "phi", "vx", "T", "P", "sxz" */
+
+typedef struct {
+  char *dem, *scenario;        /* paths as given */
+  char **set;                  /* the case's overrides */
+  size_t nset;
+  unsigned fields;             /* bit mask of cg_fitsc_field: the case's and --fields */
+  double shift_m;              /* added to the DEM coordinate [m] */
+  double weight;               /* > 0 */
+  /* the DEM: ntd windows x nzd bins */
+  size_t ntd, nzd;
+  double *zd;                  /* shifted coordinate [m], nzd */
+  double *fd[CG_FITSC_NFIELD], *sd[CG_FITSC_NFIELD]; /* [ntd][nzd], NULL if not fitted */
+  double *phid;                /* DEM phi [ntd][nzd] (support) */
+  double phi_threshold;        /* support threshold [-] */
+  size_t *cand[CG_FITSC_NFIELD]; /* candidate points (j nzd + k) */
+  size_t ncand[CG_FITSC_NFIELD];
+  size_t nres;                 /* sum of ncand */
+  double phi_init_max;         /* largest phi the scenario starts or feeds with [-] */
+  /* the last evaluation */
+  size_t used[CG_FITSC_NFIELD];
+  double chi2_field[CG_FITSC_NFIELD];
+  double chi2;
+  double wall_last_s;          /* EKM wall time of the last run [s] */
+  double wall_total_s;         /* all its runs [s] */
+  long runs;
+} cg_fitsc_case;
+
+typedef struct {
+  const char *cases_path;
+  cg_fitsc_case *cases;
+  size_t ncases;
+  unsigned fields;             /* --fields */
+  double support;              /* support threshold, fraction of the largest DEM phi */
+  size_t nparams;
+  int param[CG_FIT_MAXP];      /* fitted keys (cg_fit_param_lookup) */
+  size_t nres;
+  int progress;                /* 1: a line per evaluation on stderr */
+  long evaluations;
+  double started_s;            /* monotonic clock at the start */
+  double ekm_wall_s;           /* all EKM runs [s] */
+} cg_fitsc_problem;
+
+/* Read CASES.json and every case's DEM file and scenario (with its set).
+ * Errors: one line naming CASES.json, the case index and key (EKM_EINPUT;
+ * EKM_EIO for a file that cannot be opened), the scenario reader's message
+ * passed through. pb->fields and pb->support must be set before.
+ * cg_fitsc_free() in every case. */
+ekm_status cg_fitsc_load(cg_fitsc_problem *pb, const char *cases_path, ekm_error *err);
+void cg_fitsc_free(cg_fitsc_problem *pb);
+
+/* The start material: the first case's scenario [material]. */
+ekm_status cg_fitsc_start_material(const cg_fitsc_problem *pb, ekm_material *m, ekm_variant *variant,
+                                   ekm_error *err);
+
+/* The driver's problem (residual callbacks on pb). */
+void cg_fitsc_spec(cg_fitsc_problem *pb, const ekm_material *start, cg_fit_spec *sp);
+
+/* Residuals at material m (the fitted keys replaced in every case) into
+ * r[0..pb->nres); updates every case's record. Non-zero: a scenario does
+ * not load with these values or its EKM run fails. */
+int cg_fitsc_residuals(cg_fitsc_problem *pb, const ekm_material *m, double *r);
+
+#endif
