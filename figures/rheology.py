@@ -27,6 +27,8 @@ fixed-gap run at its rate and [initial] phi (the EKM has no pressure-held
 wall yet): it is not drawn.
 """
 
+import re
+
 import numpy as np
 
 import common as C
