@@ -672,10 +672,19 @@ static void test_sweep_errors(void **state)
     assert_string_equal(x.err.message,
                         FILE_NAME ":33: [dem] dump_strain: needs [dem] dt (dump_every = dump_strain / (rate dt))");
     resolved_free(&x);
+    write_scenario("[dem]\npressures = 10 -5\nrates = 1");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, NULL, 0), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ":31: [dem] pressures: expected normal stresses > 0 [Pa], got '-5'");
+    resolved_free(&x);
+    /* a rate of 0 is refused by the sweep's range check first */
     write_scenario("[dem]\npressures = 10\nref.rates = 1 0\ndump_strain = 0.1\ndt = 1e-5");
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ":32: [dem] ref.rates: expected shear rates > 0 [1/s], got '0'");
+    resolved_free(&x);
+    write_scenario("[dem]\npressures = 10\nref.rates = 1\ndump_strain = 0\ndt = 1e-5");
+    assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);
     assert_string_equal(x.err.message, FILE_NAME ":33: [dem] dump_strain: expected dump_strain, dt and every rate > 0 "
-                                                 "(got dump_strain 0.1, dt 1e-5, rate 0 of [dem] ref.rates)");
+                                                 "(got dump_strain 0, dt 1e-5, rate 1 of [dem] ref.rates)");
     resolved_free(&x);
     write_scenario("");
     assert_int_equal(resolve_file(&x, FILE_NAME, "spring", NULL, NULL, 0), EKM_EINPUT);
