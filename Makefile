@@ -8,6 +8,7 @@
 #                   DEM, coarse-graining, EKM, scores, table, figures
 #   make figures    the paper figures from existing campaign results
 #   make dem SCENARIO=.. ENGINE=.. SIZE=..   one DEM run (docs/dem.md)
+#   make format     apply the C style (.clang-format) to every C file
 #
 # Components add targets in mk/*.mk (DEM runs, comparison, campaign).
 
@@ -17,7 +18,7 @@ JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_ARGS ?=
 EKM        := $(BUILD)/continuum/ekm
 
-.PHONY: all build deps test test-release test-sanitize demo bench clean help
+.PHONY: all build deps test test-release test-sanitize demo bench clean help format
 
 all: build
 
@@ -51,10 +52,14 @@ demo: deps build
 bench: deps build
 	@scripts/bench.sh $(BUILD)
 
+# Apply the project's C style (.clang-format) to every tracked C file.
+format:
+	git ls-files '*.c' '*.h' | xargs clang-format -i
+
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
 
 help:
-	@sed -n '1,16p' Makefile
+	@sed -n '1,17p' Makefile
 
 -include mk/*.mk

@@ -180,15 +180,19 @@ int main(int argc, char **argv)
     for (int i = 0; i < 2; i++)
         for (int k = 0; k < 3; k++) {
             const int target_row = i == 0 && k == 1;
-            fprintf(fp, "  {\"benchmark\": \"ekm %s, %d cells\", \"value\": %.4g, \"unit\": \"cell-updates/s (1 core)\", "
-                        "\"target\": \"%s\", \"status\": \"%s\"},\n",
+            fprintf(fp,
+                    "  {\"benchmark\": \"ekm %s, %d cells\", \"value\": %.4g, \"unit\": \"cell-updates/s (1 "
+                    "core)\", "
+                    "\"target\": \"%s\", \"status\": \"%s\"},\n",
                     names[i], sizes[k], rates[i][k], target_row ? ">= 2e7" : "",
                     target_row ? (rates[i][k] >= 2e7 ? "ok" : "MISSED") : "");
         }
-    fprintf(fp, "  {\"benchmark\": \"ekm thesis_filling, 30 cells, to t = 40 s (%ld steps)\", \"value\": %.4g, "
-                "\"unit\": \"s wall\", \"target\": \"< 1\", \"status\": \"%s\"}\n",
+    fprintf(fp,
+            "  {\"benchmark\": \"ekm thesis_filling, 30 cells, to t = 40 s (%ld steps)\", \"value\": %.4g, "
+            "\"unit\": \"s wall\", \"target\": \"< 1\", \"status\": \"%s\"}\n",
             steps, wall, wall < 1.0 ? "ok" : "MISSED");
-    fprintf(fp, "], \"keys\": {\"ekm_cell_updates_per_s\": %.6g, \"thesis_filling_wall_s\": %.6g}}\n", rates[0][1], wall);
+    fprintf(fp, "], \"keys\": {\"ekm_cell_updates_per_s\": %.6g, \"thesis_filling_wall_s\": %.6g}}\n",
+            rates[0][1], wall);
     st = ekm_atomic_commit(&out, &err);
     if (st != EKM_OK) {
         ekm_error_print("ekm_bench", &err);

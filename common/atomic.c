@@ -51,7 +51,8 @@ ekm_status ekm_atomic_install_signal_cleanup(ekm_error *err)
     for (size_t i = 0; i < sizeof cleanup_signals / sizeof *cleanup_signals; i++) {
         struct sigaction old;
         if (sigaction(cleanup_signals[i], NULL, &old) != 0)
-            return EKM_FAIL(err, EKM_EINTERNAL, "cannot query signal %d: %s", cleanup_signals[i], strerror(errno));
+            return EKM_FAIL(err, EKM_EINTERNAL, "cannot query signal %d: %s", cleanup_signals[i],
+                            strerror(errno));
         if (old.sa_handler == SIG_IGN)
             continue; /* ignored by whoever started us: keep it so */
         if (sigaction(cleanup_signals[i], &sa, NULL) != 0)
@@ -170,11 +171,13 @@ ekm_status ekm_atomic_check_target(const char *path, ekm_error *err)
     char dir[EKM_ATOMIC_PATH_MAX];
     directory_of(path, dir, sizeof dir);
     if (stat(dir, &st) != 0)
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output: directory %s: %s", path, dir, strerror(errno));
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output: directory %s: %s", path, dir,
+                        strerror(errno));
     if (!S_ISDIR(st.st_mode))
         return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output: %s is not a directory", path, dir);
     if (access(dir, W_OK) != 0)
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output: directory %s: %s", path, dir, strerror(errno));
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output: directory %s: %s", path, dir,
+                        strerror(errno));
     return EKM_OK;
 }
 
@@ -251,8 +254,7 @@ static int canonical(const char *path, char *out, size_t size)
     return snprintf(out, size, "%s/%s", strcmp(buf, "/") == 0 ? "" : buf, base) < (int)size;
 }
 
-ekm_status ekm_atomic_refuse_input(const char *out_path, const char *const *inputs, size_t n,
-                                   ekm_error *err)
+ekm_status ekm_atomic_refuse_input(const char *out_path, const char *const *inputs, size_t n, ekm_error *err)
 {
     struct stat so;
     const int out_exists = stat(out_path, &so) == 0;
@@ -262,11 +264,13 @@ ekm_status ekm_atomic_refuse_input(const char *out_path, const char *const *inpu
         struct stat si;
         if (out_exists && stat(inputs[i], &si) == 0) {
             if (si.st_dev == so.st_dev && si.st_ino == so.st_ino)
-                return EKM_FAIL(err, EKM_EIO, "%s: the output would overwrite the input %s", out_path, inputs[i]);
+                return EKM_FAIL(err, EKM_EIO, "%s: the output would overwrite the input %s", out_path,
+                                inputs[i]);
             continue;
         }
         char in_canon[PATH_MAX + 2];
-        if (out_resolved && canonical(inputs[i], in_canon, sizeof in_canon) && strcmp(in_canon, out_canon) == 0)
+        if (out_resolved && canonical(inputs[i], in_canon, sizeof in_canon) &&
+            strcmp(in_canon, out_canon) == 0)
             return EKM_FAIL(err, EKM_EIO, "%s: the output would overwrite the input %s", out_path, inputs[i]);
     }
     return EKM_OK;

@@ -25,8 +25,10 @@
 
 #include "status.h"
 
-enum { EKM_ATOMIC_PATH_MAX = 1024, /* longest target path [chars] */
-       EKM_ATOMIC_SLOTS = 64 };    /* temporaries registered at once */
+enum {
+    EKM_ATOMIC_PATH_MAX = 1024, /* longest target path [chars] */
+    EKM_ATOMIC_SLOTS = 64
+}; /* temporaries registered at once */
 
 typedef struct {
     char path[EKM_ATOMIC_PATH_MAX];          /* the target */
@@ -65,8 +67,7 @@ void ekm_atomic_unregister(int slot);
 /* EKM_EIO "OUT: the output would overwrite the input INPUT" when out_path
  * names the same file as one of the n inputs (same st_dev/st_ino when both
  * exist, else the same realpath); call before any work. */
-ekm_status ekm_atomic_refuse_input(const char *out_path, const char *const *inputs, size_t n,
-                                   ekm_error *err);
+ekm_status ekm_atomic_refuse_input(const char *out_path, const char *const *inputs, size_t n, ekm_error *err);
 
 /* EKM_EIO unless an output could be written at path: not a directory (nor
  * a name ending in '/'), its directory existing, a directory and writable.

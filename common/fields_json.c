@@ -29,7 +29,8 @@ int main(int argc, char **argv)
     if (st == EKM_OK)
         st = ekm_atomic_open(&out, argv[1], &err);
     if (st == EKM_OK) {
-        if (json_dumpf(root, out.fp, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 || fputc('\n', out.fp) == EOF) {
+        if (json_dumpf(root, out.fp, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 ||
+            fputc('\n', out.fp) == EOF) {
             ekm_atomic_abort(&out);
             st = EKM_FAIL(&err, EKM_EIO, "%s: cannot write", argv[1]);
         } else {

@@ -13,10 +13,10 @@
 _Static_assert(sizeof(int) == 4, "EKM_H5_INT datasets are int32: int must be 32 bits");
 
 struct ekm_h5_file {
-    hid_t file;        /* -1 once closed */
-    int writing;       /* created by ekm_h5_create (then `out` is active) */
-    ekm_atomic out;    /* the temporary and the target (writing) */
-    char *path;        /* target (writing) or input (reading) */
+    hid_t file;     /* -1 once closed */
+    int writing;    /* created by ekm_h5_create (then `out` is active) */
+    ekm_atomic out; /* the temporary and the target (writing) */
+    char *path;     /* target (writing) or input (reading) */
 };
 
 void ekm_h5_quiet(void)
@@ -184,8 +184,10 @@ static int string_attr(hid_t obj, const char *name, const char *value)
                      H5Tset_strpad(type, H5T_STR_NULLTERM) >= 0
                  ? write_attr(obj, name, type, space, value)
                  : -1;
-    if (close_once(&space, H5Sclose) != 0) rc = -1;
-    if (close_once(&type, H5Tclose) != 0) rc = -1;
+    if (close_once(&space, H5Sclose) != 0)
+        rc = -1;
+    if (close_once(&type, H5Tclose) != 0)
+        rc = -1;
     return rc;
 }
 
@@ -195,7 +197,8 @@ static int numeric_attr(hid_t obj, const char *name, hid_t type, const void *val
     hsize_t dim = (hsize_t)n;
     hid_t space = scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &dim, NULL);
     int rc = space >= 0 ? write_attr(obj, name, type, space, values) : -1;
-    if (close_once(&space, H5Sclose) != 0) rc = -1;
+    if (close_once(&space, H5Sclose) != 0)
+        rc = -1;
     return rc;
 }
 
@@ -211,7 +214,8 @@ static ekm_status set_attr(ekm_h5_file *f, const char *obj, const char *name, at
         if (kind == A_STRING)
             rc = string_attr(o, name, values);
         else
-            rc = numeric_attr(o, name, kind == A_DOUBLE ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT, values, n, scalar);
+            rc = numeric_attr(o, name, kind == A_DOUBLE ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT, values, n,
+                              scalar);
     }
     if (owned && close_once(&o, H5Oclose) != 0)
         rc = -1;
@@ -287,22 +291,23 @@ ekm_status ekm_h5_write(ekm_h5_file *f, const char *name, ekm_h5_type type, int 
         total *= dims[i];
     }
     hid_t space = H5Screate_simple(rank, hd, NULL), d = -1;
-    int ok = space >= 0 &&
-             (d = H5Dcreate2(f->file, name, file_type(type), space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) >= 0;
+    int ok = space >= 0 && (d = H5Dcreate2(f->file, name, file_type(type), space, H5P_DEFAULT, H5P_DEFAULT,
+                                           H5P_DEFAULT)) >= 0;
     if (ok && total > 0)
         ok = H5Dwrite(d, mem_type(type), H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0;
     if (ok)
         ok = describe(d, units, description) == 0;
-    if (close_once(&d, H5Dclose) != 0) ok = 0;
-    if (close_once(&space, H5Sclose) != 0) ok = 0;
+    if (close_once(&d, H5Dclose) != 0)
+        ok = 0;
+    if (close_once(&space, H5Sclose) != 0)
+        ok = 0;
     if (!ok)
         return EKM_FAIL(err, EKM_EIO, "%s: cannot write the dataset %s", f->path, name);
     return EKM_OK;
 }
 
 ekm_status ekm_h5_write_double(ekm_h5_file *f, const char *name, int rank, const size_t *dims,
-                               const double *data, const char *units, const char *description,
-                               ekm_error *err)
+                               const double *data, const char *units, const char *description, ekm_error *err)
 {
     return ekm_h5_write(f, name, EKM_H5_DOUBLE, rank, dims, data, units, description, err);
 }
@@ -318,8 +323,10 @@ ekm_status ekm_h5_create_series(ekm_h5_file *f, const char *name, ekm_h5_type ty
                                 const char *description, ekm_error *err)
 {
     if (rank < 1 || rank > EKM_H5_MAX_RANK || chunk_rows == 0)
-        return EKM_FAIL(err, EKM_EINTERNAL, "%s: series %s: rank %d, chunk %zu rows: expected rank 1 to %d, "
-                        "chunk >= 1", f->path, name, rank, chunk_rows, EKM_H5_MAX_RANK);
+        return EKM_FAIL(err, EKM_EINTERNAL,
+                        "%s: series %s: rank %d, chunk %zu rows: expected rank 1 to %d, "
+                        "chunk >= 1",
+                        f->path, name, rank, chunk_rows, EKM_H5_MAX_RANK);
     hsize_t dims[EKM_H5_MAX_RANK] = {0}, maxdims[EKM_H5_MAX_RANK] = {H5S_UNLIMITED},
             chunk[EKM_H5_MAX_RANK] = {(hsize_t)chunk_rows};
     for (int i = 1; i < rank; i++)
@@ -328,9 +335,12 @@ ekm_status ekm_h5_create_series(ekm_h5_file *f, const char *name, ekm_h5_type ty
     int ok = space >= 0 && plist >= 0 && H5Pset_chunk(plist, rank, chunk) >= 0 &&
              (d = H5Dcreate2(f->file, name, file_type(type), space, H5P_DEFAULT, plist, H5P_DEFAULT)) >= 0 &&
              describe(d, units, description) == 0;
-    if (close_once(&d, H5Dclose) != 0) ok = 0;
-    if (close_once(&plist, H5Pclose) != 0) ok = 0;
-    if (close_once(&space, H5Sclose) != 0) ok = 0;
+    if (close_once(&d, H5Dclose) != 0)
+        ok = 0;
+    if (close_once(&plist, H5Pclose) != 0)
+        ok = 0;
+    if (close_once(&space, H5Sclose) != 0)
+        ok = 0;
     if (!ok)
         return EKM_FAIL(err, EKM_EIO, "%s: cannot create the dataset %s", f->path, name);
     return EKM_OK;
@@ -343,7 +353,8 @@ ekm_status ekm_h5_append(ekm_h5_file *f, const char *name, const void *row, ekm_
     int ok = d >= 0 && (fspace = H5Dget_space(d)) >= 0;
     const int rank = ok ? H5Sget_simple_extent_ndims(fspace) : -1;
     ok = ok && rank >= 1 && rank <= EKM_H5_MAX_RANK && H5Sget_simple_extent_dims(fspace, dims, NULL) >= 0;
-    if (close_once(&fspace, H5Sclose) != 0) ok = 0;
+    if (close_once(&fspace, H5Sclose) != 0)
+        ok = 0;
     if (ok) {
         start[0] = dims[0];
         count[0] = 1;
@@ -356,12 +367,16 @@ ekm_status ekm_h5_append(ekm_h5_file *f, const char *name, const void *row, ekm_
              (type = H5Dget_type(d)) >= 0;
     }
     if (ok)
-        ok = H5Dwrite(d, H5Tget_class(type) == H5T_INTEGER ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE, mspace, fspace,
-                      H5P_DEFAULT, row) >= 0;
-    if (close_once(&type, H5Tclose) != 0) ok = 0;
-    if (close_once(&mspace, H5Sclose) != 0) ok = 0;
-    if (close_once(&fspace, H5Sclose) != 0) ok = 0;
-    if (close_once(&d, H5Dclose) != 0) ok = 0;
+        ok = H5Dwrite(d, H5Tget_class(type) == H5T_INTEGER ? H5T_NATIVE_INT : H5T_NATIVE_DOUBLE, mspace,
+                      fspace, H5P_DEFAULT, row) >= 0;
+    if (close_once(&type, H5Tclose) != 0)
+        ok = 0;
+    if (close_once(&mspace, H5Sclose) != 0)
+        ok = 0;
+    if (close_once(&fspace, H5Sclose) != 0)
+        ok = 0;
+    if (close_once(&d, H5Dclose) != 0)
+        ok = 0;
     if (!ok)
         return EKM_FAIL(err, EKM_EIO, "%s: cannot append to the dataset %s", f->path, name);
     return EKM_OK;

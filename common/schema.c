@@ -5,7 +5,10 @@
 
 #include <string.h>
 
-#define SE(name, units, what) {name "_se", units, "standard error of " what " (blocking over snapshots; CG)"}
+#define SE(name, units, what)                                                         \
+    {                                                                                 \
+        name "_se", units, "standard error of " what " (blocking over snapshots; CG)" \
+    }
 
 static const ekm_field FIELDS[] = {
     {"z", "m", "coordinate along the slab normal: cell centres (EKM), bin centres (CG)"},

@@ -12,8 +12,8 @@ static void record_source(ekm_error *err, ekm_status code, const char *src_file,
     err->src_line = src_line;
 }
 
-ekm_status ekm_error_set(ekm_error *err, ekm_status code, const char *src_file,
-                         int src_line, const char *fmt, ...)
+ekm_status ekm_error_set(ekm_error *err, ekm_status code, const char *src_file, int src_line, const char *fmt,
+                         ...)
 {
     if (err) {
         va_list ap;
@@ -27,9 +27,8 @@ ekm_status ekm_error_set(ekm_error *err, ekm_status code, const char *src_file,
     return code;
 }
 
-ekm_status ekm_error_set_at(ekm_error *err, ekm_status code, const char *input_file,
-                            int input_line, const char *src_file, int src_line,
-                            const char *fmt, ...)
+ekm_status ekm_error_set_at(ekm_error *err, ekm_status code, const char *input_file, int input_line,
+                            const char *src_file, int src_line, const char *fmt, ...)
 {
     if (!err)
         return code;

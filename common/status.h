@@ -18,16 +18,16 @@
 #include <stdarg.h>
 
 typedef enum {
-    EKM_EOF = -1,     /* end of data: indicative, not an error (exit code 0) */
+    EKM_EOF = -1, /* end of data: indicative, not an error (exit code 0) */
     EKM_OK = 0,
-    EKM_EINPUT,       /* bad user input: scenario file, --set value, dump, HDF5/JSON input */
-    EKM_ENOMEM,       /* allocation failed */
-    EKM_EIO,          /* a file could not be opened, read or written */
-    EKM_ENUMERIC,     /* the computation could not continue: phi out of range, no convergence */
-    EKM_EINTERNAL,    /* a library call failed unexpectedly */
-    EKM_EUSAGE,       /* bad command line: unknown option, missing argument */
-    EKM_ENOTSTEADY,   /* finished, but the required steady state was not reached */
-    EKM_EUNAVAILABLE  /* a required program is missing or cannot run this case */
+    EKM_EINPUT,      /* bad user input: scenario file, --set value, dump, HDF5/JSON input */
+    EKM_ENOMEM,      /* allocation failed */
+    EKM_EIO,         /* a file could not be opened, read or written */
+    EKM_ENUMERIC,    /* the computation could not continue: phi out of range, no convergence */
+    EKM_EINTERNAL,   /* a library call failed unexpectedly */
+    EKM_EUSAGE,      /* bad command line: unknown option, missing argument */
+    EKM_ENOTSTEADY,  /* finished, but the required steady state was not reached */
+    EKM_EUNAVAILABLE /* a required program is missing or cannot run this case */
 } ekm_status;
 
 typedef struct {
@@ -41,16 +41,14 @@ typedef struct {
 
 /* Record a failure (err may be NULL); returns code, for
  * `return EKM_FAIL(err, EKM_EIO, "%s: cannot write", path);`. */
-ekm_status ekm_error_set(ekm_error *err, ekm_status code, const char *src_file,
-                         int src_line, const char *fmt, ...)
-    __attribute__((format(printf, 5, 6)));
+ekm_status ekm_error_set(ekm_error *err, ekm_status code, const char *src_file, int src_line, const char *fmt,
+                         ...) __attribute__((format(printf, 5, 6)));
 
 /* As ekm_error_set, with the user's input location: the message becomes
  * "INPUT_FILE:INPUT_LINE: text" ("INPUT_FILE: text" when input_line <= 0,
  * just "text" when input_file is NULL) and both are stored. */
-ekm_status ekm_error_set_at(ekm_error *err, ekm_status code, const char *input_file,
-                            int input_line, const char *src_file, int src_line,
-                            const char *fmt, ...)
+ekm_status ekm_error_set_at(ekm_error *err, ekm_status code, const char *input_file, int input_line,
+                            const char *src_file, int src_line, const char *fmt, ...)
     __attribute__((format(printf, 7, 8)));
 
 #define EKM_FAIL(err, code, ...) ekm_error_set((err), (code), __FILE__, __LINE__, __VA_ARGS__)

@@ -26,33 +26,41 @@
 
 /* Dump columns the reader is asked for. */
 enum {
-  CG_IN_POS = 0,        /* 3 x flavour (plain, u, s, su) + dim: x y z xu ... */
-  CG_IN_VX = 12, CG_IN_VY, CG_IN_VZ, CG_IN_MASS, CG_IN_RADIUS, CG_IN_DIAMETER, CG_IN_STRESS,
-  CG_IN_ID = CG_IN_STRESS + 6, CG_IN_TYPE, CG_IN_NCOL
+    CG_IN_POS = 0, /* 3 x flavour (plain, u, s, su) + dim: x y z xu ... */
+    CG_IN_VX = 12,
+    CG_IN_VY,
+    CG_IN_VZ,
+    CG_IN_MASS,
+    CG_IN_RADIUS,
+    CG_IN_DIAMETER,
+    CG_IN_STRESS,
+    CG_IN_ID = CG_IN_STRESS + 6,
+    CG_IN_TYPE,
+    CG_IN_NCOL
 };
 
 typedef struct {
-  const cg_run_opts *o;
-  const char *cols[CG_IN_NCOL];  /* the columns asked of the reader (compact) */
-  size_t ncols;
-  int col[CG_IN_NCOL];           /* CG_IN_* -> index in cols, or -1 if not asked */
-  size_t ifile;           /* next file to open */
-  cg_dump *d;
-  cg_snapshot snap;
-  int have_last;
-  int64_t last_step;      /* last accepted step (skip repeats) */
-  size_t nread;           /* snapshots read */
-  size_t nrepeat;         /* repeated steps skipped */
-  size_t cap;             /* particle capacity */
-  double *s, *v, *m, *vol, *rad, *S;
-  cg_particles pt;
-  double t;               /* time of the current snapshot [s] */
-  double lo, hi;          /* box along the axis [m] */
-  int periodic;           /* box periodic along the axis */
-  double dsum;            /* sum of diameters so far [m] */
-  double dcount;          /* particles in dsum */
-  cg_contacts pairs;      /* contacts from the pair dumps */
-  int skip_pairs;         /* 1: do not read the pair dumps (steady pass) */
+    const cg_run_opts *o;
+    const char *cols[CG_IN_NCOL]; /* the columns asked of the reader (compact) */
+    size_t ncols;
+    int col[CG_IN_NCOL]; /* CG_IN_* -> index in cols, or -1 if not asked */
+    size_t ifile;        /* next file to open */
+    cg_dump *d;
+    cg_snapshot snap;
+    int have_last;
+    int64_t last_step; /* last accepted step (skip repeats) */
+    size_t nread;      /* snapshots read */
+    size_t nrepeat;    /* repeated steps skipped */
+    size_t cap;        /* particle capacity */
+    double *s, *v, *m, *vol, *rad, *S;
+    cg_particles pt;
+    double t;          /* time of the current snapshot [s] */
+    double lo, hi;     /* box along the axis [m] */
+    int periodic;      /* box periodic along the axis */
+    double dsum;       /* sum of diameters so far [m] */
+    double dcount;     /* particles in dsum */
+    cg_contacts pairs; /* contacts from the pair dumps */
+    int skip_pairs;    /* 1: do not read the pair dumps (steady pass) */
 } cg_input;
 
 /* Start reading the inputs of o (nothing is opened yet). */

@@ -16,87 +16,123 @@ static const char *const axis_names[3] = {"x", "y", "z"};
 static ekm_status dataset(ekm_h5_file *w, const char *name, const double *data, size_t nt, size_t n,
                           ekm_error *err)
 {
-  const char *units = ekm_field_units(name);
-  if (!units) return EKM_FAIL(err, EKM_EINTERNAL, "%s: no units for %s in the field schema", ekm_h5_path(w), name);
-  size_t dims[2] = {nt, n};
-  if (nt == 0) return ekm_h5_write_double(w, name, 1, &n, data, units, NULL, err);
-  return ekm_h5_write_double(w, name, 2, dims, data, units, NULL, err);
+    const char *units = ekm_field_units(name);
+    if (!units)
+        return EKM_FAIL(err, EKM_EINTERNAL, "%s: no units for %s in the field schema", ekm_h5_path(w), name);
+    size_t dims[2] = {nt, n};
+    if (nt == 0)
+        return ekm_h5_write_double(w, name, 1, &n, data, units, NULL, err);
+    return ekm_h5_write_double(w, name, 2, dims, data, units, NULL, err);
 }
 
 ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
                         const cg_kernel *k, const cg_run_info *info, ekm_error *err)
 {
-  ekm_h5_file *w;
-  ekm_status rc = ekm_h5_create(&w, o->out, err);
-  if (rc) return rc;
-  size_t n = g->n;
-  double *zc = malloc(n * sizeof *zc);
-  char name[64];
-  if (!zc) { ekm_h5_abort(w); return EKM_FAIL(err, EKM_ENOMEM, "out of memory"); }
-  for (size_t i = 0; i < n; i++) zc[i] = g->lo + ((double)i + 0.5) * g->dz;
-  rc = dataset(w, axis_names[o->axis], zc, 0, n, err);
-  free(zc);
-  if (!rc) rc = dataset(w, "t", r->t, 0, r->nt, err);
-  if (!rc) rc = dataset(w, "nsnapshots", r->nsnap, 0, r->nt, err);
-  int nfield = (o->nstress || o->npairs) ? CG_NFIELD : CG_F_MU;
-  for (int f = 0; f < nfield && !rc; f++) {
-    rc = dataset(w, cg_field_name(f), r->f[f], r->nt, n, err);
-    snprintf(name, sizeof name, "%s_se", cg_field_name(f));
-    if (!rc) rc = dataset(w, name, r->se[f], r->nt, n, err);
-  }
-  if (!rc) rc = ekm_h5_attr_set_string(w, NULL, "inputs", info->inputs, err);
-  if (!rc && o->npairs) rc = ekm_h5_attr_set_string(w, NULL, "pair_inputs", info->pairs, err);
-  if (!rc) rc = ekm_h5_attr_set_string(w, NULL, "axis", axis_names[o->axis], err);
-  if (!rc) rc = ekm_h5_attr_set_string(w, NULL, "kernel", cg_kernel_name(k), err);
-  if (!rc) rc = ekm_h5_attr_set_string(w, NULL, "kernel_evaluation",
-                                       o->exact || !strcmp(o->kernel, "bins") ? "exact, per particle"
-                                       : "sub-grid dz/16, cloud-in-cell", err);
-  if (!rc) rc = ekm_h5_attr_set_double(w, NULL, "width", info->width, err);
-  if (!rc) rc = ekm_h5_attr_set_double(w, NULL, "dz", g->dz, err);
-  if (!rc) rc = ekm_h5_attr_set_double(w, NULL, "lo", g->lo, err);
-  if (!rc) rc = ekm_h5_attr_set_double(w, NULL, "hi", g->hi, err);
-  if (!rc) rc = ekm_h5_attr_set_string(w, NULL, "boundary", info->wall, err);
-  if (!rc) rc = ekm_h5_attr_set_string(w, NULL, "window", info->window, err);
-  if (!rc) rc = ekm_h5_attr_set_string(w, NULL, "temperature",
-                                       o->tmode == CG_T_PARTICLE ? "particle" : "consistent", err);
-  if (!rc) rc = ekm_h5_attr_set_string(w, NULL, "stress", info->stress, err);
-  if (!rc) {
-    char types[16 * CG_MAXTYPES + 8] = "all";
-    size_t len = 0;
-    for (size_t k = 0; k < o->ntypes; k++)
-      len += (size_t)snprintf(types + len, sizeof types - len, "%s%d", k ? "," : "", o->types[k]);
-    rc = ekm_h5_attr_set_string(w, NULL, "atom_types", types, err);
-  }
-  if (!rc) rc = ekm_h5_attr_set_double(w, NULL, "mean_diameter", info->d, err);
-  if (!rc) rc = ekm_h5_attr_set_double(w, NULL, "lateral_area", info->area, err);
-  if (!rc) rc = ekm_h5_attr_set_double(w, NULL, "rho_p", o->rho_p, err);
-  if (!rc) rc = ekm_h5_attr_set_double(w, NULL, "snapshots_read", (double)info->nread, err);
-  if (!rc) rc = ekm_h5_attr_set_double(w, NULL, "snapshots_used", (double)info->nused, err);
-  if (!rc) rc = ekm_h5_attr_set_double(w, NULL, "particles_outside_grid", (double)info->nout, err);
-  if (!rc && info->steady) rc = ekm_h5_attr_set_double(w, NULL, "steady_start", info->t_start, err);
-  if (!rc) rc = ekm_h5_attr_set_string(w, NULL, "code_version", EKMBENCH_VERSION, err);
-  if (rc) { ekm_h5_abort(w); return rc; }
-  return ekm_h5_commit(w, err);
+    ekm_h5_file *w;
+    ekm_status rc = ekm_h5_create(&w, o->out, err);
+    if (rc)
+        return rc;
+    size_t n = g->n;
+    double *zc = malloc(n * sizeof *zc);
+    char name[64];
+    if (!zc) {
+        ekm_h5_abort(w);
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    }
+    for (size_t i = 0; i < n; i++)
+        zc[i] = g->lo + ((double)i + 0.5) * g->dz;
+    rc = dataset(w, axis_names[o->axis], zc, 0, n, err);
+    free(zc);
+    if (!rc)
+        rc = dataset(w, "t", r->t, 0, r->nt, err);
+    if (!rc)
+        rc = dataset(w, "nsnapshots", r->nsnap, 0, r->nt, err);
+    int nfield = (o->nstress || o->npairs) ? CG_NFIELD : CG_F_MU;
+    for (int f = 0; f < nfield && !rc; f++) {
+        rc = dataset(w, cg_field_name(f), r->f[f], r->nt, n, err);
+        snprintf(name, sizeof name, "%s_se", cg_field_name(f));
+        if (!rc)
+            rc = dataset(w, name, r->se[f], r->nt, n, err);
+    }
+    if (!rc)
+        rc = ekm_h5_attr_set_string(w, NULL, "inputs", info->inputs, err);
+    if (!rc && o->npairs)
+        rc = ekm_h5_attr_set_string(w, NULL, "pair_inputs", info->pairs, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_string(w, NULL, "axis", axis_names[o->axis], err);
+    if (!rc)
+        rc = ekm_h5_attr_set_string(w, NULL, "kernel", cg_kernel_name(k), err);
+    if (!rc)
+        rc = ekm_h5_attr_set_string(w, NULL, "kernel_evaluation",
+                                    o->exact || !strcmp(o->kernel, "bins") ? "exact, per particle"
+                                                                           : "sub-grid dz/16, cloud-in-cell",
+                                    err);
+    if (!rc)
+        rc = ekm_h5_attr_set_double(w, NULL, "width", info->width, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_double(w, NULL, "dz", g->dz, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_double(w, NULL, "lo", g->lo, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_double(w, NULL, "hi", g->hi, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_string(w, NULL, "boundary", info->wall, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_string(w, NULL, "window", info->window, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_string(w, NULL, "temperature",
+                                    o->tmode == CG_T_PARTICLE ? "particle" : "consistent", err);
+    if (!rc)
+        rc = ekm_h5_attr_set_string(w, NULL, "stress", info->stress, err);
+    if (!rc) {
+        char types[16 * CG_MAXTYPES + 8] = "all";
+        size_t len = 0;
+        for (size_t k = 0; k < o->ntypes; k++)
+            len += (size_t)snprintf(types + len, sizeof types - len, "%s%d", k ? "," : "", o->types[k]);
+        rc = ekm_h5_attr_set_string(w, NULL, "atom_types", types, err);
+    }
+    if (!rc)
+        rc = ekm_h5_attr_set_double(w, NULL, "mean_diameter", info->d, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_double(w, NULL, "lateral_area", info->area, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_double(w, NULL, "rho_p", o->rho_p, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_double(w, NULL, "snapshots_read", (double)info->nread, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_double(w, NULL, "snapshots_used", (double)info->nused, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_double(w, NULL, "particles_outside_grid", (double)info->nout, err);
+    if (!rc && info->steady)
+        rc = ekm_h5_attr_set_double(w, NULL, "steady_start", info->t_start, err);
+    if (!rc)
+        rc = ekm_h5_attr_set_string(w, NULL, "code_version", EKMBENCH_VERSION, err);
+    if (rc) {
+        ekm_h5_abort(w);
+        return rc;
+    }
+    return ekm_h5_commit(w, err);
 }
 
-ekm_status cg_output_csv(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
-                         ekm_error *err)
+ekm_status cg_output_csv(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r, ekm_error *err)
 {
-  ekm_atomic out;
-  ekm_status rc = ekm_atomic_open(&out, o->csv, err);
-  if (rc) return rc;
-  FILE *fp = out.fp;
-  int nfield = (o->nstress || o->npairs) ? CG_NFIELD : CG_F_MU;
-  fprintf(fp, "t,%s", axis_names[o->axis]);
-  for (int f = 0; f < nfield; f++) fprintf(fp, ",%s,%s_se", cg_field_name(f), cg_field_name(f));
-  fputc('\n', fp);
-  size_t n = g->n;
-  for (size_t it = 0; it < r->nt; it++)
-    for (size_t k = 0; k < n; k++) {
-      fprintf(fp, "%.9g,%.9g", r->t[it], g->lo + ((double)k + 0.5) * g->dz);
-      for (int f = 0; f < nfield; f++)
-        fprintf(fp, ",%.9g,%.9g", r->f[f][it * n + k], r->se[f][it * n + k]);
-      fputc('\n', fp);
-    }
-  return ekm_atomic_commit(&out, err);
+    ekm_atomic out;
+    ekm_status rc = ekm_atomic_open(&out, o->csv, err);
+    if (rc)
+        return rc;
+    FILE *fp = out.fp;
+    int nfield = (o->nstress || o->npairs) ? CG_NFIELD : CG_F_MU;
+    fprintf(fp, "t,%s", axis_names[o->axis]);
+    for (int f = 0; f < nfield; f++)
+        fprintf(fp, ",%s,%s_se", cg_field_name(f), cg_field_name(f));
+    fputc('\n', fp);
+    size_t n = g->n;
+    for (size_t it = 0; it < r->nt; it++)
+        for (size_t k = 0; k < n; k++) {
+            fprintf(fp, "%.9g,%.9g", r->t[it], g->lo + ((double)k + 0.5) * g->dz);
+            for (int f = 0; f < nfield; f++)
+                fprintf(fp, ",%.9g,%.9g", r->f[f][it * n + k], r->se[f][it * n + k]);
+            fputc('\n', fp);
+        }
+    return ekm_atomic_commit(&out, err);
 }

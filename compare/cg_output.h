@@ -17,22 +17,21 @@
 
 /* What the run did, for the root attributes. */
 typedef struct {
-  char inputs[4096];      /* dump files, one a line */
-  char pairs[4096];       /* pair dumps, one a line */
-  char window[256];       /* the selection and windows, in words */
-  char stress[256];       /* the stress definition, in words */
-  double width, d, area, t_start;  /* kernel width [m], mean diameter [m],
-                                      lateral area [m^2], steady start [s] */
-  size_t nread, nused, nout;       /* snapshots read, used; particle-snapshots
-                                      outside the grid */
-  int steady;             /* 1: t_start is the --steady start */
-  const char *wall;       /* the boundary treatment, in words */
+    char inputs[4096];              /* dump files, one a line */
+    char pairs[4096];               /* pair dumps, one a line */
+    char window[256];               /* the selection and windows, in words */
+    char stress[256];               /* the stress definition, in words */
+    double width, d, area, t_start; /* kernel width [m], mean diameter [m],
+                                       lateral area [m^2], steady start [s] */
+    size_t nread, nused, nout;      /* snapshots read, used; particle-snapshots
+                                       outside the grid */
+    int steady;                     /* 1: t_start is the --steady start */
+    const char *wall;               /* the boundary treatment, in words */
 } cg_run_info;
 
 /* Field units from the field schema (common/schema.h). */
 ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
                         const cg_kernel *k, const cg_run_info *info, ekm_error *err);
-ekm_status cg_output_csv(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
-                         ekm_error *err);
+ekm_status cg_output_csv(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r, ekm_error *err);
 
 #endif

@@ -23,40 +23,40 @@
 #include "cg.h"
 #include "status.h"
 
-#define CG_MAXTYPES 16  /* most atom types --types may list */
+#define CG_MAXTYPES 16 /* most atom types --types may list */
 
 typedef struct {
-  const char *const *inputs; /* dump files, in time order */
-  size_t ninputs;
-  const char *out;           /* HDF5 output path, or NULL */
-  const char *csv;           /* CSV output path, or NULL */
-  int axis;                  /* profile axis: 0 x, 1 y, 2 z */
-  const char *kernel;        /* "gauss", "lucy" or "bins" */
-  double width;              /* kernel std. deviation [m]; 0: mean diameter */
-  size_t bins;               /* number of bins; 0: from dz */
-  double dz;                 /* bin width [m]; 0: width/2 */
-  int have_range;            /* 1: grid over [range_lo, range_hi] */
-  double range_lo, range_hi; /* [m] */
-  double rho_p;              /* material density [kg/m^3]; 0: not given */
-  double dt;                 /* engine time step [s]; 0: need ITEM: TIME */
-  int have_from, have_to;
-  double from, to;           /* time selection [s] */
-  int have_steps;
-  int64_t step_a, step_b;    /* step selection, inclusive */
-  int steady;                /* 1: find the steady start (MSER-5) */
-  size_t every;              /* > 0: one profile per `every` snapshots */
-  double window;             /* > 0: one profile per window [s] */
-  cg_tmode tmode;            /* temperature definition */
-  int exact;                 /* 1: kernel per particle, no sub-grid (cg.h) */
-  size_t nstress;            /* 0 or 6 per-atom stress columns */
-  const char *stress[6];     /* names: xx yy zz xy xz yz (stress x volume) */
-  const char *const *pairs;  /* pair dumps (dump local), in time order */
-  size_t npairs;
-  size_t npaircols;          /* 9: x1 y1 z1 x2 y2 z2 fx fy fz; 5: id1 id2 fx fy fz */
-  const char *paircols[9];   /* their column names (force on 1 by 2) */
-  size_t ntypes;             /* > 0: only atoms of these types count */
-  int types[CG_MAXTYPES];    /* atom types kept (dump column `type`) */
-  FILE *log;                 /* notes and warnings, or NULL */
+    const char *const *inputs; /* dump files, in time order */
+    size_t ninputs;
+    const char *out;           /* HDF5 output path, or NULL */
+    const char *csv;           /* CSV output path, or NULL */
+    int axis;                  /* profile axis: 0 x, 1 y, 2 z */
+    const char *kernel;        /* "gauss", "lucy" or "bins" */
+    double width;              /* kernel std. deviation [m]; 0: mean diameter */
+    size_t bins;               /* number of bins; 0: from dz */
+    double dz;                 /* bin width [m]; 0: width/2 */
+    int have_range;            /* 1: grid over [range_lo, range_hi] */
+    double range_lo, range_hi; /* [m] */
+    double rho_p;              /* material density [kg/m^3]; 0: not given */
+    double dt;                 /* engine time step [s]; 0: need ITEM: TIME */
+    int have_from, have_to;
+    double from, to; /* time selection [s] */
+    int have_steps;
+    int64_t step_a, step_b;   /* step selection, inclusive */
+    int steady;               /* 1: find the steady start (MSER-5) */
+    size_t every;             /* > 0: one profile per `every` snapshots */
+    double window;            /* > 0: one profile per window [s] */
+    cg_tmode tmode;           /* temperature definition */
+    int exact;                /* 1: kernel per particle, no sub-grid (cg.h) */
+    size_t nstress;           /* 0 or 6 per-atom stress columns */
+    const char *stress[6];    /* names: xx yy zz xy xz yz (stress x volume) */
+    const char *const *pairs; /* pair dumps (dump local), in time order */
+    size_t npairs;
+    size_t npaircols;        /* 9: x1 y1 z1 x2 y2 z2 fx fy fz; 5: id1 id2 fx fy fz */
+    const char *paircols[9]; /* their column names (force on 1 by 2) */
+    size_t ntypes;           /* > 0: only atoms of these types count */
+    int types[CG_MAXTYPES];  /* atom types kept (dump column `type`) */
+    FILE *log;               /* notes and warnings, or NULL */
 } cg_run_opts;
 
 cg_run_opts cg_run_opts_default(void);

@@ -22,14 +22,14 @@
 #include "status.h"
 
 typedef struct {
-  size_t ipair;           /* next pair file to open */
-  cg_dump *pd;            /* pair dump being read */
-  cg_snapshot psnap;      /* pair snapshot */
-  int have_pair;          /* psnap read but not used yet */
-  size_t ccap;            /* contact capacity */
-  double *cs, *cb, *cf;   /* contacts: partner coordinate [m], branch [m], force [N] */
-  double *ids;            /* id-mode: (id, index) pairs sorted by id */
-  size_t idcap;
+    size_t ipair;         /* next pair file to open */
+    cg_dump *pd;          /* pair dump being read */
+    cg_snapshot psnap;    /* pair snapshot */
+    int have_pair;        /* psnap read but not used yet */
+    size_t ccap;          /* contact capacity */
+    double *cs, *cb, *cf; /* contacts: partner coordinate [m], branch [m], force [N] */
+    double *ids;          /* id-mode: (id, index) pairs sorted by id */
+    size_t idcap;
 } cg_contacts;
 
 /* The pair snapshot with the atom snapshot sn's step, as contacts of pt
@@ -37,7 +37,7 @@ typedef struct {
  * Id mode (5 columns): id_col and pos_col[3] are the columns of the atom
  * ids and of x, y, z in sn->data; pt->s and pt->n are the atoms'. */
 ekm_status cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *sn, int id_col,
-                      const int pos_col[3], cg_particles *pt, ekm_error *err);
+                             const int pos_col[3], cg_particles *pt, ekm_error *err);
 
 /* Close the pair dump and free the buffers (c itself is the caller's). */
 void cg_contacts_close(cg_contacts *c);

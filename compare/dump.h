@@ -32,30 +32,29 @@
 
 #include "status.h"
 
-#define CG_DUMP_MAXCOL 64  /* most columns one may select */
+#define CG_DUMP_MAXCOL 64 /* most columns one may select */
 
 typedef struct {
-  int64_t step;          /* time step number */
-  int has_time;          /* 1 if the dump carried ITEM: TIME */
-  double time;           /* simulation time from ITEM: TIME [s] */
-  int64_t natoms;        /* atoms in this snapshot */
-  int triclinic;         /* 1 if the box has tilt factors */
-  double lo[3], hi[3];   /* box corners (not the bounding box) [m] */
-  double tilt[3];        /* xy, xz, yz tilt factors [m] */
-  int periodic[3];       /* 1 if x, y, z is periodic ('p' flags) */
-  size_t nsel;           /* number of selected columns */
-  int present[CG_DUMP_MAXCOL]; /* 1 if selected column j exists */
-  double *data;          /* natoms x nsel values, row-major; the values of
-                            absent columns are unspecified */
-  size_t cap;            /* allocated rows of data */
-  char where[600];       /* "file:line" of this snapshot's ITEM: ATOMS */
+    int64_t step;                /* time step number */
+    int has_time;                /* 1 if the dump carried ITEM: TIME */
+    double time;                 /* simulation time from ITEM: TIME [s] */
+    int64_t natoms;              /* atoms in this snapshot */
+    int triclinic;               /* 1 if the box has tilt factors */
+    double lo[3], hi[3];         /* box corners (not the bounding box) [m] */
+    double tilt[3];              /* xy, xz, yz tilt factors [m] */
+    int periodic[3];             /* 1 if x, y, z is periodic ('p' flags) */
+    size_t nsel;                 /* number of selected columns */
+    int present[CG_DUMP_MAXCOL]; /* 1 if selected column j exists */
+    double *data;                /* natoms x nsel values, row-major; the values of
+                                    absent columns are unspecified */
+    size_t cap;                  /* allocated rows of data */
+    char where[600];             /* "file:line" of this snapshot's ITEM: ATOMS */
 } cg_snapshot;
 
 typedef struct cg_dump cg_dump;
 
 /* Open a dump (text, gzip or binary) and select columns by name. */
-ekm_status cg_dump_open(cg_dump **d, const char *path, const char *const *cols,
-                 size_t ncols, ekm_error *err);
+ekm_status cg_dump_open(cg_dump **d, const char *path, const char *const *cols, size_t ncols, ekm_error *err);
 
 /* Read the next snapshot into s (its buffers are reused and grown). At a
  * clean end of data s is left as it was; after an error or a truncated

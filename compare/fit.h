@@ -30,10 +30,10 @@
 #include "model.h"
 #include "status.h"
 
-#define CG_FIT_MAXP 12
+#define CG_FIT_MAXP     12
 #define CG_FIT_SENS_MIN 1e-6
 #define CG_FIT_CORR_MAX 0.99
-#define CG_FIT_WHY_MAX 192
+#define CG_FIT_WHY_MAX  192
 
 /* The [material] key names that can be fitted, and their count. */
 int cg_fit_param_lookup(const char *name); /* index, or -1 if unknown */
@@ -48,61 +48,61 @@ void cg_fit_param_set(ekm_material *m, int index, double v);
  * residual callback and what is fitted. --rheology (cg_fit_run) and
  * --scenario (fit_scen.h) each supply their own residuals. */
 typedef struct {
-  size_t nres;                /* residuals */
-  /* (model - data)/SE at material m into r[0..nres); non-zero if the model
-   * cannot be evaluated there */
-  int (*residuals)(void *ctx, const ekm_material *m, double *r);
-  /* optional: a reason why parameter `param` (cg_fit_param_lookup index) has
-   * no sensitivity on this data; returns 0 to use the generic reason */
-  int (*why_insensitive)(void *ctx, const ekm_material *m, int param, int at_start, char *buf, size_t size);
-  /* optional: called once at the best fit; returns the number of residuals
-   * that count there (dof = that - parameters fitted); NULL: nres.
-   * Non-zero status: the best fit cannot be evaluated. */
-  ekm_status (*finish)(void *ctx, const ekm_material *m, size_t *nused, ekm_error *err);
-  void *ctx;
-  double phi_floor;           /* phi_cp is kept above this (and above phi_co when held) [-] */
-  double jac_rel_step;        /* relative step of the identifiability Jacobian (1e-6 for --rheology) */
-  double fd_step;             /* GSL's finite-difference step h_df of the trust region (0: GSL's default) */
-  double xtol, gtol, ftol;    /* gsl_multifit_nlinear_driver's tests (--rheology: 1e-12, 1e-12, 0) */
-  size_t max_iter;            /* its iterations per start (--rheology: 500) */
-  ekm_material start;         /* start values; also the values of every key not fitted */
-  size_t nparams;             /* parameters asked for, in order */
-  int param[CG_FIT_MAXP];     /* their indices (cg_fit_param_lookup) */
-  int nstarts;                /* starts (>= 1) */
-  unsigned long seed;         /* of the perturbed starts */
+    size_t nres; /* residuals */
+    /* (model - data)/SE at material m into r[0..nres); non-zero if the model
+     * cannot be evaluated there */
+    int (*residuals)(void *ctx, const ekm_material *m, double *r);
+    /* optional: a reason why parameter `param` (cg_fit_param_lookup index) has
+     * no sensitivity on this data; returns 0 to use the generic reason */
+    int (*why_insensitive)(void *ctx, const ekm_material *m, int param, int at_start, char *buf, size_t size);
+    /* optional: called once at the best fit; returns the number of residuals
+     * that count there (dof = that - parameters fitted); NULL: nres.
+     * Non-zero status: the best fit cannot be evaluated. */
+    ekm_status (*finish)(void *ctx, const ekm_material *m, size_t *nused, ekm_error *err);
+    void *ctx;
+    double phi_floor;        /* phi_cp is kept above this (and above phi_co when held) [-] */
+    double jac_rel_step;     /* relative step of the identifiability Jacobian (1e-6 for --rheology) */
+    double fd_step;          /* GSL's finite-difference step h_df of the trust region (0: GSL's default) */
+    double xtol, gtol, ftol; /* gsl_multifit_nlinear_driver's tests (--rheology: 1e-12, 1e-12, 0) */
+    size_t max_iter;         /* its iterations per start (--rheology: 500) */
+    ekm_material start;      /* start values; also the values of every key not fitted */
+    size_t nparams;          /* parameters asked for, in order */
+    int param[CG_FIT_MAXP];  /* their indices (cg_fit_param_lookup) */
+    int nstarts;             /* starts (>= 1) */
+    unsigned long seed;      /* of the perturbed starts */
 } cg_fit_spec;
 
 typedef struct {
-  const cg_fit_point *pts;   /* data points (not owned) */
-  size_t npts;
-  unsigned fields;           /* bit mask of enum cg_fit_field */
-  ekm_material start;        /* start values; also the values of every key not fitted */
-  ekm_variant variant;       /* model variant (no effect in simple shear; recorded) */
-  size_t nparams;            /* parameters asked for, in order */
-  int param[CG_FIT_MAXP];    /* their indices (cg_fit_param_lookup) */
-  int nstarts;               /* starts (>= 1) */
-  unsigned long seed;        /* of the perturbed starts */
+    const cg_fit_point *pts; /* data points (not owned) */
+    size_t npts;
+    unsigned fields;        /* bit mask of enum cg_fit_field */
+    ekm_material start;     /* start values; also the values of every key not fitted */
+    ekm_variant variant;    /* model variant (no effect in simple shear; recorded) */
+    size_t nparams;         /* parameters asked for, in order */
+    int param[CG_FIT_MAXP]; /* their indices (cg_fit_param_lookup) */
+    int nstarts;            /* starts (>= 1) */
+    unsigned long seed;     /* of the perturbed starts */
 } cg_fit_problem;
 
 typedef struct {
-  size_t nparams;
-  int param[CG_FIT_MAXP];
-  double value[CG_FIT_MAXP];   /* fitted value, or the start value if not identifiable */
-  double se[CG_FIT_MAXP];      /* standard error, NAN if not identifiable */
-  double start[CG_FIT_MAXP];   /* start value */
-  int identifiable[CG_FIT_MAXP];
-  char why_not[CG_FIT_MAXP][CG_FIT_WHY_MAX]; /* reason, "" if identifiable */
-  double corr[CG_FIT_MAXP][CG_FIT_MAXP];     /* correlation, NAN if either is not identifiable */
-  ekm_material fitted;         /* start with the fitted values in place */
-  size_t nres;                 /* residuals (--rheology: points x fields) */
-  size_t nfree;                /* parameters fitted */
-  long dof;                    /* residuals that count - nfree */
-  double chi2;                 /* sum of squared residuals at the best fit */
-  double chi2_dof;             /* chi2 / dof, NAN if dof == 0 */
-  double cov_scale;            /* factor applied to (J^T J)^-1 */
-  int starts_run, starts_converged;
-  double *resid;               /* --rheology: npts x CG_FIT_NFIELD, NAN for fields not fitted */
-  double *model;               /* --rheology: the model's values, same layout */
+    size_t nparams;
+    int param[CG_FIT_MAXP];
+    double value[CG_FIT_MAXP]; /* fitted value, or the start value if not identifiable */
+    double se[CG_FIT_MAXP];    /* standard error, NAN if not identifiable */
+    double start[CG_FIT_MAXP]; /* start value */
+    int identifiable[CG_FIT_MAXP];
+    char why_not[CG_FIT_MAXP][CG_FIT_WHY_MAX]; /* reason, "" if identifiable */
+    double corr[CG_FIT_MAXP][CG_FIT_MAXP];     /* correlation, NAN if either is not identifiable */
+    ekm_material fitted;                       /* start with the fitted values in place */
+    size_t nres;                               /* residuals (--rheology: points x fields) */
+    size_t nfree;                              /* parameters fitted */
+    long dof;                                  /* residuals that count - nfree */
+    double chi2;                               /* sum of squared residuals at the best fit */
+    double chi2_dof;                           /* chi2 / dof, NAN if dof == 0 */
+    double cov_scale;                          /* factor applied to (J^T J)^-1 */
+    int starts_run, starts_converged;
+    double *resid; /* --rheology: npts x CG_FIT_NFIELD, NAN for fields not fitted */
+    double *model; /* --rheology: the model's values, same layout */
 } cg_fit_result;
 
 /* The driver: multistart trust region, identifiability, covariance.

@@ -26,7 +26,7 @@
 
 #include "status.h"
 
-#define CG_FIT_MIN_R2 0.995
+#define CG_FIT_MIN_R2   0.995
 #define CG_FIT_PATH_MAX 512
 
 /* Observables a residual can be formed of. */
@@ -36,23 +36,23 @@ enum cg_fit_field { CG_FIT_P, CG_FIT_SXZ, CG_FIT_T, CG_FIT_MU, CG_FIT_NFIELD };
 const char *cg_fit_field_name(int f);
 
 typedef struct {
-  char file[CG_FIT_PATH_MAX]; /* the CG file it came from */
-  size_t nbins;               /* bins of the profile */
-  double phi, phi_se;         /* volume fraction [-] */
-  double gdot, gdot_se;       /* |dvx/dz| [1/s] */
-  double r2;                  /* R^2 of the linear vx profile [-] */
-  double value[CG_FIT_NFIELD]; /* P [Pa], |sxz| [Pa], T [m^2/s^2], mu [-]; NAN if not read */
-  double se[CG_FIT_NFIELD];    /* their standard errors, same units */
+    char file[CG_FIT_PATH_MAX];  /* the CG file it came from */
+    size_t nbins;                /* bins of the profile */
+    double phi, phi_se;          /* volume fraction [-] */
+    double gdot, gdot_se;        /* |dvx/dz| [1/s] */
+    double r2;                   /* R^2 of the linear vx profile [-] */
+    double value[CG_FIT_NFIELD]; /* P [Pa], |sxz| [Pa], T [m^2/s^2], mu [-]; NAN if not read */
+    double se[CG_FIT_NFIELD];    /* their standard errors, same units */
 } cg_fit_point;
 
 /* The profiles of one window, n bins each (NULL: not available). */
 typedef struct {
-  size_t n;
-  const double *z;              /* bin centres along the axis [m] */
-  const double *phi, *phi_se;
-  const double *vx, *vx_se;
-  const double *f[CG_FIT_NFIELD];  /* P, sxz, T, mu */
-  const double *se[CG_FIT_NFIELD];
+    size_t n;
+    const double *z; /* bin centres along the axis [m] */
+    const double *phi, *phi_se;
+    const double *vx, *vx_se;
+    const double *f[CG_FIT_NFIELD]; /* P, sxz, T, mu */
+    const double *se[CG_FIT_NFIELD];
 } cg_fit_profiles;
 
 /* Reduce the profiles of `file` to a point; `fields` is a bit mask

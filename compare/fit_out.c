@@ -16,135 +16,157 @@
 
 static json_t *num(double v)
 {
-  return isfinite(v) ? json_real(v) : json_null();
+    return isfinite(v) ? json_real(v) : json_null();
 }
 
 static const char *const variant_names[] = {"full", "thesis"};
 
 static json_t *fit_json(const cg_fit_outputs *o)
 {
-  const cg_fit_problem *pb = o->pb;
-  const cg_fit_result *res = o->res;
-  json_t *root = json_object();
-  json_t *params = json_object(), *corr = json_object(), *ident = json_object(), *why = json_object();
-  json_t *start_values = json_object();
-  for (size_t j = 0; j < res->nparams; j++) {
-    const char *name = cg_fit_param_name(res->param[j]);
-    json_object_set_new(params, name, json_pack("{s:o, s:o}", "value", num(res->value[j]), "se", num(res->se[j])));
-    json_t *row = json_object();
-    for (size_t i = 0; i < res->nparams; i++)
-      if (i != j) json_object_set_new(row, cg_fit_param_name(res->param[i]), num(res->corr[j][i]));
-    json_object_set_new(corr, name, row);
-    json_object_set_new(ident, name, json_boolean(res->identifiable[j]));
-    if (!res->identifiable[j]) json_object_set_new(why, name, json_string(res->why_not[j]));
-    json_object_set_new(start_values, name, json_real(res->start[j]));
-  }
-  json_object_set_new(root, "params", params);
-  json_object_set_new(root, "chi2", num(res->chi2));
-  json_object_set_new(root, "chi2_dof", num(res->chi2_dof));
-  json_object_set_new(root, "dof", json_integer(res->dof));
-  json_object_set_new(root, "correlation", corr);
-  json_object_set_new(root, "identifiable", ident);
-  json_object_set_new(root, "why_not", why);
-  json_t *fields = json_array();
-  if (pb) {
-    json_t *points = json_array();
-    for (int f = 0; f < CG_FIT_NFIELD; f++)
-      if (pb->fields & (1u << f)) json_array_append_new(fields, json_string(cg_fit_field_name(f)));
-    for (size_t k = 0; k < pb->npts; k++) {
-      const cg_fit_point *pt = &pb->pts[k];
-      json_t *resid = json_object(), *data = json_object(), *model = json_object();
-      for (int f = 0; f < CG_FIT_NFIELD; f++) {
-        if (!(pb->fields & (1u << f))) continue;
-        const char *name = cg_fit_field_name(f);
-        json_object_set_new(resid, name, num(res->resid[k * CG_FIT_NFIELD + f]));
-        json_object_set_new(data, name, json_pack("{s:o, s:o}", "value", num(pt->value[f]), "se", num(pt->se[f])));
-        json_object_set_new(model, name, num(res->model[k * CG_FIT_NFIELD + f]));
-      }
-      json_array_append_new(points, json_pack("{s:s, s:o, s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "file", pt->file,
-                                              "phi", num(pt->phi), "phi_se", num(pt->phi_se), "gdot", num(pt->gdot),
-                                              "gdot_se", num(pt->gdot_se), "vx_r2", num(pt->r2), "residuals", resid,
-                                              "data", data, "model", model));
+    const cg_fit_problem *pb = o->pb;
+    const cg_fit_result *res = o->res;
+    json_t *root = json_object();
+    json_t *params = json_object(), *corr = json_object(), *ident = json_object(), *why = json_object();
+    json_t *start_values = json_object();
+    for (size_t j = 0; j < res->nparams; j++) {
+        const char *name = cg_fit_param_name(res->param[j]);
+        json_object_set_new(params, name,
+                            json_pack("{s:o, s:o}", "value", num(res->value[j]), "se", num(res->se[j])));
+        json_t *row = json_object();
+        for (size_t i = 0; i < res->nparams; i++)
+            if (i != j)
+                json_object_set_new(row, cg_fit_param_name(res->param[i]), num(res->corr[j][i]));
+        json_object_set_new(corr, name, row);
+        json_object_set_new(ident, name, json_boolean(res->identifiable[j]));
+        if (!res->identifiable[j])
+            json_object_set_new(why, name, json_string(res->why_not[j]));
+        json_object_set_new(start_values, name, json_real(res->start[j]));
     }
-    json_object_set_new(root, "points", points);
-  } else {
-    const cg_fitsc_problem *sc = o->sc;
-    for (int f = 0; f < CG_FITSC_NFIELD; f++)
-      if (sc->fields & (1u << f)) json_array_append_new(fields, json_string(cg_fitsc_field_name(f)));
-    json_t *cases = json_array();
-    for (size_t i = 0; i < sc->ncases; i++) {
-      const cg_fitsc_case *c = &sc->cases[i];
-      json_t *set = json_array(), *per = json_object();
-      for (size_t k = 0; k < c->nset; k++) json_array_append_new(set, json_string(c->set[k]));
-      size_t used = 0;
-      for (int f = 0; f < CG_FITSC_NFIELD; f++) {
-        if (!(c->fields & (1u << f))) continue;
-        used += c->used[f];
-        json_object_set_new(per, cg_fitsc_field_name(f),
-                            json_pack("{s:I, s:I, s:o}", "candidates", (json_int_t)c->ncand[f], "points_used",
-                                      (json_int_t)c->used[f], "chi2", num(c->chi2_field[f])));
-      }
-      json_array_append_new(cases, json_pack("{s:s, s:s, s:o, s:s, s:o, s:o, s:o, s:I, s:o, s:o, s:o, s:o, s:I}",
-                                             "scenario", c->scenario, "dem", c->dem, "set", set, "support",
-                                             "phi > threshold on both sides", "phi_threshold",
-                                             num(c->phi_threshold), "shift_m", num(c->shift_m), "weight",
-                                             num(c->weight), "points_used", (json_int_t)used, "chi2", num(c->chi2),
-                                             "fields", per, "ekm_wall_s_last", num(c->wall_last_s),
-                                             "ekm_wall_s_total", num(c->wall_total_s), "ekm_runs",
-                                             (json_int_t)c->runs));
+    json_object_set_new(root, "params", params);
+    json_object_set_new(root, "chi2", num(res->chi2));
+    json_object_set_new(root, "chi2_dof", num(res->chi2_dof));
+    json_object_set_new(root, "dof", json_integer(res->dof));
+    json_object_set_new(root, "correlation", corr);
+    json_object_set_new(root, "identifiable", ident);
+    json_object_set_new(root, "why_not", why);
+    json_t *fields = json_array();
+    if (pb) {
+        json_t *points = json_array();
+        for (int f = 0; f < CG_FIT_NFIELD; f++)
+            if (pb->fields & (1u << f))
+                json_array_append_new(fields, json_string(cg_fit_field_name(f)));
+        for (size_t k = 0; k < pb->npts; k++) {
+            const cg_fit_point *pt = &pb->pts[k];
+            json_t *resid = json_object(), *data = json_object(), *model = json_object();
+            for (int f = 0; f < CG_FIT_NFIELD; f++) {
+                if (!(pb->fields & (1u << f)))
+                    continue;
+                const char *name = cg_fit_field_name(f);
+                json_object_set_new(resid, name, num(res->resid[k * CG_FIT_NFIELD + f]));
+                json_object_set_new(
+                    data, name, json_pack("{s:o, s:o}", "value", num(pt->value[f]), "se", num(pt->se[f])));
+                json_object_set_new(model, name, num(res->model[k * CG_FIT_NFIELD + f]));
+            }
+            json_array_append_new(points,
+                                  json_pack("{s:s, s:o, s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "file", pt->file,
+                                            "phi", num(pt->phi), "phi_se", num(pt->phi_se), "gdot",
+                                            num(pt->gdot), "gdot_se", num(pt->gdot_se), "vx_r2", num(pt->r2),
+                                            "residuals", resid, "data", data, "model", model));
+        }
+        json_object_set_new(root, "points", points);
+    } else {
+        const cg_fitsc_problem *sc = o->sc;
+        for (int f = 0; f < CG_FITSC_NFIELD; f++)
+            if (sc->fields & (1u << f))
+                json_array_append_new(fields, json_string(cg_fitsc_field_name(f)));
+        json_t *cases = json_array();
+        for (size_t i = 0; i < sc->ncases; i++) {
+            const cg_fitsc_case *c = &sc->cases[i];
+            json_t *set = json_array(), *per = json_object();
+            for (size_t k = 0; k < c->nset; k++)
+                json_array_append_new(set, json_string(c->set[k]));
+            size_t used = 0;
+            for (int f = 0; f < CG_FITSC_NFIELD; f++) {
+                if (!(c->fields & (1u << f)))
+                    continue;
+                used += c->used[f];
+                json_object_set_new(per, cg_fitsc_field_name(f),
+                                    json_pack("{s:I, s:I, s:o}", "candidates", (json_int_t)c->ncand[f],
+                                              "points_used", (json_int_t)c->used[f], "chi2",
+                                              num(c->chi2_field[f])));
+            }
+            json_array_append_new(
+                cases,
+                json_pack("{s:s, s:s, s:o, s:s, s:o, s:o, s:o, s:I, s:o, s:o, s:o, s:o, s:I}", "scenario",
+                          c->scenario, "dem", c->dem, "set", set, "support", "phi > threshold on both sides",
+                          "phi_threshold", num(c->phi_threshold), "shift_m", num(c->shift_m), "weight",
+                          num(c->weight), "points_used", (json_int_t)used, "chi2", num(c->chi2), "fields",
+                          per, "ekm_wall_s_last", num(c->wall_last_s), "ekm_wall_s_total",
+                          num(c->wall_total_s), "ekm_runs", (json_int_t)c->runs));
+        }
+        json_object_set_new(root, "cases", cases);
+        json_object_set_new(
+            root, "evaluations",
+            json_pack("{s:I, s:o}", "count", (json_int_t)sc->evaluations, "ekm_wall_s", num(sc->ekm_wall_s)));
+        json_object_set_new(root, "support", num(sc->support));
     }
-    json_object_set_new(root, "cases", cases);
-    json_object_set_new(root, "evaluations", json_pack("{s:I, s:o}", "count", (json_int_t)sc->evaluations,
-                                                       "ekm_wall_s", num(sc->ekm_wall_s)));
-    json_object_set_new(root, "support", num(sc->support));
-  }
-  json_object_set_new(root, "start", json_pack("{s:s, s:o}", "source", o->start_source, "values", start_values));
-  json_t *material = json_object();
-  for (int i = 0; i < cg_fit_param_count(); i++)
-    json_object_set_new(material, cg_fit_param_name(i), json_real(cg_fit_param_get(&res->fitted, i)));
-  json_object_set_new(root, "material", material);
-  json_object_set_new(root, "fields", fields);
-  json_object_set_new(root, "variant", json_string(variant_names[o->variant == EKM_VARIANT_THESIS]));
-  json_object_set_new(root, "starts", json_pack("{s:i, s:i, s:i}", "requested", o->nstarts, "run",
-                                                res->starts_run, "converged", res->starts_converged));
-  json_object_set_new(root, "covariance_scale", num(res->cov_scale));
-  json_object_set_new(root, "code_version", json_string(EKMBENCH_VERSION));
-  return root;
+    json_object_set_new(root, "start",
+                        json_pack("{s:s, s:o}", "source", o->start_source, "values", start_values));
+    json_t *material = json_object();
+    for (int i = 0; i < cg_fit_param_count(); i++)
+        json_object_set_new(material, cg_fit_param_name(i), json_real(cg_fit_param_get(&res->fitted, i)));
+    json_object_set_new(root, "material", material);
+    json_object_set_new(root, "fields", fields);
+    json_object_set_new(root, "variant", json_string(variant_names[o->variant == EKM_VARIANT_THESIS]));
+    json_object_set_new(root, "starts",
+                        json_pack("{s:i, s:i, s:i}", "requested", o->nstarts, "run", res->starts_run,
+                                  "converged", res->starts_converged));
+    json_object_set_new(root, "covariance_scale", num(res->cov_scale));
+    json_object_set_new(root, "code_version", json_string(EKMBENCH_VERSION));
+    return root;
 }
 
 static void ini_write(FILE *fp, const cg_fit_outputs *o)
 {
-  const cg_fit_problem *pb = o->pb;
-  const cg_fitsc_problem *sc = o->sc;
-  const cg_fit_result *res = o->res;
-  fprintf(fp, "; [material] fitted by ekmcompare fit %s (ekmbench %s)\n", pb ? "--rheology" : "--scenario",
-          EKMBENCH_VERSION);
-  fprintf(fp, "; chi2/dof = %.6g (chi2 = %.6g, dof = %ld); fields", res->chi2_dof, res->chi2, res->dof);
-  if (pb) {
-    for (int f = 0; f < CG_FIT_NFIELD; f++)
-      if (pb->fields & (1u << f)) fprintf(fp, " %s", cg_fit_field_name(f));
-    fprintf(fp, "; start: %s\n; inputs (%zu):\n", o->start_source, pb->npts);
-    for (size_t k = 0; k < pb->npts; k++) fprintf(fp, ";   %s\n", pb->pts[k].file);
-  } else {
-    for (int f = 0; f < CG_FITSC_NFIELD; f++)
-      if (sc->fields & (1u << f)) fprintf(fp, " %s", cg_fitsc_field_name(f));
-    fprintf(fp, "; start: %s\n; cases of %s (%zu):\n", o->start_source, sc->cases_path, sc->ncases);
-    for (size_t i = 0; i < sc->ncases; i++) {
-      fprintf(fp, ";   %s against %s", sc->cases[i].scenario, sc->cases[i].dem);
-      for (size_t k = 0; k < sc->cases[i].nset; k++) fprintf(fp, " --set %s", sc->cases[i].set[k]);
-      fputc('\n', fp);
+    const cg_fit_problem *pb = o->pb;
+    const cg_fitsc_problem *sc = o->sc;
+    const cg_fit_result *res = o->res;
+    fprintf(fp, "; [material] fitted by ekmcompare fit %s (ekmbench %s)\n", pb ? "--rheology" : "--scenario",
+            EKMBENCH_VERSION);
+    fprintf(fp, "; chi2/dof = %.6g (chi2 = %.6g, dof = %ld); fields", res->chi2_dof, res->chi2, res->dof);
+    if (pb) {
+        for (int f = 0; f < CG_FIT_NFIELD; f++)
+            if (pb->fields & (1u << f))
+                fprintf(fp, " %s", cg_fit_field_name(f));
+        fprintf(fp, "; start: %s\n; inputs (%zu):\n", o->start_source, pb->npts);
+        for (size_t k = 0; k < pb->npts; k++)
+            fprintf(fp, ";   %s\n", pb->pts[k].file);
+    } else {
+        for (int f = 0; f < CG_FITSC_NFIELD; f++)
+            if (sc->fields & (1u << f))
+                fprintf(fp, " %s", cg_fitsc_field_name(f));
+        fprintf(fp, "; start: %s\n; cases of %s (%zu):\n", o->start_source, sc->cases_path, sc->ncases);
+        for (size_t i = 0; i < sc->ncases; i++) {
+            fprintf(fp, ";   %s against %s", sc->cases[i].scenario, sc->cases[i].dem);
+            for (size_t k = 0; k < sc->cases[i].nset; k++)
+                fprintf(fp, " --set %s", sc->cases[i].set[k]);
+            fputc('\n', fp);
+        }
     }
-  }
-  fprintf(fp, "[material]\n");
-  for (int i = 0; i < cg_fit_param_count(); i++) {
-    const char *name = cg_fit_param_name(i);
-    fprintf(fp, "%-7s = %.17g", name, cg_fit_param_get(&res->fitted, i));
-    size_t j = 0;
-    while (j < res->nparams && res->param[j] != i) j++;
-    if (j == res->nparams) fprintf(fp, " ; start value (not fitted)\n");
-    else if (res->identifiable[j]) fprintf(fp, " ; fitted, SE %.3g\n", res->se[j]);
-    else fprintf(fp, " ; start value: not identifiable: %s\n", res->why_not[j]);
-  }
+    fprintf(fp, "[material]\n");
+    for (int i = 0; i < cg_fit_param_count(); i++) {
+        const char *name = cg_fit_param_name(i);
+        fprintf(fp, "%-7s = %.17g", name, cg_fit_param_get(&res->fitted, i));
+        size_t j = 0;
+        while (j < res->nparams && res->param[j] != i)
+            j++;
+        if (j == res->nparams)
+            fprintf(fp, " ; start value (not fitted)\n");
+        else if (res->identifiable[j])
+            fprintf(fp, " ; fitted, SE %.3g\n", res->se[j]);
+        else
+            fprintf(fp, " ; start value: not identifiable: %s\n", res->why_not[j]);
+    }
 }
 
 /* Both outputs (FIT.json and, with --ini, FIT.ini) through common/atomic:
@@ -152,33 +174,37 @@ static void ini_write(FILE *fp, const cg_fit_outputs *o)
  * the JSON removed again if the INI cannot be renamed (both or neither). */
 ekm_status cg_fit_write(const cg_fit_outputs *o, ekm_error *err)
 {
-  ekm_atomic tj, ti;
-  ekm_status st = ekm_atomic_open(&tj, o->json_path, err);
-  if (st != EKM_OK) return st;
-  json_t *root = fit_json(o);
-  const int bad = !root || json_dumpf(root, tj.fp, JSON_INDENT(1) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17));
-  json_decref(root);
-  if (bad) {
-    ekm_atomic_abort(&tj);
-    return EKM_FAIL(err, EKM_EIO, "%s: cannot write the JSON", o->json_path);
-  }
-  fputc('\n', tj.fp);
-  if (o->ini_path) {
-    st = ekm_atomic_open(&ti, o->ini_path, err);
-    if (st != EKM_OK) {
-      ekm_atomic_abort(&tj);
-      return st;
+    ekm_atomic tj, ti;
+    ekm_status st = ekm_atomic_open(&tj, o->json_path, err);
+    if (st != EKM_OK)
+        return st;
+    json_t *root = fit_json(o);
+    const int bad =
+        !root || json_dumpf(root, tj.fp, JSON_INDENT(1) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17));
+    json_decref(root);
+    if (bad) {
+        ekm_atomic_abort(&tj);
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the JSON", o->json_path);
     }
-    ini_write(ti.fp, o);
-  }
-  st = ekm_atomic_commit(&tj, err);
-  if (st != EKM_OK) {
-    if (o->ini_path) ekm_atomic_abort(&ti);
+    fputc('\n', tj.fp);
+    if (o->ini_path) {
+        st = ekm_atomic_open(&ti, o->ini_path, err);
+        if (st != EKM_OK) {
+            ekm_atomic_abort(&tj);
+            return st;
+        }
+        ini_write(ti.fp, o);
+    }
+    st = ekm_atomic_commit(&tj, err);
+    if (st != EKM_OK) {
+        if (o->ini_path)
+            ekm_atomic_abort(&ti);
+        return st;
+    }
+    if (o->ini_path) {
+        st = ekm_atomic_commit(&ti, err);
+        if (st != EKM_OK)
+            unlink(o->json_path); /* both or neither */
+    }
     return st;
-  }
-  if (o->ini_path) {
-    st = ekm_atomic_commit(&ti, err);
-    if (st != EKM_OK) unlink(o->json_path); /* both or neither */
-  }
-  return st;
 }

@@ -10,14 +10,14 @@
 #include "status.h"
 
 typedef struct {
-  const cg_fit_problem *pb;     /* --rheology, or NULL */
-  const cg_fitsc_problem *sc;   /* --scenario, or NULL */
-  int nstarts;                  /* starts requested */
-  ekm_variant variant;          /* of the start material */
-  const cg_fit_result *res;
-  const char *start_source; /* "thesis material (ekm_material_thesis)" or the --start file */
-  const char *json_path;    /* required */
-  const char *ini_path;     /* NULL: none */
+    const cg_fit_problem *pb;   /* --rheology, or NULL */
+    const cg_fitsc_problem *sc; /* --scenario, or NULL */
+    int nstarts;                /* starts requested */
+    ekm_variant variant;        /* of the start material */
+    const cg_fit_result *res;
+    const char *start_source; /* "thesis material (ekm_material_thesis)" or the --start file */
+    const char *json_path;    /* required */
+    const char *ini_path;     /* NULL: none */
 } cg_fit_outputs;
 
 /* Write both outputs or neither. EKM_EIO naming the file on failure. */

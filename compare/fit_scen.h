@@ -43,59 +43,59 @@ enum cg_fitsc_field { CG_FITSC_PHI, CG_FITSC_VX, CG_FITSC_T, CG_FITSC_P, CG_FITS
  * both Jacobians step 1e-4: GSL's forward differences of the trust region
  * (h_df, in the transformed parameters) and the central differences of the
  * identifiability test (relative to the value). */
-#define CG_FITSC_FD_STEP 1e-4
+#define CG_FITSC_FD_STEP  1e-4
 #define CG_FITSC_JAC_STEP 1e-4
 /* The trust region's tests: steps below 1e-6 relative (xtol), gradient
  * below 1e-6 (gtol) or a chi2 change below 1e-8 relative (ftol) end a
  * start; at most 100 iterations. Tighter tests (those of --rheology) chase
  * the runs' own round-off for hundreds of evaluations. */
-#define CG_FITSC_XTOL 1e-6
-#define CG_FITSC_GTOL 1e-6
-#define CG_FITSC_FTOL 1e-8
+#define CG_FITSC_XTOL     1e-6
+#define CG_FITSC_GTOL     1e-6
+#define CG_FITSC_FTOL     1e-8
 #define CG_FITSC_MAX_ITER 100
-#define CG_FITSC_STARTS 1    /* default starts: each evaluation is a set of EKM runs */
+#define CG_FITSC_STARTS   1 /* default starts: each evaluation is a set of EKM runs */
 
 const char *cg_fitsc_field_name(int f); /* "phi", "vx", "T", "P", "sxz" */
 
 typedef struct {
-  char *dem, *scenario;        /* paths as given */
-  char **set;                  /* the case's overrides */
-  size_t nset;
-  unsigned fields;             /* bit mask of cg_fitsc_field: the case's and --fields */
-  double shift_m;              /* added to the DEM coordinate [m] */
-  double weight;               /* > 0 */
-  /* the DEM: ntd windows x nzd bins */
-  size_t ntd, nzd;
-  double *zd;                  /* shifted coordinate [m], nzd */
-  double *fd[CG_FITSC_NFIELD], *sd[CG_FITSC_NFIELD]; /* [ntd][nzd], NULL if not fitted */
-  double *phid;                /* DEM phi [ntd][nzd] (support) */
-  double phi_threshold;        /* support threshold [-] */
-  size_t *cand[CG_FITSC_NFIELD]; /* candidate points (j nzd + k) */
-  size_t ncand[CG_FITSC_NFIELD];
-  size_t nres;                 /* sum of ncand */
-  double phi_init_max;         /* largest phi the scenario starts or feeds with [-] */
-  /* the last evaluation */
-  size_t used[CG_FITSC_NFIELD];
-  double chi2_field[CG_FITSC_NFIELD];
-  double chi2;
-  double wall_last_s;          /* EKM wall time of the last run [s] */
-  double wall_total_s;         /* all its runs [s] */
-  long runs;
+    char *dem, *scenario; /* paths as given */
+    char **set;           /* the case's overrides */
+    size_t nset;
+    unsigned fields; /* bit mask of cg_fitsc_field: the case's and --fields */
+    double shift_m;  /* added to the DEM coordinate [m] */
+    double weight;   /* > 0 */
+    /* the DEM: ntd windows x nzd bins */
+    size_t ntd, nzd;
+    double *zd;                                        /* shifted coordinate [m], nzd */
+    double *fd[CG_FITSC_NFIELD], *sd[CG_FITSC_NFIELD]; /* [ntd][nzd], NULL if not fitted */
+    double *phid;                                      /* DEM phi [ntd][nzd] (support) */
+    double phi_threshold;                              /* support threshold [-] */
+    size_t *cand[CG_FITSC_NFIELD];                     /* candidate points (j nzd + k) */
+    size_t ncand[CG_FITSC_NFIELD];
+    size_t nres;         /* sum of ncand */
+    double phi_init_max; /* largest phi the scenario starts or feeds with [-] */
+    /* the last evaluation */
+    size_t used[CG_FITSC_NFIELD];
+    double chi2_field[CG_FITSC_NFIELD];
+    double chi2;
+    double wall_last_s;  /* EKM wall time of the last run [s] */
+    double wall_total_s; /* all its runs [s] */
+    long runs;
 } cg_fitsc_case;
 
 typedef struct {
-  const char *cases_path;
-  cg_fitsc_case *cases;
-  size_t ncases;
-  unsigned fields;             /* --fields */
-  double support;              /* support threshold, fraction of the largest DEM phi */
-  size_t nparams;
-  int param[CG_FIT_MAXP];      /* fitted keys (cg_fit_param_lookup) */
-  size_t nres;
-  int progress;                /* 1: a line per evaluation on stderr */
-  long evaluations;
-  double started_s;            /* monotonic clock at the start */
-  double ekm_wall_s;           /* all EKM runs [s] */
+    const char *cases_path;
+    cg_fitsc_case *cases;
+    size_t ncases;
+    unsigned fields; /* --fields */
+    double support;  /* support threshold, fraction of the largest DEM phi */
+    size_t nparams;
+    int param[CG_FIT_MAXP]; /* fitted keys (cg_fit_param_lookup) */
+    size_t nres;
+    int progress; /* 1: a line per evaluation on stderr */
+    long evaluations;
+    double started_s;  /* monotonic clock at the start */
+    double ekm_wall_s; /* all EKM runs [s] */
 } cg_fitsc_problem;
 
 /* Read CASES.json and every case's DEM file and scenario (with its set).

@@ -27,22 +27,22 @@
 typedef enum { CG_KERNEL_GAUSS, CG_KERNEL_LUCY, CG_KERNEL_BINS } cg_kernel_type;
 
 typedef struct {
-  cg_kernel_type type;
-  double width;    /* standard deviation w [m] (gauss, lucy) */
-  double cutoff;   /* support half-width [m] (gauss 3w, lucy c; bins: 0) */
-  size_t ntab;     /* tabulated points of F (gauss) */
-  double *tab;     /* (F, h F') at u = -3 + h i, h = 6/(ntab-1), u = x/w (gauss) */
-  double tscale;   /* table index per metre [1/m] (gauss) */
-  double toff;     /* table index of x = 0 (gauss) */
+    cg_kernel_type type;
+    double width;  /* standard deviation w [m] (gauss, lucy) */
+    double cutoff; /* support half-width [m] (gauss 3w, lucy c; bins: 0) */
+    size_t ntab;   /* tabulated points of F (gauss) */
+    double *tab;   /* (F, h F') at u = -3 + h i, h = 6/(ntab-1), u = x/w (gauss) */
+    double tscale; /* table index per metre [1/m] (gauss) */
+    double toff;   /* table index of x = 0 (gauss) */
 } cg_kernel;
 
 typedef struct {
-  size_t n;        /* number of bins */
-  double lo, hi;   /* grid ends along the axis [m] */
-  double dz;       /* bin width (hi - lo)/n [m] */
-  int periodic;    /* 1: wrap the kernel across lo/hi */
-  int reflect;     /* 1: reflect the kernel at lo and hi (walls) */
-  int axis;        /* profile axis: 0 x, 1 y, 2 z */
+    size_t n;      /* number of bins */
+    double lo, hi; /* grid ends along the axis [m] */
+    double dz;     /* bin width (hi - lo)/n [m] */
+    int periodic;  /* 1: wrap the kernel across lo/hi */
+    int reflect;   /* 1: reflect the kernel at lo and hi (walls) */
+    int axis;      /* profile axis: 0 x, 1 y, 2 z */
 } cg_grid;
 
 /* Kernel by name ("gauss", "lucy", "bins"); width w > 0 [m]. */
@@ -60,8 +60,7 @@ double cg_kernel_support(const cg_kernel *k, double R);
 
 /* Bin weights [1/m] of a particle at s (radius R): appends (bin[i], w[i]),
  * returns how many; at most cg_kernel_maxweights(g) entries. */
-size_t cg_kernel_weights(const cg_kernel *k, const cg_grid *g, double s, double R,
-                         size_t *bin, double *w);
+size_t cg_kernel_weights(const cg_kernel *k, const cg_grid *g, double s, double R, size_t *bin, double *w);
 size_t cg_kernel_maxweights(const cg_grid *g);
 
 #endif

@@ -17,381 +17,504 @@
 #define MAX_STRESS_NAME 64
 
 static const char usage_text[] =
-  "usage: ekmcompare cg [options] DUMP... (-o OUT.h5 | --csv OUT.csv)\n"
-  "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [--support F] [--scalars L] [-o SCORE.json]\n"
-  "       ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu [--start FILE.ini]\n"
-  "                      [--fields P,sxz,T] -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
-  "       ekmcompare fit --scenario CASES.json --params eta0,eps0 [--fields phi,vx,T,P,sxz]\n"
-  "                      -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
-  "       ekmcompare steady MONITOR.txt [--column N] [--tol X]\n"
-  "       ekmcompare --help | --version\n"
-  "\n"
-  "cg: coarse-grain LAMMPS/LIGGGHTS dumps (text, gzip, binary) into slab profiles\n"
-  "with standard errors (block averages). Options:\n"
-  "  -o FILE              HDF5 output (written atomically)\n"
-  "  --csv FILE           the same as CSV\n"
-  "  --axis x|y|z         profile axis (default z)\n"
-  "  --kernel K           gauss (default), lucy or bins (exact sphere-slab volumes)\n"
-  "  --exact-kernel       evaluate gauss/lucy per particle instead of on a dz/16 sub-grid\n"
-  "  --width W            kernel standard deviation [m] (default: mean diameter)\n"
-  "  --bins N | --dz DZ   output grid (default dz = width/2)\n"
-  "  --range LO:HI        grid extent [m] (default: the box; no wall reflection)\n"
-  "  --rho-p RHO          material density [kg/m^3] (dumps without mass)\n"
-  "  --dt DT              engine time step [s] (dumps without ITEM: TIME)\n"
-  "  --from T --to T      select snapshots by time [s]\n"
-  "  --steps A:B          select snapshots by step (inclusive)\n"
-  "  --steady             find the start of the steady state (MSER-5) and use from there\n"
-  "  --every K            one profile per K snapshots (time series)\n"
-  "  --window DT          one profile per DT seconds (time series)\n"
-  "  --temperature M      particle (default: fluctuations about V at the particle)\n"
-  "                       or consistent (about the bin's V; adds the shear within the kernel)\n"
-  "  --stress C           per-atom stress x volume columns (compute stress/atom, contact part):\n"
-  "                       a prefix (c_s means c_s[1]..c_s[6]) or six names xx,yy,zz,xy,xz,yz\n"
-  "  --pairs FILE         pair dump (dump local; repeat for several files): contact stress\n"
-  "                       by line integrals along the branch vectors, matched by step\n"
-  "  --pair-columns L     its columns: x1,y1,z1,x2,y2,z2,fx,fy,fz (positions) or\n"
-  "                       id1,id2,fx,fy,fz (atom ids; positions from the atom dump);\n"
-  "                       f is the force on atom 1 by atom 2\n"
-  "  --types L            only atoms of these types count (e.g. 1, or 1,3; column `type`):\n"
-  "                       frozen wall grains are left out of every field\n"
-  "  --quiet              no notes on stderr\n"
-  "\n"
-  "score: interpolate ekm's output onto the DEM grid and times; per field the relative L2\n"
-  "error and the noise-normalised error (MODEL.md section 9); prints a markdown table.\n"
-  "  --dem FILE --ekm FILE  inputs (ekmcompare cg output; ekm output)\n"
-  "  --fields LIST        default: phi,vx,vz,T,P,sxz,szz (those in both files)\n"
-  "  -o FILE              JSON output\n"
-  "  --ekm-time last      compare with the EKM's last output (steady state)\n"
-  "  --shift DZ           add DZ [m] to the DEM coordinate\n"
-  "  --support F          common support: a point counts only where phi > F x the DEM's\n"
-  "                       largest phi on both sides (default 0.1; 0: every point)\n"
-  "  --scalars LIST       scalar observables with SEs: set names (chute, shear_cell,\n"
-  "                       filling, simple_shear) or scalar names (docs/compare.md)\n"
-  "\n"
-  "steady: is a run steady? The drift criterion on a monitor series (column N, default 2,\n"
-  "of the lines not starting with #): the relative change of the mean from the quarter\n"
-  "before the last to the last quarter, to 4 digits, against --tol (default 0.05).\n"
-  "Prints one JSON line {\"steady\": true|false|null, \"drift\": x, \"tol\": x, \"samples\": n}\n"
-  "(null below 8 samples).\n"
-  "\n"
-  "Exit status (docs/exit-codes.md): 0 success; 1 bad command line; 2 bad input file or\n"
-  "data; 3 a file could not be opened, read or written (or an output would overwrite an\n"
-  "input); 5 internal error or out of memory; 128+N stopped by signal N (temporary files\n"
-  "removed). Errors are one line: ekmcompare: file:line: message.\n";
+    "usage: ekmcompare cg [options] DUMP... (-o OUT.h5 | --csv OUT.csv)\n"
+    "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [--support F] [--scalars L] [-o "
+    "SCORE.json]\n"
+    "       ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu [--start FILE.ini]\n"
+    "                      [--fields P,sxz,T] -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
+    "       ekmcompare fit --scenario CASES.json --params eta0,eps0 [--fields phi,vx,T,P,sxz]\n"
+    "                      -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
+    "       ekmcompare steady MONITOR.txt [--column N] [--tol X]\n"
+    "       ekmcompare --help | --version\n"
+    "\n"
+    "cg: coarse-grain LAMMPS/LIGGGHTS dumps (text, gzip, binary) into slab profiles\n"
+    "with standard errors (block averages). Options:\n"
+    "  -o FILE              HDF5 output (written atomically)\n"
+    "  --csv FILE           the same as CSV\n"
+    "  --axis x|y|z         profile axis (default z)\n"
+    "  --kernel K           gauss (default), lucy or bins (exact sphere-slab volumes)\n"
+    "  --exact-kernel       evaluate gauss/lucy per particle instead of on a dz/16 sub-grid\n"
+    "  --width W            kernel standard deviation [m] (default: mean diameter)\n"
+    "  --bins N | --dz DZ   output grid (default dz = width/2)\n"
+    "  --range LO:HI        grid extent [m] (default: the box; no wall reflection)\n"
+    "  --rho-p RHO          material density [kg/m^3] (dumps without mass)\n"
+    "  --dt DT              engine time step [s] (dumps without ITEM: TIME)\n"
+    "  --from T --to T      select snapshots by time [s]\n"
+    "  --steps A:B          select snapshots by step (inclusive)\n"
+    "  --steady             find the start of the steady state (MSER-5) and use from there\n"
+    "  --every K            one profile per K snapshots (time series)\n"
+    "  --window DT          one profile per DT seconds (time series)\n"
+    "  --temperature M      particle (default: fluctuations about V at the particle)\n"
+    "                       or consistent (about the bin's V; adds the shear within the kernel)\n"
+    "  --stress C           per-atom stress x volume columns (compute stress/atom, contact part):\n"
+    "                       a prefix (c_s means c_s[1]..c_s[6]) or six names xx,yy,zz,xy,xz,yz\n"
+    "  --pairs FILE         pair dump (dump local; repeat for several files): contact stress\n"
+    "                       by line integrals along the branch vectors, matched by step\n"
+    "  --pair-columns L     its columns: x1,y1,z1,x2,y2,z2,fx,fy,fz (positions) or\n"
+    "                       id1,id2,fx,fy,fz (atom ids; positions from the atom dump);\n"
+    "                       f is the force on atom 1 by atom 2\n"
+    "  --types L            only atoms of these types count (e.g. 1, or 1,3; column `type`):\n"
+    "                       frozen wall grains are left out of every field\n"
+    "  --quiet              no notes on stderr\n"
+    "\n"
+    "score: interpolate ekm's output onto the DEM grid and times; per field the relative L2\n"
+    "error and the noise-normalised error (MODEL.md section 9); prints a markdown table.\n"
+    "  --dem FILE --ekm FILE  inputs (ekmcompare cg output; ekm output)\n"
+    "  --fields LIST        default: phi,vx,vz,T,P,sxz,szz (those in both files)\n"
+    "  -o FILE              JSON output\n"
+    "  --ekm-time last      compare with the EKM's last output (steady state)\n"
+    "  --shift DZ           add DZ [m] to the DEM coordinate\n"
+    "  --support F          common support: a point counts only where phi > F x the DEM's\n"
+    "                       largest phi on both sides (default 0.1; 0: every point)\n"
+    "  --scalars LIST       scalar observables with SEs: set names (chute, shear_cell,\n"
+    "                       filling, simple_shear) or scalar names (docs/compare.md)\n"
+    "\n"
+    "steady: is a run steady? The drift criterion on a monitor series (column N, default 2,\n"
+    "of the lines not starting with #): the relative change of the mean from the quarter\n"
+    "before the last to the last quarter, to 4 digits, against --tol (default 0.05).\n"
+    "Prints one JSON line {\"steady\": true|false|null, \"drift\": x, \"tol\": x, \"samples\": n}\n"
+    "(null below 8 samples).\n"
+    "\n"
+    "Exit status (docs/exit-codes.md): 0 success; 1 bad command line; 2 bad input file or\n"
+    "data; 3 a file could not be opened, read or written (or an output would overwrite an\n"
+    "input); 5 internal error or out of memory; 128+N stopped by signal N (temporary files\n"
+    "removed). Errors are one line: ekmcompare: file:line: message.\n";
 
 static ekm_status usage_error(ekm_error *err, const char *fmt, const char *arg)
 {
-  return EKM_FAIL(err, EKM_EUSAGE, fmt, arg);
+    return EKM_FAIL(err, EKM_EUSAGE, fmt, arg);
 }
 
 static ekm_status get_double(const char *opt, const char *s, double *out, ekm_error *err)
 {
-  char *end;
-  double v = strtod(s, &end);
-  if (end == s || *end || !isfinite(v))
-    return EKM_FAIL(err, EKM_EUSAGE, "%s: expected a number, got '%s'", opt, s);
-  *out = v;
-  return EKM_OK;
+    char *end;
+    double v = strtod(s, &end);
+    if (end == s || *end || !isfinite(v))
+        return EKM_FAIL(err, EKM_EUSAGE, "%s: expected a number, got '%s'", opt, s);
+    *out = v;
+    return EKM_OK;
 }
 
 static ekm_status get_size(const char *opt, const char *s, size_t *out, ekm_error *err)
 {
-  char *end;
-  long long v = strtoll(s, &end, 10);
-  if (end == s || *end || v < 1)
-    return EKM_FAIL(err, EKM_EUSAGE, "%s: expected a positive integer, got '%s'", opt, s);
-  *out = (size_t)v;
-  return EKM_OK;
+    char *end;
+    long long v = strtoll(s, &end, 10);
+    if (end == s || *end || v < 1)
+        return EKM_FAIL(err, EKM_EUSAGE, "%s: expected a positive integer, got '%s'", opt, s);
+    *out = (size_t)v;
+    return EKM_OK;
 }
 
 static ekm_status get_pair(const char *opt, const char *s, double *a, double *b, ekm_error *err)
 {
-  const char *c = strchr(s, ':');
-  char *end;
-  if (c) {
-    *a = strtod(s, &end);
-    if (end == c) {
-      *b = strtod(c + 1, &end);
-      if (end != c + 1 && !*end && isfinite(*a) && isfinite(*b)) return EKM_OK;
+    const char *c = strchr(s, ':');
+    char *end;
+    if (c) {
+        *a = strtod(s, &end);
+        if (end == c) {
+            *b = strtod(c + 1, &end);
+            if (end != c + 1 && !*end && isfinite(*a) && isfinite(*b))
+                return EKM_OK;
+        }
     }
-  }
-  return EKM_FAIL(err, EKM_EUSAGE, "%s: expected A:B, got '%s'", opt, s);
+    return EKM_FAIL(err, EKM_EUSAGE, "%s: expected A:B, got '%s'", opt, s);
 }
 
 typedef struct {
-  char names[6][MAX_STRESS_NAME];
+    char names[6][MAX_STRESS_NAME];
 } stress_names;
 
 typedef struct {
-  char names[9][MAX_STRESS_NAME];
+    char names[9][MAX_STRESS_NAME];
 } pair_names;
 
 static ekm_status get_paircols(const char *s, pair_names *pn, cg_run_opts *o, ekm_error *err)
 {
-  size_t n = 0;
-  const char *p = s;
-  for (;;) {
-    const char *q = strchr(p, ',');
-    size_t len = q ? (size_t)(q - p) : strlen(p);
-    if (len == 0 || len >= MAX_STRESS_NAME || n == 9) break;
-    memcpy(pn->names[n], p, len);
-    pn->names[n++][len] = '\0';
-    if (!q) {
-      if (n != 9 && n != 5) break;
-      o->npaircols = n;
-      for (size_t j = 0; j < n; j++) o->paircols[j] = pn->names[j];
-      return EKM_OK;
+    size_t n = 0;
+    const char *p = s;
+    for (;;) {
+        const char *q = strchr(p, ',');
+        size_t len = q ? (size_t)(q - p) : strlen(p);
+        if (len == 0 || len >= MAX_STRESS_NAME || n == 9)
+            break;
+        memcpy(pn->names[n], p, len);
+        pn->names[n++][len] = '\0';
+        if (!q) {
+            if (n != 9 && n != 5)
+                break;
+            o->npaircols = n;
+            for (size_t j = 0; j < n; j++)
+                o->paircols[j] = pn->names[j];
+            return EKM_OK;
+        }
+        p = q + 1;
     }
-    p = q + 1;
-  }
-  return usage_error(err, "--pair-columns: expected 9 names (x1,y1,z1,x2,y2,z2,fx,fy,fz) or 5 "
-                     "(id1,id2,fx,fy,fz), got '%s'", s);
+    return usage_error(err,
+                       "--pair-columns: expected 9 names (x1,y1,z1,x2,y2,z2,fx,fy,fz) or 5 "
+                       "(id1,id2,fx,fy,fz), got '%s'",
+                       s);
 }
 
 /* --types 1,3: the atom types that count (column `type`). */
 static ekm_status get_types(const char *s, cg_run_opts *o, ekm_error *err)
 {
-  const char *p = s;
-  o->ntypes = 0;
-  for (;;) {
-    char *end;
-    long t = strtol(p, &end, 10);
-    if (end == p || t < 0 || t > 1000000 || (*end && *end != ','))
-      return usage_error(err, "--types: expected comma-separated atom types (integers), got '%s'", s);
-    if (o->ntypes == CG_MAXTYPES)
-      return usage_error(err, "--types: at most 16 types, got '%s'", s);
-    o->types[o->ntypes++] = (int)t;
-    if (!*end) return EKM_OK;
-    p = end + 1;
-  }
+    const char *p = s;
+    o->ntypes = 0;
+    for (;;) {
+        char *end;
+        long t = strtol(p, &end, 10);
+        if (end == p || t < 0 || t > 1000000 || (*end && *end != ','))
+            return usage_error(err, "--types: expected comma-separated atom types (integers), got '%s'", s);
+        if (o->ntypes == CG_MAXTYPES)
+            return usage_error(err, "--types: at most 16 types, got '%s'", s);
+        o->types[o->ntypes++] = (int)t;
+        if (!*end)
+            return EKM_OK;
+        p = end + 1;
+    }
 }
 
 static ekm_status get_stress(const char *s, stress_names *sn, cg_run_opts *o, ekm_error *err)
 {
-  if (!strchr(s, ',')) {
-    for (int c = 0; c < 6; c++)
-      if ((size_t)snprintf(sn->names[c], MAX_STRESS_NAME, "%s[%d]", s, c + 1) >= MAX_STRESS_NAME)
-        return usage_error(err, "--stress: name too long: '%s'", s);
-  } else {
-    const char *p = s;
-    for (int c = 0; c < 6; c++) {
-      const char *q = strchr(p, ',');
-      size_t len = q ? (size_t)(q - p) : strlen(p);
-      if (len == 0 || len >= MAX_STRESS_NAME || (c < 5 && !q) || (c == 5 && q))
-        return usage_error(err, "--stress: expected a prefix or six comma-separated names, got '%s'", s);
-      memcpy(sn->names[c], p, len);
-      sn->names[c][len] = '\0';
-      p = q ? q + 1 : p + len;
+    if (!strchr(s, ',')) {
+        for (int c = 0; c < 6; c++)
+            if ((size_t)snprintf(sn->names[c], MAX_STRESS_NAME, "%s[%d]", s, c + 1) >= MAX_STRESS_NAME)
+                return usage_error(err, "--stress: name too long: '%s'", s);
+    } else {
+        const char *p = s;
+        for (int c = 0; c < 6; c++) {
+            const char *q = strchr(p, ',');
+            size_t len = q ? (size_t)(q - p) : strlen(p);
+            if (len == 0 || len >= MAX_STRESS_NAME || (c < 5 && !q) || (c == 5 && q))
+                return usage_error(err, "--stress: expected a prefix or six comma-separated names, got '%s'",
+                                   s);
+            memcpy(sn->names[c], p, len);
+            sn->names[c][len] = '\0';
+            p = q ? q + 1 : p + len;
+        }
     }
-  }
-  o->nstress = 6;
-  for (int c = 0; c < 6; c++) o->stress[c] = sn->names[c];
-  return EKM_OK;
+    o->nstress = 6;
+    for (int c = 0; c < 6; c++)
+        o->stress[c] = sn->names[c];
+    return EKM_OK;
 }
 
 static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
 {
-  cg_run_opts o = cg_run_opts_default();
-  o.log = stderr;
-  stress_names sn;
-  pair_names pn;
-  const char **inputs = calloc((size_t)argc, sizeof *inputs);
-  const char **pairs = calloc((size_t)argc, sizeof *pairs);
-  if (!inputs || !pairs) {
+    cg_run_opts o = cg_run_opts_default();
+    o.log = stderr;
+    stress_names sn;
+    pair_names pn;
+    const char **inputs = calloc((size_t)argc, sizeof *inputs);
+    const char **pairs = calloc((size_t)argc, sizeof *pairs);
+    if (!inputs || !pairs) {
+        free(inputs);
+        free(pairs);
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    }
+    size_t nin = 0, npairs = 0;
+    ekm_status rc = EKM_OK;
+    for (int i = 0; i < argc && !rc; i++) {
+        const char *a = argv[i], *v = NULL;
+        if (a[0] != '-' || !strcmp(a, "-")) {
+            inputs[nin++] = a;
+            continue;
+        }
+#define ARG()                                                 \
+    do {                                                      \
+        if (i + 1 >= argc) {                                  \
+            rc = usage_error(err, "%s: expected a value", a); \
+            break;                                            \
+        }                                                     \
+        v = argv[++i];                                        \
+    } while (0)
+        if (!strcmp(a, "-o")) {
+            ARG();
+            o.out = v;
+        } else if (!strcmp(a, "--csv")) {
+            ARG();
+            o.csv = v;
+        } else if (!strcmp(a, "--axis")) {
+            ARG();
+            if (!strcmp(v, "x"))
+                o.axis = 0;
+            else if (!strcmp(v, "y"))
+                o.axis = 1;
+            else if (!strcmp(v, "z"))
+                o.axis = 2;
+            else
+                rc = usage_error(err, "--axis: expected x, y or z, got '%s'", v);
+        } else if (!strcmp(a, "--kernel")) {
+            ARG();
+            o.kernel = v;
+        } else if (!strcmp(a, "--width")) {
+            ARG();
+            rc = get_double(a, v, &o.width, err);
+            if (!rc && !(o.width > 0))
+                rc = usage_error(err, "--width: expected a positive width, got '%s'", v);
+        } else if (!strcmp(a, "--bins")) {
+            ARG();
+            rc = get_size(a, v, &o.bins, err);
+        } else if (!strcmp(a, "--dz")) {
+            ARG();
+            rc = get_double(a, v, &o.dz, err);
+            if (!rc && !(o.dz > 0))
+                rc = usage_error(err, "--dz: expected a positive spacing, got '%s'", v);
+        } else if (!strcmp(a, "--range")) {
+            ARG();
+            rc = get_pair(a, v, &o.range_lo, &o.range_hi, err);
+            if (!rc && !(o.range_hi > o.range_lo))
+                rc = usage_error(err, "--range: expected LO < HI, got '%s'", v);
+            o.have_range = 1;
+        } else if (!strcmp(a, "--rho-p")) {
+            ARG();
+            rc = get_double(a, v, &o.rho_p, err);
+            if (!rc && !(o.rho_p > 0))
+                rc = usage_error(err, "--rho-p: expected a positive density, got '%s'", v);
+        } else if (!strcmp(a, "--dt")) {
+            ARG();
+            rc = get_double(a, v, &o.dt, err);
+            if (!rc && !(o.dt > 0))
+                rc = usage_error(err, "--dt: expected a positive time step, got '%s'", v);
+        } else if (!strcmp(a, "--from")) {
+            ARG();
+            rc = get_double(a, v, &o.from, err);
+            o.have_from = 1;
+        } else if (!strcmp(a, "--to")) {
+            ARG();
+            rc = get_double(a, v, &o.to, err);
+            o.have_to = 1;
+        } else if (!strcmp(a, "--steps")) {
+            ARG();
+            double x, y;
+            rc = get_pair(a, v, &x, &y, err);
+            if (!rc && (x != floor(x) || y != floor(y) || y < x))
+                rc = usage_error(err, "--steps: expected integers A:B with A <= B, got '%s'", v);
+            o.step_a = (int64_t)x;
+            o.step_b = (int64_t)y;
+            o.have_steps = 1;
+        } else if (!strcmp(a, "--steady"))
+            o.steady = 1;
+        else if (!strcmp(a, "--exact-kernel"))
+            o.exact = 1;
+        else if (!strcmp(a, "--every")) {
+            ARG();
+            rc = get_size(a, v, &o.every, err);
+        } else if (!strcmp(a, "--window")) {
+            ARG();
+            rc = get_double(a, v, &o.window, err);
+            if (!rc && !(o.window > 0))
+                rc = usage_error(err, "--window: expected a positive duration, got '%s'", v);
+        } else if (!strcmp(a, "--temperature")) {
+            ARG();
+            if (!strcmp(v, "particle"))
+                o.tmode = CG_T_PARTICLE;
+            else if (!strcmp(v, "consistent"))
+                o.tmode = CG_T_CONSISTENT;
+            else
+                rc = usage_error(err, "--temperature: expected particle or consistent, got '%s'", v);
+        } else if (!strcmp(a, "--stress")) {
+            ARG();
+            rc = get_stress(v, &sn, &o, err);
+        } else if (!strcmp(a, "--pairs")) {
+            ARG();
+            pairs[npairs++] = v;
+        } else if (!strcmp(a, "--pair-columns")) {
+            ARG();
+            rc = get_paircols(v, &pn, &o, err);
+        } else if (!strcmp(a, "--types")) {
+            ARG();
+            rc = get_types(v, &o, err);
+        } else if (!strcmp(a, "--quiet"))
+            o.log = NULL;
+        else
+            rc = usage_error(err, "cg: unknown option '%s' (see ekmcompare --help)", a);
+#undef ARG
+    }
+    if (!rc && o.every && o.window > 0)
+        rc = EKM_FAIL(err, EKM_EUSAGE, "cg: expected --every or --window, not both");
+    if (!rc) {
+        o.inputs = inputs;
+        o.ninputs = nin;
+        o.pairs = pairs;
+        o.npairs = npairs;
+        if (npairs && !o.npaircols)
+            rc = EKM_FAIL(err, EKM_EUSAGE, "--pairs: expected --pair-columns too");
+        else if (!npairs && o.npaircols)
+            rc = EKM_FAIL(err, EKM_EUSAGE, "--pair-columns: expected --pairs too");
+        else
+            rc = cg_run(&o, err);
+    }
     free(inputs);
     free(pairs);
-    return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-  }
-  size_t nin = 0, npairs = 0;
-  ekm_status rc = EKM_OK;
-  for (int i = 0; i < argc && !rc; i++) {
-    const char *a = argv[i], *v = NULL;
-    if (a[0] != '-' || !strcmp(a, "-")) { inputs[nin++] = a; continue; }
-#define ARG() do { if (i + 1 >= argc) { rc = usage_error(err, "%s: expected a value", a); break; } v = argv[++i]; } while (0)
-    if (!strcmp(a, "-o")) { ARG(); o.out = v; }
-    else if (!strcmp(a, "--csv")) { ARG(); o.csv = v; }
-    else if (!strcmp(a, "--axis")) {
-      ARG();
-      if (!strcmp(v, "x")) o.axis = 0;
-      else if (!strcmp(v, "y")) o.axis = 1;
-      else if (!strcmp(v, "z")) o.axis = 2;
-      else rc = usage_error(err, "--axis: expected x, y or z, got '%s'", v);
-    }
-    else if (!strcmp(a, "--kernel")) { ARG(); o.kernel = v; }
-    else if (!strcmp(a, "--width")) { ARG(); rc = get_double(a, v, &o.width, err);
-      if (!rc && !(o.width > 0)) rc = usage_error(err, "--width: expected a positive width, got '%s'", v); }
-    else if (!strcmp(a, "--bins")) { ARG(); rc = get_size(a, v, &o.bins, err); }
-    else if (!strcmp(a, "--dz")) { ARG(); rc = get_double(a, v, &o.dz, err);
-      if (!rc && !(o.dz > 0)) rc = usage_error(err, "--dz: expected a positive spacing, got '%s'", v); }
-    else if (!strcmp(a, "--range")) { ARG(); rc = get_pair(a, v, &o.range_lo, &o.range_hi, err);
-      if (!rc && !(o.range_hi > o.range_lo)) rc = usage_error(err, "--range: expected LO < HI, got '%s'", v);
-      o.have_range = 1; }
-    else if (!strcmp(a, "--rho-p")) { ARG(); rc = get_double(a, v, &o.rho_p, err);
-      if (!rc && !(o.rho_p > 0)) rc = usage_error(err, "--rho-p: expected a positive density, got '%s'", v); }
-    else if (!strcmp(a, "--dt")) { ARG(); rc = get_double(a, v, &o.dt, err);
-      if (!rc && !(o.dt > 0)) rc = usage_error(err, "--dt: expected a positive time step, got '%s'", v); }
-    else if (!strcmp(a, "--from")) { ARG(); rc = get_double(a, v, &o.from, err); o.have_from = 1; }
-    else if (!strcmp(a, "--to")) { ARG(); rc = get_double(a, v, &o.to, err); o.have_to = 1; }
-    else if (!strcmp(a, "--steps")) {
-      ARG();
-      double x, y;
-      rc = get_pair(a, v, &x, &y, err);
-      if (!rc && (x != floor(x) || y != floor(y) || y < x))
-        rc = usage_error(err, "--steps: expected integers A:B with A <= B, got '%s'", v);
-      o.step_a = (int64_t)x;
-      o.step_b = (int64_t)y;
-      o.have_steps = 1;
-    }
-    else if (!strcmp(a, "--steady")) o.steady = 1;
-    else if (!strcmp(a, "--exact-kernel")) o.exact = 1;
-    else if (!strcmp(a, "--every")) { ARG(); rc = get_size(a, v, &o.every, err); }
-    else if (!strcmp(a, "--window")) { ARG(); rc = get_double(a, v, &o.window, err);
-      if (!rc && !(o.window > 0)) rc = usage_error(err, "--window: expected a positive duration, got '%s'", v); }
-    else if (!strcmp(a, "--temperature")) {
-      ARG();
-      if (!strcmp(v, "particle")) o.tmode = CG_T_PARTICLE;
-      else if (!strcmp(v, "consistent")) o.tmode = CG_T_CONSISTENT;
-      else rc = usage_error(err, "--temperature: expected particle or consistent, got '%s'", v);
-    }
-    else if (!strcmp(a, "--stress")) { ARG(); rc = get_stress(v, &sn, &o, err); }
-    else if (!strcmp(a, "--pairs")) { ARG(); pairs[npairs++] = v; }
-    else if (!strcmp(a, "--pair-columns")) { ARG(); rc = get_paircols(v, &pn, &o, err); }
-    else if (!strcmp(a, "--types")) { ARG(); rc = get_types(v, &o, err); }
-    else if (!strcmp(a, "--quiet")) o.log = NULL;
-    else rc = usage_error(err, "cg: unknown option '%s' (see ekmcompare --help)", a);
-#undef ARG
-  }
-  if (!rc && o.every && o.window > 0) rc = EKM_FAIL(err, EKM_EUSAGE, "cg: expected --every or --window, not both");
-  if (!rc) {
-    o.inputs = inputs;
-    o.ninputs = nin;
-    o.pairs = pairs;
-    o.npairs = npairs;
-    if (npairs && !o.npaircols)
-      rc = EKM_FAIL(err, EKM_EUSAGE, "--pairs: expected --pair-columns too");
-    else if (!npairs && o.npaircols)
-      rc = EKM_FAIL(err, EKM_EUSAGE, "--pair-columns: expected --pairs too");
-    else
-      rc = cg_run(&o, err);
-  }
-  free(inputs);
-  free(pairs);
-  return rc;
+    return rc;
 }
 
 static ekm_status cmd_score(int argc, char **argv, ekm_error *err)
 {
-  cg_score_opts o = cg_score_opts_default();
-  o.table = stdout;
-  o.log = stderr;
-  ekm_status rc = EKM_OK;
-  for (int i = 0; i < argc && !rc; i++) {
-    const char *a = argv[i], *v = NULL;
-#define ARG() do { if (i + 1 >= argc) { rc = usage_error(err, "%s: expected a value", a); break; } v = argv[++i]; } while (0)
-    if (!strcmp(a, "--dem")) { ARG(); o.dem = v; }
-    else if (!strcmp(a, "--ekm")) { ARG(); o.ekm = v; }
-    else if (!strcmp(a, "--fields")) { ARG(); o.fields = v; }
-    else if (!strcmp(a, "-o")) { ARG(); o.json = v; }
-    else if (!strcmp(a, "--shift")) { ARG(); rc = get_double(a, v, &o.shift, err); }
-    else if (!strcmp(a, "--ekm-time")) {
-      ARG();
-      if (!strcmp(v, "last")) o.ekm_last = 1;
-      else if (!strcmp(v, "interp")) o.ekm_last = 0;
-      else rc = usage_error(err, "--ekm-time: expected last or interp, got '%s'", v);
-    }
-    else if (!strcmp(a, "--support")) { ARG(); rc = get_double(a, v, &o.support, err); }
-    else if (!strcmp(a, "--scalars")) { ARG(); o.scalars = v; }
-    else if (!strcmp(a, "--quiet")) o.log = NULL;
-    else rc = usage_error(err, "score: unknown argument '%s' (see ekmcompare --help)", a);
+    cg_score_opts o = cg_score_opts_default();
+    o.table = stdout;
+    o.log = stderr;
+    ekm_status rc = EKM_OK;
+    for (int i = 0; i < argc && !rc; i++) {
+        const char *a = argv[i], *v = NULL;
+#define ARG()                                                 \
+    do {                                                      \
+        if (i + 1 >= argc) {                                  \
+            rc = usage_error(err, "%s: expected a value", a); \
+            break;                                            \
+        }                                                     \
+        v = argv[++i];                                        \
+    } while (0)
+        if (!strcmp(a, "--dem")) {
+            ARG();
+            o.dem = v;
+        } else if (!strcmp(a, "--ekm")) {
+            ARG();
+            o.ekm = v;
+        } else if (!strcmp(a, "--fields")) {
+            ARG();
+            o.fields = v;
+        } else if (!strcmp(a, "-o")) {
+            ARG();
+            o.json = v;
+        } else if (!strcmp(a, "--shift")) {
+            ARG();
+            rc = get_double(a, v, &o.shift, err);
+        } else if (!strcmp(a, "--ekm-time")) {
+            ARG();
+            if (!strcmp(v, "last"))
+                o.ekm_last = 1;
+            else if (!strcmp(v, "interp"))
+                o.ekm_last = 0;
+            else
+                rc = usage_error(err, "--ekm-time: expected last or interp, got '%s'", v);
+        } else if (!strcmp(a, "--support")) {
+            ARG();
+            rc = get_double(a, v, &o.support, err);
+        } else if (!strcmp(a, "--scalars")) {
+            ARG();
+            o.scalars = v;
+        } else if (!strcmp(a, "--quiet"))
+            o.log = NULL;
+        else
+            rc = usage_error(err, "score: unknown argument '%s' (see ekmcompare --help)", a);
 #undef ARG
-  }
-  size_t nres;
-  if (!rc) rc = cg_score(&o, NULL, &nres, err);
-  return rc;
+    }
+    size_t nres;
+    if (!rc)
+        rc = cg_score(&o, NULL, &nres, err);
+    return rc;
 }
 
 /* A number for JSON that reads back to the same double. */
 static void print_exact(double v)
 {
-  char buf[32];
-  snprintf(buf, sizeof buf, "%.15g", v);
-  if (strtod(buf, NULL) != v) snprintf(buf, sizeof buf, "%.17g", v);
-  fputs(buf, stdout);
+    char buf[32];
+    snprintf(buf, sizeof buf, "%.15g", v);
+    if (strtod(buf, NULL) != v)
+        snprintf(buf, sizeof buf, "%.17g", v);
+    fputs(buf, stdout);
 }
 
 static ekm_status cmd_steady(int argc, char **argv, ekm_error *err)
 {
-  const char *path = NULL;
-  int column = 2;
-  double tol = 0.05;
-  ekm_status rc = EKM_OK;
-  for (int i = 0; i < argc && !rc; i++) {
-    const char *a = argv[i], *v = NULL;
-#define ARG() do { if (i + 1 >= argc) { rc = usage_error(err, "%s: expected a value", a); break; } v = argv[++i]; } while (0)
-    if (!strcmp(a, "--column")) {
-      ARG();
-      size_t c;
-      rc = get_size(a, v, &c, err);
-      if (!rc && c > 64) rc = usage_error(err, "--column: expected at most 64, got '%s'", v);
-      column = (int)c;
-    }
-    else if (!strcmp(a, "--tol")) { ARG(); rc = get_double(a, v, &tol, err);
-      if (!rc && !(tol >= 0)) rc = usage_error(err, "--tol: expected a tolerance >= 0, got '%s'", v); }
-    else if (a[0] == '-' && a[1]) rc = usage_error(err, "steady: unknown option '%s' (see ekmcompare --help)", a);
-    else if (path) rc = usage_error(err, "steady: expected one monitor file, got a second one '%s'", a);
-    else path = a;
+    const char *path = NULL;
+    int column = 2;
+    double tol = 0.05;
+    ekm_status rc = EKM_OK;
+    for (int i = 0; i < argc && !rc; i++) {
+        const char *a = argv[i], *v = NULL;
+#define ARG()                                                 \
+    do {                                                      \
+        if (i + 1 >= argc) {                                  \
+            rc = usage_error(err, "%s: expected a value", a); \
+            break;                                            \
+        }                                                     \
+        v = argv[++i];                                        \
+    } while (0)
+        if (!strcmp(a, "--column")) {
+            ARG();
+            size_t c;
+            rc = get_size(a, v, &c, err);
+            if (!rc && c > 64)
+                rc = usage_error(err, "--column: expected at most 64, got '%s'", v);
+            column = (int)c;
+        } else if (!strcmp(a, "--tol")) {
+            ARG();
+            rc = get_double(a, v, &tol, err);
+            if (!rc && !(tol >= 0))
+                rc = usage_error(err, "--tol: expected a tolerance >= 0, got '%s'", v);
+        } else if (a[0] == '-' && a[1])
+            rc = usage_error(err, "steady: unknown option '%s' (see ekmcompare --help)", a);
+        else if (path)
+            rc = usage_error(err, "steady: expected one monitor file, got a second one '%s'", a);
+        else
+            path = a;
 #undef ARG
-  }
-  if (!rc && !path) rc = EKM_FAIL(err, EKM_EUSAGE, "steady: expected a monitor file (see ekmcompare --help)");
-  double *v = NULL;
-  size_t n = 0;
-  if (!rc) rc = cg_steady_monitor_read(path, column, &v, &n, err);
-  if (rc) return rc;
-  cg_steady_verdict r = cg_steady_drift(v, n, tol);
-  free(v);
-  fputs("{\"steady\": ", stdout);
-  fputs(!r.known ? "null" : r.steady ? "true" : "false", stdout);
-  fputs(", \"drift\": ", stdout);
-  if (r.known) printf("%.4g", r.drift);
-  else fputs("null", stdout);
-  fputs(", \"tol\": ", stdout);
-  print_exact(tol);
-  printf(", \"samples\": %zu}\n", r.samples);
-  if (fflush(stdout) != 0 || ferror(stdout)) return EKM_FAIL(err, EKM_EIO, "steady: cannot write the result");
-  return EKM_OK;
+    }
+    if (!rc && !path)
+        rc = EKM_FAIL(err, EKM_EUSAGE, "steady: expected a monitor file (see ekmcompare --help)");
+    double *v = NULL;
+    size_t n = 0;
+    if (!rc)
+        rc = cg_steady_monitor_read(path, column, &v, &n, err);
+    if (rc)
+        return rc;
+    cg_steady_verdict r = cg_steady_drift(v, n, tol);
+    free(v);
+    fputs("{\"steady\": ", stdout);
+    fputs(!r.known ? "null" : r.steady ? "true" : "false", stdout);
+    fputs(", \"drift\": ", stdout);
+    if (r.known)
+        printf("%.4g", r.drift);
+    else
+        fputs("null", stdout);
+    fputs(", \"tol\": ", stdout);
+    print_exact(tol);
+    printf(", \"samples\": %zu}\n", r.samples);
+    if (fflush(stdout) != 0 || ferror(stdout))
+        return EKM_FAIL(err, EKM_EIO, "steady: cannot write the result");
+    return EKM_OK;
 }
 
 int main(int argc, char **argv)
 {
-  gsl_set_error_handler_off();
-  ekm_h5_quiet();
-  ekm_error err;
-  ekm_error_clear(&err);
-  ekm_status rc = ekm_atomic_install_signal_cleanup(&err);
-  if (rc) {
-    ekm_error_print("ekmcompare", &err);
-    return ekm_status_exit_code(rc);
-  }
-  if (argc < 2) {
-    fputs(usage_text, stderr);
-    return ekm_status_exit_code(EKM_EUSAGE);
-  }
-  if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
-    fputs(usage_text, stdout);
+    gsl_set_error_handler_off();
+    ekm_h5_quiet();
+    ekm_error err;
+    ekm_error_clear(&err);
+    ekm_status rc = ekm_atomic_install_signal_cleanup(&err);
+    if (rc) {
+        ekm_error_print("ekmcompare", &err);
+        return ekm_status_exit_code(rc);
+    }
+    if (argc < 2) {
+        fputs(usage_text, stderr);
+        return ekm_status_exit_code(EKM_EUSAGE);
+    }
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        fputs(usage_text, stdout);
+        return 0;
+    }
+    if (!strcmp(argv[1], "--version")) {
+        printf("ekmcompare %s\n", EKMBENCH_VERSION);
+        return 0;
+    }
+    if (!strcmp(argv[1], "fit"))
+        return cg_fit_main(argc - 2, argv + 2); /* exit codes of docs/exit-codes.md */
+    if (!strcmp(argv[1], "cg"))
+        rc = cmd_cg(argc - 2, argv + 2, &err);
+    else if (!strcmp(argv[1], "score"))
+        rc = cmd_score(argc - 2, argv + 2, &err);
+    else if (!strcmp(argv[1], "steady"))
+        rc = cmd_steady(argc - 2, argv + 2, &err);
+    else
+        rc = EKM_FAIL(&err, EKM_EUSAGE,
+                      "unknown command '%s': expected cg, score, fit or steady (see --help)", argv[1]);
+    if (rc) {
+        ekm_error_print("ekmcompare", &err);
+        return ekm_status_exit_code(rc);
+    }
     return 0;
-  }
-  if (!strcmp(argv[1], "--version")) {
-    printf("ekmcompare %s\n", EKMBENCH_VERSION);
-    return 0;
-  }
-  if (!strcmp(argv[1], "fit")) return cg_fit_main(argc - 2, argv + 2); /* exit codes of docs/exit-codes.md */
-  if (!strcmp(argv[1], "cg")) rc = cmd_cg(argc - 2, argv + 2, &err);
-  else if (!strcmp(argv[1], "score")) rc = cmd_score(argc - 2, argv + 2, &err);
-  else if (!strcmp(argv[1], "steady")) rc = cmd_steady(argc - 2, argv + 2, &err);
-  else rc = EKM_FAIL(&err, EKM_EUSAGE, "unknown command '%s': expected cg, score, fit or steady (see --help)", argv[1]);
-  if (rc) {
-    ekm_error_print("ekmcompare", &err);
-    return ekm_status_exit_code(rc);
-  }
-  return 0;
 }

@@ -17,11 +17,11 @@
 #include <stddef.h>
 
 typedef struct {
-  size_t points;      /* points compared (both values finite) */
-  size_t points_se;   /* of which with se > floor */
-  double rel_l2;      /* relative L2 error [-], NAN if undefined */
-  double noise;       /* noise-normalised error [-], NAN if undefined */
-  double se_floor;    /* the floor used [field units] (0 without points) */
+    size_t points;    /* points compared (both values finite) */
+    size_t points_se; /* of which with se > floor */
+    double rel_l2;    /* relative L2 error [-], NAN if undefined */
+    double noise;     /* noise-normalised error [-], NAN if undefined */
+    double se_floor;  /* the floor used [field units] (0 without points) */
 } cg_metric;
 
 /* model[i], dem[i], se[i] for n candidate points (se may be NAN or <= 0:

@@ -53,32 +53,32 @@
 #define CG_SCALAR_TRACE 1e-3
 
 typedef struct {
-  size_t n;
-  const double *z;                                  /* [m], increasing */
-  const double *phi, *vx, *sxz, *szz, *P, *T;       /* [-], [m/s], [Pa], [m^2/s^2]; NULL: absent */
-  const double *phi_se, *vx_se, *sxz_se, *szz_se, *P_se, *T_se;  /* NULL: unknown */
+    size_t n;
+    const double *z;                            /* [m], increasing */
+    const double *phi, *vx, *sxz, *szz, *P, *T; /* [-], [m/s], [Pa], [m^2/s^2]; NULL: absent */
+    const double *phi_se, *vx_se, *sxz_se, *szz_se, *P_se, *T_se; /* NULL: unknown */
 } cg_scalar_profile;
 
 typedef struct {
-  double value;  /* in the scalar's units, NaN if undefined */
-  double se;     /* standard error, NaN if unknown */
+    double value; /* in the scalar's units, NaN if undefined */
+    double se;    /* standard error, NaN if unknown */
 } cg_scalar_value;
 
 typedef enum {
-  CG_SCALAR_LAYER_HEIGHT,
-  CG_SCALAR_BULK_PHI,
-  CG_SCALAR_SURFACE_VELOCITY,
-  CG_SCALAR_DEPTH_AVERAGED_VELOCITY,
-  CG_SCALAR_FLOW_RATE,
-  CG_SCALAR_BASE_FRICTION,
-  CG_SCALAR_MEAN_PHI,
-  CG_SCALAR_WALL_SHEAR_STRESS,
-  CG_SCALAR_WALL_FRICTION,
-  CG_SCALAR_MEAN_P,
-  CG_SCALAR_MU,
-  CG_SCALAR_MEAN_T,
-  CG_SCALAR_BED_HEIGHT,  /* the layer height at every compared time */
-  CG_SCALAR_COUNT
+    CG_SCALAR_LAYER_HEIGHT,
+    CG_SCALAR_BULK_PHI,
+    CG_SCALAR_SURFACE_VELOCITY,
+    CG_SCALAR_DEPTH_AVERAGED_VELOCITY,
+    CG_SCALAR_FLOW_RATE,
+    CG_SCALAR_BASE_FRICTION,
+    CG_SCALAR_MEAN_PHI,
+    CG_SCALAR_WALL_SHEAR_STRESS,
+    CG_SCALAR_WALL_FRICTION,
+    CG_SCALAR_MEAN_P,
+    CG_SCALAR_MU,
+    CG_SCALAR_MEAN_T,
+    CG_SCALAR_BED_HEIGHT, /* the layer height at every compared time */
+    CG_SCALAR_COUNT
 } cg_scalar_kind;
 
 /* The name ("layer_height", ...), or NULL for a kind out of range. */

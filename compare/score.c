@@ -17,70 +17,89 @@ static const char *const default_fields[] = {"phi", "vx", "vz", "T", "P", "sxz",
 
 cg_score_opts cg_score_opts_default(void)
 {
-  cg_score_opts o;
-  memset(&o, 0, sizeof o);
-  o.support = CG_SCORE_SUPPORT;
-  return o;
+    cg_score_opts o;
+    memset(&o, 0, sizeof o);
+    o.support = CG_SCORE_SUPPORT;
+    return o;
 }
 
 int cg_score_locate(const double *x, size_t n, double v, size_t *i, double *a)
 {
-  if (n == 0 || !(v >= x[0] - 1e-12 * fabs(x[0])) || !(v <= x[n - 1] + 1e-12 * fabs(x[n - 1])))
-    return 0;
-  if (n == 1) { *i = 0; *a = 0.0; return 1; }
-  size_t lo = 0, hi = n - 1;
-  while (hi - lo > 1) {
-    size_t mid = (lo + hi) / 2;
-    if (x[mid] <= v) lo = mid; else hi = mid;
-  }
-  *i = lo;
-  double dx = x[lo + 1] - x[lo];
-  *a = dx > 0 ? (v - x[lo]) / dx : 0.0;
-  if (*a < 0) *a = 0;
-  if (*a > 1) *a = 1;
-  return 1;
+    if (n == 0 || !(v >= x[0] - 1e-12 * fabs(x[0])) || !(v <= x[n - 1] + 1e-12 * fabs(x[n - 1])))
+        return 0;
+    if (n == 1) {
+        *i = 0;
+        *a = 0.0;
+        return 1;
+    }
+    size_t lo = 0, hi = n - 1;
+    while (hi - lo > 1) {
+        size_t mid = (lo + hi) / 2;
+        if (x[mid] <= v)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    *i = lo;
+    double dx = x[lo + 1] - x[lo];
+    *a = dx > 0 ? (v - x[lo]) / dx : 0.0;
+    if (*a < 0)
+        *a = 0;
+    if (*a > 1)
+        *a = 1;
+    return 1;
 }
 
 double cg_score_interp(const double *r0, const double *r1, size_t nze, size_t zi, double az, double at)
 {
-  size_t z1 = zi + 1 < nze ? zi + 1 : zi;
-  double e0 = r0[zi] + az * (r0[z1] - r0[zi]);
-  double e1 = r1[zi] + az * (r1[z1] - r1[zi]);
-  return e0 + at * (e1 - e0);
+    size_t z1 = zi + 1 < nze ? zi + 1 : zi;
+    double e0 = r0[zi] + az * (r0[z1] - r0[zi]);
+    double e1 = r1[zi] + az * (r1[z1] - r1[zi]);
+    return e0 + at * (e1 - e0);
 }
 
 static int increasing(const double *x, size_t n)
 {
-  for (size_t i = 1; i < n; i++)
-    if (!(x[i] > x[i - 1])) return 0;
-  return 1;
+    for (size_t i = 1; i < n; i++)
+        if (!(x[i] > x[i - 1]))
+            return 0;
+    return 1;
 }
 
 static void json_num(FILE *fp, double v)
 {
-  if (isfinite(v)) fprintf(fp, "%.9g", v);
-  else fputs("null", fp);
+    if (isfinite(v))
+        fprintf(fp, "%.9g", v);
+    else
+        fputs("null", fp);
 }
 
 /* A number that reads back to the same double (an option to be reused). */
 static void json_exact(FILE *fp, double v)
 {
-  char buf[32];
-  if (!isfinite(v)) { fputs("null", fp); return; }
-  snprintf(buf, sizeof buf, "%.15g", v);
-  if (strtod(buf, NULL) != v) snprintf(buf, sizeof buf, "%.17g", v);
-  fputs(buf, fp);
+    char buf[32];
+    if (!isfinite(v)) {
+        fputs("null", fp);
+        return;
+    }
+    snprintf(buf, sizeof buf, "%.15g", v);
+    if (strtod(buf, NULL) != v)
+        snprintf(buf, sizeof buf, "%.17g", v);
+    fputs(buf, fp);
 }
 
 static void json_str(FILE *fp, const char *s)
 {
-  fputc('"', fp);
-  for (; *s; s++) {
-    if (*s == '"' || *s == '\\') fprintf(fp, "\\%c", *s);
-    else if ((unsigned char)*s < 0x20) fprintf(fp, "\\u%04x", *s);
-    else fputc(*s, fp);
-  }
-  fputc('"', fp);
+    fputc('"', fp);
+    for (; *s; s++) {
+        if (*s == '"' || *s == '\\')
+            fprintf(fp, "\\%c", *s);
+        else if ((unsigned char)*s < 0x20)
+            fprintf(fp, "\\u%04x", *s);
+        else
+            fputc(*s, fp);
+    }
+    fputc('"', fp);
 }
 
 static ekm_status parse_scalars(const char *list, int *kinds, size_t *nk, ekm_error *err);
@@ -88,165 +107,192 @@ static ekm_status parse_scalars(const char *list, int *kinds, size_t *nk, ekm_er
 /* a value in grain diameters (NaN without a diameter) */
 static double in_d(double v, double d)
 {
-  return (isfinite(d) && d > 0) ? v / d : NAN;
+    return (isfinite(d) && d > 0) ? v / d : NAN;
 }
 
 static void write_scalars(FILE *fp, const cg_score_summary *sm)
 {
-  fputs(",\n  \"scalars\": {", fp);
-  for (size_t i = 0; i < sm->nscalars; i++) {
-    const cg_score_scalar *c = &sm->scalar[i];
-    double diff = c->model - c->dem;
-    double se2 = (isfinite(c->dem_se) ? c->dem_se * c->dem_se : 0) +
-                 (isfinite(c->model_se) ? c->model_se * c->model_se : 0);
-    fprintf(fp, "%s\n    ", i ? "," : "");
-    json_str(fp, c->name);
-    fputs(": {\"t_s\": ", fp);
-    json_num(fp, c->t);
-    fputs(", \"dem\": ", fp);
-    json_num(fp, c->dem);
-    fputs(", \"dem_se\": ", fp);
-    json_num(fp, c->dem_se);
-    fputs(", \"model\": ", fp);
-    json_num(fp, c->model);
-    fputs(", \"model_se\": ", fp);
-    json_num(fp, c->model_se);
-    fputs(", \"rel_error\": ", fp);
-    json_num(fp, diff / fabs(c->dem));
-    fputs(", \"error_over_se\": ", fp);
-    json_num(fp, isfinite(c->dem_se) && se2 > 0 ? diff / sqrt(se2) : NAN);
-    fputs(", \"units\": ", fp);
-    json_str(fp, c->units);
-    fputc('}', fp);
-  }
-  fputs("\n  }", fp);
+    fputs(",\n  \"scalars\": {", fp);
+    for (size_t i = 0; i < sm->nscalars; i++) {
+        const cg_score_scalar *c = &sm->scalar[i];
+        double diff = c->model - c->dem;
+        double se2 = (isfinite(c->dem_se) ? c->dem_se * c->dem_se : 0) +
+                     (isfinite(c->model_se) ? c->model_se * c->model_se : 0);
+        fprintf(fp, "%s\n    ", i ? "," : "");
+        json_str(fp, c->name);
+        fputs(": {\"t_s\": ", fp);
+        json_num(fp, c->t);
+        fputs(", \"dem\": ", fp);
+        json_num(fp, c->dem);
+        fputs(", \"dem_se\": ", fp);
+        json_num(fp, c->dem_se);
+        fputs(", \"model\": ", fp);
+        json_num(fp, c->model);
+        fputs(", \"model_se\": ", fp);
+        json_num(fp, c->model_se);
+        fputs(", \"rel_error\": ", fp);
+        json_num(fp, diff / fabs(c->dem));
+        fputs(", \"error_over_se\": ", fp);
+        json_num(fp, isfinite(c->dem_se) && se2 > 0 ? diff / sqrt(se2) : NAN);
+        fputs(", \"units\": ", fp);
+        json_str(fp, c->units);
+        fputc('}', fp);
+    }
+    fputs("\n  }", fp);
 }
 
-static ekm_status write_json(const cg_score_opts *o, const cg_score_field *res, size_t nres,
-                      const char *mode, const cg_score_summary *sm, ekm_error *err)
+static ekm_status write_json(const cg_score_opts *o, const cg_score_field *res, size_t nres, const char *mode,
+                             const cg_score_summary *sm, ekm_error *err)
 {
-  ekm_atomic out;
-  ekm_status rc = ekm_atomic_open(&out, o->json, err);
-  if (rc) return rc;
-  FILE *fp = out.fp;
-  fputs("{\n  \"dem\": ", fp);
-  json_str(fp, o->dem);
-  fputs(",\n  \"ekm\": ", fp);
-  json_str(fp, o->ekm);
-  fprintf(fp, ",\n  \"time\": \"%s\",\n  \"code_version\": ", mode);
-  json_str(fp, EKMBENCH_VERSION);
-  /* every option that produced the numbers, so that a reader (the figures,
-   * the regression test) needs no scenario file to know or redo them */
-  int other_dem = 0;
-  for (size_t i = 0; i < nres; i++) other_dem |= res[i].se_both;
-  fputs(",\n  \"options\": {\n    \"fields\": [", fp);
-  for (size_t i = 0; i < nres; i++) {
-    if (i) fputs(", ", fp);
-    json_str(fp, res[i].name);
-  }
-  fprintf(fp, "],\n    \"ekm_time\": \"%s\",\n    \"shift_m\": ", o->ekm_last ? "last" : "interp");
-  json_exact(fp, o->shift);
-  fprintf(fp, ",\n    \"model\": \"%s\",\n    \"se\": \"%s\",\n    \"se_floor_rel_rms\": ",
-          other_dem ? "dem" : "ekm", other_dem ? "dem and model in quadrature" : "dem");
-  json_exact(fp, CG_SCORE_SE_FLOOR);
-  fputs(",\n    \"support\": ", fp);
-  json_exact(fp, o->support);
-  fputs(",\n    \"support_phi\": ", fp);
-  json_exact(fp, sm->support_phi);
-  /* the scalars asked for (sets expanded), as --scalars takes them */
-  int kinds[CG_SCALAR_COUNT * 4];
-  size_t nk = 0;
-  ekm_status rc_k = parse_scalars(o->scalars, kinds, &nk, err);
-  if (rc_k) { ekm_atomic_abort(&out); return rc_k; }
-  fputs(",\n    \"scalars\": [", fp);
-  for (size_t i = 0; i < nk; i++) {
-    if (i) fputs(", ", fp);
-    json_str(fp, cg_scalar_name((cg_scalar_kind)kinds[i]));
-  }
-  fputs("]\n  }", fp);
-  fputs(",\n  \"free_surface\": {\"definition\": \"layer height: the highest z where phi crosses half its "
-        "profile maximum (linear), at the last DEM time compared\", \"t_s\": ", fp);
-  json_num(fp, sm->t);
-  fputs(", \"dem_m\": ", fp);
-  json_num(fp, sm->dem_height);
-  fputs(", \"model_m\": ", fp);
-  json_num(fp, sm->model_height);
-  fputs(", \"offset_m\": ", fp);
-  json_num(fp, sm->model_height - sm->dem_height);
-  fputs(", \"mean_diameter_m\": ", fp);
-  json_num(fp, sm->mean_diameter);
-  fputs(", \"dem_d\": ", fp);
-  json_num(fp, in_d(sm->dem_height, sm->mean_diameter));
-  fputs(", \"model_d\": ", fp);
-  json_num(fp, in_d(sm->model_height, sm->mean_diameter));
-  fputs(", \"offset_d\": ", fp);
-  json_num(fp, in_d(sm->model_height - sm->dem_height, sm->mean_diameter));
-  fputc('}', fp);
-  fputs(",\n  \"fields\": {", fp);
-  for (size_t i = 0; i < nres; i++) {
-    fprintf(fp, "%s\n    \"%s\": {\"points\": %zu, \"points_with_se\": %zu, \"points_left_out\": %zu, \"rel_l2\": ",
-            i ? "," : "", res[i].name, res[i].points, res[i].points_se, res[i].points_left_out);
-    json_num(fp, res[i].rel_l2);
-    fputs(", \"noise_normalised\": ", fp);
-    json_num(fp, res[i].noise);
-    fprintf(fp, ", \"se\": \"%s\"}", res[i].se_both ? "both, in quadrature" : "dem");
-  }
-  fputs("\n  }", fp);
-  write_scalars(fp, sm);
-  fputs("\n}\n", fp);
-  return ekm_atomic_commit(&out, err);
+    ekm_atomic out;
+    ekm_status rc = ekm_atomic_open(&out, o->json, err);
+    if (rc)
+        return rc;
+    FILE *fp = out.fp;
+    fputs("{\n  \"dem\": ", fp);
+    json_str(fp, o->dem);
+    fputs(",\n  \"ekm\": ", fp);
+    json_str(fp, o->ekm);
+    fprintf(fp, ",\n  \"time\": \"%s\",\n  \"code_version\": ", mode);
+    json_str(fp, EKMBENCH_VERSION);
+    /* every option that produced the numbers, so that a reader (the figures,
+     * the regression test) needs no scenario file to know or redo them */
+    int other_dem = 0;
+    for (size_t i = 0; i < nres; i++)
+        other_dem |= res[i].se_both;
+    fputs(",\n  \"options\": {\n    \"fields\": [", fp);
+    for (size_t i = 0; i < nres; i++) {
+        if (i)
+            fputs(", ", fp);
+        json_str(fp, res[i].name);
+    }
+    fprintf(fp, "],\n    \"ekm_time\": \"%s\",\n    \"shift_m\": ", o->ekm_last ? "last" : "interp");
+    json_exact(fp, o->shift);
+    fprintf(fp, ",\n    \"model\": \"%s\",\n    \"se\": \"%s\",\n    \"se_floor_rel_rms\": ",
+            other_dem ? "dem" : "ekm", other_dem ? "dem and model in quadrature" : "dem");
+    json_exact(fp, CG_SCORE_SE_FLOOR);
+    fputs(",\n    \"support\": ", fp);
+    json_exact(fp, o->support);
+    fputs(",\n    \"support_phi\": ", fp);
+    json_exact(fp, sm->support_phi);
+    /* the scalars asked for (sets expanded), as --scalars takes them */
+    int kinds[CG_SCALAR_COUNT * 4];
+    size_t nk = 0;
+    ekm_status rc_k = parse_scalars(o->scalars, kinds, &nk, err);
+    if (rc_k) {
+        ekm_atomic_abort(&out);
+        return rc_k;
+    }
+    fputs(",\n    \"scalars\": [", fp);
+    for (size_t i = 0; i < nk; i++) {
+        if (i)
+            fputs(", ", fp);
+        json_str(fp, cg_scalar_name((cg_scalar_kind)kinds[i]));
+    }
+    fputs("]\n  }", fp);
+    fputs(",\n  \"free_surface\": {\"definition\": \"layer height: the highest z where phi crosses half its "
+          "profile maximum (linear), at the last DEM time compared\", \"t_s\": ",
+          fp);
+    json_num(fp, sm->t);
+    fputs(", \"dem_m\": ", fp);
+    json_num(fp, sm->dem_height);
+    fputs(", \"model_m\": ", fp);
+    json_num(fp, sm->model_height);
+    fputs(", \"offset_m\": ", fp);
+    json_num(fp, sm->model_height - sm->dem_height);
+    fputs(", \"mean_diameter_m\": ", fp);
+    json_num(fp, sm->mean_diameter);
+    fputs(", \"dem_d\": ", fp);
+    json_num(fp, in_d(sm->dem_height, sm->mean_diameter));
+    fputs(", \"model_d\": ", fp);
+    json_num(fp, in_d(sm->model_height, sm->mean_diameter));
+    fputs(", \"offset_d\": ", fp);
+    json_num(fp, in_d(sm->model_height - sm->dem_height, sm->mean_diameter));
+    fputc('}', fp);
+    fputs(",\n  \"fields\": {", fp);
+    for (size_t i = 0; i < nres; i++) {
+        fprintf(fp,
+                "%s\n    \"%s\": {\"points\": %zu, \"points_with_se\": %zu, \"points_left_out\": %zu, "
+                "\"rel_l2\": ",
+                i ? "," : "", res[i].name, res[i].points, res[i].points_se, res[i].points_left_out);
+        json_num(fp, res[i].rel_l2);
+        fputs(", \"noise_normalised\": ", fp);
+        json_num(fp, res[i].noise);
+        fprintf(fp, ", \"se\": \"%s\"}", res[i].se_both ? "both, in quadrature" : "dem");
+    }
+    fputs("\n  }", fp);
+    write_scalars(fp, sm);
+    fputs("\n}\n", fp);
+    return ekm_atomic_commit(&out, err);
 }
 
 /* A dataset of 1 ([n], *nt = 0) or 2 ([nt][n]) dimensions as doubles. */
 static ekm_status read_array(ekm_h5_file *f, const char *name, double **data, size_t *nt, size_t *n,
                              ekm_error *err)
 {
-  int rank;
-  size_t dims[EKM_H5_MAX_RANK];
-  ekm_status rc = ekm_h5_read_double(f, name, &rank, dims, data, err);
-  if (rc) return rc;
-  if (rank > 2) {
-    free(*data);
-    *data = NULL;
-    return EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected 1 or 2 dimensions", ekm_h5_path(f), name);
-  }
-  *nt = rank == 2 ? dims[0] : 0;
-  *n = rank == 2 ? dims[1] : dims[0];
-  return EKM_OK;
+    int rank;
+    size_t dims[EKM_H5_MAX_RANK];
+    ekm_status rc = ekm_h5_read_double(f, name, &rank, dims, data, err);
+    if (rc)
+        return rc;
+    if (rank > 2) {
+        free(*data);
+        *data = NULL;
+        return EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected 1 or 2 dimensions", ekm_h5_path(f), name);
+    }
+    *nt = rank == 2 ? dims[0] : 0;
+    *n = rank == 2 ? dims[1] : dims[0];
+    return EKM_OK;
 }
 
 typedef struct {
-  double *zd, *td, *ze, *te;  /* DEM and EKM coordinates and times */
-  size_t nzd, ntd, nze, nte;
+    double *zd, *td, *ze, *te; /* DEM and EKM coordinates and times */
+    size_t nzd, ntd, nze, nte;
 } axes;
 
 static ekm_status read_axes(ekm_h5_file *dem, ekm_h5_file *ekm, const cg_score_opts *o, axes *ax,
                             ekm_error *err)
 {
-  char axis[8] = "z";
-  size_t nt;
-  ekm_status rc = EKM_OK;
-  if (ekm_h5_attr_exists(dem, NULL, "axis")) {
-    if ((rc = ekm_h5_attr_get_string(dem, NULL, "axis", axis, sizeof axis, err))) return rc;
-  } else {
-    if (!ekm_h5_exists(dem, "z") && ekm_h5_exists(dem, "x")) strcpy(axis, "x");
-    else if (!ekm_h5_exists(dem, "z") && ekm_h5_exists(dem, "y")) strcpy(axis, "y");
-  }
-  rc = read_array(dem, axis, &ax->zd, &nt, &ax->nzd, err);
-  if (!rc && nt) rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected 1 dimension", o->dem, axis);
-  if (!rc) rc = read_array(dem, "t", &ax->td, &nt, &ax->ntd, err);
-  if (!rc && nt) rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected 1 dimension", o->dem);
-  if (!rc) rc = read_array(ekm, "z", &ax->ze, &nt, &ax->nze, err);
-  if (!rc && nt) rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset z: expected 1 dimension", o->ekm);
-  if (!rc) rc = read_array(ekm, "t", &ax->te, &nt, &ax->nte, err);
-  if (!rc && nt) rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected 1 dimension", o->ekm);
-  if (rc) return rc;
-  if (ax->nze == 0 || ax->nte == 0) return EKM_FAIL(err, EKM_EINPUT, "%s: expected non-empty /z and /t", o->ekm);
-  if (ax->nzd == 0 || ax->ntd == 0) return EKM_FAIL(err, EKM_EINPUT, "%s: expected non-empty /%s and /t", o->dem, axis);
-  if (!increasing(ax->ze, ax->nze)) return EKM_FAIL(err, EKM_EINPUT, "%s: dataset z: expected increasing values", o->ekm);
-  if (!increasing(ax->te, ax->nte)) return EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected increasing values", o->ekm);
-  for (size_t i = 0; i < ax->nzd; i++) ax->zd[i] += o->shift;
-  return EKM_OK;
+    char axis[8] = "z";
+    size_t nt;
+    ekm_status rc = EKM_OK;
+    if (ekm_h5_attr_exists(dem, NULL, "axis")) {
+        if ((rc = ekm_h5_attr_get_string(dem, NULL, "axis", axis, sizeof axis, err)))
+            return rc;
+    } else {
+        if (!ekm_h5_exists(dem, "z") && ekm_h5_exists(dem, "x"))
+            strcpy(axis, "x");
+        else if (!ekm_h5_exists(dem, "z") && ekm_h5_exists(dem, "y"))
+            strcpy(axis, "y");
+    }
+    rc = read_array(dem, axis, &ax->zd, &nt, &ax->nzd, err);
+    if (!rc && nt)
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected 1 dimension", o->dem, axis);
+    if (!rc)
+        rc = read_array(dem, "t", &ax->td, &nt, &ax->ntd, err);
+    if (!rc && nt)
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected 1 dimension", o->dem);
+    if (!rc)
+        rc = read_array(ekm, "z", &ax->ze, &nt, &ax->nze, err);
+    if (!rc && nt)
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset z: expected 1 dimension", o->ekm);
+    if (!rc)
+        rc = read_array(ekm, "t", &ax->te, &nt, &ax->nte, err);
+    if (!rc && nt)
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected 1 dimension", o->ekm);
+    if (rc)
+        return rc;
+    if (ax->nze == 0 || ax->nte == 0)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: expected non-empty /z and /t", o->ekm);
+    if (ax->nzd == 0 || ax->ntd == 0)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: expected non-empty /%s and /t", o->dem, axis);
+    if (!increasing(ax->ze, ax->nze))
+        return EKM_FAIL(err, EKM_EINPUT, "%s: dataset z: expected increasing values", o->ekm);
+    if (!increasing(ax->te, ax->nte))
+        return EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected increasing values", o->ekm);
+    for (size_t i = 0; i < ax->nzd; i++)
+        ax->zd[i] += o->shift;
+    return EKM_OK;
 }
 
 /* The fields the scalars and the support use, of one side ([nt][n] each,
@@ -255,40 +301,46 @@ enum { S_PHI, S_VX, S_SXZ, S_SZZ, S_P, S_T, S_N };
 static const char *const side_names[S_N] = {"phi", "vx", "sxz", "szz", "P", "T"};
 
 typedef struct {
-  double *f[S_N], *se[S_N];
+    double *f[S_N], *se[S_N];
 } side;
 
 static void side_free(side *s)
 {
-  for (int i = 0; i < S_N; i++) { free(s->f[i]); free(s->se[i]); }
+    for (int i = 0; i < S_N; i++) {
+        free(s->f[i]);
+        free(s->se[i]);
+    }
 }
 
 /* a dataset of shape [nt][n] if present (else *data = NULL) */
 static ekm_status read_optional(ekm_h5_file *f, const char *name, size_t nt, size_t n, double **data,
                                 ekm_error *err)
 {
-  *data = NULL;
-  if (!ekm_h5_exists(f, name)) return EKM_OK;
-  size_t nt1, n1;
-  ekm_status rc = read_array(f, name, data, &nt1, &n1, err);
-  if (!rc && (nt1 != nt || n1 != n)) {
-    free(*data);
     *data = NULL;
-    rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", ekm_h5_path(f), name, nt, n);
-  }
-  return rc;
+    if (!ekm_h5_exists(f, name))
+        return EKM_OK;
+    size_t nt1, n1;
+    ekm_status rc = read_array(f, name, data, &nt1, &n1, err);
+    if (!rc && (nt1 != nt || n1 != n)) {
+        free(*data);
+        *data = NULL;
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", ekm_h5_path(f), name, nt,
+                      n);
+    }
+    return rc;
 }
 
 static ekm_status side_read(ekm_h5_file *f, size_t nt, size_t n, side *s, ekm_error *err)
 {
-  ekm_status rc = EKM_OK;
-  char sename[48];
-  for (int i = 0; i < S_N && !rc; i++) {
-    snprintf(sename, sizeof sename, "%s_se", side_names[i]);
-    rc = read_optional(f, side_names[i], nt, n, &s->f[i], err);
-    if (!rc) rc = read_optional(f, sename, nt, n, &s->se[i], err);
-  }
-  return rc;
+    ekm_status rc = EKM_OK;
+    char sename[48];
+    for (int i = 0; i < S_N && !rc; i++) {
+        snprintf(sename, sizeof sename, "%s_se", side_names[i]);
+        rc = read_optional(f, side_names[i], nt, n, &s->f[i], err);
+        if (!rc)
+            rc = read_optional(f, sename, nt, n, &s->se[i], err);
+    }
+    return rc;
 }
 
 /* row i0 + at (row i1 - row i0) of every field of s into buf[2 S_N][n],
@@ -296,352 +348,442 @@ static ekm_status side_read(ekm_h5_file *f, size_t nt, size_t n, side *s, ekm_er
 static void side_row(const side *s, const double *z, size_t n, size_t i0, size_t i1, double at, double *buf,
                      cg_scalar_profile *p)
 {
-  const double *rows[2 * S_N];
-  for (int i = 0; i < S_N; i++) { rows[i] = s->f[i]; rows[S_N + i] = s->se[i]; }
-  for (int i = 0; i < 2 * S_N; i++) {
-    double *out = buf + (size_t)i * n;
-    if (!rows[i]) continue;
-    const double *r0 = rows[i] + i0 * n, *r1 = rows[i] + i1 * n;
-    for (size_t k = 0; k < n; k++) out[k] = r0[k] + at * (r1[k] - r0[k]);
-  }
-#define ROW(i) (rows[i] ? buf + (size_t)(i) * n : NULL)
-  p->n = n;
-  p->z = z;
-  p->phi = ROW(S_PHI); p->vx = ROW(S_VX); p->sxz = ROW(S_SXZ); p->szz = ROW(S_SZZ); p->P = ROW(S_P); p->T = ROW(S_T);
-  p->phi_se = ROW(S_N + S_PHI); p->vx_se = ROW(S_N + S_VX); p->sxz_se = ROW(S_N + S_SXZ);
-  p->szz_se = ROW(S_N + S_SZZ); p->P_se = ROW(S_N + S_P); p->T_se = ROW(S_N + S_T);
+    const double *rows[2 * S_N];
+    for (int i = 0; i < S_N; i++) {
+        rows[i] = s->f[i];
+        rows[S_N + i] = s->se[i];
+    }
+    for (int i = 0; i < 2 * S_N; i++) {
+        double *out = buf + (size_t)i * n;
+        if (!rows[i])
+            continue;
+        const double *r0 = rows[i] + i0 * n, *r1 = rows[i] + i1 * n;
+        for (size_t k = 0; k < n; k++)
+            out[k] = r0[k] + at * (r1[k] - r0[k]);
+    }
+#define ROW(i) (rows[i] ? buf + (size_t)(i)*n : NULL)
+    p->n = n;
+    p->z = z;
+    p->phi = ROW(S_PHI);
+    p->vx = ROW(S_VX);
+    p->sxz = ROW(S_SXZ);
+    p->szz = ROW(S_SZZ);
+    p->P = ROW(S_P);
+    p->T = ROW(S_T);
+    p->phi_se = ROW(S_N + S_PHI);
+    p->vx_se = ROW(S_N + S_VX);
+    p->sxz_se = ROW(S_N + S_SXZ);
+    p->szz_se = ROW(S_N + S_SZZ);
+    p->P_se = ROW(S_N + S_P);
+    p->T_se = ROW(S_N + S_T);
 #undef ROW
 }
 
 /* the scalar list (names and set names) as kinds, in order, each once */
 static ekm_status parse_scalars(const char *list, int *kinds, size_t *nk, ekm_error *err)
 {
-  *nk = 0;
-  if (!list || !*list) return EKM_OK;
-  const char *p = list;
-  while (*p) {
-    const char *q = strchr(p, ',');
-    size_t len = q ? (size_t)(q - p) : strlen(p);
-    char name[48];
-    if (len == 0 || len >= sizeof name)
-      return EKM_FAIL(err, EKM_EUSAGE, "--scalars: expected a comma-separated list of scalar or set names, got '%s'", list);
-    memcpy(name, p, len);
-    name[len] = '\0';
-    const char *set = cg_scalar_set(name);
-    if (set) {
-      size_t nset;
-      ekm_status rc = parse_scalars(set, kinds + *nk, &nset, err);
-      if (rc) return rc;
-      *nk += nset;
-    } else {
-      int k = cg_scalar_lookup(name);
-      if (k < 0)
-        return EKM_FAIL(err, EKM_EUSAGE, "--scalars: unknown scalar '%s' (expected a set: chute, shear_cell, "
-                        "filling, simple_shear, or a scalar name of docs/compare.md)", name);
-      kinds[(*nk)++] = k;
+    *nk = 0;
+    if (!list || !*list)
+        return EKM_OK;
+    const char *p = list;
+    while (*p) {
+        const char *q = strchr(p, ',');
+        size_t len = q ? (size_t)(q - p) : strlen(p);
+        char name[48];
+        if (len == 0 || len >= sizeof name)
+            return EKM_FAIL(err, EKM_EUSAGE,
+                            "--scalars: expected a comma-separated list of scalar or set names, got '%s'",
+                            list);
+        memcpy(name, p, len);
+        name[len] = '\0';
+        const char *set = cg_scalar_set(name);
+        if (set) {
+            size_t nset;
+            ekm_status rc = parse_scalars(set, kinds + *nk, &nset, err);
+            if (rc)
+                return rc;
+            *nk += nset;
+        } else {
+            int k = cg_scalar_lookup(name);
+            if (k < 0)
+                return EKM_FAIL(err, EKM_EUSAGE,
+                                "--scalars: unknown scalar '%s' (expected a set: chute, shear_cell, "
+                                "filling, simple_shear, or a scalar name of docs/compare.md)",
+                                name);
+            kinds[(*nk)++] = k;
+        }
+        p += len + (q ? 1 : 0);
+        if (*nk > CG_SCALAR_COUNT * 4)
+            return EKM_FAIL(err, EKM_EUSAGE, "--scalars: list too long: '%s'", list);
     }
-    p += len + (q ? 1 : 0);
-    if (*nk > CG_SCALAR_COUNT * 4) return EKM_FAIL(err, EKM_EUSAGE, "--scalars: list too long: '%s'", list);
-  }
-  /* each kind once, first occurrence kept */
-  size_t m = 0;
-  for (size_t i = 0; i < *nk; i++) {
-    size_t j = 0;
-    while (j < m && kinds[j] != kinds[i]) j++;
-    if (j == m) kinds[m++] = kinds[i];
-  }
-  *nk = m;
-  return EKM_OK;
+    /* each kind once, first occurrence kept */
+    size_t m = 0;
+    for (size_t i = 0; i < *nk; i++) {
+        size_t j = 0;
+        while (j < m && kinds[j] != kinds[i])
+            j++;
+        if (j == m)
+            kinds[m++] = kinds[i];
+    }
+    *nk = m;
+    return EKM_OK;
 }
 
 /* the free surface and the scalars (the sides' rows at the DEM times) */
 static ekm_status summarise(const cg_score_opts *o, const axes *ax, const side *sd, const side *se_,
-                            const size_t *ti, const double *ta, const int *tin, cg_score_summary *sm, ekm_error *err)
+                            const size_t *ti, const double *ta, const int *tin, cg_score_summary *sm,
+                            ekm_error *err)
 {
-  int kinds[CG_SCALAR_COUNT * 4];
-  size_t nk;
-  ekm_status rc = parse_scalars(o->scalars, kinds, &nk, err);
-  if (rc) return rc;
-  size_t jl = ax->ntd;
-  for (size_t j = 0; j < ax->ntd; j++)
-    if (tin[j]) jl = j;
-  sm->t = NAN;
-  sm->dem_height = sm->model_height = NAN;
-  sm->nscalars = 0;
-  if (jl == ax->ntd) return EKM_OK;
-  double *bd = malloc(2 * S_N * ax->nzd * sizeof *bd), *be = malloc(2 * S_N * ax->nze * sizeof *be);
-  if (!bd || !be) { free(bd); free(be); return EKM_FAIL(err, EKM_ENOMEM, "out of memory"); }
-  sm->t = ax->td[jl];
-  for (size_t j = 0; j < ax->ntd && !rc; j++) {
-    if (!tin[j]) continue;
-    cg_scalar_profile pd, pe;
-    size_t i1 = ti[j] + 1 < ax->nte ? ti[j] + 1 : ti[j];
-    side_row(sd, ax->zd, ax->nzd, j, j, 0.0, bd, &pd);
-    side_row(se_, ax->ze, ax->nze, ti[j], i1, ta[j], be, &pe);
-    if (j == jl) {
-      sm->dem_height = cg_scalar_compute(CG_SCALAR_LAYER_HEIGHT, &pd).value;
-      sm->model_height = cg_scalar_compute(CG_SCALAR_LAYER_HEIGHT, &pe).value;
+    int kinds[CG_SCALAR_COUNT * 4];
+    size_t nk;
+    ekm_status rc = parse_scalars(o->scalars, kinds, &nk, err);
+    if (rc)
+        return rc;
+    size_t jl = ax->ntd;
+    for (size_t j = 0; j < ax->ntd; j++)
+        if (tin[j])
+            jl = j;
+    sm->t = NAN;
+    sm->dem_height = sm->model_height = NAN;
+    sm->nscalars = 0;
+    if (jl == ax->ntd)
+        return EKM_OK;
+    double *bd = malloc(2 * S_N * ax->nzd * sizeof *bd), *be = malloc(2 * S_N * ax->nze * sizeof *be);
+    if (!bd || !be) {
+        free(bd);
+        free(be);
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
     }
-    for (size_t i = 0; i < nk; i++) {
-      cg_scalar_kind k = (cg_scalar_kind)kinds[i];
-      int per_time = cg_scalar_per_time(k);
-      if (!per_time && j != jl) continue;
-      if (sm->nscalars == CG_SCORE_MAX_SCALARS) {
-        rc = EKM_FAIL(err, EKM_EINPUT, "%s: more than %d scalars (a time series with too many times)", o->dem,
-                      CG_SCORE_MAX_SCALARS);
-        break;
-      }
-      cg_score_scalar *c = &sm->scalar[sm->nscalars++];
-      if (per_time) snprintf(c->name, sizeof c->name, "%s@%.6gs", cg_scalar_name(k), ax->td[j]);
-      else snprintf(c->name, sizeof c->name, "%s", cg_scalar_name(k));
-      c->units = cg_scalar_units(k);
-      c->t = ax->td[j];
-      cg_scalar_value vd = cg_scalar_compute(k, &pd), ve = cg_scalar_compute(k, &pe);
-      c->dem = vd.value;
-      c->dem_se = vd.se;
-      c->model = ve.value;
-      c->model_se = ve.se;
+    sm->t = ax->td[jl];
+    for (size_t j = 0; j < ax->ntd && !rc; j++) {
+        if (!tin[j])
+            continue;
+        cg_scalar_profile pd, pe;
+        size_t i1 = ti[j] + 1 < ax->nte ? ti[j] + 1 : ti[j];
+        side_row(sd, ax->zd, ax->nzd, j, j, 0.0, bd, &pd);
+        side_row(se_, ax->ze, ax->nze, ti[j], i1, ta[j], be, &pe);
+        if (j == jl) {
+            sm->dem_height = cg_scalar_compute(CG_SCALAR_LAYER_HEIGHT, &pd).value;
+            sm->model_height = cg_scalar_compute(CG_SCALAR_LAYER_HEIGHT, &pe).value;
+        }
+        for (size_t i = 0; i < nk; i++) {
+            cg_scalar_kind k = (cg_scalar_kind)kinds[i];
+            int per_time = cg_scalar_per_time(k);
+            if (!per_time && j != jl)
+                continue;
+            if (sm->nscalars == CG_SCORE_MAX_SCALARS) {
+                rc = EKM_FAIL(err, EKM_EINPUT, "%s: more than %d scalars (a time series with too many times)",
+                              o->dem, CG_SCORE_MAX_SCALARS);
+                break;
+            }
+            cg_score_scalar *c = &sm->scalar[sm->nscalars++];
+            if (per_time)
+                snprintf(c->name, sizeof c->name, "%s@%.6gs", cg_scalar_name(k), ax->td[j]);
+            else
+                snprintf(c->name, sizeof c->name, "%s", cg_scalar_name(k));
+            c->units = cg_scalar_units(k);
+            c->t = ax->td[j];
+            cg_scalar_value vd = cg_scalar_compute(k, &pd), ve = cg_scalar_compute(k, &pe);
+            c->dem = vd.value;
+            c->dem_se = vd.se;
+            c->model = ve.value;
+            c->model_se = ve.se;
+        }
     }
-  }
-  free(bd);
-  free(be);
-  return rc;
+    free(bd);
+    free(be);
+    return rc;
 }
 
 /* A --fields name must be a field of the schema (common/schema.h). */
 static ekm_status check_field_name(const char *name, ekm_error *err)
 {
-  if (ekm_field_lookup(name)) return EKM_OK;
-  char known[512] = "";
-  size_t used = 0;
-  for (size_t i = 0; i < ekm_field_count() && used < sizeof known; i++) {
-    const char *n = ekm_field_at(i)->name;
-    const size_t len = strlen(n);
-    if (len > 3 && !strcmp(n + len - 3, "_se")) continue; /* standard errors come with their field */
-    used += (size_t)snprintf(known + used, sizeof known - used, "%s%s", used ? " " : "", n);
-  }
-  return EKM_FAIL(err, EKM_EINPUT, "--fields: unknown field '%s' (the fields are: %s)", name, known);
+    if (ekm_field_lookup(name))
+        return EKM_OK;
+    char known[512] = "";
+    size_t used = 0;
+    for (size_t i = 0; i < ekm_field_count() && used < sizeof known; i++) {
+        const char *n = ekm_field_at(i)->name;
+        const size_t len = strlen(n);
+        if (len > 3 && !strcmp(n + len - 3, "_se"))
+            continue; /* standard errors come with their field */
+        used += (size_t)snprintf(known + used, sizeof known - used, "%s%s", used ? " " : "", n);
+    }
+    return EKM_FAIL(err, EKM_EINPUT, "--fields: unknown field '%s' (the fields are: %s)", name, known);
 }
 
 /* Dataset name of file f must carry the schema's units attribute. */
 static ekm_status check_units(ekm_h5_file *f, const char *path, const char *name, ekm_error *err)
 {
-  const char *want = ekm_field_units(name);
-  if (!want) return EKM_OK;
-  char got[64];
-  ekm_status rc = ekm_h5_attr_get_string(f, name, "units", got, sizeof got, err);
-  if (rc) return rc;
-  if (strcmp(got, want))
-    return EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: units '%s', expected '%s' (the field schema)", path, name, got,
-                    want);
-  return EKM_OK;
+    const char *want = ekm_field_units(name);
+    if (!want)
+        return EKM_OK;
+    char got[64];
+    ekm_status rc = ekm_h5_attr_get_string(f, name, "units", got, sizeof got, err);
+    if (rc)
+        return rc;
+    if (strcmp(got, want))
+        return EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: units '%s', expected '%s' (the field schema)", path,
+                        name, got, want);
+    return EKM_OK;
 }
 
 ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err)
 {
-  cg_score_field loc[MAXF];
-  cg_score_summary sm_loc;
-  cg_score_summary *sm = o->summary ? o->summary : &sm_loc;
-  memset(sm, 0, sizeof *sm);
-  sm->mean_diameter = NAN;
-  if (!res) res = loc;
-  *nres = 0;
-  if (!o->dem || !o->ekm) return EKM_FAIL(err, EKM_EUSAGE, "score: expected --dem CG.h5 and --ekm RUN.h5");
-  if (!(o->support >= 0 && o->support < 1))
-    return EKM_FAIL(err, EKM_EUSAGE, "--support: expected a fraction of the DEM's largest phi in [0, 1), got %g", o->support);
-  /* field list */
-  char names[MAXF][32];
-  size_t nf = 0;
-  if (o->fields) {
-    const char *p = o->fields;
-    while (*p) {
-      const char *q = strchr(p, ',');
-      size_t len = q ? (size_t)(q - p) : strlen(p);
-      if (len == 0 || len >= 32 || nf == MAXF)
-        return EKM_FAIL(err, EKM_EUSAGE, "--fields: expected a comma-separated list of field names, got '%s'", o->fields);
-      memcpy(names[nf], p, len);
-      names[nf][len] = '\0';
-      ekm_status st = check_field_name(names[nf++], err);
-      if (st) return st;
-      p += len + (q ? 1 : 0);
-    }
-  }
-  /* the JSON must not replace an input */
-  const char *inputs[2] = {o->dem, o->ekm};
-  if (o->json) {
-    ekm_status st = ekm_atomic_refuse_input(o->json, inputs, 2, err);
-    if (st) return st;
-  }
-  ekm_h5_file *dem = NULL, *ekm = NULL;
-  ekm_status rc = ekm_h5_open(&dem, o->dem, err);
-  if (!rc) rc = ekm_h5_open(&ekm, o->ekm, err);
-  axes ax;
-  memset(&ax, 0, sizeof ax);
-  if (!rc) rc = read_axes(dem, ekm, o, &ax, err);
-  if (!rc && !o->fields)
-    for (size_t i = 0; i < sizeof default_fields / sizeof *default_fields; i++)
-      if (ekm_h5_exists(dem, default_fields[i]) && ekm_h5_exists(ekm, default_fields[i]))
-        strcpy(names[nf++], default_fields[i]);
-  if (!rc && nf == 0) rc = EKM_FAIL(err, EKM_EINPUT, "%s, %s: no field in common", o->dem, o->ekm);
-  /* time mapping: EKM index and fraction per DEM time */
-  int last = o->ekm_last;
-  size_t *ti = NULL;
-  double *ta = NULL;
-  int *tin = NULL;
-  if (!rc) {
-    ti = malloc(ax.ntd * sizeof *ti);
-    ta = malloc(ax.ntd * sizeof *ta);
-    tin = malloc(ax.ntd * sizeof *tin);
-    if (!ti || !ta || !tin) rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-  }
-  if (!rc) {
-    size_t nin = 0;
-    for (size_t j = 0; j < ax.ntd; j++) {
-      tin[j] = cg_score_locate(ax.te, ax.nte, ax.td[j], &ti[j], &ta[j]);
-      nin += (size_t)tin[j];
-    }
-    if (!last && nin == 0) {
-      last = 1;
-      if (o->log)
-        fprintf(o->log, "note: no DEM time (%.6g..%.6g s) inside the EKM output times (%.6g..%.6g s): "
-                "comparing with the EKM's last output (t = %.6g s)\n",
-                ax.td[0], ax.td[ax.ntd - 1], ax.te[0], ax.te[ax.nte - 1], ax.te[ax.nte - 1]);
-    }
-    if (last)
-      for (size_t j = 0; j < ax.ntd; j++) { tin[j] = 1; ti[j] = ax.nte - 1; ta[j] = 0.0; }
-  }
-  /* the sides' phi (common support, free surface) and the scalars' fields */
-  side sdem, smod;
-  memset(&sdem, 0, sizeof sdem);
-  memset(&smod, 0, sizeof smod);
-  if (!rc) rc = side_read(dem, ax.ntd, ax.nzd, &sdem, err);
-  if (!rc) rc = side_read(ekm, ax.nte, ax.nze, &smod, err);
-  if (!rc && o->support > 0 && (!sdem.f[S_PHI] || !smod.f[S_PHI]))
-    rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset phi for the common support (--support 0 scores without it)",
-                  sdem.f[S_PHI] ? o->ekm : o->dem);
-  double support_phi = 0.0;
-  if (!rc && o->support > 0) {
-    double m = NAN;
-    for (size_t q = 0; q < ax.ntd * ax.nzd; q++)
-      if (isfinite(sdem.f[S_PHI][q]) && !(sdem.f[S_PHI][q] <= m)) m = sdem.f[S_PHI][q];
-    if (!isfinite(m) || !(m > 0)) rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset phi: expected a positive value", o->dem);
-    support_phi = o->support * m;
-  }
-  sm->support_phi = support_phi;
-  if (!rc) {
-    const char *which = ekm_h5_attr_exists(dem, NULL, "mean_diameter") ? o->dem
-                      : ekm_h5_attr_exists(ekm, NULL, "mean_diameter") ? o->ekm : NULL;
-    if (which) rc = ekm_h5_attr_get_double(which == o->dem ? dem : ekm, NULL, "mean_diameter", &sm->mean_diameter, err);
-  }
-  if (!rc && sdem.f[S_PHI] && smod.f[S_PHI]) rc = summarise(o, &ax, &sdem, &smod, ti, ta, tin, sm, err);
-  else if (!rc && o->scalars && *o->scalars)
-    rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset phi for --scalars", sdem.f[S_PHI] ? o->ekm : o->dem);
-  for (size_t f = 0; f < nf && !rc; f++) {
-    double *fd = NULL, *sd = NULL, *fe = NULL, *fse = NULL;
-    size_t nt1, n1, nt2 = 0, n2 = 0, nt3, n3, nt4, n4;
-    char sename[48];
-    snprintf(sename, sizeof sename, "%s_se", names[f]);
-    if (!ekm_h5_exists(dem, names[f])) rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->dem, names[f]);
-    else if (!ekm_h5_exists(ekm, names[f])) rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->ekm, names[f]);
-    if (!rc) rc = check_units(dem, o->dem, names[f], err);
-    if (!rc) rc = check_units(ekm, o->ekm, names[f], err);
-    if (!rc) rc = read_array(dem, names[f], &fd, &nt1, &n1, err);
-    if (!rc && (nt1 != ax.ntd || n1 != ax.nzd))
-      rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, names[f], ax.ntd, ax.nzd);
-    if (!rc && ekm_h5_exists(dem, sename)) {
-      rc = read_array(dem, sename, &sd, &nt2, &n2, err);
-      if (!rc && (nt2 != ax.ntd || n2 != ax.nzd))
-        rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, sename, ax.ntd, ax.nzd);
-    }
-    if (!rc) rc = read_array(ekm, names[f], &fe, &nt3, &n3, err);
-    if (!rc && (nt3 != ax.nte || n3 != ax.nze))
-      rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, names[f], ax.nte, ax.nze);
-    /* a second coarse-grained DEM run in place of the EKM (engine against
-     * engine) carries its own standard error: the two add in quadrature */
-    if (!rc && ekm_h5_exists(ekm, sename)) {
-      rc = read_array(ekm, sename, &fse, &nt4, &n4, err);
-      if (!rc && (nt4 != ax.nte || n4 != ax.nze))
-        rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, sename, ax.nte, ax.nze);
-    }
-    /* the points both cover, in DEM order (time, then coordinate): the
-     * model interpolated onto them, the DEM value and its standard error */
-    double *pm = NULL, *pdem = NULL, *ps = NULL;
-    size_t ncand = ax.ntd * ax.nzd;
-    if (!rc && (!(pm = malloc(ncand * sizeof *pm)) || !(pdem = malloc(ncand * sizeof *pdem)) ||
-                !(ps = malloc(ncand * sizeof *ps))))
-      rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    if (!rc) {
-      size_t np = 0, left_out = 0;
-      for (size_t j = 0; j < ax.ntd; j++) {
-        if (!tin[j]) continue;
-        size_t i0 = ti[j], i1 = i0 + 1 < ax.nte ? i0 + 1 : i0;
-        double at = ta[j];
-        for (size_t k = 0; k < ax.nzd; k++) {
-          size_t zi;
-          double az;
-          if (!cg_score_locate(ax.ze, ax.nze, ax.zd[k], &zi, &az)) continue;
-          if (support_phi > 0) {
-            /* common support: material on both sides */
-            double mphi = cg_score_interp(smod.f[S_PHI] + i0 * ax.nze, smod.f[S_PHI] + i1 * ax.nze, ax.nze, zi, az, at);
-            double dphi = sdem.f[S_PHI][j * ax.nzd + k];
-            if (!(mphi > support_phi && dphi > support_phi)) { left_out++; continue; }
-          }
-          double e = cg_score_interp(fe + i0 * ax.nze, fe + i1 * ax.nze, ax.nze, zi, az, at), d = fd[j * ax.nzd + k];
-          double s = sd ? sd[j * ax.nzd + k] : NAN;
-          if (fse) {
-            double s2 = cg_score_interp(fse + i0 * ax.nze, fse + i1 * ax.nze, ax.nze, zi, az, at);
-            s = sqrt(s * s + s2 * s2);
-          }
-          pm[np] = e;
-          pdem[np] = d;
-          ps[np] = s;
-          np++;
+    cg_score_field loc[MAXF];
+    cg_score_summary sm_loc;
+    cg_score_summary *sm = o->summary ? o->summary : &sm_loc;
+    memset(sm, 0, sizeof *sm);
+    sm->mean_diameter = NAN;
+    if (!res)
+        res = loc;
+    *nres = 0;
+    if (!o->dem || !o->ekm)
+        return EKM_FAIL(err, EKM_EUSAGE, "score: expected --dem CG.h5 and --ekm RUN.h5");
+    if (!(o->support >= 0 && o->support < 1))
+        return EKM_FAIL(err, EKM_EUSAGE,
+                        "--support: expected a fraction of the DEM's largest phi in [0, 1), got %g",
+                        o->support);
+    /* field list */
+    char names[MAXF][32];
+    size_t nf = 0;
+    if (o->fields) {
+        const char *p = o->fields;
+        while (*p) {
+            const char *q = strchr(p, ',');
+            size_t len = q ? (size_t)(q - p) : strlen(p);
+            if (len == 0 || len >= 32 || nf == MAXF)
+                return EKM_FAIL(err, EKM_EUSAGE,
+                                "--fields: expected a comma-separated list of field names, got '%s'",
+                                o->fields);
+            memcpy(names[nf], p, len);
+            names[nf][len] = '\0';
+            ekm_status st = check_field_name(names[nf++], err);
+            if (st)
+                return st;
+            p += len + (q ? 1 : 0);
         }
-      }
-      cg_metric m = cg_metric_compute(pm, pdem, ps, np, CG_SCORE_SE_FLOOR);
-      cg_score_field *r = &res[*nres];
-      snprintf(r->name, sizeof r->name, "%s", names[f]);
-      r->points = m.points;
-      r->points_se = m.points_se;
-      r->points_left_out = left_out;
-      r->rel_l2 = m.rel_l2;
-      r->noise = m.noise;
-      r->se_both = fse != NULL;
-      (*nres)++;
     }
-    free(fd);
-    free(sd);
-    free(fe);
-    free(fse);
-    free(pm);
-    free(pdem);
-    free(ps);
-  }
-  if (!rc && o->table) {
-    fprintf(o->table, "| field | points | left out | rel. L2 error | noise-normalised error |\n|---|---:|---:|---:|---:|\n");
-    for (size_t i = 0; i < *nres; i++)
-      fprintf(o->table, "| %s | %zu | %zu | %.4g | %.4g |\n", res[i].name, res[i].points, res[i].points_left_out,
-              res[i].rel_l2, res[i].noise);
-    fprintf(o->table, "\nlayer height: DEM %.4g m, model %.4g m, offset %.4g m = %.3g d\n", sm->dem_height,
-            sm->model_height, sm->model_height - sm->dem_height,
-            in_d(sm->model_height - sm->dem_height, sm->mean_diameter));
-    if (sm->nscalars) {
-      fprintf(o->table, "\n| scalar | units | DEM | SE | model | rel. error | error / SE |\n|---|---|---:|---:|---:|---:|---:|\n");
-      for (size_t i = 0; i < sm->nscalars; i++) {
-        const cg_score_scalar *c = &sm->scalar[i];
-        fprintf(o->table, "| %s | %s | %.4g | %.2g | %.4g | %.3g | %.3g |\n", c->name, c->units, c->dem, c->dem_se,
-                c->model, (c->model - c->dem) / fabs(c->dem), (c->model - c->dem) / c->dem_se);
-      }
+    /* the JSON must not replace an input */
+    const char *inputs[2] = {o->dem, o->ekm};
+    if (o->json) {
+        ekm_status st = ekm_atomic_refuse_input(o->json, inputs, 2, err);
+        if (st)
+            return st;
     }
-  }
-  if (!rc && o->json) rc = write_json(o, res, *nres, last ? "ekm last output" : "interpolated", sm, err);
-  side_free(&sdem);
-  side_free(&smod);
-  free(ti);
-  free(ta);
-  free(tin);
-  free(ax.zd); free(ax.td); free(ax.ze); free(ax.te);
-  ekm_h5_close(dem);
-  ekm_h5_close(ekm);
-  return rc;
+    ekm_h5_file *dem = NULL, *ekm = NULL;
+    ekm_status rc = ekm_h5_open(&dem, o->dem, err);
+    if (!rc)
+        rc = ekm_h5_open(&ekm, o->ekm, err);
+    axes ax;
+    memset(&ax, 0, sizeof ax);
+    if (!rc)
+        rc = read_axes(dem, ekm, o, &ax, err);
+    if (!rc && !o->fields)
+        for (size_t i = 0; i < sizeof default_fields / sizeof *default_fields; i++)
+            if (ekm_h5_exists(dem, default_fields[i]) && ekm_h5_exists(ekm, default_fields[i]))
+                strcpy(names[nf++], default_fields[i]);
+    if (!rc && nf == 0)
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s, %s: no field in common", o->dem, o->ekm);
+    /* time mapping: EKM index and fraction per DEM time */
+    int last = o->ekm_last;
+    size_t *ti = NULL;
+    double *ta = NULL;
+    int *tin = NULL;
+    if (!rc) {
+        ti = malloc(ax.ntd * sizeof *ti);
+        ta = malloc(ax.ntd * sizeof *ta);
+        tin = malloc(ax.ntd * sizeof *tin);
+        if (!ti || !ta || !tin)
+            rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    }
+    if (!rc) {
+        size_t nin = 0;
+        for (size_t j = 0; j < ax.ntd; j++) {
+            tin[j] = cg_score_locate(ax.te, ax.nte, ax.td[j], &ti[j], &ta[j]);
+            nin += (size_t)tin[j];
+        }
+        if (!last && nin == 0) {
+            last = 1;
+            if (o->log)
+                fprintf(o->log,
+                        "note: no DEM time (%.6g..%.6g s) inside the EKM output times (%.6g..%.6g s): "
+                        "comparing with the EKM's last output (t = %.6g s)\n",
+                        ax.td[0], ax.td[ax.ntd - 1], ax.te[0], ax.te[ax.nte - 1], ax.te[ax.nte - 1]);
+        }
+        if (last)
+            for (size_t j = 0; j < ax.ntd; j++) {
+                tin[j] = 1;
+                ti[j] = ax.nte - 1;
+                ta[j] = 0.0;
+            }
+    }
+    /* the sides' phi (common support, free surface) and the scalars' fields */
+    side sdem, smod;
+    memset(&sdem, 0, sizeof sdem);
+    memset(&smod, 0, sizeof smod);
+    if (!rc)
+        rc = side_read(dem, ax.ntd, ax.nzd, &sdem, err);
+    if (!rc)
+        rc = side_read(ekm, ax.nte, ax.nze, &smod, err);
+    if (!rc && o->support > 0 && (!sdem.f[S_PHI] || !smod.f[S_PHI]))
+        rc = EKM_FAIL(err, EKM_EINPUT,
+                      "%s: expected a dataset phi for the common support (--support 0 scores without it)",
+                      sdem.f[S_PHI] ? o->ekm : o->dem);
+    double support_phi = 0.0;
+    if (!rc && o->support > 0) {
+        double m = NAN;
+        for (size_t q = 0; q < ax.ntd * ax.nzd; q++)
+            if (isfinite(sdem.f[S_PHI][q]) && !(sdem.f[S_PHI][q] <= m))
+                m = sdem.f[S_PHI][q];
+        if (!isfinite(m) || !(m > 0))
+            rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset phi: expected a positive value", o->dem);
+        support_phi = o->support * m;
+    }
+    sm->support_phi = support_phi;
+    if (!rc) {
+        const char *which = ekm_h5_attr_exists(dem, NULL, "mean_diameter")   ? o->dem
+                            : ekm_h5_attr_exists(ekm, NULL, "mean_diameter") ? o->ekm
+                                                                             : NULL;
+        if (which)
+            rc = ekm_h5_attr_get_double(which == o->dem ? dem : ekm, NULL, "mean_diameter",
+                                        &sm->mean_diameter, err);
+    }
+    if (!rc && sdem.f[S_PHI] && smod.f[S_PHI])
+        rc = summarise(o, &ax, &sdem, &smod, ti, ta, tin, sm, err);
+    else if (!rc && o->scalars && *o->scalars)
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset phi for --scalars",
+                      sdem.f[S_PHI] ? o->ekm : o->dem);
+    for (size_t f = 0; f < nf && !rc; f++) {
+        double *fd = NULL, *sd = NULL, *fe = NULL, *fse = NULL;
+        size_t nt1, n1, nt2 = 0, n2 = 0, nt3, n3, nt4, n4;
+        char sename[48];
+        snprintf(sename, sizeof sename, "%s_se", names[f]);
+        if (!ekm_h5_exists(dem, names[f]))
+            rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->dem, names[f]);
+        else if (!ekm_h5_exists(ekm, names[f]))
+            rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->ekm, names[f]);
+        if (!rc)
+            rc = check_units(dem, o->dem, names[f], err);
+        if (!rc)
+            rc = check_units(ekm, o->ekm, names[f], err);
+        if (!rc)
+            rc = read_array(dem, names[f], &fd, &nt1, &n1, err);
+        if (!rc && (nt1 != ax.ntd || n1 != ax.nzd))
+            rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, names[f],
+                          ax.ntd, ax.nzd);
+        if (!rc && ekm_h5_exists(dem, sename)) {
+            rc = read_array(dem, sename, &sd, &nt2, &n2, err);
+            if (!rc && (nt2 != ax.ntd || n2 != ax.nzd))
+                rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, sename,
+                              ax.ntd, ax.nzd);
+        }
+        if (!rc)
+            rc = read_array(ekm, names[f], &fe, &nt3, &n3, err);
+        if (!rc && (nt3 != ax.nte || n3 != ax.nze))
+            rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, names[f],
+                          ax.nte, ax.nze);
+        /* a second coarse-grained DEM run in place of the EKM (engine against
+         * engine) carries its own standard error: the two add in quadrature */
+        if (!rc && ekm_h5_exists(ekm, sename)) {
+            rc = read_array(ekm, sename, &fse, &nt4, &n4, err);
+            if (!rc && (nt4 != ax.nte || n4 != ax.nze))
+                rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, sename,
+                              ax.nte, ax.nze);
+        }
+        /* the points both cover, in DEM order (time, then coordinate): the
+         * model interpolated onto them, the DEM value and its standard error */
+        double *pm = NULL, *pdem = NULL, *ps = NULL;
+        size_t ncand = ax.ntd * ax.nzd;
+        if (!rc && (!(pm = malloc(ncand * sizeof *pm)) || !(pdem = malloc(ncand * sizeof *pdem)) ||
+                    !(ps = malloc(ncand * sizeof *ps))))
+            rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+        if (!rc) {
+            size_t np = 0, left_out = 0;
+            for (size_t j = 0; j < ax.ntd; j++) {
+                if (!tin[j])
+                    continue;
+                size_t i0 = ti[j], i1 = i0 + 1 < ax.nte ? i0 + 1 : i0;
+                double at = ta[j];
+                for (size_t k = 0; k < ax.nzd; k++) {
+                    size_t zi;
+                    double az;
+                    if (!cg_score_locate(ax.ze, ax.nze, ax.zd[k], &zi, &az))
+                        continue;
+                    if (support_phi > 0) {
+                        /* common support: material on both sides */
+                        double mphi = cg_score_interp(smod.f[S_PHI] + i0 * ax.nze,
+                                                      smod.f[S_PHI] + i1 * ax.nze, ax.nze, zi, az, at);
+                        double dphi = sdem.f[S_PHI][j * ax.nzd + k];
+                        if (!(mphi > support_phi && dphi > support_phi)) {
+                            left_out++;
+                            continue;
+                        }
+                    }
+                    double e = cg_score_interp(fe + i0 * ax.nze, fe + i1 * ax.nze, ax.nze, zi, az, at),
+                           d = fd[j * ax.nzd + k];
+                    double s = sd ? sd[j * ax.nzd + k] : NAN;
+                    if (fse) {
+                        double s2 = cg_score_interp(fse + i0 * ax.nze, fse + i1 * ax.nze, ax.nze, zi, az, at);
+                        s = sqrt(s * s + s2 * s2);
+                    }
+                    pm[np] = e;
+                    pdem[np] = d;
+                    ps[np] = s;
+                    np++;
+                }
+            }
+            cg_metric m = cg_metric_compute(pm, pdem, ps, np, CG_SCORE_SE_FLOOR);
+            cg_score_field *r = &res[*nres];
+            snprintf(r->name, sizeof r->name, "%s", names[f]);
+            r->points = m.points;
+            r->points_se = m.points_se;
+            r->points_left_out = left_out;
+            r->rel_l2 = m.rel_l2;
+            r->noise = m.noise;
+            r->se_both = fse != NULL;
+            (*nres)++;
+        }
+        free(fd);
+        free(sd);
+        free(fe);
+        free(fse);
+        free(pm);
+        free(pdem);
+        free(ps);
+    }
+    if (!rc && o->table) {
+        fprintf(o->table, "| field | points | left out | rel. L2 error | noise-normalised error "
+                          "|\n|---|---:|---:|---:|---:|\n");
+        for (size_t i = 0; i < *nres; i++)
+            fprintf(o->table, "| %s | %zu | %zu | %.4g | %.4g |\n", res[i].name, res[i].points,
+                    res[i].points_left_out, res[i].rel_l2, res[i].noise);
+        fprintf(o->table, "\nlayer height: DEM %.4g m, model %.4g m, offset %.4g m = %.3g d\n",
+                sm->dem_height, sm->model_height, sm->model_height - sm->dem_height,
+                in_d(sm->model_height - sm->dem_height, sm->mean_diameter));
+        if (sm->nscalars) {
+            fprintf(o->table, "\n| scalar | units | DEM | SE | model | rel. error | error / SE "
+                              "|\n|---|---|---:|---:|---:|---:|---:|\n");
+            for (size_t i = 0; i < sm->nscalars; i++) {
+                const cg_score_scalar *c = &sm->scalar[i];
+                fprintf(o->table, "| %s | %s | %.4g | %.2g | %.4g | %.3g | %.3g |\n", c->name, c->units,
+                        c->dem, c->dem_se, c->model, (c->model - c->dem) / fabs(c->dem),
+                        (c->model - c->dem) / c->dem_se);
+            }
+        }
+    }
+    if (!rc && o->json)
+        rc = write_json(o, res, *nres, last ? "ekm last output" : "interpolated", sm, err);
+    side_free(&sdem);
+    side_free(&smod);
+    free(ti);
+    free(ta);
+    free(tin);
+    free(ax.zd);
+    free(ax.td);
+    free(ax.ze);
+    free(ax.te);
+    ekm_h5_close(dem);
+    ekm_h5_close(ekm);
+    return rc;
 }

@@ -26,20 +26,20 @@
 #include "status.h"
 
 typedef struct {
-  const char *dem;     /* cg HDF5 file */
-  const char *ekm;     /* ekm HDF5 file */
-  const char *fields;  /* comma-separated list, or NULL for the default */
-  const char *json;    /* JSON output path, or NULL */
-  int ekm_last;        /* 1: compare with the EKM's last output time */
-  double shift;        /* added to the DEM coordinate before comparing [m] */
-  double support;      /* common support: a point counts only where phi >
-                          support x max(DEM phi) on both sides (0: every
-                          point; default CG_SCORE_SUPPORT) */
-  const char *scalars; /* comma-separated scalar names or set names
-                          (scalars.h), or NULL */
-  struct cg_score_summary *summary; /* free surface and scalars out, or NULL */
-  FILE *table;         /* markdown table (stdout), or NULL */
-  FILE *log;           /* notes, or NULL */
+    const char *dem;                  /* cg HDF5 file */
+    const char *ekm;                  /* ekm HDF5 file */
+    const char *fields;               /* comma-separated list, or NULL for the default */
+    const char *json;                 /* JSON output path, or NULL */
+    int ekm_last;                     /* 1: compare with the EKM's last output time */
+    double shift;                     /* added to the DEM coordinate before comparing [m] */
+    double support;                   /* common support: a point counts only where phi >
+                                         support x max(DEM phi) on both sides (0: every
+                                         point; default CG_SCORE_SUPPORT) */
+    const char *scalars;              /* comma-separated scalar names or set names
+                                         (scalars.h), or NULL */
+    struct cg_score_summary *summary; /* free surface and scalars out, or NULL */
+    FILE *table;                      /* markdown table (stdout), or NULL */
+    FILE *log;                        /* notes, or NULL */
 } cg_score_opts;
 
 /* Standard errors at or below this fraction of the DEM field's RMS are
@@ -58,34 +58,34 @@ cg_score_opts cg_score_opts_default(void);
 
 /* One scalar observable of both sides (scalars.h); NaN: undefined. */
 typedef struct {
-  char name[48];        /* e.g. flow_rate, bed_height@0.54s */
-  const char *units;
-  double t;             /* DEM time it was taken at [s] */
-  double dem, dem_se, model, model_se;
+    char name[48]; /* e.g. flow_rate, bed_height@0.54s */
+    const char *units;
+    double t; /* DEM time it was taken at [s] */
+    double dem, dem_se, model, model_se;
 } cg_score_scalar;
 
 /* The free surface (the layer height of scalars.h, at the last DEM time
  * compared) and the scalars. */
 typedef struct cg_score_summary {
-  double support_phi;      /* the absolute phi threshold (0: none) */
-  double t;                /* DEM time of the layer heights [s] */
-  double dem_height;       /* [m], DEM coordinate with --shift; NaN: none */
-  double model_height;     /* [m] */
-  double mean_diameter;    /* [m] (the DEM file's, else the model file's), NaN */
-  size_t nscalars;
-  cg_score_scalar scalar[CG_SCORE_MAX_SCALARS];
+    double support_phi;   /* the absolute phi threshold (0: none) */
+    double t;             /* DEM time of the layer heights [s] */
+    double dem_height;    /* [m], DEM coordinate with --shift; NaN: none */
+    double model_height;  /* [m] */
+    double mean_diameter; /* [m] (the DEM file's, else the model file's), NaN */
+    size_t nscalars;
+    cg_score_scalar scalar[CG_SCORE_MAX_SCALARS];
 } cg_score_summary;
 
 /* Per-field result. */
 typedef struct {
-  char name[32];
-  size_t points;       /* points compared */
-  size_t points_se;    /* of which with a positive standard error */
-  size_t points_left_out; /* covered points off the common support */
-  double rel_l2;       /* relative L2 error (NAN if undefined) */
-  double noise;        /* noise-normalised error (NAN if undefined) */
-  int se_both;         /* 1: the --ekm file had FIELD_se too (a second DEM
-                          run): SE = sqrt(SE_dem^2 + SE_other^2) */
+    char name[32];
+    size_t points;          /* points compared */
+    size_t points_se;       /* of which with a positive standard error */
+    size_t points_left_out; /* covered points off the common support */
+    double rel_l2;          /* relative L2 error (NAN if undefined) */
+    double noise;           /* noise-normalised error (NAN if undefined) */
+    int se_both;            /* 1: the --ekm file had FIELD_se too (a second DEM
+                               run): SE = sqrt(SE_dem^2 + SE_other^2) */
 } cg_score_field;
 
 /* The interpolation of `score`, as pure functions (also used by

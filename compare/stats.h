@@ -24,15 +24,15 @@
 #include "status.h"
 
 typedef struct {
-  size_t m;        /* values per snapshot */
-  size_t bmax;     /* most blocks kept (even, >= 2) */
-  size_t bsize;    /* snapshots per block */
-  size_t nblocks;  /* complete blocks kept */
-  size_t ncur;     /* snapshots in the current block */
-  size_t nsnap;    /* snapshots added */
-  double *blocks;  /* bmax x m block sums */
-  double *cur;     /* m: sum of the current block */
-  double *total;   /* m: sum of all snapshots */
+    size_t m;       /* values per snapshot */
+    size_t bmax;    /* most blocks kept (even, >= 2) */
+    size_t bsize;   /* snapshots per block */
+    size_t nblocks; /* complete blocks kept */
+    size_t ncur;    /* snapshots in the current block */
+    size_t nsnap;   /* snapshots added */
+    double *blocks; /* bmax x m block sums */
+    double *cur;    /* m: sum of the current block */
+    double *total;  /* m: sum of all snapshots */
 } cg_blocks;
 
 ekm_status cg_blocks_alloc(cg_blocks **b, size_t m, size_t bmax, ekm_error *err);

@@ -29,14 +29,14 @@
 #include "cgrun.h"
 #include "status.h"
 
-#define CG_STEADY_MIN_SAMPLES 8  /* fewest samples the drift criterion judges */
+#define CG_STEADY_MIN_SAMPLES 8 /* fewest samples the drift criterion judges */
 
 typedef struct {
-  size_t samples;  /* n */
-  int known;       /* 0: fewer than CG_STEADY_MIN_SAMPLES samples, no verdict */
-  double drift;    /* the relative drift, rounded to 4 significant digits [-] */
-  double tol;      /* the tolerance it was held against [-] */
-  int steady;      /* known && drift <= tol */
+    size_t samples; /* n */
+    int known;      /* 0: fewer than CG_STEADY_MIN_SAMPLES samples, no verdict */
+    double drift;   /* the relative drift, rounded to 4 significant digits [-] */
+    double tol;     /* the tolerance it was held against [-] */
+    int steady;     /* known && drift <= tol */
 } cg_steady_verdict;
 
 /* The drift criterion on v[0..n-1] (finite values) with tolerance tol. */

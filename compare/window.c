@@ -6,78 +6,93 @@
 
 ekm_status cg_window_alloc(cg_window *fz, const cg_grid *g, ekm_error *err)
 {
-  ekm_status rc = cg_blocks_alloc(&fz->b, CG_NPRIM * g->n, CG_WINDOW_BLOCKS, err);
-  if (rc) return rc;
-  fz->g = g;
-  fz->mean = malloc(CG_NPRIM * g->n * sizeof(double));
-  fz->fld = malloc(CG_NFIELD * g->n * sizeof(double));
-  fz->bf = malloc(CG_WINDOW_BLOCKS * CG_NFIELD * g->n * sizeof(double));
-  fz->series = malloc(CG_WINDOW_BLOCKS * sizeof(double));
-  fz->work = malloc(CG_WINDOW_BLOCKS * sizeof(double));
-  if (!fz->mean || !fz->fld || !fz->bf || !fz->series || !fz->work)
-    return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-  return EKM_OK;
+    ekm_status rc = cg_blocks_alloc(&fz->b, CG_NPRIM * g->n, CG_WINDOW_BLOCKS, err);
+    if (rc)
+        return rc;
+    fz->g = g;
+    fz->mean = malloc(CG_NPRIM * g->n * sizeof(double));
+    fz->fld = malloc(CG_NFIELD * g->n * sizeof(double));
+    fz->bf = malloc(CG_WINDOW_BLOCKS * CG_NFIELD * g->n * sizeof(double));
+    fz->series = malloc(CG_WINDOW_BLOCKS * sizeof(double));
+    fz->work = malloc(CG_WINDOW_BLOCKS * sizeof(double));
+    if (!fz->mean || !fz->fld || !fz->bf || !fz->series || !fz->work)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    return EKM_OK;
 }
 
 void cg_window_free(cg_window *fz)
 {
-  cg_blocks_free(fz->b);
-  free(fz->mean); free(fz->fld); free(fz->bf); free(fz->series); free(fz->work);
+    cg_blocks_free(fz->b);
+    free(fz->mean);
+    free(fz->fld);
+    free(fz->bf);
+    free(fz->series);
+    free(fz->work);
 }
 
 void cg_window_add(cg_window *fz, const double *prim)
 {
-  cg_blocks_add(fz->b, prim);
+    cg_blocks_add(fz->b, prim);
 }
 
 void cg_window_results_free(cg_window_results *r)
 {
-  free(r->t);
-  free(r->nsnap);
-  for (int f = 0; f < CG_NFIELD; f++) { free(r->f[f]); free(r->se[f]); }
+    free(r->t);
+    free(r->nsnap);
+    for (int f = 0; f < CG_NFIELD; f++) {
+        free(r->f[f]);
+        free(r->se[f]);
+    }
 }
 
 static ekm_status results_grow(cg_window_results *r, ekm_error *err)
 {
-  if (r->nt < r->cap) return EKM_OK;
-  size_t c = r->cap ? 2 * r->cap : 8;
-  double *p = realloc(r->t, c * sizeof *p);
-  if (!p) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-  r->t = p;
-  if (!(p = realloc(r->nsnap, c * sizeof *p))) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-  r->nsnap = p;
-  for (int f = 0; f < CG_NFIELD; f++) {
-    if (!(p = realloc(r->f[f], c * r->n * sizeof *p))) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    r->f[f] = p;
-    if (!(p = realloc(r->se[f], c * r->n * sizeof *p))) return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    r->se[f] = p;
-  }
-  r->cap = c;
-  return EKM_OK;
+    if (r->nt < r->cap)
+        return EKM_OK;
+    size_t c = r->cap ? 2 * r->cap : 8;
+    double *p = realloc(r->t, c * sizeof *p);
+    if (!p)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    r->t = p;
+    if (!(p = realloc(r->nsnap, c * sizeof *p)))
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    r->nsnap = p;
+    for (int f = 0; f < CG_NFIELD; f++) {
+        if (!(p = realloc(r->f[f], c * r->n * sizeof *p)))
+            return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+        r->f[f] = p;
+        if (!(p = realloc(r->se[f], c * r->n * sizeof *p)))
+            return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+        r->se[f] = p;
+    }
+    r->cap = c;
+    return EKM_OK;
 }
 
 ekm_status cg_window_finish(cg_window *fz, cg_window_results *r, double t_mid, double d, double rho_p,
-                     ekm_error *err)
+                            ekm_error *err)
 {
-  ekm_status rc = results_grow(r, err);
-  if (rc) return rc;
-  size_t n = fz->g->n, nf = CG_NFIELD * n, nb = fz->b->nblocks;
-  cg_blocks_mean(fz->b, fz->mean);
-  cg_profile_derive(fz->mean, fz->g, d, rho_p, fz->fld);
-  for (size_t j = 0; j < nb; j++) {
-    cg_blocks_block_mean(fz->b, j, fz->mean);
-    cg_profile_derive(fz->mean, fz->g, d, rho_p, fz->bf + j * nf);
-  }
-  for (int f = 0; f < CG_NFIELD; f++)
-    for (size_t k = 0; k < n; k++) {
-      size_t idx = (size_t)f * n + k;
-      r->f[f][r->nt * n + k] = fz->fld[idx];
-      for (size_t j = 0; j < nb; j++) fz->series[j] = fz->bf[j * nf + idx];
-      r->se[f][r->nt * n + k] = nb >= 2 ? cg_stats_se(fz->series, nb, fz->work) : NAN;
+    ekm_status rc = results_grow(r, err);
+    if (rc)
+        return rc;
+    size_t n = fz->g->n, nf = CG_NFIELD * n, nb = fz->b->nblocks;
+    cg_blocks_mean(fz->b, fz->mean);
+    cg_profile_derive(fz->mean, fz->g, d, rho_p, fz->fld);
+    for (size_t j = 0; j < nb; j++) {
+        cg_blocks_block_mean(fz->b, j, fz->mean);
+        cg_profile_derive(fz->mean, fz->g, d, rho_p, fz->bf + j * nf);
     }
-  r->t[r->nt] = t_mid;
-  r->nsnap[r->nt] = (double)fz->b->nsnap;
-  r->nt++;
-  cg_blocks_reset(fz->b);
-  return EKM_OK;
+    for (int f = 0; f < CG_NFIELD; f++)
+        for (size_t k = 0; k < n; k++) {
+            size_t idx = (size_t)f * n + k;
+            r->f[f][r->nt * n + k] = fz->fld[idx];
+            for (size_t j = 0; j < nb; j++)
+                fz->series[j] = fz->bf[j * nf + idx];
+            r->se[f][r->nt * n + k] = nb >= 2 ? cg_stats_se(fz->series, nb, fz->work) : NAN;
+        }
+    r->t[r->nt] = t_mid;
+    r->nsnap[r->nt] = (double)fz->b->nsnap;
+    r->nt++;
+    cg_blocks_reset(fz->b);
+    return EKM_OK;
 }

@@ -14,27 +14,27 @@
 #include "status.h"
 #include "stats.h"
 
-#define CG_WINDOW_BLOCKS 64  /* block store size (cg_blocks bmax) */
+#define CG_WINDOW_BLOCKS 64 /* block store size (cg_blocks bmax) */
 
 /* The profiles of the closed windows. */
 typedef struct {
-  size_t n;                 /* bins */
-  size_t nt, cap;           /* windows stored, capacity */
-  double *t;                /* window mid-times [s] */
-  double *nsnap;            /* snapshots per window */
-  double *f[CG_NFIELD];     /* nt x n fields */
-  double *se[CG_NFIELD];    /* nt x n standard errors */
+    size_t n;              /* bins */
+    size_t nt, cap;        /* windows stored, capacity */
+    double *t;             /* window mid-times [s] */
+    double *nsnap;         /* snapshots per window */
+    double *f[CG_NFIELD];  /* nt x n fields */
+    double *se[CG_NFIELD]; /* nt x n standard errors */
 } cg_window_results;
 
 /* The open window. */
 typedef struct {
-  const cg_grid *g;
-  cg_blocks *b;
-  double *mean;    /* CG_NPRIM x n */
-  double *fld;     /* CG_NFIELD x n */
-  double *bf;      /* CG_WINDOW_BLOCKS x CG_NFIELD x n */
-  double *series;  /* CG_WINDOW_BLOCKS */
-  double *work;    /* CG_WINDOW_BLOCKS */
+    const cg_grid *g;
+    cg_blocks *b;
+    double *mean;   /* CG_NPRIM x n */
+    double *fld;    /* CG_NFIELD x n */
+    double *bf;     /* CG_WINDOW_BLOCKS x CG_NFIELD x n */
+    double *series; /* CG_WINDOW_BLOCKS */
+    double *work;   /* CG_WINDOW_BLOCKS */
 } cg_window;
 
 /* Block store and scratch for the grid g (kept by pointer). */
@@ -48,7 +48,7 @@ void cg_window_add(cg_window *fz, const double *prim);
  * (d: mean particle diameter [m], rho_p: material density [kg/m^3] or 0,
  * as cg_profile_derive); the window is emptied for the next one. */
 ekm_status cg_window_finish(cg_window *fz, cg_window_results *r, double t_mid, double d, double rho_p,
-                     ekm_error *err);
+                            ekm_error *err);
 
 void cg_window_results_free(cg_window_results *r);
 

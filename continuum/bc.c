@@ -74,11 +74,8 @@ static ekm_bc_face bc_piston(const ekm_bc *bc, ekm_side side, const ekm_state *s
 typedef ekm_bc_face (*bc_fn)(const ekm_bc *, ekm_side, const ekm_state *);
 
 static const bc_fn BC_KINDS[] = {
-    [EKM_BC_WALL] = bc_wall,
-    [EKM_BC_INFLOW] = bc_inflow,
-    [EKM_BC_OUTFLOW] = bc_outflow,
-    [EKM_BC_FREE] = bc_free,
-    [EKM_BC_PISTON] = NULL, /* time-dependent: bc_piston */
+    [EKM_BC_WALL] = bc_wall, [EKM_BC_INFLOW] = bc_inflow, [EKM_BC_OUTFLOW] = bc_outflow,
+    [EKM_BC_FREE] = bc_free, [EKM_BC_PISTON] = NULL, /* time-dependent: bc_piston */
 };
 
 ekm_bc_face ekm_bc_evaluate(const ekm_bc *bc, ekm_side side, double t, const ekm_state *s)

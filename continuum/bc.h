@@ -29,13 +29,13 @@
 typedef enum { EKM_SIDE_BOTTOM = 0, EKM_SIDE_TOP = 1 } ekm_side;
 
 typedef struct {
-    int w_follows;      /* 1: w at the face equals w at the adjacent interior face */
-    double w;           /* prescribed normal velocity at the face when !w_follows [m/s] */
-    double phi_in;      /* volume fraction carried in by an entering flow [-] */
-    double u_in;        /* tangential velocity carried in [m/s] */
-    double T_in;        /* temperature carried in [m^2/s^2] */
+    int w_follows;           /* 1: w at the face equals w at the adjacent interior face */
+    double w;                /* prescribed normal velocity at the face when !w_follows [m/s] */
+    double phi_in;           /* volume fraction carried in by an entering flow [-] */
+    double u_in;             /* tangential velocity carried in [m/s] */
+    double T_in;             /* temperature carried in [m^2/s^2] */
     double wall_conductance; /* 1/(dz/2 + slip_length) for walls, 0: stress-free [1/m] */
-    double u_wall;      /* tangential wall velocity [m/s] */
+    double u_wall;           /* tangential wall velocity [m/s] */
 } ekm_bc_face;
 
 /* The face description of boundary `side` at time t. */

@@ -5,7 +5,10 @@
 #include "bc.h"
 #include "hypo.h"
 
-static inline double max2(double a, double b) { return a > b ? a : b; }
+static inline double max2(double a, double b)
+{
+    return a > b ? a : b;
+}
 
 /* u' [1/s] at face f of the state (walls: through the wall's conductance). */
 static double face_shear_rate(const ekm_scenario *sc, const ekm_state *s, int f)
@@ -13,9 +16,10 @@ static double face_shear_rate(const ekm_scenario *sc, const ekm_state *s, int f)
     const int n = s->n;
     if (f > 0 && f < n)
         return (s->u[f] - s->u[f - 1]) / s->dz;
-    const ekm_bc_face bf = ekm_bc_evaluate(f == 0 ? &sc->bottom : &sc->top,
-                                           f == 0 ? EKM_SIDE_BOTTOM : EKM_SIDE_TOP, s->t, s);
-    return f == 0 ? (s->u[0] - bf.u_wall) * bf.wall_conductance : (bf.u_wall - s->u[n - 1]) * bf.wall_conductance;
+    const ekm_bc_face bf =
+        ekm_bc_evaluate(f == 0 ? &sc->bottom : &sc->top, f == 0 ? EKM_SIDE_BOTTOM : EKM_SIDE_TOP, s->t, s);
+    return f == 0 ? (s->u[0] - bf.u_wall) * bf.wall_conductance
+                  : (bf.u_wall - s->u[n - 1]) * bf.wall_conductance;
 }
 
 /* The largest relaxation rate of the hypoplastic law [1/s] over the solid
@@ -32,7 +36,8 @@ static double solid_relaxation_max(const ekm_scenario *sc, const ekm_state *s)
         if (s->solid[j] && s->phi[j] >= sc->numerics.phi_dry) {
             const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
             const double phi = ekm_scenario_law_phi(sc, s->phi[j]);
-            relax = max2(relax, ekm_hypo_relaxation_rate(m, sc->variant, phi, 0.5 * (du_below + du_above), dw));
+            relax =
+                max2(relax, ekm_hypo_relaxation_rate(m, sc->variant, phi, 0.5 * (du_below + du_above), dw));
             relax = max2(relax, ekm_hypo_relaxation_rate(m, sc->variant, phi, du_below, dw));
             relax = max2(relax, ekm_hypo_relaxation_rate(m, sc->variant, phi, du_above, dw));
         }
@@ -113,9 +118,12 @@ double ekm_control_target(const ekm_scenario *sc, double t, double t_next_out, i
     /* Times the driving changes: the inflows close, the base starts to
      * tilt (and a piston reverses, below). */
     double events[3] = {INFINITY, INFINITY, INFINITY};
-    if (sc->bottom.kind == EKM_BC_INFLOW) events[0] = sc->bottom.t_stop;
-    if (sc->top.kind == EKM_BC_INFLOW) events[1] = sc->top.t_stop;
-    if (sc->angle_rate != 0.0 && sc->angle_start > 0.0) events[2] = sc->angle_start;
+    if (sc->bottom.kind == EKM_BC_INFLOW)
+        events[0] = sc->bottom.t_stop;
+    if (sc->top.kind == EKM_BC_INFLOW)
+        events[1] = sc->top.t_stop;
+    if (sc->angle_rate != 0.0 && sc->angle_start > 0.0)
+        events[2] = sc->angle_start;
     double t_target = t_next_out;
     *at_event = 0;
     for (int e = 0; e < 3; e++)

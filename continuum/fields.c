@@ -45,11 +45,13 @@ void ekm_fields_compute(const ekm_scenario *sc, const ekm_state *s, double t, ek
         if (j == 0)
             tau_below = bb.wall_conductance > 0.0 ? c.eta * (s->u[0] - bb.u_wall) * bb.wall_conductance : 0.0;
         else
-            tau_below = ekm_face_viscosity(eta_prev, s->solid[j - 1], c.eta, s->solid[j]) * (s->u[j] - s->u[j - 1]) / s->dz;
+            tau_below = ekm_face_viscosity(eta_prev, s->solid[j - 1], c.eta, s->solid[j]) *
+                        (s->u[j] - s->u[j - 1]) / s->dz;
         if (j == n - 1)
             tau_above = bt.wall_conductance > 0.0 ? c.eta * (bt.u_wall - s->u[j]) * bt.wall_conductance : 0.0;
         else
-            tau_above = ekm_face_viscosity(c.eta, s->solid[j], eta_next, s->solid[j + 1]) * (s->u[j + 1] - s->u[j]) / s->dz;
+            tau_above = ekm_face_viscosity(c.eta, s->solid[j], eta_next, s->solid[j + 1]) *
+                        (s->u[j + 1] - s->u[j]) / s->dz;
         const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
         const double p_eq = ekm_pressure_kinetic(m, phi, s->T[j]) + ekm_pressure_yield(m, phi);
         out->sxz[j] = 0.5 * (tau_below + tau_above);

@@ -4,10 +4,22 @@
 #include <stdio.h>
 #include <string.h>
 
-static double psi_minmod(double r) { return fmax(0.0, fmin(1.0, r)); }
-static double psi_vanleer(double r) { return (r + fabs(r)) / (1.0 + fabs(r)); }
-static double psi_superbee(double r) { return fmax(0.0, fmax(fmin(2.0 * r, 1.0), fmin(r, 2.0))); }
-static double psi_mc(double r) { return fmax(0.0, fmin(fmin(2.0 * r, 0.5 * (1.0 + r)), 2.0)); }
+static double psi_minmod(double r)
+{
+    return fmax(0.0, fmin(1.0, r));
+}
+static double psi_vanleer(double r)
+{
+    return (r + fabs(r)) / (1.0 + fabs(r));
+}
+static double psi_superbee(double r)
+{
+    return fmax(0.0, fmax(fmin(2.0 * r, 1.0), fmin(r, 2.0)));
+}
+static double psi_mc(double r)
+{
+    return fmax(0.0, fmin(fmin(2.0 * r, 0.5 * (1.0 + r)), 2.0));
+}
 
 static const ekm_limiter LIMITERS[] = {
     {"minmod", psi_minmod},
@@ -44,8 +56,8 @@ double ekm_flux_face_value(const double *q, int n, int f, int upward, ekm_limite
     return q[up] + 0.5 * psi(r) * dq;
 }
 
-void ekm_flux_advect(int n, const double *F, const double *q, double q_in_bottom,
-                     double q_in_top, ekm_limiter_fn psi, double *qF)
+void ekm_flux_advect(int n, const double *F, const double *q, double q_in_bottom, double q_in_top,
+                     ekm_limiter_fn psi, double *qF)
 {
     qF[0] = F[0] * (F[0] > 0.0 ? q_in_bottom : q[0]);
     qF[n] = F[n] * (F[n] < 0.0 ? q_in_top : q[n - 1]);

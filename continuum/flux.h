@@ -34,8 +34,8 @@ double ekm_flux_face_value(const double *q, int n, int f, int upward, ekm_limite
 /* qF_f = F_f q_f at every face f = 0..n.  At the boundary faces the
  * incoming value is q_in_bottom / q_in_top (used when F points into the
  * domain) and the adjacent cell value otherwise. */
-void ekm_flux_advect(int n, const double *F, const double *q, double q_in_bottom,
-                     double q_in_top, ekm_limiter_fn psi, double *qF);
+void ekm_flux_advect(int n, const double *F, const double *q, double q_in_bottom, double q_in_top,
+                     ekm_limiter_fn psi, double *qF);
 
 /* Momentum flux of the face velocity w through the cell centres:
  * out_j = Fc_j w_up(j), Fc_j = (F_j + F_{j+1})/2, for j = 0..n-1. */

@@ -53,16 +53,23 @@ static ekm_status write_root_attributes(ekm_h5_file *file, const ekm_scenario *s
     char created[32];
     time_t now = time(NULL);
     strftime(created, sizeof created, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
-    if (rc == EKM_OK) rc = ekm_h5_attr_set_double(file, NULL, "gravity_x", ekm_scenario_gravity_x(sc), err);
-    if (rc == EKM_OK) rc = ekm_h5_attr_set_double(file, NULL, "gravity_z", ekm_scenario_gravity_z(sc), err);
     if (rc == EKM_OK)
-        rc = ekm_h5_attr_set_string(file, NULL, "variant", sc->variant == EKM_VARIANT_THESIS ? "thesis" : "full", err);
-    if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "code_version", EKMBENCH_VERSION, err);
-    if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "scenario_file", sc->source, err);
+        rc = ekm_h5_attr_set_double(file, NULL, "gravity_x", ekm_scenario_gravity_x(sc), err);
+    if (rc == EKM_OK)
+        rc = ekm_h5_attr_set_double(file, NULL, "gravity_z", ekm_scenario_gravity_z(sc), err);
+    if (rc == EKM_OK)
+        rc = ekm_h5_attr_set_string(file, NULL, "variant",
+                                    sc->variant == EKM_VARIANT_THESIS ? "thesis" : "full", err);
+    if (rc == EKM_OK)
+        rc = ekm_h5_attr_set_string(file, NULL, "code_version", EKMBENCH_VERSION, err);
+    if (rc == EKM_OK)
+        rc = ekm_h5_attr_set_string(file, NULL, "scenario_file", sc->source, err);
     if (rc == EKM_OK && sc->material_source[0])
         rc = ekm_h5_attr_set_string(file, NULL, "material_file", sc->material_source, err);
-    if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "scenario", sc->name, err);
-    if (rc == EKM_OK) rc = ekm_h5_attr_set_string(file, NULL, "created", created, err);
+    if (rc == EKM_OK)
+        rc = ekm_h5_attr_set_string(file, NULL, "scenario", sc->name, err);
+    if (rc == EKM_OK)
+        rc = ekm_h5_attr_set_string(file, NULL, "created", created, err);
     return rc;
 }
 
@@ -91,10 +98,11 @@ static ekm_status write_layout(ekm_h5_writer *w, const ekm_state *s, ekm_error *
     if (st == EKM_OK)
         st = ekm_h5_create_series(w->file, "t", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("t"), NULL, err);
     for (int f = 0; f < N_FIELDS && st == EKM_OK; f++)
-        st = ekm_h5_create_series(w->file, FIELD_NAMES[f], f == F_REGIME ? EKM_H5_INT : EKM_H5_DOUBLE, 2, dz, 1,
-                                  ekm_field_units(FIELD_NAMES[f]), NULL, err);
+        st = ekm_h5_create_series(w->file, FIELD_NAMES[f], f == F_REGIME ? EKM_H5_INT : EKM_H5_DOUBLE, 2, dz,
+                                  1, ekm_field_units(FIELD_NAMES[f]), NULL, err);
     if (st == EKM_OK && ekm_bc_pressure_wall(&w->sc->top))
-        st = ekm_h5_create_series(w->file, "gap", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("gap"), NULL, err);
+        st = ekm_h5_create_series(w->file, "gap", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("gap"), NULL,
+                                  err);
     if (st == EKM_OK)
         st = write_root_attributes(w->file, w->sc, err);
     return st;
@@ -139,16 +147,22 @@ ekm_status ekm_h5_writer_open(ekm_h5_writer **out, const char *path, const ekm_s
 
 ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error *err)
 {
-    ekm_fields fl = {.vx = w->buf[F_VX], .vz = w->buf[F_VZ], .P = w->buf[F_P],
-                     .sxz = w->buf[F_SXZ], .szz = w->buf[F_SZZ], .regime = w->regime};
+    ekm_fields fl = {.vx = w->buf[F_VX],
+                     .vz = w->buf[F_VZ],
+                     .P = w->buf[F_P],
+                     .sxz = w->buf[F_SXZ],
+                     .szz = w->buf[F_SZZ],
+                     .regime = w->regime};
     ekm_fields_compute(w->sc, s, s->t, &fl);
     memcpy(w->buf[F_PHI], s->phi, w->nz * sizeof(double));
     memcpy(w->buf[F_T], s->T, w->nz * sizeof(double));
     for (int f = 0; f < N_FIELDS - 1; f++)
         for (size_t j = 0; j < w->nz; j++)
             if (!isfinite(w->buf[f][j]))
-                return EKM_FAIL(err, EKM_ENUMERIC, "t = %g s, cell %llu (z = %g m): field %s is not finite (%g); "
-                                "nothing written", s->t, (unsigned long long)j, s->z[j], FIELD_NAMES[f], w->buf[f][j]);
+                return EKM_FAIL(err, EKM_ENUMERIC,
+                                "t = %g s, cell %llu (z = %g m): field %s is not finite (%g); "
+                                "nothing written",
+                                s->t, (unsigned long long)j, s->z[j], FIELD_NAMES[f], w->buf[f][j]);
     if (w->nt == w->times_cap) {
         size_t cap = w->times_cap ? 2 * w->times_cap : 64;
         double *t = realloc(w->times, cap * sizeof *t);
@@ -160,8 +174,8 @@ ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error 
     w->times[w->nt] = s->t;
     ekm_status st = ekm_h5_append(w->file, "t", &s->t, err);
     for (int f = 0; f < N_FIELDS && st == EKM_OK; f++)
-        st = ekm_h5_append(w->file, FIELD_NAMES[f], f == F_REGIME ? (const void *)w->regime : (const void *)w->buf[f],
-                           err);
+        st = ekm_h5_append(w->file, FIELD_NAMES[f],
+                           f == F_REGIME ? (const void *)w->regime : (const void *)w->buf[f], err);
     const double gap = s->n * s->dz; /* [m] */
     if (st == EKM_OK && ekm_bc_pressure_wall(&w->sc->top))
         st = ekm_h5_append(w->file, "gap", &gap, err);
@@ -186,26 +200,32 @@ static void write_xdmf(const ekm_h5_writer *w, FILE *fp)
     base = base ? base + 1 : w->path;
     const unsigned long long nt = w->nt, nz = w->nz;
     const double dz = w->sc->length / (double)w->nz;
-    fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
-                "<!-- ekm output %s: slab fields along z, shown along the mesh x axis -->\n"
-                "<Xdmf Version=\"2.0\">\n <Domain>\n"
-                "  <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+    fprintf(fp,
+            "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+            "<!-- ekm output %s: slab fields along z, shown along the mesh x axis -->\n"
+            "<Xdmf Version=\"2.0\">\n <Domain>\n"
+            "  <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
             base, w->sc->name);
     for (unsigned long long i = 0; i < nt; i++) {
-        fprintf(fp, "   <Grid Name=\"frame%llu\" GridType=\"Uniform\">\n"
-                    "    <Time Value=\"%.17g\"/>\n"
-                    "    <Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"1 %llu\"/>\n"
-                    "    <Geometry GeometryType=\"ORIGIN_DXDY\">\n"
-                    "     <DataItem Dimensions=\"2\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">0 %.17g</DataItem>\n"
-                    "     <DataItem Dimensions=\"2\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">1 %.17g</DataItem>\n"
-                    "    </Geometry>\n",
+        fprintf(fp,
+                "   <Grid Name=\"frame%llu\" GridType=\"Uniform\">\n"
+                "    <Time Value=\"%.17g\"/>\n"
+                "    <Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"1 %llu\"/>\n"
+                "    <Geometry GeometryType=\"ORIGIN_DXDY\">\n"
+                "     <DataItem Dimensions=\"2\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">0 "
+                "%.17g</DataItem>\n"
+                "     <DataItem Dimensions=\"2\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">1 "
+                "%.17g</DataItem>\n"
+                "    </Geometry>\n",
                 i, w->times[i], nz, 0.5 * dz, dz);
         for (int f = 0; f < N_FIELDS; f++) {
-            fprintf(fp, "    <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-                        "     <DataItem ItemType=\"HyperSlab\" Dimensions=\"1 %llu\" Type=\"HyperSlab\">\n"
-                        "      <DataItem Dimensions=\"3 2\" Format=\"XML\">%llu 0 1 1 1 %llu</DataItem>\n"
-                        "      <DataItem Dimensions=\"%llu %llu\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:/%s</DataItem>\n"
-                        "     </DataItem>\n    </Attribute>\n",
+            fprintf(fp,
+                    "    <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+                    "     <DataItem ItemType=\"HyperSlab\" Dimensions=\"1 %llu\" Type=\"HyperSlab\">\n"
+                    "      <DataItem Dimensions=\"3 2\" Format=\"XML\">%llu 0 1 1 1 %llu</DataItem>\n"
+                    "      <DataItem Dimensions=\"%llu %llu\" NumberType=\"%s\" Precision=\"%d\" "
+                    "Format=\"HDF\">%s:/%s</DataItem>\n"
+                    "     </DataItem>\n    </Attribute>\n",
                     FIELD_NAMES[f], nz, i, nz, nt, nz, f == F_REGIME ? "Int" : "Float", f == F_REGIME ? 4 : 8,
                     base, FIELD_NAMES[f]);
         }

@@ -17,8 +17,9 @@ ekm_status ekm_homog_shear(const ekm_material *m, ekm_variant v, double phi, dou
      * whose only non-negative root is the one returned. */
     const double T = ekm_temperature_local_balance(m, v, phi, gdot * gdot, 0.0);
     if (!(T > 0.0 && isfinite(T)))
-        return EKM_FAIL(err, EKM_ENUMERIC, "phi = %g, gdot = %g: the temperature balance has no positive root (T = %g)",
-                        phi, gdot, T);
+        return EKM_FAIL(err, EKM_ENUMERIC,
+                        "phi = %g, gdot = %g: the temperature balance has no positive root (T = %g)", phi,
+                        gdot, T);
     const ekm_slab_stress s = ekm_stress_slab(m, v, phi, T, gdot, 0.0);
     out->T = T;
     out->P_K = ekm_pressure_kinetic(m, phi, T);

@@ -39,8 +39,8 @@ static double coeff_a2(const ekm_material *m, double phi)
     return sqrt(phi / (3.0 * m->eta0 * m->eps0));
 }
 
-ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi,
-                              const ekm_hypo_stress *s, double du_dz, double dw_dz)
+ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s,
+                              double du_dz, double dw_dz)
 {
     const double A = m->A_h, B = m->B_h;
     const double f = ekm_hypo_density_factor(m, phi);
@@ -86,12 +86,13 @@ double ekm_hypo_yield(const ekm_material *m, ekm_variant v, double phi, const ek
     const double dxx = s->xx - tr / 3.0, dyy = s->yy - tr / 3.0, dzz = s->zz - tr / 3.0;
     const double s2 = dxx * dxx + dyy * dyy + dzz * dzz + 2.0 * s->xz * s->xz;
     const double q = tr + 3.0 * PY;
-    return (q * q + 9.0 * m->zeta0 / (2.0 * m->eta0) * s2)
-         / (27.0 * m->zeta0 * m->eps0 / (2.0 * phi) * PY * PY) - 1.0;
+    return (q * q + 9.0 * m->zeta0 / (2.0 * m->eta0) * s2) /
+               (27.0 * m->zeta0 * m->eps0 / (2.0 * phi) * PY * PY) -
+           1.0;
 }
 
-ekm_hypo_stress ekm_hypo_from_flow(const ekm_material *m, ekm_variant v, double phi, double T,
-                                   double du_dz, double dw_dz)
+ekm_hypo_stress ekm_hypo_from_flow(const ekm_material *m, ekm_variant v, double phi, double T, double du_dz,
+                                   double dw_dz)
 {
     const ekm_transport c = ekm_transport_coefficients(m, v, phi, T);
     const double P = ekm_pressure_kinetic(m, phi, T) + ekm_pressure_yield(m, phi);
@@ -128,8 +129,8 @@ double ekm_hypo_relaxation_rate(const ekm_material *m, ekm_variant v, double phi
     const double f = ekm_hypo_density_factor(m, phi), k = norm_full(m, du_dz, dw_dz);
     const double dev = f * 2.0 * m->B_h * coeff_a2(m, phi) * k / PY;
     const double vol = v == EKM_VARIANT_THESIS
-        ? f * m->A_h * fabs(dw_dz) / (ekm_hypo_R(m, v, phi) * PY)
-        : f * 3.0 * (3.0 * m->A_h + 2.0 * m->B_h) * coeff_a1(m, phi) * k / PY;
+                           ? f * m->A_h * fabs(dw_dz) / (ekm_hypo_R(m, v, phi) * PY)
+                           : f * 3.0 * (3.0 * m->A_h + 2.0 * m->B_h) * coeff_a1(m, phi) * k / PY;
     return dev > vol ? dev : vol;
 }
 
@@ -169,8 +170,7 @@ ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double 
     return c;
 }
 
-ekm_hypo_stress ekm_hypo_finish(const ekm_hypo_implicit *c, double sigma_xz_old, double du_dz,
-                                double dw_dz)
+ekm_hypo_stress ekm_hypo_finish(const ekm_hypo_implicit *c, double sigma_xz_old, double du_dz, double dw_dz)
 {
     ekm_hypo_stress s;
     s.zz = c->Ezz + c->Vzz * dw_dz;

@@ -67,8 +67,8 @@ double ekm_hypo_R(const ekm_material *m, ekm_variant v, double phi);
 double ekm_hypo_rate_norm(const ekm_material *m, ekm_variant v, double du_dz, double dw_dz);
 
 /* d(sigma)/dt [Pa/s] of the rate law at phi for the given gradients. */
-ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi,
-                              const ekm_hypo_stress *s, double du_dz, double dw_dz);
+ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s,
+                              double du_dz, double dw_dz);
 
 /* Normalised limit-surface function f_Y (0 on the surface, < 0 inside);
  * +inf when P_Y = 0 (no solid state below phi_co). */
@@ -77,8 +77,8 @@ double ekm_hypo_yield(const ekm_material *m, ekm_variant v, double phi, const ek
 /* The EKM (flow) stress at (phi, T) and the gradients, in the solid's
  * components: the initial solid stress at a flow -> solid switch and the
  * comparison stress at solid -> flow. */
-ekm_hypo_stress ekm_hypo_from_flow(const ekm_material *m, ekm_variant v, double phi, double T,
-                                   double du_dz, double dw_dz);
+ekm_hypo_stress ekm_hypo_from_flow(const ekm_material *m, ekm_variant v, double phi, double T, double du_dz,
+                                   double dw_dz);
 
 /* Below phi_co (no yield part, Y = 0) the EKM normal stress is
  * -P_K0 T + mu_n0 sqrt(T) w' (P_K, mu_n at T = 1 times T, sqrt(T)): the
@@ -112,7 +112,6 @@ ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double 
 double ekm_hypo_relaxation_rate(const ekm_material *m, ekm_variant v, double phi, double du_dz, double dw_dz);
 
 /* Apply a prepared step: the new stress for the end-of-step gradients. */
-ekm_hypo_stress ekm_hypo_finish(const ekm_hypo_implicit *c, double sigma_xz_old, double du_dz,
-                                double dw_dz);
+ekm_hypo_stress ekm_hypo_finish(const ekm_hypo_implicit *c, double sigma_xz_old, double du_dz, double dw_dz);
 
 #endif

@@ -65,10 +65,9 @@ static double harmonic(double a, double b)
 }
 
 ekm_status ekm_implicit_normal_velocity(ekm_implicit_work *wk, int n, double dt, double dz,
-                                        const double *rho_face, const double *rhs,
-                                        const double *mu_n, const unsigned char *dry_face,
-                                        ekm_implicit_end bottom, ekm_implicit_end top,
-                                        double *w, ekm_error *err)
+                                        const double *rho_face, const double *rhs, const double *mu_n,
+                                        const unsigned char *dry_face, ekm_implicit_end bottom,
+                                        ekm_implicit_end top, double *w, ekm_error *err)
 {
     if (n < 2) {
         w[0] = bottom.follows ? 0.0 : bottom.value;
@@ -114,10 +113,10 @@ ekm_status ekm_implicit_normal_velocity(ekm_implicit_work *wk, int n, double dt,
     return EKM_OK;
 }
 
-ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, double dz,
-                                       const double *rho, const double *rhs, const double *eta,
-                                       const unsigned char *dry, ekm_implicit_end bottom,
-                                       ekm_implicit_end top, double *u, ekm_error *err)
+ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, double dz, const double *rho,
+                                       const double *rhs, const double *eta, const unsigned char *dry,
+                                       ekm_implicit_end bottom, ekm_implicit_end top, double *u,
+                                       ekm_error *err)
 {
     const double a = dt / (dz * dz);
     const double b = dt / dz;
@@ -150,10 +149,10 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
     return EKM_OK;
 }
 
-ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, double dz,
-                                    const double *rho, const double *rhs, const double *k,
-                                    const double *t0, const unsigned char *dry, double u_wall_bottom,
-                                    double u_wall_top, double *u, ekm_error *err)
+ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, double dz, const double *rho,
+                                    const double *rhs, const double *k, const double *t0,
+                                    const unsigned char *dry, double u_wall_bottom, double u_wall_top,
+                                    double *u, ekm_error *err)
 {
     const double b = dt / dz;
     for (int j = 0; j < n; j++) {
@@ -179,12 +178,10 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
     return EKM_OK;
 }
 
-ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz,
-                                    double rho_p, const double *phi, const double *rhoT_star,
-                                    const double *lambda, const ekm_source_coeffs *src,
-                                    const unsigned char *dry,
-                                    double T_floor, double tol, int newton_max, double *T,
-                                    int *iterations, ekm_error *err)
+ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz, double rho_p,
+                                    const double *phi, const double *rhoT_star, const double *lambda,
+                                    const ekm_source_coeffs *src, const unsigned char *dry, double T_floor,
+                                    double tol, int newton_max, double *T, int *iterations, ekm_error *err)
 {
     const double a = 2.0 / 3.0 * dt / (dz * dz);
     /* Face conductances (lagged); lam_face[j] is the face between cells
@@ -212,8 +209,8 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
             const double l_below = lam_face[j], l_above = lam_face[j + 1];
             const double T_below = j > 0 ? T[j - 1] : 0.0;
             const double T_above = j < n - 1 ? T[j + 1] : 0.0;
-            const double residual = rho * T[j] - rhoT_star[j]
-                - a * (l_above * (T_above - T[j]) - l_below * (T[j] - T_below)) - dt * S;
+            const double residual = rho * T[j] - rhoT_star[j] -
+                                    a * (l_above * (T_above - T[j]) - l_below * (T[j] - T_below)) - dt * S;
             wk->diag[j] = rho + a * (l_below + l_above) - dt * dS;
             wk->sub[j] = -a * l_below;
             wk->sup[j] = -a * l_above;

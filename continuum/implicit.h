@@ -20,9 +20,9 @@
 #include "status.h"
 
 typedef struct {
-    int n;        /* cells */
+    int n;                              /* cells */
     double *diag, *sub, *sup, *rhs, *x; /* the system and its solution, n + 1 each */
-    double *aux;  /* face conductances of the temperature solve, n + 1 */
+    double *aux;                        /* face conductances of the temperature solve, n + 1 */
 } ekm_implicit_work;
 
 ekm_implicit_work *ekm_implicit_alloc(int n);
@@ -39,17 +39,16 @@ typedef struct {
  * the ends).  rho_face [kg/m^3] and rhs = rho_face w** [kg/(m^2 s)] at
  * faces, mu_n [Pa s] at cells; faces with dry[f] != 0 get w = 0. */
 ekm_status ekm_implicit_normal_velocity(ekm_implicit_work *wk, int n, double dt, double dz,
-                                        const double *rho_face, const double *rhs,
-                                        const double *mu_n, const unsigned char *dry_face,
-                                        ekm_implicit_end bottom, ekm_implicit_end top,
-                                        double *w, ekm_error *err);
+                                        const double *rho_face, const double *rhs, const double *mu_n,
+                                        const unsigned char *dry_face, ekm_implicit_end bottom,
+                                        ekm_implicit_end top, double *w, ekm_error *err);
 
 /* Tangential velocity at the cells; rho [kg/m^3], rhs = (rho u)* + dt rho g_x
  * [kg/(m^2 s)], eta [Pa s]; dry cells get u = 0. */
-ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, double dz,
-                                       const double *rho, const double *rhs, const double *eta,
-                                       const unsigned char *dry, ekm_implicit_end bottom,
-                                       ekm_implicit_end top, double *u, ekm_error *err);
+ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, double dz, const double *rho,
+                                       const double *rhs, const double *eta, const unsigned char *dry,
+                                       ekm_implicit_end bottom, ekm_implicit_end top, double *u,
+                                       ekm_error *err);
 
 /* Tangential velocity with face stresses tau_f = k_f (u_j - u_{j-1}) + t0_f
  * (interior faces f = 1..n-1, u_j the cell above the face), tau_0 =
@@ -59,10 +58,10 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
  * a solid face: k = its rate-law stiffness dt f B_h / dz, t0 its known
  * stress).  The solid regime's form of the shear solve (its coefficients:
  * ekm_regime_shear_faces, regime.h). */
-ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, double dz,
-                                    const double *rho, const double *rhs, const double *k,
-                                    const double *t0, const unsigned char *dry, double u_wall_bottom,
-                                    double u_wall_top, double *u, ekm_error *err);
+ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, double dz, const double *rho,
+                                    const double *rhs, const double *k, const double *t0,
+                                    const unsigned char *dry, double u_wall_bottom, double u_wall_top,
+                                    double *u, ekm_error *err);
 
 /* Temperature equation, Newton's method.  phi [-] (new), rhoT_star
  * [kg/(m s^2)] after convection, lambda [kg/(m s)] lagged, src the source
@@ -71,11 +70,9 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
  * dt (quasi-static beds), the guess is replaced by the local balance
  * S(T) = 0.  Returns EKM_ENUMERIC when Newton does not converge in
  * newton_max iterations (the caller retries with a smaller step). */
-ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz,
-                                    double rho_p, const double *phi, const double *rhoT_star,
-                                    const double *lambda, const ekm_source_coeffs *src,
-                                    const unsigned char *dry,
-                                    double T_floor, double tol, int newton_max, double *T,
-                                    int *iterations, ekm_error *err);
+ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz, double rho_p,
+                                    const double *phi, const double *rhoT_star, const double *lambda,
+                                    const ekm_source_coeffs *src, const unsigned char *dry, double T_floor,
+                                    double tol, int newton_max, double *T, int *iterations, ekm_error *err);
 
 #endif

@@ -20,40 +20,40 @@
 static void usage(FILE *fp)
 {
     fprintf(fp,
-        "usage: ekm run FILE.ini [-o OUT.h5] [--material FIT.ini] [--set section.key=value ...]\n"
-        "               [--quiet]\n"
-        "       ekm scenario FILE.ini [--engine liggghts|lammps] [--size smoke|ref]\n"
-        "                    [--point TAG] [--material FIT.ini] [--set section.key=value ...] --json\n"
-        "       ekm --help | --version\n"
-        "\n"
-        "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
-        "scenario file and writes one HDF5 file (+ XDMF sidecar for ParaView).\n"
-        "\n"
-        "  -o OUT.h5        output file (default: the scenario file's name with .h5,\n"
-        "                   in the current directory); written atomically\n"
-        "  --material FIT.ini  the whole [material] section from FIT.ini (only\n"
-        "                   [material] and comments, e.g. `ekmcompare fit --ini`)\n"
-        "                   instead of FILE.ini's; --set still applies after it\n"
-        "  --set S.K=V      override key K of section S (repeatable), e.g.\n"
-        "                   --set domain.cells=200 --set model.variant=thesis\n"
-        "  --quiet          no progress line and no summary\n"
-        "\n"
-        "ekm scenario prints the resolved scenario as one JSON object on stdout\n"
-        "(docs/resolved-scenario.md): every key of every section with its value as\n"
-        "written and where it came from (FILE:LINE, --set or default), [dem] and\n"
-        "[compare] looked up for the engine and size, and the sweep points with\n"
-        "their tags and the --set overrides of `ekm run` for each.\n"
-        "  --engine E       liggghts or lammps: choose the <engine>.k variants\n"
-        "  --size S         smoke or ref: choose the <size>.k variants and the sweep\n"
-        "  --point TAG      keep only that sweep point\n"
-        "  --json           the output format (required)\n"
-        "\n"
-        "Exit codes (docs/exit-codes.md): 0 success; 1 usage error; 2 bad scenario or\n"
-        "command line value; 3 file could not be read or written (also: -o names the\n"
-        "scenario file); 4 the solver could not continue (phi would reach phi_cp, no\n"
-        "convergence); 5 internal error or out of memory; 128+N stopped by signal N\n"
-        "(its temporary files removed).\n"
-        "Formats and units: README.md and docs/ of ekmbench.\n");
+            "usage: ekm run FILE.ini [-o OUT.h5] [--material FIT.ini] [--set section.key=value ...]\n"
+            "               [--quiet]\n"
+            "       ekm scenario FILE.ini [--engine liggghts|lammps] [--size smoke|ref]\n"
+            "                    [--point TAG] [--material FIT.ini] [--set section.key=value ...] --json\n"
+            "       ekm --help | --version\n"
+            "\n"
+            "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
+            "scenario file and writes one HDF5 file (+ XDMF sidecar for ParaView).\n"
+            "\n"
+            "  -o OUT.h5        output file (default: the scenario file's name with .h5,\n"
+            "                   in the current directory); written atomically\n"
+            "  --material FIT.ini  the whole [material] section from FIT.ini (only\n"
+            "                   [material] and comments, e.g. `ekmcompare fit --ini`)\n"
+            "                   instead of FILE.ini's; --set still applies after it\n"
+            "  --set S.K=V      override key K of section S (repeatable), e.g.\n"
+            "                   --set domain.cells=200 --set model.variant=thesis\n"
+            "  --quiet          no progress line and no summary\n"
+            "\n"
+            "ekm scenario prints the resolved scenario as one JSON object on stdout\n"
+            "(docs/resolved-scenario.md): every key of every section with its value as\n"
+            "written and where it came from (FILE:LINE, --set or default), [dem] and\n"
+            "[compare] looked up for the engine and size, and the sweep points with\n"
+            "their tags and the --set overrides of `ekm run` for each.\n"
+            "  --engine E       liggghts or lammps: choose the <engine>.k variants\n"
+            "  --size S         smoke or ref: choose the <size>.k variants and the sweep\n"
+            "  --point TAG      keep only that sweep point\n"
+            "  --json           the output format (required)\n"
+            "\n"
+            "Exit codes (docs/exit-codes.md): 0 success; 1 usage error; 2 bad scenario or\n"
+            "command line value; 3 file could not be read or written (also: -o names the\n"
+            "scenario file); 4 the solver could not continue (phi would reach phi_cp, no\n"
+            "convergence); 5 internal error or out of memory; 128+N stopped by signal N\n"
+            "(its temporary files removed).\n"
+            "Formats and units: README.md and docs/ of ekmbench.\n");
 }
 
 typedef struct {
@@ -93,15 +93,20 @@ static int cmd_run(int argc, char **argv)
         return ekm_status_exit_code(EKM_ENOMEM);
     }
     for (int i = 0; i < argc; i++) {
-        if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) out = argv[++i];
-        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc) material = argv[++i];
-        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc) sets[n_sets++] = argv[++i];
-        else if (strcmp(argv[i], "--quiet") == 0) quiet = 1;
+        if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
+            out = argv[++i];
+        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc)
+            material = argv[++i];
+        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc)
+            sets[n_sets++] = argv[++i];
+        else if (strcmp(argv[i], "--quiet") == 0)
+            quiet = 1;
         else if (argv[i][0] == '-' || ini) {
             fprintf(stderr, "ekm run: unexpected argument '%s' (see ekm --help)\n", argv[i]);
             free(sets);
             return ekm_status_exit_code(EKM_EUSAGE);
-        } else ini = argv[i];
+        } else
+            ini = argv[i];
     }
     if (!ini) {
         fprintf(stderr, "ekm run: missing scenario file (see ekm --help)\n");
@@ -137,7 +142,8 @@ static int cmd_run(int argc, char **argv)
     ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
     ekm_stepper *stepper = s ? ekm_step_alloc(&sc, &err) : NULL;
     if (!s || !stepper) {
-        if (!s) EKM_FAIL(&err, EKM_ENOMEM, "out of memory (%d cells)", sc.cells);
+        if (!s)
+            EKM_FAIL(&err, EKM_ENOMEM, "out of memory (%d cells)", sc.cells);
         ekm_state_free(s);
         ekm_scenario_free(&sc);
         return fail(&err, err.code); /* the status ekm_step_alloc recorded */
@@ -154,23 +160,37 @@ static int cmd_run(int argc, char **argv)
              * DEM/EKM wall-time ratio) and the mass balance, for
              * provenance; with the solid regime also its switches and
              * first failure (the last six) */
-            const struct { const char *name; double value; } attrs[] = {
-                {"stats.wall_time_s", stats.wall_s}, {"stats.steps", (double)stats.steps},
-                {"stats.rejected_steps", (double)stats.rejected}, {"stats.cell_updates", stats.cell_updates},
-                {"stats.mass_initial", stats.mass_initial}, {"stats.mass_final", stats.mass_final},
+            const struct {
+                const char *name;
+                double value;
+            } attrs[] = {
+                {"stats.wall_time_s", stats.wall_s},
+                {"stats.steps", (double)stats.steps},
+                {"stats.rejected_steps", (double)stats.rejected},
+                {"stats.cell_updates", stats.cell_updates},
+                {"stats.mass_initial", stats.mass_initial},
+                {"stats.mass_final", stats.mass_final},
                 {"stats.mass_in", stats.mass_in},
-                {"hypo.to_solid", (double)stats.to_solid}, {"hypo.to_flow", (double)stats.to_flow},
-                {"hypo.jump_max", stats.jump_max}, {"hypo.fail_time", stats.fail_time},
-                {"hypo.fail_angle", stats.fail_angle}, {"hypo.fail_fY", stats.fail_fY},
+                {"hypo.to_solid", (double)stats.to_solid},
+                {"hypo.to_flow", (double)stats.to_flow},
+                {"hypo.jump_max", stats.jump_max},
+                {"hypo.fail_time", stats.fail_time},
+                {"hypo.fail_angle", stats.fail_angle},
+                {"hypo.fail_fY", stats.fail_fY},
             };
             const size_t n_all = sizeof attrs / sizeof attrs[0];
             const size_t n = sc.hypo.enabled ? n_all : n_all - 6;
             for (size_t i = 0; i < n && st == EKM_OK; i++)
                 st = ekm_h5_writer_set_attr(fc.writer, attrs[i].name, attrs[i].value, &err);
             /* [run] stop = steady: the verdict of the steady-state test */
-            const struct { const char *name; double value; } steady_attrs[] = {
-                {"steady", (double)stats.steady}, {"steady_drift", stats.steady_drift},
-                {"steady_time", stats.steady_time}, {"steady_acceleration", stats.steady_acceleration},
+            const struct {
+                const char *name;
+                double value;
+            } steady_attrs[] = {
+                {"steady", (double)stats.steady},
+                {"steady_drift", stats.steady_drift},
+                {"steady_time", stats.steady_time},
+                {"steady_acceleration", stats.steady_acceleration},
             };
             for (size_t i = 0; sc.stop == EKM_STOP_STEADY && i < 4 && st == EKM_OK; i++)
                 st = ekm_h5_writer_set_attr(fc.writer, steady_attrs[i].name, steady_attrs[i].value, &err);
@@ -202,8 +222,8 @@ static int cmd_run(int argc, char **argv)
             printf("\n");
         }
         if (sc.stop == EKM_STOP_STEADY && stats.steady)
-            printf("%-20s steady at t = %.6g s (held from %.6g s, drift %.2e 1/s < steady_tol %.2e 1/s)\n", "",
-                   s->t, stats.steady_time, stats.steady_drift, sc.steady_tol);
+            printf("%-20s steady at t = %.6g s (held from %.6g s, drift %.2e 1/s < steady_tol %.2e 1/s)\n",
+                   "", s->t, stats.steady_time, stats.steady_drift, sc.steady_tol);
         else if (sc.stop == EKM_STOP_STEADY)
             printf("%-20s NOT steady at t_end = %.6g s (drift %.2e 1/s, acceleration %.3e m/s^2)\n", "", s->t,
                    stats.steady_drift, stats.steady_acceleration);
@@ -228,17 +248,24 @@ static int cmd_scenario(int argc, char **argv)
         return ekm_status_exit_code(EKM_ENOMEM);
     }
     for (int i = 0; i < argc; i++) {
-        if (strcmp(argv[i], "--engine") == 0 && i + 1 < argc) engine = argv[++i];
-        else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc) size = argv[++i];
-        else if (strcmp(argv[i], "--point") == 0 && i + 1 < argc) point = argv[++i];
-        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc) material = argv[++i];
-        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc) sets[n_sets++] = argv[++i];
-        else if (strcmp(argv[i], "--json") == 0) json = 1;
+        if (strcmp(argv[i], "--engine") == 0 && i + 1 < argc)
+            engine = argv[++i];
+        else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc)
+            size = argv[++i];
+        else if (strcmp(argv[i], "--point") == 0 && i + 1 < argc)
+            point = argv[++i];
+        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc)
+            material = argv[++i];
+        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc)
+            sets[n_sets++] = argv[++i];
+        else if (strcmp(argv[i], "--json") == 0)
+            json = 1;
         else if (argv[i][0] == '-' || ini) {
             fprintf(stderr, "ekm scenario: unexpected argument '%s' (see ekm --help)\n", argv[i]);
             free(sets);
             return ekm_status_exit_code(EKM_EUSAGE);
-        } else ini = argv[i];
+        } else
+            ini = argv[i];
     }
     if (!ini || !json) {
         fprintf(stderr, "ekm scenario: %s (see ekm --help)\n",

@@ -6,19 +6,30 @@
 ekm_material ekm_material_thesis(void)
 {
     ekm_material m = {
-        .rho_p = 1600.0, .phi_co = 0.60, .phi_cp = 0.64, .T0 = 1.5,
-        .eta0 = 3.55e-4, .zeta0 = 1e-4, .lambda0 = 3.4e-4, .eps0 = 500.0,
-        .nu = 1.0, .A_h = 200e6, .B_h = 200e6, .alpha = 0.0,
+        .rho_p = 1600.0,
+        .phi_co = 0.60,
+        .phi_cp = 0.64,
+        .T0 = 1.5,
+        .eta0 = 3.55e-4,
+        .zeta0 = 1e-4,
+        .lambda0 = 3.4e-4,
+        .eps0 = 500.0,
+        .nu = 1.0,
+        .A_h = 200e6,
+        .B_h = 200e6,
+        .alpha = 0.0,
     };
     return m;
 }
 
 ekm_status ekm_material_check(const ekm_material *m, ekm_error *err)
 {
-    struct { const char *key; double value; } positive[] = {
-        {"rho_p", m->rho_p}, {"phi_cp", m->phi_cp}, {"T0", m->T0},
-        {"eta0", m->eta0}, {"zeta0", m->zeta0}, {"eps0", m->eps0},
-        {"nu", m->nu}, {"A_h", m->A_h}, {"B_h", m->B_h},
+    struct {
+        const char *key;
+        double value;
+    } positive[] = {
+        {"rho_p", m->rho_p}, {"phi_cp", m->phi_cp}, {"T0", m->T0},   {"eta0", m->eta0}, {"zeta0", m->zeta0},
+        {"eps0", m->eps0},   {"nu", m->nu},         {"A_h", m->A_h}, {"B_h", m->B_h},
     };
     for (unsigned i = 0; i < sizeof positive / sizeof positive[0]; i++)
         if (!(positive[i].value > 0.0))
@@ -62,8 +73,7 @@ static double yield_over_sqrtT(double Y, double a)
     return Y > 0.0 ? Y / a : 0.0;
 }
 
-ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v,
-                                         double phi, double T)
+ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v, double phi, double T)
 {
     const double g = ekm_g(m, phi);
     const double a = sqrt(T);
@@ -77,8 +87,8 @@ ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v,
     return c;
 }
 
-ekm_slab_stress ekm_stress_slab(const ekm_material *m, ekm_variant v, double phi,
-                                double T, double du_dz, double dw_dz)
+ekm_slab_stress ekm_stress_slab(const ekm_material *m, ekm_variant v, double phi, double T, double du_dz,
+                                double dw_dz)
 {
     const ekm_transport c = ekm_transport_coefficients(m, v, phi, T);
     const double p_eq = ekm_pressure_kinetic(m, phi, T) + ekm_pressure_yield(m, phi);
@@ -102,8 +112,8 @@ static void normal_lengths(const ekm_material *m, ekm_variant v, double *cn, dou
     }
 }
 
-double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi,
-                              double T, double u2, double w2, double *dS_dT)
+double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi, double T, double u2,
+                              double w2, double *dS_dT)
 {
     double cn, cny;
     normal_lengths(m, v, &cn, &cny);
@@ -117,8 +127,7 @@ double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi,
     const double S = m->rho_p * g * (2.0 / 3.0 * (Ka * a + Kb_a) - pe * (a * T + m->nu * Y * a));
     if (dS_dT) {
         if (a > 0.0) {
-            const double dS_da = m->rho_p * g *
-                (2.0 / 3.0 * (Ka - Kb_a / a) - pe * (3.0 * T + m->nu * Y));
+            const double dS_da = m->rho_p * g * (2.0 / 3.0 * (Ka - Kb_a / a) - pe * (3.0 * T + m->nu * Y));
             *dS_dT = dS_da / (2.0 * a);
         } else {
             *dS_dT = 0.0;
@@ -127,8 +136,8 @@ double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi,
     return S;
 }
 
-ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_variant v, double phi,
-                                                double u2, double w2)
+ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_variant v, double phi, double u2,
+                                                double w2)
 {
     double cn, cny;
     normal_lengths(m, v, &cn, &cny);
@@ -142,8 +151,7 @@ ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_varia
     return c;
 }
 
-double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v,
-                                     double phi, double u2, double w2)
+double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v, double phi, double u2, double w2)
 {
     if (!(phi > 0.0))
         return 0.0;

@@ -80,17 +80,16 @@ double ekm_pressure_yield(const ekm_material *m, double phi);
 /* Y = T0 (phi - phi_co)_+ / phi, so that r = P_Y/P_K = Y/T [m^2/s^2]. */
 double ekm_yield_temperature(const ekm_material *m, double phi);
 
-ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v,
-                                         double phi, double T);
+ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v, double phi, double T);
 
 /* du_dz = u', dw_dz = w' [1/s]. */
-ekm_slab_stress ekm_stress_slab(const ekm_material *m, ekm_variant v, double phi,
-                                double T, double du_dz, double dw_dz);
+ekm_slab_stress ekm_stress_slab(const ekm_material *m, ekm_variant v, double phi, double T, double du_dz,
+                                double dw_dz);
 
 /* Local temperature source S(T) [W/m^3] for squared gradients u2 = u'^2,
  * w2 = w'^2 [1/s^2], and its derivative dS/dT (may be NULL). */
-double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi,
-                              double T, double u2, double w2, double *dS_dT);
+double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi, double T, double u2,
+                              double w2, double *dS_dT);
 
 /* The source written as S(T) = k_heat_a sqrt(T) + k_heat_y / sqrt(T)
  * - k_diss (T^(3/2) + nu Y sqrt(T)): the coefficients depend on phi and
@@ -102,8 +101,8 @@ typedef struct {
     double nuY;      /* nu Y [m^2/s^2] */
 } ekm_source_coeffs;
 
-ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_variant v, double phi,
-                                                double u2, double w2);
+ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_variant v, double phi, double u2,
+                                                double w2);
 
 /* S(T) and dS/dT from precomputed coefficients (T > 0). */
 static inline double ekm_source_eval(const ekm_source_coeffs *c, double T, double *dS_dT)
@@ -135,8 +134,7 @@ static inline double ekm_source_balance(const ekm_source_coeffs *c)
  *   Ka = eta0 u2 + c_n w2,  Kb = Y (nu eta0 u2 + c_n' w2)
  * (c_n, c_n' the normal-viscosity lengths of the variant).  For steady
  * simple shear this is T = 2 eta0 gdot^2/(3 phi eps0) (MODEL.md 7). */
-double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v,
-                                     double phi, double u2, double w2);
+double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v, double phi, double u2, double w2);
 
 /* Sound speed bound sqrt(dP/drho + 2/3 T g^2) [m/s] for the CFL limit,
  * and its square [m^2/s^2]. */

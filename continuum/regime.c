@@ -9,8 +9,8 @@
 
 /* The rates the solid step lags its norm ||kappa|| on: u'^2 and w' at
  * cells, u' at faces. */
-void ekm_regime_lagged_rates(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
-                             const unsigned char *dry)
+void ekm_regime_lagged_rates(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
+                             const ekm_bc_face *bt, const unsigned char *dry)
 {
     const int n = s->n;
     ekm_step_shear_rates(s, bb, bt, dry, st->u2_old, st->T_keep /* scratch */);
@@ -53,12 +53,13 @@ void ekm_regime_properties(ekm_stepper *st, const ekm_state *s, double dt)
         if (!s->solid[j] || st->dry[j])
             continue;
         const ekm_hypo_stress sig = {s->sxx[j], s->syy[j], s->szz[j], 0.0};
-        st->hyp[j] = ekm_hypo_prepare(m, st->sc->variant, ekm_scenario_law_phi(st->sc, st->phi_new[j]), dt, &sig,
-                                      sqrt(st->u2_old[j]), st->dw_old[j]);
+        st->hyp[j] = ekm_hypo_prepare(m, st->sc->variant, ekm_scenario_law_phi(st->sc, st->phi_new[j]), dt,
+                                      &sig, sqrt(st->u2_old[j]), st->dw_old[j]);
         /* A dense solid cell that extends to phi_co within the step: its
          * limit surface shrinks to the point sigma = 0 (P_Y -> 0), so it
          * is stress-free (it switches to flow after the step). */
-        if (st->phi_new[j] <= m->phi_co + st->sc->hypo.phi_margin && s->phi[j] > m->phi_co + st->sc->hypo.phi_margin)
+        if (st->phi_new[j] <= m->phi_co + st->sc->hypo.phi_margin &&
+            s->phi[j] > m->phi_co + st->sc->hypo.phi_margin)
             st->hyp[j] = (ekm_hypo_implicit){.xz_scale = 0.0};
         st->P[j] = -st->hyp[j].Ezz;
         st->mu_n[j] = st->hyp[j].Vzz;
@@ -74,8 +75,8 @@ static int face_solid(const ekm_stepper *st, int n, int f)
 }
 
 /* Phase 6 coefficients: face stress tau_f = k_f (jump of u) + t0_f. */
-void ekm_regime_shear_faces(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
-                            const ekm_bc_face *bt, double dt)
+void ekm_regime_shear_faces(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
+                            double dt)
 {
     const int n = s->n;
     const double dz = s->dz;
@@ -94,11 +95,12 @@ void ekm_regime_shear_faces(ekm_stepper *st, const ekm_state *s, const ekm_bc_fa
             const int in = f == 0 ? 1 : n - 2;
             if ((f == 0 || f == n) && in >= 0 && in < n && !st->dry[in])
                 phi_f = fmax(fmin(1.5 * st->phi_new[a] - 0.5 * st->phi_new[in],
-                                  0.5 * (st->phi_new[a] + st->sc->material.phi_cp)), 0.5 * st->phi_new[a]);
+                                  0.5 * (st->phi_new[a] + st->sc->material.phi_cp)),
+                             0.5 * st->phi_new[a]);
             const ekm_hypo_stress none = {0};
-            ekm_hypo_implicit c = ekm_hypo_prepare(&st->sc->material, st->sc->variant,
-                                                   ekm_scenario_law_phi(st->sc, phi_f), dt, &none,
-                                                   st->du_face_old[f], 0.5 * (st->dw_old[a] + st->dw_old[b]));
+            ekm_hypo_implicit c =
+                ekm_hypo_prepare(&st->sc->material, st->sc->variant, ekm_scenario_law_phi(st->sc, phi_f), dt,
+                                 &none, st->du_face_old[f], 0.5 * (st->dw_old[a] + st->dw_old[b]));
             if (st->hyp[a].xz_scale == 0.0 || st->hyp[b].xz_scale == 0.0)
                 c.xz_scale = c.Vxz = 0.0; /* a cell extends to phi_co: stress-free (solid_properties) */
             t0 = s->sxz[f] * c.xz_scale;
@@ -130,15 +132,22 @@ void ekm_regime_finish(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
     /* Outflow ends: zero gradient of the stress too (as of phi, u, T), so
      * a solid edge cell does not act as a support for the material inside. */
     if (n > 1 && st->sc->bottom.kind == EKM_BC_OUTFLOW && s->solid[0] && s->solid[1] && !st->dry[1]) {
-        s->sxx[0] = s->sxx[1]; s->syy[0] = s->syy[1]; s->szz[0] = s->szz[1];
+        s->sxx[0] = s->sxx[1];
+        s->syy[0] = s->syy[1];
+        s->szz[0] = s->szz[1];
     }
-    if (n > 1 && st->sc->top.kind == EKM_BC_OUTFLOW && s->solid[n - 1] && s->solid[n - 2] && !st->dry[n - 2]) {
-        s->sxx[n - 1] = s->sxx[n - 2]; s->syy[n - 1] = s->syy[n - 2]; s->szz[n - 1] = s->szz[n - 2];
+    if (n > 1 && st->sc->top.kind == EKM_BC_OUTFLOW && s->solid[n - 1] && s->solid[n - 2] &&
+        !st->dry[n - 2]) {
+        s->sxx[n - 1] = s->sxx[n - 2];
+        s->syy[n - 1] = s->syy[n - 2];
+        s->szz[n - 1] = s->szz[n - 2];
     }
     for (int f = 0; f <= n; f++) {
         if (!face_solid(st, n, f))
             continue;
-        const double du = f == 0 ? s->u[0] - bb->u_wall : f == n ? bt->u_wall - s->u[n - 1] : s->u[f] - s->u[f - 1];
+        const double du = f == 0   ? s->u[0] - bb->u_wall
+                          : f == n ? bt->u_wall - s->u[n - 1]
+                                   : s->u[f] - s->u[f - 1];
         s->sxz[f] = st->t0face[f] + st->kface[f] * du;
     }
 }
@@ -155,11 +164,13 @@ static double flow_cell_shear(const ekm_stepper *st, const ekm_state *s, const e
     if (j == 0)
         below = eta_j * (s->u[0] - bb->u_wall) * bb->wall_conductance;
     else
-        below = ekm_face_viscosity(st->eta[j - 1], s->solid[j - 1], eta_j, 0) * (s->u[j] - s->u[j - 1]) / s->dz;
+        below =
+            ekm_face_viscosity(st->eta[j - 1], s->solid[j - 1], eta_j, 0) * (s->u[j] - s->u[j - 1]) / s->dz;
     if (j == n - 1)
         above = eta_j * (bt->u_wall - s->u[n - 1]) * bt->wall_conductance;
     else
-        above = ekm_face_viscosity(eta_j, 0, st->eta[j + 1], s->solid[j + 1]) * (s->u[j + 1] - s->u[j]) / s->dz;
+        above =
+            ekm_face_viscosity(eta_j, 0, st->eta[j + 1], s->solid[j + 1]) * (s->u[j + 1] - s->u[j]) / s->dz;
     return 0.5 * (below + above);
 }
 
@@ -180,9 +191,11 @@ void ekm_regime_switch(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
         if (f == 0)
             s->sxz[0] = !st->dry[0] ? eta[0] * bb->wall_conductance * (s->u[0] - bb->u_wall) : 0.0;
         else if (f == n)
-            s->sxz[n] = !st->dry[n - 1] ? eta[n - 1] * bt->wall_conductance * (bt->u_wall - s->u[n - 1]) : 0.0;
+            s->sxz[n] =
+                !st->dry[n - 1] ? eta[n - 1] * bt->wall_conductance * (bt->u_wall - s->u[n - 1]) : 0.0;
         else
-            s->sxz[f] = ekm_face_viscosity(eta[f - 1], s->solid[f - 1], eta[f], s->solid[f]) * (s->u[f] - s->u[f - 1]) / s->dz;
+            s->sxz[f] = ekm_face_viscosity(eta[f - 1], s->solid[f - 1], eta[f], s->solid[f]) *
+                        (s->u[f] - s->u[f - 1]) / s->dz;
     }
     for (int j = 0; j < n; j++) {
         const double phi = s->phi[j];
@@ -199,15 +212,19 @@ void ekm_regime_switch(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
                                : ekm_yield_temperature(m, phi);
         if (s->solid[j]) {
             const ekm_hypo_stress sig = {s->sxx[j], s->syy[j], s->szz[j], 0.5 * (s->sxz[j] + s->sxz[j + 1])};
-            const double fY = loose ? NAN : ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &sig);
+            const double fY =
+                loose ? NAN : ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &sig);
             /* quasi-static T of the current rates and the flow stress there */
-            const double T = st->dry[j] ? 0.0
-                : fmax(ekm_temperature_local_balance(m, sc->variant, phi, st->u2[j], dw * dw), sc->numerics.T_floor);
+            const double T =
+                st->dry[j] ? 0.0
+                           : fmax(ekm_temperature_local_balance(m, sc->variant, phi, st->u2[j], dw * dw),
+                                  sc->numerics.T_floor);
             double jump = 0.0;
             int go;
             const char *why;
             if (st->dry[j]) {
-                go = 1; why = "empty";
+                go = 1;
+                why = "empty";
             } else if (loose) {
                 go = !(Y > 0.0) || sig.zz >= 0.0;
                 why = "loose cell unloaded";
@@ -216,7 +233,8 @@ void ekm_regime_switch(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
                 why = "limit surface";
                 if (fY >= -h->yield_tol && !compress) {
                     ekm_hypo_stress e = ekm_hypo_from_flow(m, sc->variant, phi, T, 0.0, dw);
-                    e.xz = flow_cell_shear(st, s, bb, bt, j, ekm_transport_coefficients(m, sc->variant, phi, T).eta);
+                    e.xz = flow_cell_shear(st, s, bb, bt, j,
+                                           ekm_transport_coefficients(m, sc->variant, phi, T).eta);
                     jump = fmax(fabs(e.zz - sig.zz), fabs(e.xz - sig.xz)) / fmax(fabs(sig.zz), fabs(sig.xz));
                     go = jump <= h->jump_tol || !h->carry_over;
                 }
@@ -226,7 +244,8 @@ void ekm_regime_switch(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
             if (!st->dry[j]) {
                 if (h->carry_over) {
                     /* no limit surface below phi_co: T from stress continuity */
-                    const double Tm = loose ? ekm_hypo_flow_T_for_stress(m, sc->variant, phi, dw, sig.zz) : -1.0;
+                    const double Tm =
+                        loose ? ekm_hypo_flow_T_for_stress(m, sc->variant, phi, dw, sig.zz) : -1.0;
                     s->T[j] = Tm >= 0.0 ? fmax(Tm, sc->numerics.T_floor) : T;
                     eta[j] = ekm_transport_coefficients(m, sc->variant, phi, s->T[j]).eta;
                 }
@@ -245,7 +264,8 @@ void ekm_regime_switch(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
             s->solid[j] = 0;
             st->to_flow++;
             if (h->log)
-                fprintf(stderr, "ekm: t = %.9g s: cell %d (z = %.6g m) solid -> flow (%s): phi %.6f, f_Y %.3e, "
+                fprintf(stderr,
+                        "ekm: t = %.9g s: cell %d (z = %.6g m) solid -> flow (%s): phi %.6f, f_Y %.3e, "
                         "w' %.3e, |u'| %.3e 1/s, sigma_zz %.6g Pa, sigma_xz %.6g Pa, T := %.3e, jump %.2e\n",
                         s->t, j, s->z[j], why, phi, fY, dw, du_abs, sig.zz, sig.xz, s->T[j], jump);
         } else if (!st->dry[j] && Y > 0.0 && (compress || at_rest) && s->T[j] < h->T_ratio * Y &&
@@ -258,7 +278,8 @@ void ekm_regime_switch(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
              * at once, step after step.  One that comes to rest decelerates. */
             if (!compress && !loose && rate > rate_before) {
                 e.xz = 0.5 * (s->sxz[j] + s->sxz[j + 1]);
-                if (!(ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &e) < -10.0 * h->yield_tol))
+                if (!(ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &e) <
+                      -10.0 * h->yield_tol))
                     continue;
             }
             if (!h->carry_over) /* tests only (scenario.h) */
@@ -269,9 +290,11 @@ void ekm_regime_switch(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
             s->solid[j] = 1;
             st->to_solid++;
             if (h->log)
-                fprintf(stderr, "ekm: t = %.9g s: cell %d (z = %.6g m) flow -> solid%s: phi %.6f, T %.3e, w' %.3e, "
+                fprintf(stderr,
+                        "ekm: t = %.9g s: cell %d (z = %.6g m) flow -> solid%s: phi %.6f, T %.3e, w' %.3e, "
                         "|u'| %.3e 1/s, sigma_zz %.6g Pa, jump 0\n",
-                        s->t, j, s->z[j], loose ? " (loose, on a solid cell)" : "", phi, s->T[j], dw, du_abs, e.zz);
+                        s->t, j, s->z[j], loose ? " (loose, on a solid cell)" : "", phi, s->T[j], dw, du_abs,
+                        e.zz);
         }
     }
 }

@@ -43,16 +43,16 @@ int ekm_regime_begin(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
 
 /* The rates the solid step lags its norm on (u'^2 and w' at cells, u' at
  * faces) from the velocities of s; dry marks the cells without shear. */
-void ekm_regime_lagged_rates(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
-                             const unsigned char *dry);
+void ekm_regime_lagged_rates(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
+                             const ekm_bc_face *bt, const unsigned char *dry);
 
 /* Phase 4 for solid cells: the prepared rate-law step of each (st->hyp);
  * the normal solve sees its stress as P = -E_zz, its stiffness as mu_n = V_zz. */
 void ekm_regime_properties(ekm_stepper *st, const ekm_state *s, double dt);
 
 /* Phase 6 coefficients of every face: tau_f = kface_f (jump of u) + t0face_f. */
-void ekm_regime_shear_faces(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
-                            const ekm_bc_face *bt, double dt);
+void ekm_regime_shear_faces(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
+                            double dt);
 
 /* After the solves: the new stresses of the solid cells and faces. */
 void ekm_regime_finish(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt);

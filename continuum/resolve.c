@@ -199,8 +199,8 @@ static int is_field_list(const char *v)
         if (len == 0 || !((p[0] >= 'A' && p[0] <= 'Z') || (p[0] >= 'a' && p[0] <= 'z')))
             return 0;
         for (size_t i = 1; i < len; i++)
-            if (!((p[i] >= 'A' && p[i] <= 'Z') || (p[i] >= 'a' && p[i] <= 'z') || (p[i] >= '0' && p[i] <= '9') ||
-                  p[i] == '_'))
+            if (!((p[i] >= 'A' && p[i] <= 'Z') || (p[i] >= 'a' && p[i] <= 'z') ||
+                  (p[i] >= '0' && p[i] <= '9') || p[i] == '_'))
                 return 0;
         if (p[len] == '\0')
             return 1;
@@ -307,8 +307,7 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
         if (!is_number_list(value))
             expected = "numbers separated by blanks";
         break;
-    case TYPE_STRING:
-        break;
+    case TYPE_STRING: break;
     case TYPE_FIELDS:
         if (!is_field_list(value))
             expected = "field names separated by commas (e.g. phi,vx,T)";
@@ -354,7 +353,8 @@ static void entry_from(const ekm_scenario *s, const ekm_entry *e, char *buf, siz
     if (e->origin == EKM_FROM_SET)
         snprintf(buf, size, "--set");
     else
-        snprintf(buf, size, "%s:%d", e->origin == EKM_FROM_MATERIAL ? s->material_source : s->source, e->line);
+        snprintf(buf, size, "%s:%d", e->origin == EKM_FROM_MATERIAL ? s->material_source : s->source,
+                 e->line);
 }
 
 /* The entry of tool key section.base by the lookup rule: a --set of the
@@ -373,7 +373,8 @@ static const ekm_entry *pick(const ekm_scenario *s, const char *section, const c
         return plain;
     const int allowed[4] = {*engine && *size, *size != '\0', *engine != '\0', 1};
     for (int i = 0; i < 4; i++) {
-        const ekm_entry *e = allowed[i] ? ekm_scenario_entry_find(s->tool_entries, s->n_tool_entries, name[i]) : NULL;
+        const ekm_entry *e =
+            allowed[i] ? ekm_scenario_entry_find(s->tool_entries, s->n_tool_entries, name[i]) : NULL;
         if (e)
             return e;
     }
@@ -412,16 +413,16 @@ static ekm_status sweep_of(const ekm_scenario *s, sweep_kind *kind, ekm_error *e
                             "%s: [dem] %s: a key of the %s sweep, but [dem] %s is one of the %s sweep: "
                             "expected the keys of one sweep only (inclined flow: t_settle t_flow angles; "
                             "simple shear: strain rates, and phis or pressures)",
-                            from, e->name + 4, tk->sweep == SWEEP_THETA ? "inclined-flow" : "simple-shear", first,
-                            *kind == SWEEP_THETA ? "inclined-flow" : "simple-shear");
+                            from, e->name + 4, tk->sweep == SWEEP_THETA ? "inclined-flow" : "simple-shear",
+                            first, *kind == SWEEP_THETA ? "inclined-flow" : "simple-shear");
         if ((tk->sweep == SWEEP_PHI_RATE && *kind == SWEEP_P_RATE) ||
             (tk->sweep == SWEEP_P_RATE && *kind == SWEEP_PHI_RATE))
             return EKM_FAIL(err, EKM_EINPUT,
                             "%s: [dem] %s: a list of the %s sweep, but [dem] %s is one of the %s sweep: "
                             "expected phis (shear at fixed volume) or pressures (shear at fixed pressure), "
                             "not both",
-                            from, e->name + 4, tk->sweep == SWEEP_P_RATE ? "pressure x rate" : "phi x rate", list,
-                            *kind == SWEEP_P_RATE ? "pressure x rate" : "phi x rate");
+                            from, e->name + 4, tk->sweep == SWEEP_P_RATE ? "pressure x rate" : "phi x rate",
+                            list, *kind == SWEEP_P_RATE ? "pressure x rate" : "phi x rate");
         if (!first)
             first = e->name + 4;
         if (tk->sweep == SWEEP_PHI_RATE || tk->sweep == SWEEP_P_RATE) {
@@ -494,11 +495,12 @@ static ekm_status split_list(const ekm_resolve_key *k, item_list *out, ekm_error
         const size_t len = strcspn(p, BLANKS);
         const char *key = k->as[0] ? k->as : k->name + 4;
         if (len >= sizeof out->item[0])
-            return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: list item longer than %zu characters", k->from, key,
-                            sizeof out->item[0] - 1);
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: list item longer than %zu characters", k->from,
+                            key, sizeof out->item[0] - 1);
         for (size_t j = 0; j < out->n; j++)
             if (strlen(out->item[j]) == len && strncmp(out->item[j], p, len) == 0)
-                return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: value '%s' given twice (each point needs its own tag)",
+                return EKM_FAIL(err, EKM_EINPUT,
+                                "%s: [dem] %s: value '%s' given twice (each point needs its own tag)",
                                 k->from, key, out->item[j]);
         snprintf(out->item[out->n++], sizeof out->item[0], "%.*s", (int)len, p);
         p += len;
@@ -544,16 +546,18 @@ static ekm_status dump_every_of(const ekm_resolve_key *dump_strain, const ekm_re
     if (!dt)
         return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: needs [dem] dt (dump_every = %s / (rate dt))",
                         dump_strain->from, key, key);
-    const double strain = strtod(dump_strain->value, NULL), r = strtod(rate, NULL), step = strtod(dt->value, NULL);
+    const double strain = strtod(dump_strain->value, NULL), r = strtod(rate, NULL),
+                 step = strtod(dt->value, NULL);
     if (!(strain > 0) || !(r > 0) || !(step > 0))
-        return EKM_FAIL(err, EKM_EINPUT,
-                        "%s: [dem] %s: expected dump_strain, dt and every rate > 0 (got dump_strain %s, dt %s, "
-                        "rate %s of [dem] %s)",
-                        dump_strain->from, key, dump_strain->value, dt->value, rate,
-                        rates->as[0] ? rates->as : "rates");
+        return EKM_FAIL(
+            err, EKM_EINPUT,
+            "%s: [dem] %s: expected dump_strain, dt and every rate > 0 (got dump_strain %s, dt %s, "
+            "rate %s of [dem] %s)",
+            dump_strain->from, key, dump_strain->value, dt->value, rate, rates->as[0] ? rates->as : "rates");
     const double n = strain / (r * step) + 0.5;
     if (!(n < 2147483647.0))
-        return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: dump_every %s / (%s %s) exceeds the largest step count",
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [dem] %s: dump_every %s / (%s %s) exceeds the largest step count",
                         dump_strain->from, key, dump_strain->value, rate, dt->value);
     const long every = (long)n;
     snprintf(out, size, "%ld", every < 1 ? 1L : every);
@@ -565,7 +569,8 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
     const ekm_resolve_key *angles = ekm_resolve_find(r, "dem.angles");
     const ekm_resolve_key *phis = ekm_resolve_find(r, "dem.phis"), *rates = ekm_resolve_find(r, "dem.rates");
     const ekm_resolve_key *pressures = ekm_resolve_find(r, "dem.pressures");
-    const ekm_resolve_key *dump_strain = ekm_resolve_find(r, "dem.dump_strain"), *dt = ekm_resolve_find(r, "dem.dt");
+    const ekm_resolve_key *dump_strain = ekm_resolve_find(r, "dem.dump_strain"),
+                          *dt = ekm_resolve_find(r, "dem.dt");
     item_list *a = calloc(2, sizeof *a);
     if (!a)
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory resolving the scenario");
@@ -607,15 +612,16 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
                     break;
                 }
                 if (n > 1)
-                    snprintf(p->tag, sizeof p->tag, "%s%s-rate%s", by_p ? "p" : "phi", a[0].item[i], a[1].item[j]);
+                    snprintf(p->tag, sizeof p->tag, "%s%s-rate%s", by_p ? "p" : "phi", a[0].item[i],
+                             a[1].item[j]);
                 p->n_vars = 2;
                 snprintf(p->var_name[0], sizeof p->var_name[0], "%s", by_p ? "pressure" : "phi");
                 snprintf(p->var_value[0], sizeof p->var_value[0], "%s", a[0].item[i]);
                 snprintf(p->var_name[1], sizeof p->var_name[1], "rate");
                 snprintf(p->var_value[1], sizeof p->var_value[1], "%s", a[1].item[j]);
                 if (dump_strain) {
-                    st = dump_every_of(dump_strain, dt, rates, a[1].item[j], p->var_value[2], sizeof p->var_value[2],
-                                       err);
+                    st = dump_every_of(dump_strain, dt, rates, a[1].item[j], p->var_value[2],
+                                       sizeof p->var_value[2], err);
                     snprintf(p->var_name[2], sizeof p->var_name[2], "dump_every");
                     p->n_vars = 3;
                 }

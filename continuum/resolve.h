@@ -37,18 +37,18 @@ typedef struct {
 
 /* One sweep point: up to 3 deck variables, up to 3 ekm overrides. */
 typedef struct {
-    char tag[160];          /* "" for the single point, "theta22", "phi0.50-rate10", "p100-rate10" */
+    char tag[160]; /* "" for the single point, "theta22", "phi0.50-rate10", "p100-rate10" */
     size_t n_vars;
-    char var_name[3][16];   /* "theta"; "phi", "rate"; "pressure", "rate"; [+ "dump_every"] */
-    char var_value[3][64];  /* as written in the sweep list (dump_every: computed) */
+    char var_name[3][16];  /* "theta"; "phi", "rate"; "pressure", "rate"; [+ "dump_every"] */
+    char var_value[3][64]; /* as written in the sweep list (dump_every: computed) */
     size_t n_sets;
-    char set[3][96];        /* "gravity.angle=22", "top.velocity=0.1", ... */
+    char set[3][96]; /* "gravity.angle=22", "top.velocity=0.1", ... */
 } ekm_resolve_point;
 
 typedef struct {
-    char engine[16];        /* "" when not given */
-    char size[16];          /* "" when not given */
-    ekm_resolve_key *keys;  /* ekm's sections in registry order, then [dem], [compare] */
+    char engine[16];       /* "" when not given */
+    char size[16];         /* "" when not given */
+    ekm_resolve_key *keys; /* ekm's sections in registry order, then [dem], [compare] */
     size_t n_keys;
     ekm_resolve_point *points;
     size_t n_points;

@@ -25,13 +25,13 @@ static void progress_line(const ekm_state *s, double t_end, double dt, double st
     const double elapsed = now_s() - started;
     const double frac = s->t / t_end;
     const double eta = frac > 0.0 ? elapsed * (1.0 - frac) / frac : 0.0;
-    fprintf(stderr, "\r  t = %10.4g s / %.4g s  (%5.1f%%)  dt = %9.3g s  steps %9ld  ETA %6.0f s ",
-            s->t, t_end, 100.0 * frac, dt, s->steps, eta);
+    fprintf(stderr, "\r  t = %10.4g s / %.4g s  (%5.1f%%)  dt = %9.3g s  steps %9ld  ETA %6.0f s ", s->t,
+            t_end, 100.0 * frac, dt, s->steps, eta);
     fflush(stderr);
 }
 
-ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
-                   const ekm_run_hooks *hooks, ekm_run_stats *stats, ekm_error *err)
+ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const ekm_run_hooks *hooks,
+                   ekm_run_stats *stats, ekm_error *err)
 {
     const double rho_p = sc->material.rho_p;
     *stats = (ekm_run_stats){.dt_min_used = INFINITY, .steady_drift = NAN, .steady_time = NAN};
@@ -74,8 +74,9 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
             stats->rejected++;
             dt *= 0.5;
             if (dt < sc->numerics.dt_min) {
-                rc = EKM_FAIL(err, EKM_ENUMERIC, "%s: time step fell below dt_min = %g s; last rejected step: %s",
-                              sc->source, sc->numerics.dt_min, st->reject_reason);
+                rc = EKM_FAIL(err, EKM_ENUMERIC,
+                              "%s: time step fell below dt_min = %g s; last rejected step: %s", sc->source,
+                              sc->numerics.dt_min, st->reject_reason);
                 goto done;
             }
         }

@@ -24,32 +24,32 @@ typedef struct {
 } ekm_run_hooks;
 
 typedef struct {
-    long steps;          /* accepted steps */
-    long rejected;       /* rejected (and retried) steps */
-    double cell_updates; /* accepted steps x cells */
-    double wall_s;       /* wall-clock time of the loop [s] */
-    double dt_min_used;  /* smallest accepted step [s] */
-    double mass_initial; /* [kg/m^2] */
-    double mass_final;   /* [kg/m^2] */
-    double mass_in;      /* net boundary inflow [kg/m^2] */
-    double phi_max;      /* largest phi of any output frame [-] */
-    long newton_iterations; /* temperature Newton iterations, all steps */
-    long to_solid, to_flow; /* regime switches flow -> solid, solid -> flow */
-    double jump_max;        /* largest relative stress jump at a switch [-] */
-    double fail_time;       /* first solid -> flow switch [s], -1: none */
-    double fail_angle;      /* gravity angle then [deg] */
-    double fail_fY;         /* f_Y of the failing cell's stress then [-] */
-    int fail_cell;          /* the failing cell (-1: none) */
-    double fail_phi;        /* its phi then (the law's, as fail_fY) [-] */
+    long steps;                  /* accepted steps */
+    long rejected;               /* rejected (and retried) steps */
+    double cell_updates;         /* accepted steps x cells */
+    double wall_s;               /* wall-clock time of the loop [s] */
+    double dt_min_used;          /* smallest accepted step [s] */
+    double mass_initial;         /* [kg/m^2] */
+    double mass_final;           /* [kg/m^2] */
+    double mass_in;              /* net boundary inflow [kg/m^2] */
+    double phi_max;              /* largest phi of any output frame [-] */
+    long newton_iterations;      /* temperature Newton iterations, all steps */
+    long to_solid, to_flow;      /* regime switches flow -> solid, solid -> flow */
+    double jump_max;             /* largest relative stress jump at a switch [-] */
+    double fail_time;            /* first solid -> flow switch [s], -1: none */
+    double fail_angle;           /* gravity angle then [deg] */
+    double fail_fY;              /* f_Y of the failing cell's stress then [-] */
+    int fail_cell;               /* the failing cell (-1: none) */
+    double fail_phi;             /* its phi then (the law's, as fail_fY) [-] */
     ekm_hypo_stress fail_stress; /* its stress then [Pa] */
     /* [run] stop = steady (steady.h): */
-    int steady;             /* 1: ended steady, 0: reached t_end unsteady */
-    double steady_drift;    /* drift at the last output [1/s] */
-    double steady_time;     /* start of the held steady window [s], NAN: never */
+    int steady;                 /* 1: ended steady, 0: reached t_end unsteady */
+    double steady_drift;        /* drift at the last output [1/s] */
+    double steady_time;         /* start of the held steady window [s], NAN: never */
     double steady_acceleration; /* d(mean vx)/dt over the last steady_window [m/s^2] */
 } ekm_run_stats;
 
-ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st,
-                   const ekm_run_hooks *hooks, ekm_run_stats *stats, ekm_error *err);
+ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const ekm_run_hooks *hooks,
+                   ekm_run_stats *stats, ekm_error *err);
 
 #endif

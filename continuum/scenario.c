@@ -23,34 +23,46 @@ typedef struct {
     const char *section;
     const char *key;
     key_type type;
-    size_t offset;   /* into ekm_scenario */
-    size_t size;     /* for strings: buffer size */
+    size_t offset; /* into ekm_scenario */
+    size_t size;   /* for strings: buffer size */
     int required;
     const char *only_for_bc; /* BC keys: the bc type they belong to, or NULL */
 } key_spec;
 
+/* clang-format off: the key registry reads as a table */
 #define SC(field) offsetof(ekm_scenario, field)
-#define MAT(k) {"material", #k, KEY_DOUBLE, SC(material.k), 0, 1, NULL}
-#define BC(side, k, t, only) {#side, #k, t, SC(side.k), 0, 0, only}
-#define BC_KEYS(side)                                                  \
-    {#side, "type", KEY_STRING, 0, 0, 1, NULL},                        \
-    BC(side, velocity, KEY_DOUBLE, "wall"),                            \
-    BC(side, slip_length, KEY_DOUBLE, "wall"),                         \
-    BC(side, phi, KEY_DOUBLE, "inflow"),                               \
-    BC(side, w, KEY_DOUBLE, "inflow piston"),                               \
-    BC(side, u, KEY_DOUBLE, "inflow"),                                 \
-    BC(side, T, KEY_DOUBLE, "inflow"),                                 \
-    BC(side, t_stop, KEY_DOUBLE, "inflow"),                            \
-    BC(side, period, KEY_DOUBLE, "piston"),                            \
-    BC(side, w_return, KEY_DOUBLE, "piston"),                          \
-    BC(side, pressure, KEY_DOUBLE, "wall"),                            \
-    BC(side, pressure_rate, KEY_DOUBLE, "wall")
+#define MAT(k)                                                 \
+    {                                                          \
+        "material", #k, KEY_DOUBLE, SC(material.k), 0, 1, NULL \
+    }
+#define BC(side, k, t, only)                 \
+    {                                        \
+#side, #k, t, SC(side.k), 0, 0, only \
+    }
+#define BC_KEYS(side)                                                                     \
+    {#side, "type", KEY_STRING, 0, 0, 1, NULL}, BC(side, velocity, KEY_DOUBLE, "wall"),   \
+        BC(side, slip_length, KEY_DOUBLE, "wall"), BC(side, phi, KEY_DOUBLE, "inflow"),   \
+        BC(side, w, KEY_DOUBLE, "inflow piston"), BC(side, u, KEY_DOUBLE, "inflow"),      \
+        BC(side, T, KEY_DOUBLE, "inflow"), BC(side, t_stop, KEY_DOUBLE, "inflow"),        \
+        BC(side, period, KEY_DOUBLE, "piston"), BC(side, w_return, KEY_DOUBLE, "piston"), \
+        BC(side, pressure, KEY_DOUBLE, "wall"), BC(side, pressure_rate, KEY_DOUBLE, "wall")
 
 static const key_spec KEYS[] = {
     {"scenario", "name", KEY_STRING, SC(name), sizeof(((ekm_scenario *)0)->name), 0, NULL},
-    {"scenario", "description", KEY_STRING, SC(description), sizeof(((ekm_scenario *)0)->description), 0, NULL},
-    MAT(rho_p), MAT(phi_co), MAT(phi_cp), MAT(T0), MAT(eta0), MAT(zeta0),
-    MAT(lambda0), MAT(eps0), MAT(nu), MAT(A_h), MAT(B_h), MAT(alpha),
+    {"scenario", "description", KEY_STRING, SC(description), sizeof(((ekm_scenario *)0)->description), 0,
+     NULL},
+    MAT(rho_p),
+    MAT(phi_co),
+    MAT(phi_cp),
+    MAT(T0),
+    MAT(eta0),
+    MAT(zeta0),
+    MAT(lambda0),
+    MAT(eps0),
+    MAT(nu),
+    MAT(A_h),
+    MAT(B_h),
+    MAT(alpha),
     {"model", "variant", KEY_STRING, 0, 0, 0, NULL},
     {"domain", "length", KEY_DOUBLE, SC(length), 0, 1, NULL},
     {"domain", "cells", KEY_INT, SC(cells), 0, 1, NULL},
@@ -95,8 +107,8 @@ static const key_spec KEYS[] = {
     {"hypo", "phi_fixed", KEY_DOUBLE, SC(hypo.phi_fixed), 0, 0, NULL},
     {"hypo", "log", KEY_INT, SC(hypo.log), 0, 0, NULL},
 };
+/* clang-format on */
 #define N_KEYS (sizeof KEYS / sizeof KEYS[0])
-
 
 void ekm_scenario_init_defaults(ekm_scenario *s)
 {
@@ -118,19 +130,37 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->steady_tol = 1e-3;
     s->steady_window = 0.0; /* 0: 10 output_dt */
     s->numerics = (ekm_numerics){
-        .cfl = 0.4, .convection = EKM_CONVECTION_UPWIND, .limiter = "vanleer",
-        .dt_max = INFINITY, .dt_min = 1e-12, .phi_dry = 1e-9, .phi_vacuum = 0.0, .T_floor = 1e-16,
-        .phi_step_max = 0.05, .solid_relax_step = 1e-4, .newton_tol = 1e-9, .newton_max = 30,
+        .cfl = 0.4,
+        .convection = EKM_CONVECTION_UPWIND,
+        .limiter = "vanleer",
+        .dt_max = INFINITY,
+        .dt_min = 1e-12,
+        .phi_dry = 1e-9,
+        .phi_vacuum = 0.0,
+        .T_floor = 1e-16,
+        .phi_step_max = 0.05,
+        .solid_relax_step = 1e-4,
+        .newton_tol = 1e-9,
+        .newton_max = 30,
     };
     s->hypo = (ekm_hypo_params){
-        .enabled = 0, .T_ratio = 1e-6, .phi_margin = 0.0, .phi_loose = 0.1, .rest_rate = 1e-4, .yield_tol = 1e-4,
-        .jump_tol = 5e-4, .log = 0, .carry_over = 1, .initial_solid = 0, .initial_stress_ratio = 1.0,
+        .enabled = 0,
+        .T_ratio = 1e-6,
+        .phi_margin = 0.0,
+        .phi_loose = 0.1,
+        .rest_rate = 1e-4,
+        .yield_tol = 1e-4,
+        .jump_tol = 5e-4,
+        .log = 0,
+        .carry_over = 1,
+        .initial_solid = 0,
+        .initial_stress_ratio = 1.0,
     };
 }
 
 typedef struct {
     ekm_scenario *s;
-    const char *file;  /* file name or "--set" */
+    const char *file; /* file name or "--set" */
     FILE *fp;
     int line;          /* current line number */
     ekm_origin origin; /* EKM_FROM_FILE, or EKM_FROM_SET while reading the --set overrides */
@@ -139,7 +169,7 @@ typedef struct {
     int material_only; /* 1: reading the material file: [material] only */
     int failed;
     ekm_error *err;
-    int seen[N_KEYS];  /* 1 + entry index where the key was set, 0 if not */
+    int seen[N_KEYS]; /* 1 + entry index where the key was set, 0 if not */
     int seen_line[N_KEYS];
     char set_name[140]; /* "section.key" of the --set being read (messages: "--set section.key: ...") */
 } parse_ctx;
@@ -160,8 +190,8 @@ static char *reader(char *str, int num, void *stream)
     return str;
 }
 
-static int fail_once(parse_ctx *c, ekm_status code, const char *fmt, const char *section,
-                     const char *key, const char *detail)
+static int fail_once(parse_ctx *c, ekm_status code, const char *fmt, const char *section, const char *key,
+                     const char *detail)
 {
     if (!c->failed) {
         c->failed = 1;
@@ -242,8 +272,8 @@ static int handler(void *user, const char *section, const char *key, const char 
     if (c->skip_material && strcmp(section, "material") == 0)
         return 1;
     if (c->material_only && strcmp(section, "material") != 0)
-        return fail_once(c, EKM_EINPUT, "[%s] %s: a material file holds only [material] (and comments)%s", section,
-                         key, "");
+        return fail_once(c, EKM_EINPUT, "[%s] %s: a material file holds only [material] (and comments)%s",
+                         section, key, "");
     if (ekm_resolve_is_tool_section(section)) {
         /* the other tools' keys: checked here, resolved by resolve.c */
         char why[700];
@@ -270,26 +300,45 @@ static int handler(void *user, const char *section, const char *key, const char 
     const key_spec *ks = &KEYS[k];
     char *base = (char *)c->s;
     if (strcmp(key, "variant") == 0) {
-        if (strcmp(value, "full") == 0) c->s->variant = EKM_VARIANT_FULL;
-        else if (strcmp(value, "thesis") == 0) c->s->variant = EKM_VARIANT_THESIS;
-        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'full' or 'thesis', got '%s'", section, key, value);
+        if (strcmp(value, "full") == 0)
+            c->s->variant = EKM_VARIANT_FULL;
+        else if (strcmp(value, "thesis") == 0)
+            c->s->variant = EKM_VARIANT_THESIS;
+        else
+            return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'full' or 'thesis', got '%s'", section, key,
+                             value);
     } else if (strcmp(key, "convection") == 0) {
-        if (strcmp(value, "upwind") == 0) c->s->numerics.convection = EKM_CONVECTION_UPWIND;
-        else if (strcmp(value, "tvd") == 0) c->s->numerics.convection = EKM_CONVECTION_TVD;
-        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'upwind' or 'tvd', got '%s'", section, key, value);
+        if (strcmp(value, "upwind") == 0)
+            c->s->numerics.convection = EKM_CONVECTION_UPWIND;
+        else if (strcmp(value, "tvd") == 0)
+            c->s->numerics.convection = EKM_CONVECTION_TVD;
+        else
+            return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'upwind' or 'tvd', got '%s'", section, key,
+                             value);
     } else if (strcmp(key, "stop") == 0) {
-        if (strcmp(value, "t_end") == 0) c->s->stop = EKM_STOP_T_END;
-        else if (strcmp(value, "steady") == 0) c->s->stop = EKM_STOP_STEADY;
-        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected 't_end' or 'steady', got '%s'", section, key, value);
+        if (strcmp(value, "t_end") == 0)
+            c->s->stop = EKM_STOP_T_END;
+        else if (strcmp(value, "steady") == 0)
+            c->s->stop = EKM_STOP_STEADY;
+        else
+            return fail_once(c, EKM_EINPUT, "[%s] %s: expected 't_end' or 'steady', got '%s'", section, key,
+                             value);
     } else if (strcmp(key, "type") == 0) {
         ekm_bc *bc = strcmp(section, "bottom") == 0 ? &c->s->bottom : &c->s->top;
-        if (strcmp(value, "wall") == 0) bc->kind = EKM_BC_WALL;
-        else if (strcmp(value, "inflow") == 0) bc->kind = EKM_BC_INFLOW;
-        else if (strcmp(value, "outflow") == 0) bc->kind = EKM_BC_OUTFLOW;
-        else if (strcmp(value, "free") == 0) bc->kind = EKM_BC_FREE;
-        else if (strcmp(value, "piston") == 0) bc->kind = EKM_BC_PISTON;
-        else return fail_once(c, EKM_EINPUT, "[%s] %s: expected one of wall inflow outflow free piston, got '%s'",
-                              section, key, value);
+        if (strcmp(value, "wall") == 0)
+            bc->kind = EKM_BC_WALL;
+        else if (strcmp(value, "inflow") == 0)
+            bc->kind = EKM_BC_INFLOW;
+        else if (strcmp(value, "outflow") == 0)
+            bc->kind = EKM_BC_OUTFLOW;
+        else if (strcmp(value, "free") == 0)
+            bc->kind = EKM_BC_FREE;
+        else if (strcmp(value, "piston") == 0)
+            bc->kind = EKM_BC_PISTON;
+        else
+            return fail_once(c, EKM_EINPUT,
+                             "[%s] %s: expected one of wall inflow outflow free piston, got '%s'", section,
+                             key, value);
     } else if (strcmp(key, "pressure") == 0 && strcmp(value, "none") == 0) {
         *(double *)(base + ks->offset) = NAN; /* the wall stays put (the default) */
     } else if (ks->type == KEY_DOUBLE) {
@@ -323,8 +372,9 @@ static const char *where(const parse_ctx *c, const char *section, const char *ke
 {
     for (size_t k = 0; k < N_KEYS; k++)
         if (strcmp(KEYS[k].section, section) == 0 && strcmp(KEYS[k].key, key) == 0 && c->seen[k]) {
-            const char *file = strcmp(section, "material") == 0 && c->s->material_source[0] ? c->s->material_source
-                                                                                             : c->file;
+            const char *file = strcmp(section, "material") == 0 && c->s->material_source[0]
+                                   ? c->s->material_source
+                                   : c->file;
             if (c->seen_line[k] > 0)
                 snprintf(buf, n, "%s:%d", file, c->seen_line[k]);
             else
@@ -335,14 +385,13 @@ static const char *where(const parse_ctx *c, const char *section, const char *ke
     return buf;
 }
 
-#define RANGE(cond, section, key, expect, value)                                           \
-    do {                                                                                  \
-        if (!(cond)) {                                                                    \
-            char w_[600];                                                                 \
-            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: expected %s, got %g",          \
-                            where(c, section, key, w_, sizeof w_), section, key, expect,  \
-                            (double)(value));                                             \
-        }                                                                                 \
+#define RANGE(cond, section, key, expect, value)                                                           \
+    do {                                                                                                   \
+        if (!(cond)) {                                                                                     \
+            char w_[600];                                                                                  \
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: expected %s, got %g",                           \
+                            where(c, section, key, w_, sizeof w_), section, key, expect, (double)(value)); \
+        }                                                                                                  \
     } while (0)
 
 /* Whether `type` is one of the space-separated words of `list`. */
@@ -355,8 +404,8 @@ static int type_in(const char *list, const char *type)
     return 0;
 }
 
-static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char *side,
-                           const ekm_bc *bc, ekm_error *err)
+static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char *side, const ekm_bc *bc,
+                           ekm_error *err)
 {
     const char *type = ekm_bc_kind_name(bc->kind);
     for (size_t k = 0; k < N_KEYS; k++)
@@ -379,8 +428,8 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
         RANGE(bc->t_stop > 0.0, side, "t_stop", "a time > 0 [s]", bc->t_stop);
     }
     if (bc->kind == EKM_BC_WALL && !isnan(bc->pressure)) {
-        RANGE(strcmp(side, "top") == 0, side, "pressure", "no pressure on the bottom wall (only the top wall moves)",
-              bc->pressure);
+        RANGE(strcmp(side, "top") == 0, side, "pressure",
+              "no pressure on the bottom wall (only the top wall moves)", bc->pressure);
         RANGE(bc->pressure > 0.0, side, "pressure", "a pressure > 0 [Pa]", bc->pressure);
         RANGE(bc->pressure_rate > 0.0, side, "pressure_rate", "a rate > 0 [1/s]", bc->pressure_rate);
     }
@@ -397,8 +446,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     for (size_t k = 0; k < N_KEYS; k++)
         if (KEYS[k].required && !c->seen[k])
             return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: missing (a required key)",
-                            strcmp(KEYS[k].section, "material") == 0 ? material_file : c->file, KEYS[k].section,
-                            KEYS[k].key);
+                            strcmp(KEYS[k].section, "material") == 0 ? material_file : c->file,
+                            KEYS[k].section, KEYS[k].key);
     ekm_error merr;
     if (ekm_material_check(&s->material, &merr) != EKM_OK) {
         if (strcmp(material_file, c->file) != 0) /* --material FIT.ini: the whole section is its */
@@ -428,7 +477,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     const ekm_numerics *n = &s->numerics;
     RANGE(n->cfl > 0.0 && n->cfl <= 1.0, "numerics", "cfl", "a number in (0, 1]", n->cfl);
     RANGE(n->dt_max > 0.0, "numerics", "dt_max", "a time > 0 [s]", n->dt_max);
-    RANGE(n->dt_min > 0.0 && n->dt_min < n->dt_max, "numerics", "dt_min", "a time in (0, dt_max) [s]", n->dt_min);
+    RANGE(n->dt_min > 0.0 && n->dt_min < n->dt_max, "numerics", "dt_min", "a time in (0, dt_max) [s]",
+          n->dt_min);
     RANGE(n->phi_dry > 0.0 && n->phi_dry < 1e-3, "numerics", "phi_dry", "a number in (0, 1e-3)", n->phi_dry);
     RANGE(n->phi_vacuum >= 0.0 && n->phi_vacuum < 0.1, "numerics", "phi_vacuum", "a number in [0, 0.1)",
           n->phi_vacuum);
@@ -444,27 +494,32 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     ekm_error lerr;
     if (ekm_limiter_find(n->limiter, &lim, &lerr) != EKM_OK) {
         char w_[600];
-        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", where(c, "numerics", "limiter", w_, sizeof w_), lerr.message);
+        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", where(c, "numerics", "limiter", w_, sizeof w_),
+                        lerr.message);
     }
     const ekm_hypo_params *h = &s->hypo;
     RANGE(h->enabled == 0 || h->enabled == 1, "hypo", "enabled", "0 or 1", h->enabled);
     RANGE(h->log == 0 || h->log == 1, "hypo", "log", "0 or 1", h->log);
     RANGE(h->T_ratio > 0.0, "hypo", "T_ratio", "a number > 0", h->T_ratio);
-    RANGE(h->phi_margin >= 0.0 && h->phi_margin < s->material.phi_cp - s->material.phi_co, "hypo", "phi_margin",
-          "a number in [0, phi_cp - phi_co)", h->phi_margin);
-    RANGE(h->phi_loose > 0.0 && h->phi_loose <= s->material.phi_co, "hypo", "phi_loose", "a number in (0, phi_co]",
-          h->phi_loose);
+    RANGE(h->phi_margin >= 0.0 && h->phi_margin < s->material.phi_cp - s->material.phi_co, "hypo",
+          "phi_margin", "a number in [0, phi_cp - phi_co)", h->phi_margin);
+    RANGE(h->phi_loose > 0.0 && h->phi_loose <= s->material.phi_co, "hypo", "phi_loose",
+          "a number in (0, phi_co]", h->phi_loose);
     RANGE(h->rest_rate >= 0.0, "hypo", "rest_rate", "a rate >= 0 [1/s]", h->rest_rate);
-    RANGE(h->yield_tol > 0.0 && h->yield_tol < 0.1, "hypo", "yield_tol", "a number in (0, 0.1)", h->yield_tol);
+    RANGE(h->yield_tol > 0.0 && h->yield_tol < 0.1, "hypo", "yield_tol", "a number in (0, 0.1)",
+          h->yield_tol);
     RANGE(h->jump_tol > 0.0 && h->jump_tol < 1.0, "hypo", "jump_tol", "a number in (0, 1)", h->jump_tol);
-    RANGE(h->phi_fixed == 0.0 || (h->phi_fixed > s->material.phi_co && h->phi_fixed < s->material.phi_cp), "hypo",
-          "phi_fixed", "0 (the cell's phi) or a number in (phi_co, phi_cp)", h->phi_fixed);
+    RANGE(h->phi_fixed == 0.0 || (h->phi_fixed > s->material.phi_co && h->phi_fixed < s->material.phi_cp),
+          "hypo", "phi_fixed", "0 (the cell's phi) or a number in (phi_co, phi_cp)", h->phi_fixed);
     RANGE(h->initial_solid == 0 || h->initial_solid == 1, "initial", "solid", "0 or 1", h->initial_solid);
-    RANGE(!h->initial_solid || h->enabled, "initial", "solid", "0 unless [hypo] enabled = 1", h->initial_solid);
-    RANGE(h->initial_settled == 0 || h->initial_settled == 1, "initial", "settled", "0 or 1", h->initial_settled);
+    RANGE(!h->initial_solid || h->enabled, "initial", "solid", "0 unless [hypo] enabled = 1",
+          h->initial_solid);
+    RANGE(h->initial_settled == 0 || h->initial_settled == 1, "initial", "settled", "0 or 1",
+          h->initial_settled);
     RANGE(!h->initial_settled || h->initial_solid, "initial", "settled", "0 unless [initial] solid = 1",
           h->initial_settled);
-    RANGE(h->initial_stress_ratio >= 0.0, "initial", "stress_ratio", "a number >= 0", h->initial_stress_ratio);
+    RANGE(h->initial_stress_ratio >= 0.0, "initial", "stress_ratio", "a number >= 0",
+          h->initial_stress_ratio);
     RANGE(isfinite(s->angle_rate), "gravity", "angle_rate", "a rate [deg/s]", s->angle_rate);
     ekm_status st = check_bc(c, s, "bottom", &s->bottom, err);
     if (st != EKM_OK)
@@ -502,9 +557,8 @@ static ekm_status parse_file(parse_ctx *c, const char *path, const char *what, e
     return EKM_OK;
 }
 
-ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
-                             const char *const *overrides, size_t n_overrides,
-                             ekm_error *err)
+ekm_status ekm_scenario_load(ekm_scenario *s, const char *path, const char *const *overrides,
+                             size_t n_overrides, ekm_error *err)
 {
     return ekm_scenario_load_material(s, path, NULL, overrides, n_overrides, err);
 }
@@ -590,7 +644,9 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
 {
     const key_spec *ks = &KEYS[i];
     const char *base = (const char *)s;
-    const ekm_bc *bc = strcmp(ks->section, "bottom") == 0 ? &s->bottom : strcmp(ks->section, "top") == 0 ? &s->top : NULL;
+    const ekm_bc *bc = strcmp(ks->section, "bottom") == 0 ? &s->bottom
+                       : strcmp(ks->section, "top") == 0  ? &s->top
+                                                          : NULL;
     if (ks->only_for_bc && !type_in(ks->only_for_bc, ekm_bc_kind_name(bc->kind)))
         return 0;
     if (strcmp(ks->key, "variant") == 0)

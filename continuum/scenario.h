@@ -26,17 +26,17 @@ typedef enum {
 
 typedef struct {
     ekm_bc_kind kind;
-    double velocity;    /* wall: tangential velocity u of the wall [m/s] */
-    double slip_length; /* wall: Navier slip length, 0 = no slip [m] */
-    double phi;         /* inflow: volume fraction entering [-] */
-    double w;           /* inflow: normal velocity along +z [m/s] */
-    double u;           /* inflow: tangential velocity [m/s] */
-    double T;           /* inflow: granular temperature [m^2/s^2] */
-    double t_stop;      /* inflow: time it closes to a resting wall [s] */
-    double period;      /* piston: period of the velocity program [s] */
-    double w_return;    /* piston: w in the second half of each period, NAN: -w [m/s] */
-    double pressure;    /* wall (top only): normal stress held on the moving wall, NAN: the wall
-                         * stays put (bc.h, the gap L(t)) [Pa] */
+    double velocity;      /* wall: tangential velocity u of the wall [m/s] */
+    double slip_length;   /* wall: Navier slip length, 0 = no slip [m] */
+    double phi;           /* inflow: volume fraction entering [-] */
+    double w;             /* inflow: normal velocity along +z [m/s] */
+    double u;             /* inflow: tangential velocity [m/s] */
+    double T;             /* inflow: granular temperature [m^2/s^2] */
+    double t_stop;        /* inflow: time it closes to a resting wall [s] */
+    double period;        /* piston: period of the velocity program [s] */
+    double w_return;      /* piston: w in the second half of each period, NAN: -w [m/s] */
+    double pressure;      /* wall (top only): normal stress held on the moving wall, NAN: the wall
+                           * stays put (bc.h, the gap L(t)) [Pa] */
     double pressure_rate; /* wall with pressure: relative gap speed per relative stress
                            * mismatch, dL/dt = rate L (P_top - P)/P [1/s] */
 } ekm_bc;
@@ -47,52 +47,56 @@ typedef enum { EKM_STOP_T_END = 0, EKM_STOP_STEADY = 1 } ekm_stop;
 typedef enum { EKM_CONVECTION_UPWIND = 0, EKM_CONVECTION_TVD = 1 } ekm_convection;
 
 typedef struct {
-    double cfl;          /* Courant number on |w| + sound speed [-] */
+    double cfl; /* Courant number on |w| + sound speed [-] */
     ekm_convection convection;
-    char limiter[16];    /* TVD limiter name (flux.h registry) */
-    double dt_max;       /* largest time step [s] */
-    double dt_min;       /* smallest step before giving up [s] */
-    double phi_dry;      /* below this phi a cell is empty (vacuum) [-] */
-    double phi_vacuum;   /* below this phi a cell cannot compress its neighbour (step.c) [-] */
-    double T_floor;      /* lowest T of a non-empty cell [m^2/s^2] */
-    double phi_step_max; /* largest fraction of the gap phi_cp - phi one step may close [-] */
+    char limiter[16];        /* TVD limiter name (flux.h registry) */
+    double dt_max;           /* largest time step [s] */
+    double dt_min;           /* smallest step before giving up [s] */
+    double phi_dry;          /* below this phi a cell is empty (vacuum) [-] */
+    double phi_vacuum;       /* below this phi a cell cannot compress its neighbour (step.c) [-] */
+    double T_floor;          /* lowest T of a non-empty cell [m^2/s^2] */
+    double phi_step_max;     /* largest fraction of the gap phi_cp - phi one step may close [-] */
     double solid_relax_step; /* largest relaxation of the hypoplastic law in one step (dt times
                               * its relaxation rate, hypo.h) [-] */
-    double newton_tol;   /* relative tolerance of the implicit T solve [-] */
-    int newton_max;      /* iterations of the implicit T solve before a retry */
+    double newton_tol;       /* relative tolerance of the implicit T solve [-] */
+    int newton_max;          /* iterations of the implicit T solve before a retry */
 } ekm_numerics;
 
 /* Solid (hypoplastic) regime and its switching thresholds ([hypo]). */
 typedef struct {
-    int enabled;          /* 0: flow regimes only (the EKM alone) */
-    double T_ratio;       /* flow -> solid when T < T_ratio * Y (P_K/P_Y < T_ratio) [-] */
-    double phi_margin;    /* flow -> solid only when phi > phi_co + phi_margin [-] */
-    double phi_loose;     /* a loose cell (phi <= phi_co + phi_margin) on a solid one turns
-                           * solid (elastic) only when phi >= phi_loose [-] */
-    double rest_rate;     /* flow -> solid only when w' <= rest_rate (compressing or at rest) [1/s] */
-    double yield_tol;     /* solid -> flow when f_Y >= -yield_tol and the rate is not
-                           * compression-dominated [-] */
-    double jump_tol;      /* ... and when the stress differs from the flow stress of the
-                           * current rates by at most jump_tol (relative) [-] */
-    double phi_fixed;     /* 0: the rate law's density-dependent constants (P_Y, R, f, a1,
-                           * a2) and its limit surface at the cell's phi; > 0: at this phi
-                           * instead (thesis 6.2.2, "material constants independent of the
-                           * density": an element test of the law) [-] */
-    int log;              /* 1: one line per switch on stderr */
-    int carry_over;       /* 1 (always, not a scenario key): the stress (flow -> solid) and T
-                           * (solid -> flow) carry over and solid -> flow waits for the
-                           * jump_tol match; 0 only for tests that show a real stress jump is
-                           * detected: the solid starts at -P_Y (isotropic), T stays frozen,
-                           * no jump_tol gate */
-    int initial_solid;    /* [initial] solid: material cells start solid */
+    int enabled;                 /* 0: flow regimes only (the EKM alone) */
+    double T_ratio;              /* flow -> solid when T < T_ratio * Y (P_K/P_Y < T_ratio) [-] */
+    double phi_margin;           /* flow -> solid only when phi > phi_co + phi_margin [-] */
+    double phi_loose;            /* a loose cell (phi <= phi_co + phi_margin) on a solid one turns
+                                  * solid (elastic) only when phi >= phi_loose [-] */
+    double rest_rate;            /* flow -> solid only when w' <= rest_rate (compressing or at rest) [1/s] */
+    double yield_tol;            /* solid -> flow when f_Y >= -yield_tol and the rate is not
+                                  * compression-dominated [-] */
+    double jump_tol;             /* ... and when the stress differs from the flow stress of the
+                                  * current rates by at most jump_tol (relative) [-] */
+    double phi_fixed;            /* 0: the rate law's density-dependent constants (P_Y, R, f, a1,
+                                  * a2) and its limit surface at the cell's phi; > 0: at this phi
+                                  * instead (thesis 6.2.2, "material constants independent of the
+                                  * density": an element test of the law) [-] */
+    int log;                     /* 1: one line per switch on stderr */
+    int carry_over;              /* 1 (always, not a scenario key): the stress (flow -> solid) and T
+                                  * (solid -> flow) carry over and solid -> flow waits for the
+                                  * jump_tol match; 0 only for tests that show a real stress jump is
+                                  * detected: the solid starts at -P_Y (isotropic), T stays frozen,
+                                  * no jump_tol gate */
+    int initial_solid;           /* [initial] solid: material cells start solid */
     double initial_stress_ratio; /* [initial] stress_ratio: their stress is -ratio P_Y (isotropic) [-] */
-    int initial_settled;  /* [initial] settled: instead, phi and stress of a layer at rest
-                           * under the initial gravity, at yield pressure (state.c) */
+    int initial_settled;         /* [initial] settled: instead, phi and stress of a layer at rest
+                                  * under the initial gravity, at yield pressure (state.c) */
 } ekm_hypo_params;
 
 /* Where a key's value came from. */
-typedef enum { EKM_FROM_FILE = 0, EKM_FROM_SET, EKM_FROM_DEFAULT,
-               EKM_FROM_MATERIAL /* the material file (ekm_scenario_load_material) */ } ekm_origin;
+typedef enum {
+    EKM_FROM_FILE = 0,
+    EKM_FROM_SET,
+    EKM_FROM_DEFAULT,
+    EKM_FROM_MATERIAL /* the material file (ekm_scenario_load_material) */
+} ekm_origin;
 
 /* One key as given (file or --set), kept for provenance in the output. */
 typedef struct {
@@ -104,9 +108,9 @@ typedef struct {
 } ekm_entry;
 
 typedef struct {
-    char name[64];          /* scenario name */
+    char name[64]; /* scenario name */
     char description[256];
-    char source[512];       /* file it was read from */
+    char source[512];          /* file it was read from */
     char material_source[512]; /* the material file its [material] came from, "" : none */
     ekm_material material;
     ekm_variant variant;
@@ -122,15 +126,15 @@ typedef struct {
     double shear_rate_init; /* initial du/dz: u = u_init + shear_rate z [1/s] */
     double layer_height;    /* material fills z < layer_height; vacuum above [m] */
     ekm_bc bottom, top;
-    double t_end;           /* end time [s] */
-    double output_dt;       /* output interval [s] */
-    ekm_stop stop;          /* [run] stop: t_end, or steady (t_end the longest run) */
-    double steady_tol;      /* steady when every drift stays below this [1/s] (run.h) */
-    double steady_window;   /* ... over this long [s] */
+    double t_end;         /* end time [s] */
+    double output_dt;     /* output interval [s] */
+    ekm_stop stop;        /* [run] stop: t_end, or steady (t_end the longest run) */
+    double steady_tol;    /* steady when every drift stays below this [1/s] (run.h) */
+    double steady_window; /* ... over this long [s] */
     ekm_numerics numerics;
     ekm_hypo_params hypo;
-    ekm_entry *entries;     /* every key of ekm's sections read, in order (provenance;
-                             * the output file's attributes) */
+    ekm_entry *entries; /* every key of ekm's sections read, in order (provenance;
+                         * the output file's attributes) */
     size_t n_entries;
     ekm_entry *tool_entries; /* every key of [dem] [compare] [campaign] [figures] read,
                               * in order, as written (resolve.h resolves them) */
@@ -143,9 +147,8 @@ void ekm_scenario_init_defaults(ekm_scenario *s);
 /* Read a scenario file, then apply overrides "section.key=value" in order.
  * On failure err names the file (or "--set"), line, section and key.
  * Call ekm_scenario_free() in every case. */
-ekm_status ekm_scenario_load(ekm_scenario *s, const char *path,
-                             const char *const *overrides, size_t n_overrides,
-                             ekm_error *err);
+ekm_status ekm_scenario_load(ekm_scenario *s, const char *path, const char *const *overrides,
+                             size_t n_overrides, ekm_error *err);
 
 /* The same with the whole [material] section taken from material_path
  * (a file of only [material] and comments, as `ekmcompare fit --ini`

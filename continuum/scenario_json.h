@@ -9,7 +9,7 @@
 #include "scenario.h"
 #include "status.h"
 
-#define EKM_JSON_RESOLVED_FORMAT "ekmbench-resolved-scenario"
+#define EKM_JSON_RESOLVED_FORMAT  "ekmbench-resolved-scenario"
 #define EKM_JSON_RESOLVED_VERSION 1
 
 /* Write the JSON object and a newline to out; nothing is written on an

@@ -22,8 +22,8 @@ ekm_state *ekm_state_alloc(int n, double length)
     s->szz = calloc((size_t)n, sizeof *s->szz);
     s->sxz = calloc((size_t)n + 1, sizeof *s->sxz);
     s->rate_prev = calloc((size_t)n, sizeof *s->rate_prev);
-    if (!s->z || !s->phi || !s->T || !s->u || !s->w || !s->solid || !s->sxx || !s->syy || !s->szz || !s->sxz ||
-        !s->rate_prev) {
+    if (!s->z || !s->phi || !s->T || !s->u || !s->w || !s->solid || !s->sxx || !s->syy || !s->szz ||
+        !s->sxz || !s->rate_prev) {
         ekm_state_free(s);
         return NULL;
     }
@@ -121,9 +121,9 @@ void ekm_state_init(ekm_state *s, const ekm_scenario *sc)
     for (int j = 0; j < s->n; j++) {
         /* A cell cut by the layer surface gets the covered fraction. */
         double lo = j * s->dz, hi = (j + 1) * s->dz;
-        double cover = sc->layer_height >= hi ? 1.0
-                     : sc->layer_height <= lo ? 0.0
-                     : (sc->layer_height - lo) / s->dz;
+        double cover = sc->layer_height >= hi   ? 1.0
+                       : sc->layer_height <= lo ? 0.0
+                                                : (sc->layer_height - lo) / s->dz;
         s->phi[j] = sc->phi_init * cover;
         s->T[j] = s->phi[j] > sc->numerics.phi_dry ? sc->T_init : 0.0;
         s->u[j] = s->phi[j] > sc->numerics.phi_dry ? sc->u_init + sc->shear_rate_init * s->z[j] : 0.0;

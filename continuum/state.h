@@ -12,24 +12,24 @@
 #include "status.h"
 
 typedef struct {
-    int n;           /* number of cells */
-    double dz;       /* cell height [m] */
-    double *z;       /* cell centres [m], n */
-    double *phi;     /* solid volume fraction [-], n */
-    double *T;       /* granular temperature per degree of freedom [m^2/s^2], n */
-    double *u;       /* tangential velocity v_x at centres [m/s], n */
-    double *w;       /* normal velocity v_z at faces [m/s], n + 1 */
-    double t;        /* time [s] */
-    long steps;      /* accepted time steps */
-    double mass_in;  /* net mass entered through the boundaries per area [kg/m^2] */
+    int n;          /* number of cells */
+    double dz;      /* cell height [m] */
+    double *z;      /* cell centres [m], n */
+    double *phi;    /* solid volume fraction [-], n */
+    double *T;      /* granular temperature per degree of freedom [m^2/s^2], n */
+    double *u;      /* tangential velocity v_x at centres [m/s], n */
+    double *w;      /* normal velocity v_z at faces [m/s], n + 1 */
+    double t;       /* time [s] */
+    long steps;     /* accepted time steps */
+    double mass_in; /* net mass entered through the boundaries per area [kg/m^2] */
     /* Solid (hypoplastic) regime, hypo.h: */
-    unsigned char *solid; /* 1: the cell is solid, n */
+    unsigned char *solid;    /* 1: the cell is solid, n */
     double *sxx, *syy, *szz; /* stress of solid cells [Pa], n (flow cells: unused) */
-    double *sxz;     /* shear stress at faces [Pa], n + 1: the rate law's state on faces
-                      * between two solid cells (or a solid cell and a wall), the
-                      * flow's face stress elsewhere */
-    double *rate_prev; /* sqrt(u'^2 + w'^2) of each cell after the previous accepted step [1/s], n
-                        * (the regime switching's test for growing rates, regime.h) */
+    double *sxz;             /* shear stress at faces [Pa], n + 1: the rate law's state on faces
+                              * between two solid cells (or a solid cell and a wall), the
+                              * flow's face stress elsewhere */
+    double *rate_prev;       /* sqrt(u'^2 + w'^2) of each cell after the previous accepted step [1/s], n
+                              * (the regime switching's test for growing rates, regime.h) */
 } ekm_state;
 
 ekm_state *ekm_state_alloc(int n, double length);

@@ -5,8 +5,8 @@
 #include <string.h>
 
 #define FLOOR_PHI 1e-3 /* [-] */
-#define FLOOR_U 1e-4   /* [m/s] */
-#define FLOOR_T 1e-8   /* [m^2/s^2] */
+#define FLOOR_U   1e-4 /* [m/s] */
+#define FLOOR_T   1e-8 /* [m^2/s^2] */
 
 ekm_status ekm_steady_init(ekm_steady *sd, int n, ekm_error *err)
 {
@@ -35,7 +35,8 @@ void ekm_steady_free(ekm_steady *sd)
 }
 
 /* ||a - b|| / max(||a||, floor sqrt(count)) over the cells of mask. */
-static double relative_change(const double *a, const double *b, const unsigned char *mask, int n, double floor)
+static double relative_change(const double *a, const double *b, const unsigned char *mask, int n,
+                              double floor)
 {
     double diff = 0.0, norm = 0.0;
     int count = 0;

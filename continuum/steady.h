@@ -27,17 +27,17 @@
 #include "status.h"
 
 typedef struct {
-    int n;                  /* cells */
-    double *phi, *u, *T;    /* profiles at the previous check, n */
-    unsigned char *mask;    /* cells with material now or then, n */
-    double t_prev;          /* time of the previous check [s], < 0: none yet */
-    double Q_prev;          /* flow rate then [m^2/s] */
-    double drift;           /* drift at the last check [1/s] (NAN before the second) */
-    double steady_since;    /* first check of the current run of drifts below tol [s], NAN: none */
-    int steady;             /* 1: steady (held over the window) */
-    double steady_time;     /* steady_since when it became steady [s], NAN: never */
-    size_t n_hist, cap;     /* mean-velocity history of every check */
-    double *hist_t, *hist_v;/* [s], [m/s] */
+    int n;                   /* cells */
+    double *phi, *u, *T;     /* profiles at the previous check, n */
+    unsigned char *mask;     /* cells with material now or then, n */
+    double t_prev;           /* time of the previous check [s], < 0: none yet */
+    double Q_prev;           /* flow rate then [m^2/s] */
+    double drift;            /* drift at the last check [1/s] (NAN before the second) */
+    double steady_since;     /* first check of the current run of drifts below tol [s], NAN: none */
+    int steady;              /* 1: steady (held over the window) */
+    double steady_time;      /* steady_since when it became steady [s], NAN: never */
+    size_t n_hist, cap;      /* mean-velocity history of every check */
+    double *hist_t, *hist_v; /* [s], [m/s] */
 } ekm_steady;
 
 ekm_status ekm_steady_init(ekm_steady *sd, int n, ekm_error *err);

@@ -55,11 +55,11 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->fail_time = -1.0;
     st->fail_cell = -1;
     st->moving = ekm_bc_pressure_wall(&sc->top);
-    if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P ||
-        !st->eta || !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src ||
-        !st->rho_face || !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face ||
-        !st->wk || !st->backup || !st->hyp || !st->u2_old || !st->dw_old || !st->du_face_old || !st->kface || !st->t0face ||
-        !st->solid_face || !st->dry_T || !st->T_keep || !st->rhs_face0) {
+    if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P || !st->eta ||
+        !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src || !st->rho_face ||
+        !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face || !st->wk || !st->backup || !st->hyp ||
+        !st->u2_old || !st->dw_old || !st->du_face_old || !st->kface || !st->t0face || !st->solid_face ||
+        !st->dry_T || !st->T_keep || !st->rhs_face0) {
         ekm_step_free(st);
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
         return NULL;
@@ -79,22 +79,48 @@ void ekm_step_free(ekm_stepper *st)
 {
     if (!st)
         return;
-    free(st->F); free(st->qF); free(st->phi_new); free(st->rhoU); free(st->rhoT);
-    free(st->T_star); free(st->P); free(st->eta); free(st->mu_n); free(st->lambda);
-    free(st->u2); free(st->w2); free(st->mom_c); free(st->src); free(st->rho_face); free(st->rhs_face);
-    free(st->rhs_cell); free(st->dry); free(st->dry_face);
+    free(st->F);
+    free(st->qF);
+    free(st->phi_new);
+    free(st->rhoU);
+    free(st->rhoT);
+    free(st->T_star);
+    free(st->P);
+    free(st->eta);
+    free(st->mu_n);
+    free(st->lambda);
+    free(st->u2);
+    free(st->w2);
+    free(st->mom_c);
+    free(st->src);
+    free(st->rho_face);
+    free(st->rhs_face);
+    free(st->rhs_cell);
+    free(st->dry);
+    free(st->dry_face);
     ekm_implicit_free(st->wk);
     ekm_state_free(st->backup);
-    free(st->hyp); free(st->u2_old); free(st->dw_old); free(st->du_face_old); free(st->kface); free(st->t0face);
-    free(st->solid_face); free(st->dry_T); free(st->T_keep); free(st->rhs_face0);
+    free(st->hyp);
+    free(st->u2_old);
+    free(st->dw_old);
+    free(st->du_face_old);
+    free(st->kface);
+    free(st->t0face);
+    free(st->solid_face);
+    free(st->dry_T);
+    free(st->T_keep);
+    free(st->rhs_face0);
     free(st);
 }
 
-static inline double max2(double a, double b) { return a > b ? a : b; }
+static inline double max2(double a, double b)
+{
+    return a > b ? a : b;
+}
 
 /* Phase 2: face fluxes and the new volume fractions; 0 = reject. */
-static int mass_update(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
-                       const ekm_bc_face *bt, double dt)
+static int mass_update(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
+                       double dt)
 {
     const int n = s->n;
     const ekm_material *m = &st->sc->material;
@@ -115,16 +141,15 @@ static int mass_update(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
     const double r = dt / s->dz;
     for (int j = 0; j < n; j++) {
         const double phi = s->phi[j];
-        const double phi_new = st->moving ? (phi * s->dz - dt * (F[j + 1] - F[j])) / st->dz_new
-                                          : phi - r * (F[j + 1] - F[j]);
+        const double phi_new =
+            st->moving ? (phi * s->dz - dt * (F[j + 1] - F[j])) / st->dz_new : phi - r * (F[j + 1] - F[j]);
         st->phi_new[j] = phi_new;
         if (!(phi_new >= 0.0) || !(phi_new - phi <= st->sc->numerics.phi_step_max * (m->phi_cp - phi))) {
             snprintf(st->reject_reason, sizeof st->reject_reason,
                      "t = %.9g s, dt = %.3g s, cell %d (z = %.6g m): phi %.9g -> %.9g "
                      "(allowed [0, %.9g)), T = %.3g m^2/s^2, w below/above = %.3g/%.3g m/s",
                      s->t, dt, j, s->z[j], phi, phi_new,
-                     phi + st->sc->numerics.phi_step_max * (m->phi_cp - phi), s->T[j], s->w[j],
-                     s->w[j + 1]);
+                     phi + st->sc->numerics.phi_step_max * (m->phi_cp - phi), s->T[j], s->w[j], s->w[j + 1]);
             return 0;
         }
     }
@@ -132,8 +157,8 @@ static int mass_update(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
 }
 
 /* Phase 3: convection of rho u, rho T and the face momentum. */
-static void convection(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
-                       const ekm_bc_face *bt, double dt)
+static void convection(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
+                       double dt)
 {
     const int n = s->n;
     const double rho_p = st->sc->material.rho_p;
@@ -150,7 +175,8 @@ static void convection(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
         ekm_flux_face_momentum(n, st->F, s->w, st->mom_c);
         for (int f = 1; f < n; f++) {
             const double phi_face = 0.5 * (s->phi[f - 1] + s->phi[f]);
-            st->rhs_face[f] = rho_p * (phi_face * s->w[f] * dz - dt * (st->mom_c[f] - st->mom_c[f - 1])) / dz_new;
+            st->rhs_face[f] =
+                rho_p * (phi_face * s->w[f] * dz - dt * (st->mom_c[f] - st->mom_c[f - 1])) / dz_new;
         }
         return;
     }
@@ -276,8 +302,8 @@ static int normal_momentum(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb,
         st->rhs_face[f] += dt * (st->rho_face[f] * st->g_z - (st->P[f] - st->P[f - 1]) / s->dz);
     ekm_implicit_end nb = {.follows = bb->w_follows, .value = bb->w};
     ekm_implicit_end nt = {.follows = bt->w_follows, .value = bt->w};
-    if (ekm_implicit_normal_velocity(st->wk, n, dt, s->dz, st->rho_face, st->rhs_face, st->mu_n,
-                                     st->dry_face, nb, nt, s->w, &serr) != EKM_OK) {
+    if (ekm_implicit_normal_velocity(st->wk, n, dt, s->dz, st->rho_face, st->rhs_face, st->mu_n, st->dry_face,
+                                     nb, nt, s->w, &serr) != EKM_OK) {
         snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s: %.400s", s->t, serr.message);
         return 0;
     }
@@ -319,8 +345,8 @@ static int shear_momentum(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, 
     ekm_status shear_rc;
     if (n_solid) {
         ekm_regime_shear_faces(st, s, bb, bt, dt);
-        shear_rc = ekm_implicit_shear_faces(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->kface, st->t0face,
-                                            st->dry, bb->u_wall, bt->u_wall, s->u, &serr);
+        shear_rc = ekm_implicit_shear_faces(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->kface,
+                                            st->t0face, st->dry, bb->u_wall, bt->u_wall, s->u, &serr);
     } else {
         shear_rc = ekm_implicit_shear_velocity(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->eta, st->dry,
                                                sb, stp, s->u, &serr);
@@ -377,7 +403,8 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
             continue;
         st->src[j] = ekm_temperature_source_coeffs(m, sc->variant, s->phi[j], st->u2[j], st->w2[j]);
     }
-    if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src, st->dry_T, sc->numerics.T_floor, sc->numerics.newton_tol,
+    if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src,
+                                 st->dry_T, sc->numerics.T_floor, sc->numerics.newton_tol,
                                  sc->numerics.newton_max, s->T, iterations, &serr) != EKM_OK) {
         snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s, dt = %.3g s: %.400s", s->t, dt,
                  serr.message);
@@ -415,8 +442,9 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
 {
     const int n = s->n;
     if (!(dt > 0.0) || !isfinite(dt))
-        return EKM_FAIL(err, EKM_ENUMERIC, "%s: t = %.9g s: time step dt = %g s is not a positive finite number",
-                        st->sc->source, s->t, dt);
+        return EKM_FAIL(err, EKM_ENUMERIC,
+                        "%s: t = %.9g s: time step dt = %g s is not a positive finite number", st->sc->source,
+                        s->t, dt);
     *accepted = 1;
     ekm_state_copy(st->backup, s);
 

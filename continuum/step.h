@@ -45,45 +45,46 @@
 
 typedef struct {
     const ekm_scenario *sc;
-    ekm_limiter_fn psi;     /* NULL: first-order upwind */
-    double g_x, g_z;        /* gravity [m/s^2] */
+    ekm_limiter_fn psi; /* NULL: first-order upwind */
+    double g_x, g_z;    /* gravity [m/s^2] */
     int n;
-    double *F;              /* face volume flux [m/s], n+1 */
-    double *qF;             /* face flux of a cell quantity, n+1 */
-    double *phi_new;        /* n */
-    double *rhoU, *rhoT;    /* after convection [kg/(m^2 s)], [kg/(m s^2)], n */
-    double *T_star;         /* n */
+    double *F;                       /* face volume flux [m/s], n+1 */
+    double *qF;                      /* face flux of a cell quantity, n+1 */
+    double *phi_new;                 /* n */
+    double *rhoU, *rhoT;             /* after convection [kg/(m^2 s)], [kg/(m s^2)], n */
+    double *T_star;                  /* n */
     double *P, *eta, *mu_n, *lambda; /* [Pa], [Pa s], [Pa s], [kg/(m s)], n */
-    double *u2, *w2;        /* squared gradients at cells [1/s^2], n */
-    double *mom_c;          /* centre momentum fluxes, n */
-    ekm_source_coeffs *src; /* temperature source coefficients, n */
-    double *rho_face, *rhs_face; /* n+1 */
-    double *rhs_cell;       /* n */
-    unsigned char *dry, *dry_face; /* n, n+1 */
+    double *u2, *w2;                 /* squared gradients at cells [1/s^2], n */
+    double *mom_c;                   /* centre momentum fluxes, n */
+    ekm_source_coeffs *src;          /* temperature source coefficients, n */
+    double *rho_face, *rhs_face;     /* n+1 */
+    double *rhs_cell;                /* n */
+    unsigned char *dry, *dry_face;   /* n, n+1 */
     ekm_implicit_work *wk;
-    ekm_state *backup;      /* state before the step, for rejection */
+    ekm_state *backup; /* state before the step, for rejection */
     /* solid regime (regime.h) */
-    ekm_hypo_implicit *hyp; /* the prepared rate-law step of each solid cell, n */
-    double *u2_old, *dw_old;/* squared shear rate, w' at the start of the step, n */
-    double *du_face_old;    /* u' at faces at the start of the step (lagged norm of solid faces), n+1 */
-    double *kface, *t0face; /* shear solve face coefficients, n+1 */
+    ekm_hypo_implicit *hyp;    /* the prepared rate-law step of each solid cell, n */
+    double *u2_old, *dw_old;   /* squared shear rate, w' at the start of the step, n */
+    double *du_face_old;       /* u' at faces at the start of the step (lagged norm of solid faces), n+1 */
+    double *kface, *t0face;    /* shear solve face coefficients, n+1 */
     unsigned char *solid_face; /* n+1 */
-    unsigned char *dry_T;   /* cells without a T equation (empty or solid), n */
-    double *T_keep;         /* T of solid cells, n */
-    double *rhs_face0;      /* face momentum after convection (second pass), n+1 */
-    long to_solid, to_flow; /* switches so far */
-    double jump_max;        /* largest relative stress jump at a switch [-] */
-    double fail_time;       /* time of the first solid -> flow switch [s] (-1: none) */
-    double fail_angle;      /* gravity angle then [deg] */
-    double fail_fY;         /* f_Y of the failing cell's stress then [-] */
-    int fail_cell;          /* the failing cell (-1: none) */
-    double fail_phi;        /* its phi (the law's: [hypo] phi_fixed when set) [-] and its stress then [Pa] (sigma_xz: mean of its faces) */
+    unsigned char *dry_T;      /* cells without a T equation (empty or solid), n */
+    double *T_keep;            /* T of solid cells, n */
+    double *rhs_face0;         /* face momentum after convection (second pass), n+1 */
+    long to_solid, to_flow;    /* switches so far */
+    double jump_max;           /* largest relative stress jump at a switch [-] */
+    double fail_time;          /* time of the first solid -> flow switch [s] (-1: none) */
+    double fail_angle;         /* gravity angle then [deg] */
+    double fail_fY;            /* f_Y of the failing cell's stress then [-] */
+    int fail_cell;             /* the failing cell (-1: none) */
+    double fail_phi; /* its phi (the law's: [hypo] phi_fixed when set) [-] and its stress then [Pa] (sigma_xz:
+                        mean of its faces) */
     ekm_hypo_stress fail_stress;
-    int moving;             /* 1: pressure-controlled top wall, the grid stretches */
-    double gap_rate;        /* dL/dt of this step [m/s] (moving) */
-    double dz_new;          /* cell height at the end of this step [m] (moving) */
-    int newton_iterations;  /* of the last accepted step */
-    char reject_reason[512];/* why the last step was rejected */
+    int moving;              /* 1: pressure-controlled top wall, the grid stretches */
+    double gap_rate;         /* dL/dt of this step [m/s] (moving) */
+    double dz_new;           /* cell height at the end of this step [m] (moving) */
+    int newton_iterations;   /* of the last accepted step */
+    char reject_reason[512]; /* why the last step was rejected */
 } ekm_stepper;
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err);

@@ -21,41 +21,45 @@
 #include "dump.h"
 
 static const char *const cols[] = {
-  "x", "y", "z", "xu", "zu", "xs", "ys", "zs", "zsu", "vx", "vy", "vz",
-  "mass", "radius", "diameter", "c_sa[1]", "c_sa[2]", "c_sa[3]", "c_sa[4]", "c_sa[5]", "c_sa[6]"};
+    "x",  "y",    "z",      "xu",       "zu",      "xs",      "ys",      "zs",      "zsu",     "vx",     "vy",
+    "vz", "mass", "radius", "diameter", "c_sa[1]", "c_sa[2]", "c_sa[3]", "c_sa[4]", "c_sa[5]", "c_sa[6]"};
 
 static void read_dump(const char *path)
 {
-  cg_dump *d;
-  ekm_error err;
-  if (cg_dump_open(&d, path, cols, sizeof cols / sizeof *cols, &err)) return;
-  cg_snapshot s;
-  memset(&s, 0, sizeof s);
-  double sum = 0;
-  int n = 0;
-  while (n++ < 1000 && cg_dump_next(d, &s, &err) == EKM_OK) {
-    /* touch every value that was read */
-    for (int64_t i = 0; i < s.natoms; i++)
-      for (size_t j = 0; j < s.nsel; j++)
-        if (s.present[j]) sum += s.data[(size_t)i * s.nsel + j];
-  }
-  if (sum == 12345.678) fprintf(stderr, "(unlikely)\n");
-  cg_snapshot_free(&s);
-  cg_dump_close(d);
+    cg_dump *d;
+    ekm_error err;
+    if (cg_dump_open(&d, path, cols, sizeof cols / sizeof *cols, &err))
+        return;
+    cg_snapshot s;
+    memset(&s, 0, sizeof s);
+    double sum = 0;
+    int n = 0;
+    while (n++ < 1000 && cg_dump_next(d, &s, &err) == EKM_OK) {
+        /* touch every value that was read */
+        for (int64_t i = 0; i < s.natoms; i++)
+            for (size_t j = 0; j < s.nsel; j++)
+                if (s.present[j])
+                    sum += s.data[(size_t)i * s.nsel + j];
+    }
+    if (sum == 12345.678)
+        fprintf(stderr, "(unlikely)\n");
+    cg_snapshot_free(&s);
+    cg_dump_close(d);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-  char path[64];
-  snprintf(path, sizeof path, "/tmp/cg_fuzz_%ld.dump", (long)getpid());
-  FILE *fp = fopen(path, "wb");
-  if (!fp) return 0;
-  fwrite(data, 1, size, fp);
-  fclose(fp);
-  read_dump(path);
-  unlink(path);
-  return 0;
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/cg_fuzz_%ld.dump", (long)getpid());
+    FILE *fp = fopen(path, "wb");
+    if (!fp)
+        return 0;
+    fwrite(data, 1, size, fp);
+    fclose(fp);
+    read_dump(path);
+    unlink(path);
+    return 0;
 }
 
 #ifdef CG_FUZZ_MAIN
@@ -64,36 +68,40 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 static int replay(const char *path, int top)
 {
-  struct stat st;
-  if (stat(path, &st)) {
-    /* removed meanwhile (a fuzzer reducing the corpus), or a corpus that
-     * was never made (fuzz/corpus is not in git) */
-    if (top) fprintf(stderr, "fuzz_dump: %s: not found, skipped\n", path);
-    return 0;
-  }
-  if (S_ISDIR(st.st_mode)) {
-    DIR *dir = opendir(path);
-    if (!dir) return 1;
-    struct dirent *e;
-    int rc = 0;
-    while ((e = readdir(dir))) {
-      if (e->d_name[0] == '.') continue;
-      char sub[4096];
-      snprintf(sub, sizeof sub, "%s/%s", path, e->d_name);
-      rc |= replay(sub, 0);
+    struct stat st;
+    if (stat(path, &st)) {
+        /* removed meanwhile (a fuzzer reducing the corpus), or a corpus that
+         * was never made (fuzz/corpus is not in git) */
+        if (top)
+            fprintf(stderr, "fuzz_dump: %s: not found, skipped\n", path);
+        return 0;
     }
-    closedir(dir);
-    return rc;
-  }
-  read_dump(path);
-  return 0;
+    if (S_ISDIR(st.st_mode)) {
+        DIR *dir = opendir(path);
+        if (!dir)
+            return 1;
+        struct dirent *e;
+        int rc = 0;
+        while ((e = readdir(dir))) {
+            if (e->d_name[0] == '.')
+                continue;
+            char sub[4096];
+            snprintf(sub, sizeof sub, "%s/%s", path, e->d_name);
+            rc |= replay(sub, 0);
+        }
+        closedir(dir);
+        return rc;
+    }
+    read_dump(path);
+    return 0;
 }
 
 int main(int argc, char **argv)
 {
-  int rc = 0;
-  for (int i = 1; i < argc; i++) rc |= replay(argv[i], 1);
-  printf("fuzz_dump: replayed %d path(s)\n", argc - 1);
-  return rc;
+    int rc = 0;
+    for (int i = 1; i < argc; i++)
+        rc |= replay(argv[i], 1);
+    printf("fuzz_dump: replayed %d path(s)\n", argc - 1);
+    return rc;
 }
 #endif

@@ -47,7 +47,8 @@ static void write_example(const char *path)
     /* series: t[nt] in chunks of 64, phi[nt][3], regime[nt][3] int */
     const size_t row[1] = {3};
     assert_int_equal(ekm_h5_create_series(f, "t", EKM_H5_DOUBLE, 1, NULL, 64, "s", NULL, &err), EKM_OK);
-    assert_int_equal(ekm_h5_create_series(f, "phi", EKM_H5_DOUBLE, 2, row, 1, "1", "solid fraction", &err), EKM_OK);
+    assert_int_equal(ekm_h5_create_series(f, "phi", EKM_H5_DOUBLE, 2, row, 1, "1", "solid fraction", &err),
+                     EKM_OK);
     assert_int_equal(ekm_h5_create_series(f, "regime", EKM_H5_INT, 2, row, 1, "1", NULL, &err), EKM_OK);
     for (int i = 0; i < 4; i++) {
         const double t = 0.25 * i, phi[3] = {0.1 * 1 * i, 0.1 * 2 * i, 0.1 * 3 * i};
@@ -122,8 +123,8 @@ static void test_round_trip(void **state)
     free(k);
     /* units and descriptions */
     char buf[128];
-    const char *with_units[][2] = {{"z", "m"}, {"m2", "Pa"}, {"k1", "1"}, {"k2", "1"}, {"empty", "s"},
-                                   {"t", "s"}, {"phi", "1"}, {"regime", "1"}};
+    const char *with_units[][2] = {{"z", "m"},     {"m2", "Pa"}, {"k1", "1"},  {"k2", "1"},
+                                   {"empty", "s"}, {"t", "s"},   {"phi", "1"}, {"regime", "1"}};
     for (size_t i = 0; i < sizeof with_units / sizeof with_units[0]; i++) {
         assert_int_equal(ekm_h5_attr_get_string(f, with_units[i][0], "units", buf, sizeof buf, &err), EKM_OK);
         assert_string_equal(buf, with_units[i][1]);

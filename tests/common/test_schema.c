@@ -73,7 +73,8 @@ static void test_generated_json_is_the_table(void **state)
     size_t i = 0;
     const char *key;
     json_t *value;
-    json_object_foreach(fields, key, value) {
+    json_object_foreach(fields, key, value)
+    {
         const ekm_field *f = ekm_field_at(i++);
         assert_string_equal(key, f->name); /* in the table's order */
         assert_string_equal(json_string_value(json_object_get(value, "units")), f->units);

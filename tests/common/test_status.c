@@ -11,8 +11,8 @@
 #include "status.h"
 #include "testutil.h"
 
-static const ekm_status ALL[] = {EKM_EOF, EKM_OK, EKM_EINPUT, EKM_ENOMEM, EKM_EIO, EKM_ENUMERIC,
-                                 EKM_EINTERNAL, EKM_EUSAGE, EKM_ENOTSTEADY, EKM_EUNAVAILABLE};
+static const ekm_status ALL[] = {EKM_EOF,      EKM_OK,        EKM_EINPUT, EKM_ENOMEM,     EKM_EIO,
+                                 EKM_ENUMERIC, EKM_EINTERNAL, EKM_EUSAGE, EKM_ENOTSTEADY, EKM_EUNAVAILABLE};
 enum { N_ALL = sizeof ALL / sizeof ALL[0] };
 
 /* Every `EKM_X` in a row "| N | `EKM_X`, `EKM_Y` | ..." of the doc must map
@@ -87,7 +87,8 @@ static void test_fail_at_records_input(void **state)
     (void)state;
     ekm_error err = {0};
     const int line = __LINE__ + 1;
-    ekm_status st = EKM_FAIL_AT(&err, EKM_EINPUT, "chute.ini", 14, "[material] eps0: expected a number, got '%s'", "5x0");
+    ekm_status st =
+        EKM_FAIL_AT(&err, EKM_EINPUT, "chute.ini", 14, "[material] eps0: expected a number, got '%s'", "5x0");
     assert_int_equal(st, EKM_EINPUT);
     assert_string_equal(err.message, "chute.ini:14: [material] eps0: expected a number, got '5x0'");
     assert_string_equal(err.input_file, "chute.ini");
@@ -125,8 +126,8 @@ static void test_print_one_line_and_debug(void **state)
     text = tu_capture_stderr(print_it, &err);
     unsetenv("EKM_DEBUG");
     char expected[1024];
-    snprintf(expected, sizeof expected, "ekm: a.ini:3: [run] t_end: expected a number\nekm: raised at %s:%d\n",
-             __FILE__, line);
+    snprintf(expected, sizeof expected,
+             "ekm: a.ini:3: [run] t_end: expected a number\nekm: raised at %s:%d\n", __FILE__, line);
     assert_string_equal(text, expected);
     free(text);
 }

@@ -50,7 +50,11 @@ char *tu_read_file(const char *path)
         len += got;
         if (cap - len < 2) {
             char *b = realloc(buf, 2 * cap);
-            if (!b) { free(buf); buf = NULL; break; }
+            if (!b) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
             buf = b;
             cap *= 2;
         }

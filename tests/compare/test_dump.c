@@ -11,258 +11,290 @@
 #include "synth.h"
 #include "test_util.h"
 
-static const char *const cols[] = {"x", "y", "z", "vx", "vy", "vz", "radius", "mass",
-                                   "xs", "zs", "c_sa[1]", "c_sa[6]"};
+static const char *const cols[] = {"x",      "y",    "z",  "vx", "vy",      "vz",
+                                   "radius", "mass", "xs", "zs", "c_sa[1]", "c_sa[6]"};
 #define NCOLS (sizeof cols / sizeof *cols)
 
 /* Read all snapshots of a file; returns the status of the last call. */
-static ekm_status read_all(const char *path, size_t *nsnap, cg_snapshot *last, ekm_error *err,
-                    int *truncated)
+static ekm_status read_all(const char *path, size_t *nsnap, cg_snapshot *last, ekm_error *err, int *truncated)
 {
-  cg_dump *d;
-  ekm_status rc = cg_dump_open(&d, path, cols, NCOLS, err);
-  if (rc) return rc;
-  *nsnap = 0;
-  while ((rc = cg_dump_next(d, last, err)) == EKM_OK) (*nsnap)++;
-  *truncated = cg_dump_truncated(d);
-  cg_dump_close(d);
-  return rc;
+    cg_dump *d;
+    ekm_status rc = cg_dump_open(&d, path, cols, NCOLS, err);
+    if (rc)
+        return rc;
+    *nsnap = 0;
+    while ((rc = cg_dump_next(d, last, err)) == EKM_OK)
+        (*nsnap)++;
+    *truncated = cg_dump_truncated(d);
+    cg_dump_close(d);
+    return rc;
 }
 
 static void test_parse_double(void **state)
 {
-  (void)state;
-  struct { const char *s; double v; int rc; } cases[] = {
-    {"1", 1.0, 0}, {"-2.5", -2.5, 0}, {"1e-3", 1e-3, 0}, {"+.5", 0.5, 0},
-    {"0.00123457", 0.00123457, 0}, {"1.5E+02", 150.0, 0}, {"6.02214076e23", 6.02214076e23, 0},
-    {"0.1234567890123456789", 0.1234567890123456789, 0}, {"1e-300", 1e-300, 0},
-    {"12345678901234567890", 12345678901234567890.0, 0},
-    {"nan", 0, 2}, {"-inf", 0, 2}, {"1e999", 0, 2}, {"abc", 0, 1}, {"1.2.3", 0, 1},
-    {"1e", 0, 1}, {"-", 0, 1}, {"3x", 0, 1}, {".", 0, 1}};
-  for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
-    const char *p = cases[i].s;
-    double v = -999;
-    int rc = cg_parse_double(&p, &v);
-    assert_int_equal(rc, cases[i].rc);
-    if (rc == 0) {
-      double ref = strtod(cases[i].s, NULL); /* within 1 ulp */
-      assert_true(fabs(v - ref) <= 2.3e-16 * fabs(ref));
-      assert_true(*p == '\0');
+    (void)state;
+    struct {
+        const char *s;
+        double v;
+        int rc;
+    } cases[] = {{"1", 1.0, 0},
+                 {"-2.5", -2.5, 0},
+                 {"1e-3", 1e-3, 0},
+                 {"+.5", 0.5, 0},
+                 {"0.00123457", 0.00123457, 0},
+                 {"1.5E+02", 150.0, 0},
+                 {"6.02214076e23", 6.02214076e23, 0},
+                 {"0.1234567890123456789", 0.1234567890123456789, 0},
+                 {"1e-300", 1e-300, 0},
+                 {"12345678901234567890", 12345678901234567890.0, 0},
+                 {"nan", 0, 2},
+                 {"-inf", 0, 2},
+                 {"1e999", 0, 2},
+                 {"abc", 0, 1},
+                 {"1.2.3", 0, 1},
+                 {"1e", 0, 1},
+                 {"-", 0, 1},
+                 {"3x", 0, 1},
+                 {".", 0, 1}};
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        const char *p = cases[i].s;
+        double v = -999;
+        int rc = cg_parse_double(&p, &v);
+        assert_int_equal(rc, cases[i].rc);
+        if (rc == 0) {
+            double ref = strtod(cases[i].s, NULL); /* within 1 ulp */
+            assert_true(fabs(v - ref) <= 2.3e-16 * fabs(ref));
+            assert_true(*p == '\0');
+        }
     }
-  }
 }
 
 static void test_liggghts_deck(void **state)
 {
-  (void)state;
-  cg_snapshot s = {0};
-  ekm_error err;
-  size_t n;
-  int tr;
-  assert_int_equal(read_all(CG_FIXTURES "/liggghts_deck.dump", &n, &s, &err, &tr), EKM_EOF);
-  assert_int_equal(n, 3);
-  assert_int_equal(tr, 0);
-  assert_int_equal(s.step, 2000);
-  assert_int_equal(s.has_time, 0);
-  assert_int_equal(s.natoms, 8);
-  assert_true(s.periodic[0] && s.periodic[1] && !s.periodic[2]);
-  assert_true(s.present[0] && s.present[2] && s.present[7] && s.present[10] && s.present[11]);
-  assert_false(s.present[8]);
-  assert_close(s.hi[2], 0.02, 1e-15);
-  /* first atom of the last snapshot: z = column 5 of its line */
-  assert_true(s.data[2] > 0 && s.data[2] < 0.02);
-  cg_snapshot_free(&s);
+    (void)state;
+    cg_snapshot s = {0};
+    ekm_error err;
+    size_t n;
+    int tr;
+    assert_int_equal(read_all(CG_FIXTURES "/liggghts_deck.dump", &n, &s, &err, &tr), EKM_EOF);
+    assert_int_equal(n, 3);
+    assert_int_equal(tr, 0);
+    assert_int_equal(s.step, 2000);
+    assert_int_equal(s.has_time, 0);
+    assert_int_equal(s.natoms, 8);
+    assert_true(s.periodic[0] && s.periodic[1] && !s.periodic[2]);
+    assert_true(s.present[0] && s.present[2] && s.present[7] && s.present[10] && s.present[11]);
+    assert_false(s.present[8]);
+    assert_close(s.hi[2], 0.02, 1e-15);
+    /* first atom of the last snapshot: z = column 5 of its line */
+    assert_true(s.data[2] > 0 && s.data[2] < 0.02);
+    cg_snapshot_free(&s);
 }
 
 static void test_lammps_time_and_gzip(void **state)
 {
-  (void)state;
-  cg_snapshot a = {0}, b = {0};
-  ekm_error err;
-  size_t na, nb;
-  int tr;
-  assert_int_equal(read_all(CG_FIXTURES "/lammps_time.dump", &na, &a, &err, &tr), EKM_EOF);
-  assert_int_equal(read_all(CG_FIXTURES "/lammps_time.dump.gz", &nb, &b, &err, &tr), EKM_EOF);
-  assert_int_equal(na, 3);
-  assert_int_equal(nb, 3);
-  assert_int_equal(a.has_time, 1);
-  assert_close(a.time, 4000 * 2e-6, 1e-15);
-  assert_memory_equal(a.data, b.data, a.natoms * a.nsel * sizeof(double));
-  cg_snapshot_free(&a);
-  cg_snapshot_free(&b);
+    (void)state;
+    cg_snapshot a = {0}, b = {0};
+    ekm_error err;
+    size_t na, nb;
+    int tr;
+    assert_int_equal(read_all(CG_FIXTURES "/lammps_time.dump", &na, &a, &err, &tr), EKM_EOF);
+    assert_int_equal(read_all(CG_FIXTURES "/lammps_time.dump.gz", &nb, &b, &err, &tr), EKM_EOF);
+    assert_int_equal(na, 3);
+    assert_int_equal(nb, 3);
+    assert_int_equal(a.has_time, 1);
+    assert_close(a.time, 4000 * 2e-6, 1e-15);
+    assert_memory_equal(a.data, b.data, a.natoms * a.nsel * sizeof(double));
+    cg_snapshot_free(&a);
+    cg_snapshot_free(&b);
 }
 
 static void test_triclinic(void **state)
 {
-  (void)state;
-  cg_snapshot s = {0};
-  ekm_error err;
-  size_t n;
-  int tr;
-  assert_int_equal(read_all(CG_FIXTURES "/triclinic.dump", &n, &s, &err, &tr), EKM_EOF);
-  assert_int_equal(n, 2);
-  assert_int_equal(s.triclinic, 1);
-  assert_close(s.tilt[1], 0.004, 1e-15);
-  assert_close(s.lo[0], 0.0, 1e-15);
-  assert_close(s.hi[0], 0.01, 1e-15); /* bounding box minus the tilt */
-  assert_close(s.hi[1], 0.01, 1e-15);
-  assert_true(s.present[8] && s.present[9]);
-  cg_snapshot_free(&s);
+    (void)state;
+    cg_snapshot s = {0};
+    ekm_error err;
+    size_t n;
+    int tr;
+    assert_int_equal(read_all(CG_FIXTURES "/triclinic.dump", &n, &s, &err, &tr), EKM_EOF);
+    assert_int_equal(n, 2);
+    assert_int_equal(s.triclinic, 1);
+    assert_close(s.tilt[1], 0.004, 1e-15);
+    assert_close(s.lo[0], 0.0, 1e-15);
+    assert_close(s.hi[0], 0.01, 1e-15); /* bounding box minus the tilt */
+    assert_close(s.hi[1], 0.01, 1e-15);
+    assert_true(s.present[8] && s.present[9]);
+    cg_snapshot_free(&s);
 }
 
 static void test_truncated(void **state)
 {
-  (void)state;
-  cg_snapshot s = {0};
-  ekm_error err;
-  size_t n;
-  int tr;
-  assert_int_equal(read_all(CG_FIXTURES "/truncated.dump", &n, &s, &err, &tr), EKM_EOF);
-  assert_int_equal(n, 2);
-  assert_int_equal(tr, 1);
-  cg_snapshot_free(&s);
-  /* a gzip stream cut short */
-  char path[512];
-  tmp_path(path, sizeof path, "cut.dump.gz");
-  FILE *in = fopen(CG_FIXTURES "/lammps_time.dump.gz", "rb");
-  assert_non_null(in);
-  char buf[4096];
-  size_t len = fread(buf, 1, sizeof buf, in);
-  fclose(in);
-  FILE *out = fopen(path, "wb");
-  assert_non_null(out);
-  fwrite(buf, 1, len * 3 / 4, out);
-  fclose(out);
-  ekm_status rc = read_all(path, &n, &s, &err, &tr);
-  assert_int_equal(rc, EKM_EOF);
-  assert_int_equal(tr, 1);
-  assert_true(n >= 1 && n < 3);
-  cg_snapshot_free(&s);
+    (void)state;
+    cg_snapshot s = {0};
+    ekm_error err;
+    size_t n;
+    int tr;
+    assert_int_equal(read_all(CG_FIXTURES "/truncated.dump", &n, &s, &err, &tr), EKM_EOF);
+    assert_int_equal(n, 2);
+    assert_int_equal(tr, 1);
+    cg_snapshot_free(&s);
+    /* a gzip stream cut short */
+    char path[512];
+    tmp_path(path, sizeof path, "cut.dump.gz");
+    FILE *in = fopen(CG_FIXTURES "/lammps_time.dump.gz", "rb");
+    assert_non_null(in);
+    char buf[4096];
+    size_t len = fread(buf, 1, sizeof buf, in);
+    fclose(in);
+    FILE *out = fopen(path, "wb");
+    assert_non_null(out);
+    fwrite(buf, 1, len * 3 / 4, out);
+    fclose(out);
+    ekm_status rc = read_all(path, &n, &s, &err, &tr);
+    assert_int_equal(rc, EKM_EOF);
+    assert_int_equal(tr, 1);
+    assert_true(n >= 1 && n < 3);
+    cg_snapshot_free(&s);
 }
 
 /* The same synthetic draw as text, gzip and binary gives the same numbers. */
 static void test_formats_agree(void **state)
 {
-  (void)state;
-  synth_opts o = synth_default();
-  o.natoms = 500;
-  o.nsnap = 3;
-  o.gdot = 5;
-  const char *names[3] = {"s.txt", "s.gz", "s.bin"};
-  synth_format fm[3] = {SYNTH_TEXT, SYNTH_GZ, SYNTH_BIN};
-  cg_snapshot s[3] = {{0}};
-  for (int k = 0; k < 3; k++) {
-    char path[512];
-    o.format = fm[k];
-    assert_int_equal(synth_write(tmp_path(path, sizeof path, names[k]), &o), 0);
-    ekm_error err;
-    size_t n;
-    int tr;
-    assert_int_equal(read_all(path, &n, &s[k], &err, &tr), EKM_EOF);
-    assert_int_equal(n, 3);
-    assert_int_equal(s[k].natoms, 500);
-    assert_int_equal(s[k].has_time, 1);
-  }
-  assert_memory_equal(s[0].data, s[1].data, 500 * NCOLS * sizeof(double));
-  for (size_t i = 0; i < 500 * NCOLS; i++)
-    assert_true(fabs(s[0].data[i] - s[2].data[i]) <= 1e-8 * fabs(s[2].data[i]) + 1e-300);
-  for (int k = 0; k < 3; k++) cg_snapshot_free(&s[k]);
+    (void)state;
+    synth_opts o = synth_default();
+    o.natoms = 500;
+    o.nsnap = 3;
+    o.gdot = 5;
+    const char *names[3] = {"s.txt", "s.gz", "s.bin"};
+    synth_format fm[3] = {SYNTH_TEXT, SYNTH_GZ, SYNTH_BIN};
+    cg_snapshot s[3] = {{0}};
+    for (int k = 0; k < 3; k++) {
+        char path[512];
+        o.format = fm[k];
+        assert_int_equal(synth_write(tmp_path(path, sizeof path, names[k]), &o), 0);
+        ekm_error err;
+        size_t n;
+        int tr;
+        assert_int_equal(read_all(path, &n, &s[k], &err, &tr), EKM_EOF);
+        assert_int_equal(n, 3);
+        assert_int_equal(s[k].natoms, 500);
+        assert_int_equal(s[k].has_time, 1);
+    }
+    assert_memory_equal(s[0].data, s[1].data, 500 * NCOLS * sizeof(double));
+    for (size_t i = 0; i < 500 * NCOLS; i++)
+        assert_true(fabs(s[0].data[i] - s[2].data[i]) <= 1e-8 * fabs(s[2].data[i]) + 1e-300);
+    for (int k = 0; k < 3; k++)
+        cg_snapshot_free(&s[k]);
 }
 
 /* Bad inputs: each gives one error naming file and line. */
 static void expect_error(const char *name, const char *text, const char *needle)
 {
-  char path[512];
-  tmp_path(path, sizeof path, name);
-  assert_int_equal(write_text(path, text), 0);
-  cg_snapshot s = {0};
-  ekm_error err;
-  size_t n;
-  int tr;
-  ekm_status rc = read_all(path, &n, &s, &err, &tr);
-  cg_snapshot_free(&s);
-  if (rc != EKM_EINPUT || !strstr(err.message, needle) || !strstr(err.message, path))
-    fail_msg("%s: rc %d, message '%s', expected '%s'", name, rc, err.message, needle);
+    char path[512];
+    tmp_path(path, sizeof path, name);
+    assert_int_equal(write_text(path, text), 0);
+    cg_snapshot s = {0};
+    ekm_error err;
+    size_t n;
+    int tr;
+    ekm_status rc = read_all(path, &n, &s, &err, &tr);
+    cg_snapshot_free(&s);
+    if (rc != EKM_EINPUT || !strstr(err.message, needle) || !strstr(err.message, path))
+        fail_msg("%s: rc %d, message '%s', expected '%s'", name, rc, err.message, needle);
 }
 
 #define HDR "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp ff\n0 1\n0 1\n0 1\n"
 
 static void test_bad_inputs(void **state)
 {
-  (void)state;
-  expect_error("malformed.dump", HDR "ITEM: ATOMS x y z vx vy vz mass\n"
-               "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3x 0 0 0 1\n", ":11: column 'z': expected a number, got '0.3x'");
-  expect_error("nan.dump", HDR "ITEM: ATOMS x y z vx vy vz mass\n"
-               "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 nan 0 0 1\n", ":11: column 'vx': expected a finite number, got 'nan'");
-  expect_error("inf.dump", HDR "ITEM: ATOMS x y z vx vy vz mass\n"
-               "0.1 0.2 0.3 0 0 -inf 1\n0.1 0.2 0.3 0 0 0 1\n", ":10: column 'vz': expected a finite number");
-  expect_error("fewcols.dump", HDR "ITEM: ATOMS x y z vx vy vz mass\n"
-               "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 0 0\n", ":11: expected 7 columns, got 5");
-  expect_error("manycols.dump", HDR "ITEM: ATOMS x y z vx vy vz mass\n"
-               "0.1 0.2 0.3 0 0 0 1 7\n0.1 0.2 0.3 0 0 0 1\n", ":10: expected 7 columns, got more");
-  expect_error("fewatoms.dump", HDR "ITEM: ATOMS x y z vx vy vz mass\n"
-               "0.1 0.2 0.3 0 0 0 1\n" HDR "ITEM: ATOMS x y z vx vy vz mass\n",
-               ":11: expected 2 atoms (ITEM: NUMBER OF ATOMS), got 1");
-  expect_error("moreatoms.dump", HDR "ITEM: ATOMS x y z vx vy vz mass\n"
-               "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 0 0 0 1\n",
-               ":12: expected an ITEM: line");
-  expect_error("badstep.dump", "ITEM: TIMESTEP\n5a\n", ":2: ITEM: TIMESTEP: expected an integer");
-  expect_error("badbox.dump", "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 1\n1 0\n0 1\n",
-               ":7: ITEM: BOX BOUNDS: expected lo < hi");
-  expect_error("noatoms.dump", "ITEM: TIMESTEP\n5\nITEM: BOX BOUNDS pp pp ff\n0 1\n0 1\n0 1\nITEM: ATOMS x\n",
-               ":7: expected ITEM: NUMBER OF ATOMS before ITEM: ATOMS");
-  expect_error("unknown.dump", "ITEM: TIMESTEP\n5\nITEM: BONDS\n", ":3: expected ITEM: TIMESTEP");
-  expect_error("garbage.dump", "hello world, this is not a dump\n", ":1: expected an ITEM: line");
+    (void)state;
+    expect_error("malformed.dump",
+                 HDR "ITEM: ATOMS x y z vx vy vz mass\n"
+                     "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3x 0 0 0 1\n",
+                 ":11: column 'z': expected a number, got '0.3x'");
+    expect_error("nan.dump",
+                 HDR "ITEM: ATOMS x y z vx vy vz mass\n"
+                     "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 nan 0 0 1\n",
+                 ":11: column 'vx': expected a finite number, got 'nan'");
+    expect_error("inf.dump",
+                 HDR "ITEM: ATOMS x y z vx vy vz mass\n"
+                     "0.1 0.2 0.3 0 0 -inf 1\n0.1 0.2 0.3 0 0 0 1\n",
+                 ":10: column 'vz': expected a finite number");
+    expect_error("fewcols.dump",
+                 HDR "ITEM: ATOMS x y z vx vy vz mass\n"
+                     "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 0 0\n",
+                 ":11: expected 7 columns, got 5");
+    expect_error("manycols.dump",
+                 HDR "ITEM: ATOMS x y z vx vy vz mass\n"
+                     "0.1 0.2 0.3 0 0 0 1 7\n0.1 0.2 0.3 0 0 0 1\n",
+                 ":10: expected 7 columns, got more");
+    expect_error("fewatoms.dump",
+                 HDR "ITEM: ATOMS x y z vx vy vz mass\n"
+                     "0.1 0.2 0.3 0 0 0 1\n" HDR "ITEM: ATOMS x y z vx vy vz mass\n",
+                 ":11: expected 2 atoms (ITEM: NUMBER OF ATOMS), got 1");
+    expect_error("moreatoms.dump",
+                 HDR "ITEM: ATOMS x y z vx vy vz mass\n"
+                     "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 0 0 0 1\n",
+                 ":12: expected an ITEM: line");
+    expect_error("badstep.dump", "ITEM: TIMESTEP\n5a\n", ":2: ITEM: TIMESTEP: expected an integer");
+    expect_error("badbox.dump",
+                 "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 1\n1 0\n0 1\n",
+                 ":7: ITEM: BOX BOUNDS: expected lo < hi");
+    expect_error("noatoms.dump",
+                 "ITEM: TIMESTEP\n5\nITEM: BOX BOUNDS pp pp ff\n0 1\n0 1\n0 1\nITEM: ATOMS x\n",
+                 ":7: expected ITEM: NUMBER OF ATOMS before ITEM: ATOMS");
+    expect_error("unknown.dump", "ITEM: TIMESTEP\n5\nITEM: BONDS\n", ":3: expected ITEM: TIMESTEP");
+    expect_error("garbage.dump", "hello world, this is not a dump\n", ":1: expected an ITEM: line");
 }
 
 /* Binary inconsistencies: chunks that do not add up to the atom count. */
 static void test_bad_binary(void **state)
 {
-  (void)state;
-  synth_opts o = synth_default();
-  o.natoms = 10;
-  o.nsnap = 1;
-  o.format = SYNTH_BIN;
-  char path[512];
-  assert_int_equal(synth_write(tmp_path(path, sizeof path, "b.bin"), &o), 0);
-  FILE *fp = fopen(path, "rb");
-  char buf[8192];
-  size_t len = fread(buf, 1, sizeof buf, fp);
-  fclose(fp);
-  /* natoms is the int64 after magic(8+10), endian, revision, step */
-  int64_t na = 11;
-  memcpy(buf + 8 + 10 + 4 + 4 + 8, &na, 8);
-  char bad[512];
-  fp = fopen(tmp_path(bad, sizeof bad, "bad.bin"), "wb");
-  fwrite(buf, 1, len, fp);
-  fclose(fp);
-  cg_snapshot s = {0};
-  ekm_error err;
-  size_t n;
-  int tr;
-  assert_int_equal(read_all(bad, &n, &s, &err, &tr), EKM_EINPUT);
-  assert_non_null(strstr(err.message, "expected 11 atoms (header), chunks hold 10"));
-  /* truncated binary: a warning, not an error */
-  fp = fopen(bad, "wb");
-  fwrite(buf, 1, len - 100, fp);
-  fclose(fp);
-  assert_int_equal(read_all(bad, &n, &s, &err, &tr), EKM_EOF);
-  assert_int_equal(tr, 1);
-  assert_int_equal(n, 0);
-  cg_snapshot_free(&s);
+    (void)state;
+    synth_opts o = synth_default();
+    o.natoms = 10;
+    o.nsnap = 1;
+    o.format = SYNTH_BIN;
+    char path[512];
+    assert_int_equal(synth_write(tmp_path(path, sizeof path, "b.bin"), &o), 0);
+    FILE *fp = fopen(path, "rb");
+    char buf[8192];
+    size_t len = fread(buf, 1, sizeof buf, fp);
+    fclose(fp);
+    /* natoms is the int64 after magic(8+10), endian, revision, step */
+    int64_t na = 11;
+    memcpy(buf + 8 + 10 + 4 + 4 + 8, &na, 8);
+    char bad[512];
+    fp = fopen(tmp_path(bad, sizeof bad, "bad.bin"), "wb");
+    fwrite(buf, 1, len, fp);
+    fclose(fp);
+    cg_snapshot s = {0};
+    ekm_error err;
+    size_t n;
+    int tr;
+    assert_int_equal(read_all(bad, &n, &s, &err, &tr), EKM_EINPUT);
+    assert_non_null(strstr(err.message, "expected 11 atoms (header), chunks hold 10"));
+    /* truncated binary: a warning, not an error */
+    fp = fopen(bad, "wb");
+    fwrite(buf, 1, len - 100, fp);
+    fclose(fp);
+    assert_int_equal(read_all(bad, &n, &s, &err, &tr), EKM_EOF);
+    assert_int_equal(tr, 1);
+    assert_int_equal(n, 0);
+    cg_snapshot_free(&s);
 }
 
 int main(void)
 {
-  const struct CMUnitTest tests[] = {
-    cmocka_unit_test(test_parse_double),
-    cmocka_unit_test(test_liggghts_deck),
-    cmocka_unit_test(test_lammps_time_and_gzip),
-    cmocka_unit_test(test_triclinic),
-    cmocka_unit_test(test_truncated),
-    cmocka_unit_test(test_formats_agree),
-    cmocka_unit_test(test_bad_inputs),
-    cmocka_unit_test(test_bad_binary),
-  };
-  return cmocka_run_group_tests(tests, NULL, NULL);
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_parse_double),
+        cmocka_unit_test(test_liggghts_deck),
+        cmocka_unit_test(test_lammps_time_and_gzip),
+        cmocka_unit_test(test_triclinic),
+        cmocka_unit_test(test_truncated),
+        cmocka_unit_test(test_formats_agree),
+        cmocka_unit_test(test_bad_inputs),
+        cmocka_unit_test(test_bad_binary),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -28,8 +28,8 @@
 #include "step.h"
 #include "test_util.h"
 
-#define NB 14        /* "DEM" bins */
-#define REL_SE 0.02  /* stated SE: 2% of the field's RMS over the profile */
+#define NB        14   /* "DEM" bins */
+#define REL_SE    0.02 /* stated SE: 2% of the field's RMS over the profile */
 #define TRUE_ETA0 5.0e-4
 #define TRUE_EPS0 300.0
 
@@ -38,133 +38,136 @@
  * dt_max keeps the step control free of rejected steps: with them the run's
  * result jumps with the parameters (docs/compare.md). */
 static const char scenario_text[] =
-  "[scenario]\nname = fit_shear\n"
-  "[material]\nrho_p = 2500\nphi_co = 0.60\nphi_cp = 0.64\nT0 = 1.5\neta0 = 3.55e-4\nzeta0 = 1e-4\n"
-  "lambda0 = 3.4e-4\neps0 = 212.2\nnu = 1\nA_h = 200e6\nB_h = 200e6\nalpha = 0\n"
-  "[domain]\nlength = 0.02\ncells = 10\n[gravity]\nmagnitude = 0\n[initial]\nphi = 0.55\nT = 1e-4\n"
-  "[bottom]\ntype = wall\nvelocity = -0.1\n[top]\ntype = wall\nvelocity = 0.1\n"
-  "[run]\nt_end = 1\noutput_dt = 0.5\n[numerics]\ndt_max = 5e-4\n";
+    "[scenario]\nname = fit_shear\n"
+    "[material]\nrho_p = 2500\nphi_co = 0.60\nphi_cp = 0.64\nT0 = 1.5\neta0 = 3.55e-4\nzeta0 = 1e-4\n"
+    "lambda0 = 3.4e-4\neps0 = 212.2\nnu = 1\nA_h = 200e6\nB_h = 200e6\nalpha = 0\n"
+    "[domain]\nlength = 0.02\ncells = 10\n[gravity]\nmagnitude = 0\n[initial]\nphi = 0.55\nT = 1e-4\n"
+    "[bottom]\ntype = wall\nvelocity = -0.1\n[top]\ntype = wall\nvelocity = 0.1\n"
+    "[run]\nt_end = 1\noutput_dt = 0.5\n[numerics]\ndt_max = 5e-4\n";
 
 static const char *const case_sets[2][2] = {{"top.velocity=0.1", "bottom.velocity=-0.1"},
-                                             {"top.velocity=0.25", "bottom.velocity=-0.25"}};
+                                            {"top.velocity=0.25", "bottom.velocity=-0.25"}};
 
 /* The EKM's last state at the true material, interpolated onto the DEM
  * grid; written as a cg output with SE = REL_SE x RMS and noise. */
 static void write_synthetic_dem(const char *ini, int which, const char *path, gsl_rng *rng)
 {
-  char eta[64], eps[64];
-  snprintf(eta, sizeof eta, "material.eta0=%.17g", TRUE_ETA0);
-  snprintf(eps, sizeof eps, "material.eps0=%.17g", TRUE_EPS0);
-  const char *sets[4] = {case_sets[which][0], case_sets[which][1], eta, eps};
-  ekm_scenario sc;
-  ekm_error err = {0};
-  assert_int_equal(ekm_scenario_load(&sc, ini, sets, 4, &err), EKM_OK);
-  ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
-  ekm_stepper *st = ekm_step_alloc(&sc, &err);
-  assert_non_null(s);
-  assert_non_null(st);
-  ekm_state_init(s, &sc);
-  ekm_run_stats stats;
-  assert_int_equal(ekm_run(&sc, s, st, NULL, &stats, &err), EKM_OK);
-  const size_t n = (size_t)s->n;
-  double vx[64], vz[64], P[64], sxz[64], szz[64];
-  int regime[64];
-  ekm_fields fl = {.vx = vx, .vz = vz, .P = P, .sxz = sxz, .szz = szz, .regime = regime};
-  ekm_fields_compute(&sc, s, s->t, &fl);
-  const double *prof[CG_FITSC_NFIELD] = {s->phi, vx, s->T, P, sxz};
-  double z[NB], val[CG_FITSC_NFIELD][NB], se[CG_FITSC_NFIELD][NB];
-  for (size_t k = 0; k < NB; k++) /* inside the cell-centre range */
-    z[k] = s->z[0] + (s->z[n - 1] - s->z[0]) * (double)k / (NB - 1);
-  for (int f = 0; f < CG_FITSC_NFIELD; f++) {
-    double rms = 0.0;
-    for (size_t k = 0; k < NB; k++) {
-      size_t zi;
-      double az;
-      assert_true(cg_score_locate(s->z, n, z[k], &zi, &az));
-      val[f][k] = cg_score_interp(prof[f], prof[f], n, zi, az, 0.0);
-      rms += val[f][k] * val[f][k];
+    char eta[64], eps[64];
+    snprintf(eta, sizeof eta, "material.eta0=%.17g", TRUE_ETA0);
+    snprintf(eps, sizeof eps, "material.eps0=%.17g", TRUE_EPS0);
+    const char *sets[4] = {case_sets[which][0], case_sets[which][1], eta, eps};
+    ekm_scenario sc;
+    ekm_error err = {0};
+    assert_int_equal(ekm_scenario_load(&sc, ini, sets, 4, &err), EKM_OK);
+    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
+    ekm_stepper *st = ekm_step_alloc(&sc, &err);
+    assert_non_null(s);
+    assert_non_null(st);
+    ekm_state_init(s, &sc);
+    ekm_run_stats stats;
+    assert_int_equal(ekm_run(&sc, s, st, NULL, &stats, &err), EKM_OK);
+    const size_t n = (size_t)s->n;
+    double vx[64], vz[64], P[64], sxz[64], szz[64];
+    int regime[64];
+    ekm_fields fl = {.vx = vx, .vz = vz, .P = P, .sxz = sxz, .szz = szz, .regime = regime};
+    ekm_fields_compute(&sc, s, s->t, &fl);
+    const double *prof[CG_FITSC_NFIELD] = {s->phi, vx, s->T, P, sxz};
+    double z[NB], val[CG_FITSC_NFIELD][NB], se[CG_FITSC_NFIELD][NB];
+    for (size_t k = 0; k < NB; k++) /* inside the cell-centre range */
+        z[k] = s->z[0] + (s->z[n - 1] - s->z[0]) * (double)k / (NB - 1);
+    for (int f = 0; f < CG_FITSC_NFIELD; f++) {
+        double rms = 0.0;
+        for (size_t k = 0; k < NB; k++) {
+            size_t zi;
+            double az;
+            assert_true(cg_score_locate(s->z, n, z[k], &zi, &az));
+            val[f][k] = cg_score_interp(prof[f], prof[f], n, zi, az, 0.0);
+            rms += val[f][k] * val[f][k];
+        }
+        rms = sqrt(rms / NB);
+        for (size_t k = 0; k < NB; k++) {
+            se[f][k] = REL_SE * rms;
+            val[f][k] += gsl_ran_gaussian(rng, se[f][k]);
+        }
     }
-    rms = sqrt(rms / NB);
-    for (size_t k = 0; k < NB; k++) {
-      se[f][k] = REL_SE * rms;
-      val[f][k] += gsl_ran_gaussian(rng, se[f][k]);
+    ekm_h5_file *w;
+    assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
+    const size_t d1[1] = {NB}, d2[2] = {1, NB}, dt[1] = {1};
+    const double t = 10.0;
+    assert_int_equal(ekm_h5_write_double(w, "z", 1, d1, z, "m", NULL, &err), EKM_OK);
+    assert_int_equal(ekm_h5_write_double(w, "t", 1, dt, &t, "s", NULL, &err), EKM_OK);
+    for (int f = 0; f < CG_FITSC_NFIELD; f++) {
+        char name[32];
+        snprintf(name, sizeof name, "%s_se", cg_fitsc_field_name(f));
+        assert_int_equal(ekm_h5_write_double(w, cg_fitsc_field_name(f), 2, d2, val[f], "1", NULL, &err),
+                         EKM_OK);
+        assert_int_equal(ekm_h5_write_double(w, name, 2, d2, se[f], "1", NULL, &err), EKM_OK);
     }
-  }
-  ekm_h5_file *w;
-  assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
-  const size_t d1[1] = {NB}, d2[2] = {1, NB}, dt[1] = {1};
-  const double t = 10.0;
-  assert_int_equal(ekm_h5_write_double(w, "z", 1, d1, z, "m", NULL, &err), EKM_OK);
-  assert_int_equal(ekm_h5_write_double(w, "t", 1, dt, &t, "s", NULL, &err), EKM_OK);
-  for (int f = 0; f < CG_FITSC_NFIELD; f++) {
-    char name[32];
-    snprintf(name, sizeof name, "%s_se", cg_fitsc_field_name(f));
-    assert_int_equal(ekm_h5_write_double(w, cg_fitsc_field_name(f), 2, d2, val[f], "1", NULL, &err), EKM_OK);
-    assert_int_equal(ekm_h5_write_double(w, name, 2, d2, se[f], "1", NULL, &err), EKM_OK);
-  }
-  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
-  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "kernel", "gauss", &err), EKM_OK);
-  assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
-  ekm_step_free(st);
-  ekm_state_free(s);
-  ekm_scenario_free(&sc);
+    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "kernel", "gauss", &err), EKM_OK);
+    assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+    ekm_step_free(st);
+    ekm_state_free(s);
+    ekm_scenario_free(&sc);
 }
 
 static void write_cases(const char *path, const char *ini, const char *dem0, const char *dem1)
 {
-  char text[4096];
-  snprintf(text, sizeof text,
-           "{\"cases\": [\n"
-           " {\"dem\": \"%s\", \"scenario\": \"%s\", \"set\": [\"%s\", \"%s\"], \"fields\": [\"phi\",\"vx\",\"T\",\"P\",\"sxz\"],"
-           " \"shift_m\": 0, \"weight\": 1},\n"
-           " {\"dem\": \"%s\", \"scenario\": \"%s\", \"set\": [\"%s\", \"%s\"]}\n]}\n",
-           dem0, ini, case_sets[0][0], case_sets[0][1], dem1, ini, case_sets[1][0], case_sets[1][1]);
-  assert_int_equal(write_text(path, text), 0);
+    char text[4096];
+    snprintf(text, sizeof text,
+             "{\"cases\": [\n"
+             " {\"dem\": \"%s\", \"scenario\": \"%s\", \"set\": [\"%s\", \"%s\"], \"fields\": "
+             "[\"phi\",\"vx\",\"T\",\"P\",\"sxz\"],"
+             " \"shift_m\": 0, \"weight\": 1},\n"
+             " {\"dem\": \"%s\", \"scenario\": \"%s\", \"set\": [\"%s\", \"%s\"]}\n]}\n",
+             dem0, ini, case_sets[0][0], case_sets[0][1], dem1, ini, case_sets[1][0], case_sets[1][1]);
+    assert_int_equal(write_text(path, text), 0);
 }
 
 typedef struct {
-  char ini[512], dem[2][512], cases[512];
+    char ini[512], dem[2][512], cases[512];
 } files;
 
 static files make_files(void)
 {
-  files fs;
-  tmp_path(fs.ini, sizeof fs.ini, "fitsc_shear.ini");
-  tmp_path(fs.dem[0], sizeof fs.dem[0], "fitsc_dem0.h5");
-  tmp_path(fs.dem[1], sizeof fs.dem[1], "fitsc_dem1.h5");
-  tmp_path(fs.cases, sizeof fs.cases, "fitsc_cases.json");
-  assert_int_equal(write_text(fs.ini, scenario_text), 0);
-  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-  gsl_rng_set(rng, 4242);
-  write_synthetic_dem(fs.ini, 0, fs.dem[0], rng);
-  write_synthetic_dem(fs.ini, 1, fs.dem[1], rng);
-  gsl_rng_free(rng);
-  write_cases(fs.cases, fs.ini, fs.dem[0], fs.dem[1]);
-  return fs;
+    files fs;
+    tmp_path(fs.ini, sizeof fs.ini, "fitsc_shear.ini");
+    tmp_path(fs.dem[0], sizeof fs.dem[0], "fitsc_dem0.h5");
+    tmp_path(fs.dem[1], sizeof fs.dem[1], "fitsc_dem1.h5");
+    tmp_path(fs.cases, sizeof fs.cases, "fitsc_cases.json");
+    assert_int_equal(write_text(fs.ini, scenario_text), 0);
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 4242);
+    write_synthetic_dem(fs.ini, 0, fs.dem[0], rng);
+    write_synthetic_dem(fs.ini, 1, fs.dem[1], rng);
+    gsl_rng_free(rng);
+    write_cases(fs.cases, fs.ini, fs.dem[0], fs.dem[1]);
+    return fs;
 }
 
 /* Run the binary; its exit code, stderr into errbuf. */
 static int run_fit(const char *args, char *errbuf, size_t size)
 {
-  char errfile[512], cmd[8192];
-  tmp_path(errfile, sizeof errfile, "fitsc_stderr.txt");
-  snprintf(cmd, sizeof cmd, "%s fit %s > /dev/null 2> %s", EKMCOMPARE_BINARY, args, errfile);
-  const int status = system(cmd);
-  FILE *fp = fopen(errfile, "r");
-  errbuf[0] = '\0';
-  if (fp) {
-    const size_t n = fread(errbuf, 1, size - 1, fp);
-    errbuf[n] = '\0';
-    fclose(fp);
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    char errfile[512], cmd[8192];
+    tmp_path(errfile, sizeof errfile, "fitsc_stderr.txt");
+    snprintf(cmd, sizeof cmd, "%s fit %s > /dev/null 2> %s", EKMCOMPARE_BINARY, args, errfile);
+    const int status = system(cmd);
+    FILE *fp = fopen(errfile, "r");
+    errbuf[0] = '\0';
+    if (fp) {
+        const size_t n = fread(errbuf, 1, size - 1, fp);
+        errbuf[n] = '\0';
+        fclose(fp);
+    }
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 static int count_lines(const char *s)
 {
-  int n = 0;
-  for (; *s; s++) n += *s == '\n';
-  return n;
+    int n = 0;
+    for (; *s; s++)
+        n += *s == '\n';
+    return n;
 }
 
 /* eta0 and eps0 recovered within 3 SE from a perturbed start (the
@@ -174,133 +177,141 @@ static int count_lines(const char *s)
  * and FIT.ini. */
 static void test_recovery(void **state)
 {
-  (void)state;
-  files fs = make_files();
-  char out[512], ini_out[512], args[4096], errbuf[8192];
-  tmp_path(out, sizeof out, "fitsc_fit.json");
-  tmp_path(ini_out, sizeof ini_out, "fitsc_fit.ini");
-  unlink(out);
-  unlink(ini_out);
-  snprintf(args, sizeof args, "--scenario %s --params eta0,eps0,A_h -o %s --ini %s --quiet", fs.cases, out, ini_out);
-  assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 0);
-  json_error_t je;
-  json_t *root = json_load_file(out, 0, &je);
-  assert_non_null(root);
-  const double truth[2] = {TRUE_ETA0, TRUE_EPS0};
-  const char *names[2] = {"eta0", "eps0"};
-  double fit_eta0 = NAN;
-  for (int j = 0; j < 2; j++) {
-    json_t *p = json_object_get(json_object_get(root, "params"), names[j]);
-    const double v = json_real_value(json_object_get(p, "value")), se = json_real_value(json_object_get(p, "se"));
-    printf("  %s truth %.6g fit %.6g SE %.3g (%+.2f SE)\n", names[j], truth[j], v, se, (v - truth[j]) / se);
-    assert_true(se > 0.0 && se < 0.05 * truth[j]);
-    if (j == 0) fit_eta0 = v;
-    assert_close(v, truth[j], 3.0 * se);
-    assert_true(json_is_true(json_object_get(json_object_get(root, "identifiable"), names[j])));
-  }
-  assert_true(json_is_false(json_object_get(json_object_get(root, "identifiable"), "A_h")));
-  assert_non_null(strstr(json_string_value(json_object_get(json_object_get(root, "why_not"), "A_h")),
-                         "sensitivity vanishes"));
-  assert_close(json_real_value(json_object_get(json_object_get(json_object_get(root, "params"), "A_h"), "value")),
-               200e6, 0.0);
-  const double chi2_dof = json_real_value(json_object_get(root, "chi2_dof"));
-  printf("  chi2/dof = %.3f, dof %lld\n", chi2_dof, json_integer_value(json_object_get(root, "dof")));
-  assert_true(chi2_dof > 0.5 && chi2_dof < 1.5);
-  /* every candidate used (material everywhere): dof = 2 cases x 5 fields x NB - 2 */
-  assert_int_equal(json_integer_value(json_object_get(root, "dof")), 2 * 5 * NB - 2);
-  json_t *cases = json_object_get(root, "cases");
-  assert_int_equal(json_array_size(cases), 2);
-  double chi2_sum = 0.0;
-  for (size_t i = 0; i < 2; i++) {
-    json_t *c = json_array_get(cases, i);
-    assert_string_equal(json_string_value(json_object_get(c, "dem")), fs.dem[i]);
-    assert_string_equal(json_string_value(json_object_get(c, "scenario")), fs.ini);
-    assert_string_equal(json_string_value(json_array_get(json_object_get(c, "set"), 0)), case_sets[i][0]);
-    assert_int_equal(json_integer_value(json_object_get(c, "points_used")), 5 * NB);
-    assert_true(json_real_value(json_object_get(c, "ekm_wall_s_last")) > 0.0);
-    chi2_sum += json_real_value(json_object_get(c, "chi2"));
-  }
-  assert_close(chi2_sum, json_real_value(json_object_get(root, "chi2")), 1e-9 * chi2_sum);
-  json_decref(root);
-  /* FIT.ini: a [material] section with the fitted value of eta0 */
-  FILE *fp = fopen(ini_out, "r");
-  assert_non_null(fp);
-  char line[512];
-  int in_material = 0, seen = 0;
-  while (fgets(line, sizeof line, fp)) {
-    if (line[0] == '[') in_material = !strncmp(line, "[material]", 10);
-    double v;
-    if (in_material && sscanf(line, "eta0 = %lf", &v) == 1) {
-      assert_close(v, fit_eta0, 1e-15 * fit_eta0); /* %.17g: the same number */
-      seen = 1;
+    (void)state;
+    files fs = make_files();
+    char out[512], ini_out[512], args[4096], errbuf[8192];
+    tmp_path(out, sizeof out, "fitsc_fit.json");
+    tmp_path(ini_out, sizeof ini_out, "fitsc_fit.ini");
+    unlink(out);
+    unlink(ini_out);
+    snprintf(args, sizeof args, "--scenario %s --params eta0,eps0,A_h -o %s --ini %s --quiet", fs.cases, out,
+             ini_out);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 0);
+    json_error_t je;
+    json_t *root = json_load_file(out, 0, &je);
+    assert_non_null(root);
+    const double truth[2] = {TRUE_ETA0, TRUE_EPS0};
+    const char *names[2] = {"eta0", "eps0"};
+    double fit_eta0 = NAN;
+    for (int j = 0; j < 2; j++) {
+        json_t *p = json_object_get(json_object_get(root, "params"), names[j]);
+        const double v = json_real_value(json_object_get(p, "value")),
+                     se = json_real_value(json_object_get(p, "se"));
+        printf("  %s truth %.6g fit %.6g SE %.3g (%+.2f SE)\n", names[j], truth[j], v, se,
+               (v - truth[j]) / se);
+        assert_true(se > 0.0 && se < 0.05 * truth[j]);
+        if (j == 0)
+            fit_eta0 = v;
+        assert_close(v, truth[j], 3.0 * se);
+        assert_true(json_is_true(json_object_get(json_object_get(root, "identifiable"), names[j])));
     }
-  }
-  fclose(fp);
-  assert_true(seen);
+    assert_true(json_is_false(json_object_get(json_object_get(root, "identifiable"), "A_h")));
+    assert_non_null(strstr(json_string_value(json_object_get(json_object_get(root, "why_not"), "A_h")),
+                           "sensitivity vanishes"));
+    assert_close(
+        json_real_value(json_object_get(json_object_get(json_object_get(root, "params"), "A_h"), "value")),
+        200e6, 0.0);
+    const double chi2_dof = json_real_value(json_object_get(root, "chi2_dof"));
+    printf("  chi2/dof = %.3f, dof %lld\n", chi2_dof, json_integer_value(json_object_get(root, "dof")));
+    assert_true(chi2_dof > 0.5 && chi2_dof < 1.5);
+    /* every candidate used (material everywhere): dof = 2 cases x 5 fields x NB - 2 */
+    assert_int_equal(json_integer_value(json_object_get(root, "dof")), 2 * 5 * NB - 2);
+    json_t *cases = json_object_get(root, "cases");
+    assert_int_equal(json_array_size(cases), 2);
+    double chi2_sum = 0.0;
+    for (size_t i = 0; i < 2; i++) {
+        json_t *c = json_array_get(cases, i);
+        assert_string_equal(json_string_value(json_object_get(c, "dem")), fs.dem[i]);
+        assert_string_equal(json_string_value(json_object_get(c, "scenario")), fs.ini);
+        assert_string_equal(json_string_value(json_array_get(json_object_get(c, "set"), 0)), case_sets[i][0]);
+        assert_int_equal(json_integer_value(json_object_get(c, "points_used")), 5 * NB);
+        assert_true(json_real_value(json_object_get(c, "ekm_wall_s_last")) > 0.0);
+        chi2_sum += json_real_value(json_object_get(c, "chi2"));
+    }
+    assert_close(chi2_sum, json_real_value(json_object_get(root, "chi2")), 1e-9 * chi2_sum);
+    json_decref(root);
+    /* FIT.ini: a [material] section with the fitted value of eta0 */
+    FILE *fp = fopen(ini_out, "r");
+    assert_non_null(fp);
+    char line[512];
+    int in_material = 0, seen = 0;
+    while (fgets(line, sizeof line, fp)) {
+        if (line[0] == '[')
+            in_material = !strncmp(line, "[material]", 10);
+        double v;
+        if (in_material && sscanf(line, "eta0 = %lf", &v) == 1) {
+            assert_close(v, fit_eta0, 1e-15 * fit_eta0); /* %.17g: the same number */
+            seen = 1;
+        }
+    }
+    fclose(fp);
+    assert_true(seen);
 }
 
 static void test_bad_input(void **state)
 {
-  (void)state;
-  files fs = make_files();
-  char out[512], bad[512], args[4096], errbuf[8192], text[4096];
-  tmp_path(out, sizeof out, "fitsc_bad.json");
-  tmp_path(bad, sizeof bad, "fitsc_badcases.json");
-  unlink(out);
-  /* a case without its dem key */
-  snprintf(text, sizeof text, "{\"cases\": [{\"dem\": \"%s\", \"scenario\": \"%s\"}, {\"scenario\": \"%s\"}]}\n",
-           fs.dem[0], fs.ini, fs.ini);
-  assert_int_equal(write_text(bad, text), 0);
-  snprintf(args, sizeof args, "--scenario %s --params eta0,eps0 -o %s", bad, out);
-  assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
-  assert_int_equal(count_lines(errbuf), 1);
-  assert_non_null(strstr(errbuf, "fitsc_badcases.json: cases[1]: missing key 'dem'"));
-  assert_int_equal(access(out, F_OK), -1);
-  /* a scenario that does not load: the reader's message passed through */
-  snprintf(text, sizeof text, "{\"cases\": [{\"dem\": \"%s\", \"scenario\": \"%s\", \"set\": [\"domain.cells=-3\"]}]}\n",
-           fs.dem[0], fs.ini);
-  assert_int_equal(write_text(bad, text), 0);
-  assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
-  assert_int_equal(count_lines(errbuf), 1);
-  assert_non_null(strstr(errbuf, "fitsc_badcases.json: cases[0].scenario: "));
-  assert_non_null(strstr(errbuf, "cells"));
-  assert_int_equal(access(out, F_OK), -1);
-  /* a dem file that is not a cg output (an ekm output) */
-  char ekm_out[512];
-  tmp_path(ekm_out, sizeof ekm_out, "fitsc_ekm.h5");
-  char cmd[2048];
-  snprintf(cmd, sizeof cmd, "%s run %s -o %s --quiet", EKM_BINARY, fs.ini, ekm_out);
-  assert_int_equal(system(cmd), 0);
-  snprintf(text, sizeof text, "{\"cases\": [{\"dem\": \"%s\", \"scenario\": \"%s\"}]}\n", ekm_out, fs.ini);
-  assert_int_equal(write_text(bad, text), 0);
-  assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
-  assert_int_equal(count_lines(errbuf), 1);
-  assert_non_null(strstr(errbuf, "cases[0].dem: "));
-  assert_non_null(strstr(errbuf, "not an ekmcompare cg output"));
-  assert_int_equal(access(out, F_OK), -1);
-  /* a dem file that does not exist: cannot open (3) */
-  snprintf(text, sizeof text, "{\"cases\": [{\"dem\": \"%s.missing\", \"scenario\": \"%s\"}]}\n", fs.dem[0],
-           fs.ini);
-  assert_int_equal(write_text(bad, text), 0);
-  assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 3);
-  assert_int_equal(count_lines(errbuf), 1);
-  assert_non_null(strstr(errbuf, "cases[0].dem: "));
-  assert_int_equal(access(out, F_OK), -1);
-  /* an unknown key */
-  snprintf(text, sizeof text, "{\"cases\": [{\"dem\": \"%s\", \"scenario\": \"%s\", \"shift\": 0}]}\n", fs.dem[0],
-           fs.ini);
-  assert_int_equal(write_text(bad, text), 0);
-  assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
-  assert_int_equal(count_lines(errbuf), 1);
-  assert_non_null(strstr(errbuf, "cases[0]: unknown key 'shift'"));
-  assert_int_equal(access(out, F_OK), -1);
+    (void)state;
+    files fs = make_files();
+    char out[512], bad[512], args[4096], errbuf[8192], text[4096];
+    tmp_path(out, sizeof out, "fitsc_bad.json");
+    tmp_path(bad, sizeof bad, "fitsc_badcases.json");
+    unlink(out);
+    /* a case without its dem key */
+    snprintf(text, sizeof text,
+             "{\"cases\": [{\"dem\": \"%s\", \"scenario\": \"%s\"}, {\"scenario\": \"%s\"}]}\n", fs.dem[0],
+             fs.ini, fs.ini);
+    assert_int_equal(write_text(bad, text), 0);
+    snprintf(args, sizeof args, "--scenario %s --params eta0,eps0 -o %s", bad, out);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
+    assert_int_equal(count_lines(errbuf), 1);
+    assert_non_null(strstr(errbuf, "fitsc_badcases.json: cases[1]: missing key 'dem'"));
+    assert_int_equal(access(out, F_OK), -1);
+    /* a scenario that does not load: the reader's message passed through */
+    snprintf(text, sizeof text,
+             "{\"cases\": [{\"dem\": \"%s\", \"scenario\": \"%s\", \"set\": [\"domain.cells=-3\"]}]}\n",
+             fs.dem[0], fs.ini);
+    assert_int_equal(write_text(bad, text), 0);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
+    assert_int_equal(count_lines(errbuf), 1);
+    assert_non_null(strstr(errbuf, "fitsc_badcases.json: cases[0].scenario: "));
+    assert_non_null(strstr(errbuf, "cells"));
+    assert_int_equal(access(out, F_OK), -1);
+    /* a dem file that is not a cg output (an ekm output) */
+    char ekm_out[512];
+    tmp_path(ekm_out, sizeof ekm_out, "fitsc_ekm.h5");
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "%s run %s -o %s --quiet", EKM_BINARY, fs.ini, ekm_out);
+    assert_int_equal(system(cmd), 0);
+    snprintf(text, sizeof text, "{\"cases\": [{\"dem\": \"%s\", \"scenario\": \"%s\"}]}\n", ekm_out, fs.ini);
+    assert_int_equal(write_text(bad, text), 0);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
+    assert_int_equal(count_lines(errbuf), 1);
+    assert_non_null(strstr(errbuf, "cases[0].dem: "));
+    assert_non_null(strstr(errbuf, "not an ekmcompare cg output"));
+    assert_int_equal(access(out, F_OK), -1);
+    /* a dem file that does not exist: cannot open (3) */
+    snprintf(text, sizeof text, "{\"cases\": [{\"dem\": \"%s.missing\", \"scenario\": \"%s\"}]}\n", fs.dem[0],
+             fs.ini);
+    assert_int_equal(write_text(bad, text), 0);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 3);
+    assert_int_equal(count_lines(errbuf), 1);
+    assert_non_null(strstr(errbuf, "cases[0].dem: "));
+    assert_int_equal(access(out, F_OK), -1);
+    /* an unknown key */
+    snprintf(text, sizeof text, "{\"cases\": [{\"dem\": \"%s\", \"scenario\": \"%s\", \"shift\": 0}]}\n",
+             fs.dem[0], fs.ini);
+    assert_int_equal(write_text(bad, text), 0);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
+    assert_int_equal(count_lines(errbuf), 1);
+    assert_non_null(strstr(errbuf, "cases[0]: unknown key 'shift'"));
+    assert_int_equal(access(out, F_OK), -1);
 }
 
 int main(void)
 {
-  const struct CMUnitTest tests[] = {
-    cmocka_unit_test(test_recovery),
-    cmocka_unit_test(test_bad_input),
-  };
-  return cmocka_run_group_tests(tests, NULL, NULL);
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_recovery),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
 }

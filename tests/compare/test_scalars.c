@@ -23,105 +23,106 @@ static const double TT[5] = {1e-3, 2e-3, 3e-3, 0, NAN}, T_SE[5] = {1e-4, 1e-4, 1
 
 static cg_scalar_profile profile(void)
 {
-  cg_scalar_profile p = {5, Z, PHI, VX, SXZ, SZZ, PP, TT, PHI_SE, VX_SE, S_SE, S_SE, S_SE, T_SE};
-  return p;
+    cg_scalar_profile p = {5, Z, PHI, VX, SXZ, SZZ, PP, TT, PHI_SE, VX_SE, S_SE, S_SE, S_SE, T_SE};
+    return p;
 }
 
 static cg_scalar_value get(const char *name, const cg_scalar_profile *p)
 {
-  int k = cg_scalar_lookup(name);
-  assert_true(k >= 0);
-  return cg_scalar_compute((cg_scalar_kind)k, p);
+    int k = cg_scalar_lookup(name);
+    assert_true(k >= 0);
+    return cg_scalar_compute((cg_scalar_kind)k, p);
 }
 
 static void test_hand_computed(void **state)
 {
-  (void)state;
-  cg_scalar_profile p = profile();
-  /* crossing between bins 2 and 3: a = (0.6 - 0.3)/0.4 = 0.75, h = 3.25;
-   * se = 1/0.4 sqrt((0.25 x 0.01)^2 + (0.75 x 0.02)^2) */
-  cg_scalar_value v = get("layer_height", &p);
-  assert_close(v.value, 3.25, 1e-15);
-  assert_close(v.se, 2.5 * sqrt(0.0025 * 0.0025 + 0.015 * 0.015), 1e-15);
-  /* q = 0.6 (1 + 2 + 3) + 0.2 x 4 = 4.4 (bin 4 has phi = 0); SE the sum
-   * of sqrt((vx se_phi)^2 + (phi se_vx)^2) */
-  v = get("flow_rate", &p);
-  assert_close(v.value, 4.4, 1e-14);
-  assert_close(v.se, sqrt(1e-4 + 36e-4) + sqrt(4e-4 + 36e-4) + sqrt(9e-4 + 36e-4) + sqrt(64e-4 + 4e-4), 1e-14);
-  assert_string_equal(cg_scalar_units(CG_SCALAR_FLOW_RATE), "m^2/s");
-  /* 4.4 / (0.6 x 3 + 0.2) = 2.2; SE the phi-weighted mean of 0.1 */
-  v = get("depth_averaged_velocity", &p);
-  assert_close(v.value, 2.2, 1e-14);
-  assert_close(v.se, 0.1, 1e-15);
-  /* the highest bin in material is bin 2 */
-  v = get("surface_velocity", &p);
-  assert_close(v.value, 3.0, 0);
-  assert_close(v.se, 0.1, 0);
-  /* base z = 0.5, depth 2.75: middle half 1.1875 .. 2.5625 = bins 1, 2 */
-  v = get("bulk_phi", &p);
-  assert_close(v.value, 0.6, 1e-15);
-  assert_close(v.se, 0.01, 1e-15);
-  /* |sxz|/|szz| at bin 0 = 0.5, se = 0.5 sqrt(0.1^2 + 0.05^2) */
-  v = get("base_friction", &p);
-  assert_close(v.value, 0.5, 1e-15);
-  assert_close(v.se, 0.5 * sqrt(0.01 + 0.0025), 1e-15);
-  /* means over bins 0..2: |sxz| = 3.5/3, P = 2, T = 2e-3 (SEs the mean SE) */
-  v = get("wall_shear_stress", &p);
-  assert_close(v.value, 3.5 / 3.0, 1e-15);
-  assert_close(v.se, 0.1, 1e-15);
-  v = get("mu", &p);
-  assert_close(v.value, 3.5 / 6.0, 1e-15);
-  assert_close(v.se, 3.5 / 6.0 * sqrt(pow(0.1 / (3.5 / 3.0), 2) + pow(0.05, 2)), 1e-15);
-  v = get("wall_friction", &p);
-  assert_close(v.value, 3.5 / 6.0, 1e-15);
-  v = get("mean_T", &p);
-  assert_close(v.value, 2e-3, 1e-18);
-  assert_close(v.se, 1e-4, 1e-19);
-  v = get("mean_phi", &p);
-  assert_close(v.value, 0.6, 1e-15);
-  v = get("mean_P", &p);
-  assert_close(v.value, 2.0, 0);
+    (void)state;
+    cg_scalar_profile p = profile();
+    /* crossing between bins 2 and 3: a = (0.6 - 0.3)/0.4 = 0.75, h = 3.25;
+     * se = 1/0.4 sqrt((0.25 x 0.01)^2 + (0.75 x 0.02)^2) */
+    cg_scalar_value v = get("layer_height", &p);
+    assert_close(v.value, 3.25, 1e-15);
+    assert_close(v.se, 2.5 * sqrt(0.0025 * 0.0025 + 0.015 * 0.015), 1e-15);
+    /* q = 0.6 (1 + 2 + 3) + 0.2 x 4 = 4.4 (bin 4 has phi = 0); SE the sum
+     * of sqrt((vx se_phi)^2 + (phi se_vx)^2) */
+    v = get("flow_rate", &p);
+    assert_close(v.value, 4.4, 1e-14);
+    assert_close(v.se, sqrt(1e-4 + 36e-4) + sqrt(4e-4 + 36e-4) + sqrt(9e-4 + 36e-4) + sqrt(64e-4 + 4e-4),
+                 1e-14);
+    assert_string_equal(cg_scalar_units(CG_SCALAR_FLOW_RATE), "m^2/s");
+    /* 4.4 / (0.6 x 3 + 0.2) = 2.2; SE the phi-weighted mean of 0.1 */
+    v = get("depth_averaged_velocity", &p);
+    assert_close(v.value, 2.2, 1e-14);
+    assert_close(v.se, 0.1, 1e-15);
+    /* the highest bin in material is bin 2 */
+    v = get("surface_velocity", &p);
+    assert_close(v.value, 3.0, 0);
+    assert_close(v.se, 0.1, 0);
+    /* base z = 0.5, depth 2.75: middle half 1.1875 .. 2.5625 = bins 1, 2 */
+    v = get("bulk_phi", &p);
+    assert_close(v.value, 0.6, 1e-15);
+    assert_close(v.se, 0.01, 1e-15);
+    /* |sxz|/|szz| at bin 0 = 0.5, se = 0.5 sqrt(0.1^2 + 0.05^2) */
+    v = get("base_friction", &p);
+    assert_close(v.value, 0.5, 1e-15);
+    assert_close(v.se, 0.5 * sqrt(0.01 + 0.0025), 1e-15);
+    /* means over bins 0..2: |sxz| = 3.5/3, P = 2, T = 2e-3 (SEs the mean SE) */
+    v = get("wall_shear_stress", &p);
+    assert_close(v.value, 3.5 / 3.0, 1e-15);
+    assert_close(v.se, 0.1, 1e-15);
+    v = get("mu", &p);
+    assert_close(v.value, 3.5 / 6.0, 1e-15);
+    assert_close(v.se, 3.5 / 6.0 * sqrt(pow(0.1 / (3.5 / 3.0), 2) + pow(0.05, 2)), 1e-15);
+    v = get("wall_friction", &p);
+    assert_close(v.value, 3.5 / 6.0, 1e-15);
+    v = get("mean_T", &p);
+    assert_close(v.value, 2e-3, 1e-18);
+    assert_close(v.se, 1e-4, 1e-19);
+    v = get("mean_phi", &p);
+    assert_close(v.value, 0.6, 1e-15);
+    v = get("mean_P", &p);
+    assert_close(v.value, 2.0, 0);
 }
 
 /* A layer that reaches the top of the grid has no free surface: the layer
  * height (and what depends on it) is NaN; a missing field or SE gives NaN. */
 static void test_undefined(void **state)
 {
-  (void)state;
-  const double full[5] = {0.6, 0.6, 0.6, 0.6, 0.6};
-  cg_scalar_profile p = profile();
-  p.phi = full;
-  assert_true(isnan(get("layer_height", &p).value));
-  assert_true(isnan(get("bulk_phi", &p).value));
-  assert_close(get("mean_phi", &p).value, 0.6, 1e-15);
-  p = profile();
-  p.sxz = NULL;
-  assert_true(isnan(get("base_friction", &p).value));
-  p = profile();
-  p.phi_se = NULL;
-  cg_scalar_value v = get("layer_height", &p);
-  assert_close(v.value, 3.25, 1e-15);
-  assert_true(isnan(v.se));
+    (void)state;
+    const double full[5] = {0.6, 0.6, 0.6, 0.6, 0.6};
+    cg_scalar_profile p = profile();
+    p.phi = full;
+    assert_true(isnan(get("layer_height", &p).value));
+    assert_true(isnan(get("bulk_phi", &p).value));
+    assert_close(get("mean_phi", &p).value, 0.6, 1e-15);
+    p = profile();
+    p.sxz = NULL;
+    assert_true(isnan(get("base_friction", &p).value));
+    p = profile();
+    p.phi_se = NULL;
+    cg_scalar_value v = get("layer_height", &p);
+    assert_close(v.value, 3.25, 1e-15);
+    assert_true(isnan(v.se));
 }
 
 static void test_names_and_sets(void **state)
 {
-  (void)state;
-  assert_int_equal(cg_scalar_lookup("flow_rate"), CG_SCALAR_FLOW_RATE);
-  assert_int_equal(cg_scalar_lookup("flow"), -1);
-  assert_string_equal(cg_scalar_set("shear_cell"), "mean_phi,wall_shear_stress,wall_friction");
-  assert_null(cg_scalar_set("chutes"));
-  assert_int_equal(cg_scalar_per_time(CG_SCALAR_BED_HEIGHT), 1);
-  assert_int_equal(cg_scalar_per_time(CG_SCALAR_LAYER_HEIGHT), 0);
-  assert_null(cg_scalar_name(CG_SCALAR_COUNT));
+    (void)state;
+    assert_int_equal(cg_scalar_lookup("flow_rate"), CG_SCALAR_FLOW_RATE);
+    assert_int_equal(cg_scalar_lookup("flow"), -1);
+    assert_string_equal(cg_scalar_set("shear_cell"), "mean_phi,wall_shear_stress,wall_friction");
+    assert_null(cg_scalar_set("chutes"));
+    assert_int_equal(cg_scalar_per_time(CG_SCALAR_BED_HEIGHT), 1);
+    assert_int_equal(cg_scalar_per_time(CG_SCALAR_LAYER_HEIGHT), 0);
+    assert_null(cg_scalar_name(CG_SCALAR_COUNT));
 }
 
 int main(void)
 {
-  const struct CMUnitTest tests[] = {
-    cmocka_unit_test(test_hand_computed),
-    cmocka_unit_test(test_undefined),
-    cmocka_unit_test(test_names_and_sets),
-  };
-  return cmocka_run_group_tests(tests, NULL, NULL);
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_hand_computed),
+        cmocka_unit_test(test_undefined),
+        cmocka_unit_test(test_names_and_sets),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -15,123 +15,135 @@
 /* A [n] (nt == 0) or [nt][n] dataset. */
 static void put(ekm_h5_file *w, const char *name, const double *data, size_t nt, size_t n, const char *units)
 {
-  ekm_error err;
-  size_t dims[2] = {nt, n};
-  ekm_status st = nt ? ekm_h5_write_double(w, name, 2, dims, data, units, NULL, &err)
-                     : ekm_h5_write_double(w, name, 1, &n, data, units, NULL, &err);
-  if (st) fail_msg("%s", err.message);
+    ekm_error err;
+    size_t dims[2] = {nt, n};
+    ekm_status st = nt ? ekm_h5_write_double(w, name, 2, dims, data, units, NULL, &err)
+                       : ekm_h5_write_double(w, name, 1, &n, data, units, NULL, &err);
+    if (st)
+        fail_msg("%s", err.message);
 }
 
 /* An ekm-format file: f(z,t) = a + b z + c t for phi, vx, T (and P). */
-static void write_ekm(const char *path, size_t nz, double z0, double z1, size_t nt,
-                      double t1, double a, double b, double c)
+static void write_ekm(const char *path, size_t nz, double z0, double z1, size_t nt, double t1, double a,
+                      double b, double c)
 {
-  ekm_h5_file *w;
-  ekm_error err;
-  assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
-  double *z = malloc(nz * sizeof *z), *t = malloc(nt * sizeof *t), *f = malloc(nz * nt * sizeof *f);
-  for (size_t k = 0; k < nz; k++) z[k] = z0 + (z1 - z0) * ((double)k + 0.5) / (double)nz;
-  for (size_t i = 0; i < nt; i++) t[i] = nt > 1 ? t1 * (double)i / (double)(nt - 1) : t1;
-  for (size_t i = 0; i < nt; i++)
-    for (size_t k = 0; k < nz; k++) f[i * nz + k] = a + b * z[k] + c * t[i];
-  put(w, "z", z, 0, nz, "m");
-  put(w, "t", t, 0, nt, "s");
-  const char *names[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
-  for (size_t i = 0; i < 7; i++) put(w, names[i], f, nt, nz, ekm_field_units(names[i]));
-  /* the contract's int32 /regime dataset */
-  int *reg = calloc(nt * nz, sizeof *reg);
-  size_t dims[2] = {nt, nz};
-  assert_int_equal(ekm_h5_write_int(w, "regime", 2, dims, reg, "1", NULL, &err), EKM_OK);
-  free(reg);
-  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "variant", "full", &err), EKM_OK);
-  assert_int_equal(ekm_h5_attr_set_double(w, NULL, "gravity_z", -9.81, &err), EKM_OK);
-  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "code_version", "test", &err), EKM_OK);
-  assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
-  free(z); free(t); free(f);
+    ekm_h5_file *w;
+    ekm_error err;
+    assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
+    double *z = malloc(nz * sizeof *z), *t = malloc(nt * sizeof *t), *f = malloc(nz * nt * sizeof *f);
+    for (size_t k = 0; k < nz; k++)
+        z[k] = z0 + (z1 - z0) * ((double)k + 0.5) / (double)nz;
+    for (size_t i = 0; i < nt; i++)
+        t[i] = nt > 1 ? t1 * (double)i / (double)(nt - 1) : t1;
+    for (size_t i = 0; i < nt; i++)
+        for (size_t k = 0; k < nz; k++)
+            f[i * nz + k] = a + b * z[k] + c * t[i];
+    put(w, "z", z, 0, nz, "m");
+    put(w, "t", t, 0, nt, "s");
+    const char *names[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
+    for (size_t i = 0; i < 7; i++)
+        put(w, names[i], f, nt, nz, ekm_field_units(names[i]));
+    /* the contract's int32 /regime dataset */
+    int *reg = calloc(nt * nz, sizeof *reg);
+    size_t dims[2] = {nt, nz};
+    assert_int_equal(ekm_h5_write_int(w, "regime", 2, dims, reg, "1", NULL, &err), EKM_OK);
+    free(reg);
+    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "variant", "full", &err), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_double(w, NULL, "gravity_z", -9.81, &err), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "code_version", "test", &err), EKM_OK);
+    assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+    free(z);
+    free(t);
+    free(f);
 }
 
 /* A cg-format file: f = a + b z + c t, SE = se everywhere. */
-static void write_dem(const char *path, size_t nz, double z0, double z1, size_t nt,
-                      const double *t, double a, double b, double c, double se)
+static void write_dem(const char *path, size_t nz, double z0, double z1, size_t nt, const double *t, double a,
+                      double b, double c, double se)
 {
-  ekm_h5_file *w;
-  ekm_error err;
-  assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
-  double *z = malloc(nz * sizeof *z), *f = malloc(nz * nt * sizeof *f), *s = malloc(nz * nt * sizeof *s);
-  for (size_t k = 0; k < nz; k++) z[k] = z0 + (z1 - z0) * ((double)k + 0.5) / (double)nz;
-  for (size_t i = 0; i < nt; i++)
-    for (size_t k = 0; k < nz; k++) {
-      f[i * nz + k] = a + b * z[k] + c * t[i];
-      s[i * nz + k] = se;
+    ekm_h5_file *w;
+    ekm_error err;
+    assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
+    double *z = malloc(nz * sizeof *z), *f = malloc(nz * nt * sizeof *f), *s = malloc(nz * nt * sizeof *s);
+    for (size_t k = 0; k < nz; k++)
+        z[k] = z0 + (z1 - z0) * ((double)k + 0.5) / (double)nz;
+    for (size_t i = 0; i < nt; i++)
+        for (size_t k = 0; k < nz; k++) {
+            f[i * nz + k] = a + b * z[k] + c * t[i];
+            s[i * nz + k] = se;
+        }
+    put(w, "z", z, 0, nz, "m");
+    put(w, "t", t, 0, nt, "s");
+    const char *names[] = {"phi", "vx", "T"};
+    char sen[32];
+    for (size_t i = 0; i < 3; i++) {
+        put(w, names[i], f, nt, nz, ekm_field_units(names[i]));
+        snprintf(sen, sizeof sen, "%s_se", names[i]);
+        put(w, sen, s, nt, nz, ekm_field_units(names[i]));
     }
-  put(w, "z", z, 0, nz, "m");
-  put(w, "t", t, 0, nt, "s");
-  const char *names[] = {"phi", "vx", "T"};
-  char sen[32];
-  for (size_t i = 0; i < 3; i++) {
-    put(w, names[i], f, nt, nz, ekm_field_units(names[i]));
-    snprintf(sen, sizeof sen, "%s_se", names[i]);
-    put(w, sen, s, nt, nz, ekm_field_units(names[i]));
-  }
-  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
-  assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
-  free(z); free(f); free(s);
+    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
+    assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+    free(z);
+    free(f);
+    free(s);
 }
 
 /* Scores o into r (at most 16 fields); fails the test with the tool's
  * message on any error.  Returns the number of fields. */
 static size_t score_ok(const cg_score_opts *o, cg_score_field *r)
 {
-  size_t n;
-  ekm_error err;
-  if (cg_score(o, r, &n, &err)) fail_msg("%s", err.message);
-  return n;
+    size_t n;
+    ekm_error err;
+    if (cg_score(o, r, &n, &err))
+        fail_msg("%s", err.message);
+    return n;
 }
 
 static void test_known_errors(void **state)
 {
-  (void)state;
-  char ekm[512], dem[512], js[512];
-  tmp_path(ekm, sizeof ekm, "score_ekm.h5");
-  tmp_path(dem, sizeof dem, "score_dem.h5");
-  /* EKM on a finer grid over [0, 1], times 0..2; linear in z and t, so the
-   * interpolation is exact. DEM = EKM - 0.01 at t = 0.5 and 1.5. */
-  write_ekm(ekm, 50, 0.0, 1.0, 5, 2.0, 1.0, 2.0, 0.5);
-  double t[2] = {0.5, 1.5};
-  write_dem(dem, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 0.02);
-  cg_score_opts o = cg_score_opts_default();
-  o.dem = dem;
-  o.ekm = ekm;
-  o.json = tmp_path(js, sizeof js, "score.json");
-  cg_score_field r[16];
-  size_t n = score_ok(&o, r);
-  assert_int_equal(n, 3); /* phi, vx, T: in both files */
-  /* DEM centres 0.05..0.95; EKM centres 0.01..0.99: all 10 x 2 inside */
-  double sd2 = 0;
-  for (int i = 0; i < 2; i++)
-    for (int k = 0; k < 10; k++) {
-      double d = 0.99 + 2.0 * (0.05 + 0.1 * k) + 0.5 * t[i];
-      sd2 += d * d;
+    (void)state;
+    char ekm[512], dem[512], js[512];
+    tmp_path(ekm, sizeof ekm, "score_ekm.h5");
+    tmp_path(dem, sizeof dem, "score_dem.h5");
+    /* EKM on a finer grid over [0, 1], times 0..2; linear in z and t, so the
+     * interpolation is exact. DEM = EKM - 0.01 at t = 0.5 and 1.5. */
+    write_ekm(ekm, 50, 0.0, 1.0, 5, 2.0, 1.0, 2.0, 0.5);
+    double t[2] = {0.5, 1.5};
+    write_dem(dem, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 0.02);
+    cg_score_opts o = cg_score_opts_default();
+    o.dem = dem;
+    o.ekm = ekm;
+    o.json = tmp_path(js, sizeof js, "score.json");
+    cg_score_field r[16];
+    size_t n = score_ok(&o, r);
+    assert_int_equal(n, 3); /* phi, vx, T: in both files */
+    /* DEM centres 0.05..0.95; EKM centres 0.01..0.99: all 10 x 2 inside */
+    double sd2 = 0;
+    for (int i = 0; i < 2; i++)
+        for (int k = 0; k < 10; k++) {
+            double d = 0.99 + 2.0 * (0.05 + 0.1 * k) + 0.5 * t[i];
+            sd2 += d * d;
+        }
+    for (size_t i = 0; i < n; i++) {
+        assert_int_equal(r[i].points, 20);
+        assert_int_equal(r[i].points_se, 20);
+        assert_close(r[i].rel_l2, 0.01 * sqrt(20.0 / sd2), 1e-9);
+        assert_close(r[i].noise, 0.5, 1e-9);
     }
-  for (size_t i = 0; i < n; i++) {
-    assert_int_equal(r[i].points, 20);
-    assert_int_equal(r[i].points_se, 20);
-    assert_close(r[i].rel_l2, 0.01 * sqrt(20.0 / sd2), 1e-9);
-    assert_close(r[i].noise, 0.5, 1e-9);
-  }
-  FILE *fp = fopen(js, "r");
-  assert_non_null(fp);
-  char buf[2048];
-  size_t len = fread(buf, 1, sizeof buf - 1, fp);
-  buf[len] = '\0';
-  fclose(fp);
-  assert_non_null(strstr(buf, "\"phi\": {\"points\": 20"));
-  assert_non_null(strstr(buf, "\"noise_normalised\": 0.5"));
-  /* the options that produced it: the fields found in both, the default
-   * time matching, no shift, an EKM run as the model */
-  assert_non_null(strstr(buf, "\"options\": {\n    \"fields\": [\"phi\", \"vx\", \"T\"],\n"
-                              "    \"ekm_time\": \"interp\",\n    \"shift_m\": 0,\n    \"model\": \"ekm\",\n"
-                              "    \"se\": \"dem\",\n    \"se_floor_rel_rms\": 1e-06,\n    \"support\": 0.1,\n"));
+    FILE *fp = fopen(js, "r");
+    assert_non_null(fp);
+    char buf[2048];
+    size_t len = fread(buf, 1, sizeof buf - 1, fp);
+    buf[len] = '\0';
+    fclose(fp);
+    assert_non_null(strstr(buf, "\"phi\": {\"points\": 20"));
+    assert_non_null(strstr(buf, "\"noise_normalised\": 0.5"));
+    /* the options that produced it: the fields found in both, the default
+     * time matching, no shift, an EKM run as the model */
+    assert_non_null(
+        strstr(buf, "\"options\": {\n    \"fields\": [\"phi\", \"vx\", \"T\"],\n"
+                    "    \"ekm_time\": \"interp\",\n    \"shift_m\": 0,\n    \"model\": \"ekm\",\n"
+                    "    \"se\": \"dem\",\n    \"se_floor_rel_rms\": 1e-06,\n    \"support\": 0.1,\n"));
 }
 
 /* A layer of phi = 0.6 up to a height h (the bins or cells wholly below it;
@@ -140,29 +152,30 @@ static void test_known_errors(void **state)
  * (t = 0 and 1). */
 static void write_layer(const char *path, int dem, size_t nz, double top, double h, double diameter)
 {
-  ekm_h5_file *w;
-  ekm_error err;
-  assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
-  size_t nt = dem ? 1 : 2;
-  double z[64], t[2] = {dem ? 1.0 : 0.0, 1.0}, phi[128], vx[128], se[128];
-  for (size_t k = 0; k < nz; k++) z[k] = top * ((double)k + 0.5) / (double)nz;
-  for (size_t i = 0; i < nt; i++)
-    for (size_t k = 0; k < nz; k++) {
-      phi[i * nz + k] = z[k] < h ? 0.6 : 0.0;
-      vx[i * nz + k] = 10.0 * z[k];
-      se[i * nz + k] = 0.01;
+    ekm_h5_file *w;
+    ekm_error err;
+    assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
+    size_t nt = dem ? 1 : 2;
+    double z[64], t[2] = {dem ? 1.0 : 0.0, 1.0}, phi[128], vx[128], se[128];
+    for (size_t k = 0; k < nz; k++)
+        z[k] = top * ((double)k + 0.5) / (double)nz;
+    for (size_t i = 0; i < nt; i++)
+        for (size_t k = 0; k < nz; k++) {
+            phi[i * nz + k] = z[k] < h ? 0.6 : 0.0;
+            vx[i * nz + k] = 10.0 * z[k];
+            se[i * nz + k] = 0.01;
+        }
+    put(w, "z", z, 0, nz, "m");
+    put(w, "t", t, 0, nt, "s");
+    put(w, "phi", phi, nt, nz, "1");
+    put(w, "vx", vx, nt, nz, "m/s");
+    if (dem) {
+        put(w, "phi_se", se, nt, nz, "1");
+        put(w, "vx_se", se, nt, nz, "m/s");
+        assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
+        assert_int_equal(ekm_h5_attr_set_double(w, NULL, "mean_diameter", diameter, &err), EKM_OK);
     }
-  put(w, "z", z, 0, nz, "m");
-  put(w, "t", t, 0, nt, "s");
-  put(w, "phi", phi, nt, nz, "1");
-  put(w, "vx", vx, nt, nz, "m/s");
-  if (dem) {
-    put(w, "phi_se", se, nt, nz, "1");
-    put(w, "vx_se", se, nt, nz, "m/s");
-    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
-    assert_int_equal(ekm_h5_attr_set_double(w, NULL, "mean_diameter", diameter, &err), EKM_OK);
-  }
-  assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+    assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
 }
 
 /* Common support and the free-surface offset, exactly: the DEM layer
@@ -175,116 +188,117 @@ static void write_layer(const char *path, int dem, size_t nz, double top, double
  * range) are left out. */
 static void test_common_support(void **state)
 {
-  (void)state;
-  char dem[512], ekm[512], js[512];
-  tmp_path(dem, sizeof dem, "support_dem.h5");
-  tmp_path(ekm, sizeof ekm, "support_ekm.h5");
-  write_layer(dem, 1, 20, 0.02, 0.0100, 0.001);
-  write_layer(ekm, 0, 40, 0.02, 0.0070, 0.0);
-  cg_score_opts o = cg_score_opts_default();
-  cg_score_summary sm;
-  o.dem = dem;
-  o.ekm = ekm;
-  o.ekm_last = 1;
-  o.summary = &sm;
-  o.json = tmp_path(js, sizeof js, "support.json");
-  cg_score_field r[16];
-  size_t n = score_ok(&o, r);
-  assert_int_equal(n, 2); /* phi, vx */
-  for (size_t i = 0; i < n; i++) {
-    assert_int_equal(r[i].points, 7);
-    assert_int_equal(r[i].points_left_out, 13);
-  }
-  /* on the support both layers are full and vx agrees: no error */
-  assert_close(r[0].rel_l2, 0.0, 1e-15);
-  assert_close(r[1].rel_l2, 0.0, 1e-12);
-  assert_close(sm.support_phi, 0.06, 1e-15);
-  assert_close(sm.dem_height, 0.010, 1e-15);
-  assert_close(sm.model_height, 0.007, 1e-15);
-  assert_close(sm.mean_diameter, 0.001, 0);
-  FILE *fp = fopen(js, "r");
-  assert_non_null(fp);
-  char buf[4096];
-  size_t len = fread(buf, 1, sizeof buf - 1, fp);
-  buf[len] = '\0';
-  fclose(fp);
-  assert_non_null(strstr(buf, "\"phi\": {\"points\": 7, \"points_with_se\": 7, \"points_left_out\": 13,"));
-  assert_non_null(strstr(buf, "\"dem_m\": 0.01, \"model_m\": 0.007, \"offset_m\": -0.003, "
-                              "\"mean_diameter_m\": 0.001, \"dem_d\": 10, \"model_d\": 7, \"offset_d\": -3}"));
-  assert_non_null(strstr(buf, "\"support\": 0.1,\n    \"support_phi\": 0.06"));
-  /* --support 0: every covered point, none left out */
-  o.support = 0.0;
-  o.json = NULL;
-  n = score_ok(&o, r);
-  for (size_t i = 0; i < n; i++) {
-    assert_int_equal(r[i].points, 20);
-    assert_int_equal(r[i].points_left_out, 0);
-  }
-  assert_close(sm.dem_height - sm.model_height, 0.003, 1e-15);
-  /* a fraction outside [0, 1) is a usage error */
-  ekm_error err;
-  o.support = 1.0;
-  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
-  assert_non_null(strstr(err.message, "--support"));
-  /* the scalars of both sides; an unknown name is refused */
-  o.support = 0.1;
-  o.scalars = "layer_height,surface_velocity";
-  score_ok(&o, r);
-  assert_int_equal(sm.nscalars, 2);
-  assert_string_equal(sm.scalar[0].name, "layer_height");
-  assert_close(sm.scalar[0].dem, 0.010, 1e-15);
-  assert_close(sm.scalar[0].model, 0.007, 1e-15);
-  /* phi falls 0.6 -> 0 over 1 mm, crossing halfway: se = 1 mm / 0.6 x
-   * sqrt((0.5 x 0.01)^2 + (0.5 x 0.01)^2) */
-  assert_close(sm.scalar[0].dem_se, 0.001 / 0.6 * sqrt(0.5) * 0.01, 1e-15);
-  assert_true(isnan(sm.scalar[0].model_se));
-  assert_close(sm.scalar[1].dem, 10.0 * 0.0095, 1e-14);
-  assert_close(sm.scalar[1].model, 10.0 * 0.00675, 1e-14);
-  o.scalars = "layer_height,speed";
-  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
-  assert_non_null(strstr(err.message, "unknown scalar 'speed'"));
+    (void)state;
+    char dem[512], ekm[512], js[512];
+    tmp_path(dem, sizeof dem, "support_dem.h5");
+    tmp_path(ekm, sizeof ekm, "support_ekm.h5");
+    write_layer(dem, 1, 20, 0.02, 0.0100, 0.001);
+    write_layer(ekm, 0, 40, 0.02, 0.0070, 0.0);
+    cg_score_opts o = cg_score_opts_default();
+    cg_score_summary sm;
+    o.dem = dem;
+    o.ekm = ekm;
+    o.ekm_last = 1;
+    o.summary = &sm;
+    o.json = tmp_path(js, sizeof js, "support.json");
+    cg_score_field r[16];
+    size_t n = score_ok(&o, r);
+    assert_int_equal(n, 2); /* phi, vx */
+    for (size_t i = 0; i < n; i++) {
+        assert_int_equal(r[i].points, 7);
+        assert_int_equal(r[i].points_left_out, 13);
+    }
+    /* on the support both layers are full and vx agrees: no error */
+    assert_close(r[0].rel_l2, 0.0, 1e-15);
+    assert_close(r[1].rel_l2, 0.0, 1e-12);
+    assert_close(sm.support_phi, 0.06, 1e-15);
+    assert_close(sm.dem_height, 0.010, 1e-15);
+    assert_close(sm.model_height, 0.007, 1e-15);
+    assert_close(sm.mean_diameter, 0.001, 0);
+    FILE *fp = fopen(js, "r");
+    assert_non_null(fp);
+    char buf[4096];
+    size_t len = fread(buf, 1, sizeof buf - 1, fp);
+    buf[len] = '\0';
+    fclose(fp);
+    assert_non_null(strstr(buf, "\"phi\": {\"points\": 7, \"points_with_se\": 7, \"points_left_out\": 13,"));
+    assert_non_null(strstr(buf,
+                           "\"dem_m\": 0.01, \"model_m\": 0.007, \"offset_m\": -0.003, "
+                           "\"mean_diameter_m\": 0.001, \"dem_d\": 10, \"model_d\": 7, \"offset_d\": -3}"));
+    assert_non_null(strstr(buf, "\"support\": 0.1,\n    \"support_phi\": 0.06"));
+    /* --support 0: every covered point, none left out */
+    o.support = 0.0;
+    o.json = NULL;
+    n = score_ok(&o, r);
+    for (size_t i = 0; i < n; i++) {
+        assert_int_equal(r[i].points, 20);
+        assert_int_equal(r[i].points_left_out, 0);
+    }
+    assert_close(sm.dem_height - sm.model_height, 0.003, 1e-15);
+    /* a fraction outside [0, 1) is a usage error */
+    ekm_error err;
+    o.support = 1.0;
+    assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
+    assert_non_null(strstr(err.message, "--support"));
+    /* the scalars of both sides; an unknown name is refused */
+    o.support = 0.1;
+    o.scalars = "layer_height,surface_velocity";
+    score_ok(&o, r);
+    assert_int_equal(sm.nscalars, 2);
+    assert_string_equal(sm.scalar[0].name, "layer_height");
+    assert_close(sm.scalar[0].dem, 0.010, 1e-15);
+    assert_close(sm.scalar[0].model, 0.007, 1e-15);
+    /* phi falls 0.6 -> 0 over 1 mm, crossing halfway: se = 1 mm / 0.6 x
+     * sqrt((0.5 x 0.01)^2 + (0.5 x 0.01)^2) */
+    assert_close(sm.scalar[0].dem_se, 0.001 / 0.6 * sqrt(0.5) * 0.01, 1e-15);
+    assert_true(isnan(sm.scalar[0].model_se));
+    assert_close(sm.scalar[1].dem, 10.0 * 0.0095, 1e-14);
+    assert_close(sm.scalar[1].model, 10.0 * 0.00675, 1e-14);
+    o.scalars = "layer_height,speed";
+    assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
+    assert_non_null(strstr(err.message, "unknown scalar 'speed'"));
 }
 
 /* Engine against engine: the second file is coarse-grained DEM with its
  * own standard errors, which add in quadrature. */
 static void test_dem_against_dem(void **state)
 {
-  (void)state;
-  char a[512], b[512];
-  tmp_path(a, sizeof a, "score_dem_a.h5");
-  tmp_path(b, sizeof b, "score_dem_b.h5");
-  double t[2] = {0.5, 1.5};
-  write_dem(a, 10, 0.0, 1.0, 2, t, 1.0, 2.0, 0.5, 0.02);
-  write_dem(b, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 0.02);
-  char js[512];
-  cg_score_opts o = cg_score_opts_default();
-  o.dem = a;
-  o.ekm = b;
-  cg_score_field r[16];
-  size_t n = score_ok(&o, r);
-  assert_int_equal(n, 3);
-  for (size_t i = 0; i < n; i++) {
-    assert_int_equal(r[i].se_both, 1);
-    /* same grid: all 10 x 2 points compared */
-    assert_int_equal(r[i].points, 20);
-    assert_close(r[i].noise, 0.5 / sqrt(2.0), 1e-9);
-  }
-  /* the options as given, the shift as it reads back; the model side is a
-   * second DEM run */
-  o.fields = "T,phi";
-  o.ekm_last = 1;
-  o.shift = 0.1;
-  o.json = tmp_path(js, sizeof js, "score_dd.json");
-  assert_int_equal(score_ok(&o, r), 2);
-  FILE *fp = fopen(js, "r");
-  assert_non_null(fp);
-  char buf[2048];
-  size_t len = fread(buf, 1, sizeof buf - 1, fp);
-  buf[len] = '\0';
-  fclose(fp);
-  assert_non_null(strstr(buf, "\"fields\": [\"T\", \"phi\"],\n    \"ekm_time\": \"last\",\n"
-                              "    \"shift_m\": 0.1,\n    \"model\": \"dem\",\n"
-                              "    \"se\": \"dem and model in quadrature\","));
+    (void)state;
+    char a[512], b[512];
+    tmp_path(a, sizeof a, "score_dem_a.h5");
+    tmp_path(b, sizeof b, "score_dem_b.h5");
+    double t[2] = {0.5, 1.5};
+    write_dem(a, 10, 0.0, 1.0, 2, t, 1.0, 2.0, 0.5, 0.02);
+    write_dem(b, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 0.02);
+    char js[512];
+    cg_score_opts o = cg_score_opts_default();
+    o.dem = a;
+    o.ekm = b;
+    cg_score_field r[16];
+    size_t n = score_ok(&o, r);
+    assert_int_equal(n, 3);
+    for (size_t i = 0; i < n; i++) {
+        assert_int_equal(r[i].se_both, 1);
+        /* same grid: all 10 x 2 points compared */
+        assert_int_equal(r[i].points, 20);
+        assert_close(r[i].noise, 0.5 / sqrt(2.0), 1e-9);
+    }
+    /* the options as given, the shift as it reads back; the model side is a
+     * second DEM run */
+    o.fields = "T,phi";
+    o.ekm_last = 1;
+    o.shift = 0.1;
+    o.json = tmp_path(js, sizeof js, "score_dd.json");
+    assert_int_equal(score_ok(&o, r), 2);
+    FILE *fp = fopen(js, "r");
+    assert_non_null(fp);
+    char buf[2048];
+    size_t len = fread(buf, 1, sizeof buf - 1, fp);
+    buf[len] = '\0';
+    fclose(fp);
+    assert_non_null(strstr(buf, "\"fields\": [\"T\", \"phi\"],\n    \"ekm_time\": \"last\",\n"
+                                "    \"shift_m\": 0.1,\n    \"model\": \"dem\",\n"
+                                "    \"se\": \"dem and model in quadrature\","));
 }
 
 /* Standard errors of round-off size (a bin one grain crossed once) are not
@@ -292,122 +306,122 @@ static void test_dem_against_dem(void **state)
  * noise-normalised error, but still count in the relative L2 error. */
 static void test_se_floor(void **state)
 {
-  (void)state;
-  char ekm[512], dem[512];
-  tmp_path(ekm, sizeof ekm, "score_floor_ekm.h5");
-  tmp_path(dem, sizeof dem, "score_floor_dem.h5");
-  write_ekm(ekm, 50, 0.0, 1.0, 5, 2.0, 1.0, 2.0, 0.5);
-  double t[2] = {0.5, 1.5};
-  write_dem(dem, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 1e-12);
-  cg_score_opts o = cg_score_opts_default();
-  o.dem = dem;
-  o.ekm = ekm;
-  cg_score_field r[16];
-  size_t n = score_ok(&o, r);
-  for (size_t i = 0; i < n; i++) {
-    assert_int_equal(r[i].points, 20);
-    assert_int_equal(r[i].points_se, 0);
-    assert_true(isnan(r[i].noise));
-    assert_true(r[i].rel_l2 > 0.0);
-  }
-  /* just above the floor (RMS of the DEM field is about 2.5): counted */
-  write_dem(dem, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 1e-5);
-  n = score_ok(&o, r);
-  for (size_t i = 0; i < n; i++) {
-    assert_int_equal(r[i].points_se, 20);
-    assert_close(r[i].noise, 0.01 / 1e-5, 1e-6);
-  }
+    (void)state;
+    char ekm[512], dem[512];
+    tmp_path(ekm, sizeof ekm, "score_floor_ekm.h5");
+    tmp_path(dem, sizeof dem, "score_floor_dem.h5");
+    write_ekm(ekm, 50, 0.0, 1.0, 5, 2.0, 1.0, 2.0, 0.5);
+    double t[2] = {0.5, 1.5};
+    write_dem(dem, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 1e-12);
+    cg_score_opts o = cg_score_opts_default();
+    o.dem = dem;
+    o.ekm = ekm;
+    cg_score_field r[16];
+    size_t n = score_ok(&o, r);
+    for (size_t i = 0; i < n; i++) {
+        assert_int_equal(r[i].points, 20);
+        assert_int_equal(r[i].points_se, 0);
+        assert_true(isnan(r[i].noise));
+        assert_true(r[i].rel_l2 > 0.0);
+    }
+    /* just above the floor (RMS of the DEM field is about 2.5): counted */
+    write_dem(dem, 10, 0.0, 1.0, 2, t, 1.0 - 0.01, 2.0, 0.5, 1e-5);
+    n = score_ok(&o, r);
+    for (size_t i = 0; i < n; i++) {
+        assert_int_equal(r[i].points_se, 20);
+        assert_close(r[i].noise, 0.01 / 1e-5, 1e-6);
+    }
 }
 
 /* Region: DEM points outside the EKM's z range are left out; DEM times
  * outside the EKM's fall back to the EKM's last output. */
 static void test_region_and_last(void **state)
 {
-  (void)state;
-  char ekm[512], dem[512];
-  tmp_path(ekm, sizeof ekm, "score_ekm2.h5");
-  tmp_path(dem, sizeof dem, "score_dem2.h5");
-  write_ekm(ekm, 10, 0.0, 0.5, 3, 1.0, 1.0, 0.0, 1.0); /* centres 0.025..0.475 */
-  double t[1] = {5.0};
-  write_dem(dem, 10, 0.0, 1.0, 1, t, 2.0, 0.0, 0.0, 0.1); /* equals EKM at t = 1 */
-  cg_score_opts o = cg_score_opts_default();
-  o.dem = dem;
-  o.ekm = ekm;
-  o.fields = "phi";
-  cg_score_field r[16];
-  size_t n = score_ok(&o, r);
-  assert_int_equal(n, 1);
-  assert_int_equal(r[0].points, 5); /* DEM centres 0.05 .. 0.45 */
-  assert_close(r[0].rel_l2, 0.0, 1e-14);
-  assert_close(r[0].noise, 0.0, 1e-12);
+    (void)state;
+    char ekm[512], dem[512];
+    tmp_path(ekm, sizeof ekm, "score_ekm2.h5");
+    tmp_path(dem, sizeof dem, "score_dem2.h5");
+    write_ekm(ekm, 10, 0.0, 0.5, 3, 1.0, 1.0, 0.0, 1.0); /* centres 0.025..0.475 */
+    double t[1] = {5.0};
+    write_dem(dem, 10, 0.0, 1.0, 1, t, 2.0, 0.0, 0.0, 0.1); /* equals EKM at t = 1 */
+    cg_score_opts o = cg_score_opts_default();
+    o.dem = dem;
+    o.ekm = ekm;
+    o.fields = "phi";
+    cg_score_field r[16];
+    size_t n = score_ok(&o, r);
+    assert_int_equal(n, 1);
+    assert_int_equal(r[0].points, 5); /* DEM centres 0.05 .. 0.45 */
+    assert_close(r[0].rel_l2, 0.0, 1e-14);
+    assert_close(r[0].noise, 0.0, 1e-12);
 }
 
 static void test_bad_inputs(void **state)
 {
-  (void)state;
-  char ekm[512], dem[512], junk[512];
-  tmp_path(ekm, sizeof ekm, "score_ekm3.h5");
-  tmp_path(dem, sizeof dem, "score_dem3.h5");
-  write_ekm(ekm, 10, 0.0, 1.0, 2, 1.0, 1.0, 0.0, 0.0);
-  double t[1] = {0.5};
-  write_dem(dem, 10, 0.0, 1.0, 1, t, 1.0, 0.0, 0.0, 0.1);
-  cg_score_opts o = cg_score_opts_default();
-  cg_score_field r[16];
-  size_t n;
-  ekm_error err;
-  o.dem = dem;
-  o.ekm = "/nonexistent/run.h5";
-  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EIO);
-  assert_non_null(strstr(err.message, "/nonexistent/run.h5: cannot open"));
-  write_text(tmp_path(junk, sizeof junk, "junk.h5"), "not hdf5\n");
-  o.ekm = junk;
-  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
-  assert_non_null(strstr(err.message, "expected an HDF5 file"));
-  o.ekm = ekm;
-  o.fields = "phi,P";
-  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
-  assert_non_null(strstr(err.message, "score_dem3.h5: expected a dataset P"));
-  o.fields = "phi,,T";
-  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
-  /* a name the field schema does not know */
-  o.fields = "phi,bogus";
-  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
-  assert_non_null(strstr(err.message, "--fields: unknown field 'bogus' (the fields are: "));
-  assert_non_null(strstr(err.message, " phi "));
-  /* units other than the schema's */
-  char wrong[512];
-  tmp_path(wrong, sizeof wrong, "score_wrong_units.h5");
-  ekm_h5_file *w;
-  assert_int_equal(ekm_h5_create(&w, wrong, &err), EKM_OK);
-  double z[10], tt[2] = {0.0, 1.0}, f[20];
-  for (size_t k = 0; k < 10; k++) z[k] = ((double)k + 0.5) / 10.0;
-  for (size_t k = 0; k < 20; k++) f[k] = 1.0;
-  put(w, "z", z, 0, 10, "m");
-  put(w, "t", tt, 0, 2, "s");
-  put(w, "phi", f, 2, 10, "kg");
-  int reg[20] = {0};
-  size_t dims[2] = {2, 10};
-  assert_int_equal(ekm_h5_write_int(w, "regime", 2, dims, reg, "1", NULL, &err), EKM_OK);
-  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "variant", "full", &err), EKM_OK);
-  assert_int_equal(ekm_h5_attr_set_double(w, NULL, "gravity_z", -9.81, &err), EKM_OK);
-  assert_int_equal(ekm_h5_attr_set_string(w, NULL, "code_version", "test", &err), EKM_OK);
-  assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
-  o.ekm = wrong;
-  o.fields = "phi";
-  assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
-  assert_non_null(strstr(err.message, "score_wrong_units.h5: dataset phi: units 'kg', expected '1' (the field schema)"));
+    (void)state;
+    char ekm[512], dem[512], junk[512];
+    tmp_path(ekm, sizeof ekm, "score_ekm3.h5");
+    tmp_path(dem, sizeof dem, "score_dem3.h5");
+    write_ekm(ekm, 10, 0.0, 1.0, 2, 1.0, 1.0, 0.0, 0.0);
+    double t[1] = {0.5};
+    write_dem(dem, 10, 0.0, 1.0, 1, t, 1.0, 0.0, 0.0, 0.1);
+    cg_score_opts o = cg_score_opts_default();
+    cg_score_field r[16];
+    size_t n;
+    ekm_error err;
+    o.dem = dem;
+    o.ekm = "/nonexistent/run.h5";
+    assert_int_equal(cg_score(&o, r, &n, &err), EKM_EIO);
+    assert_non_null(strstr(err.message, "/nonexistent/run.h5: cannot open"));
+    write_text(tmp_path(junk, sizeof junk, "junk.h5"), "not hdf5\n");
+    o.ekm = junk;
+    assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+    assert_non_null(strstr(err.message, "expected an HDF5 file"));
+    o.ekm = ekm;
+    o.fields = "phi,P";
+    assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+    assert_non_null(strstr(err.message, "score_dem3.h5: expected a dataset P"));
+    o.fields = "phi,,T";
+    assert_int_equal(cg_score(&o, r, &n, &err), EKM_EUSAGE);
+    /* a name the field schema does not know */
+    o.fields = "phi,bogus";
+    assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+    assert_non_null(strstr(err.message, "--fields: unknown field 'bogus' (the fields are: "));
+    assert_non_null(strstr(err.message, " phi "));
+    /* units other than the schema's */
+    char wrong[512];
+    tmp_path(wrong, sizeof wrong, "score_wrong_units.h5");
+    ekm_h5_file *w;
+    assert_int_equal(ekm_h5_create(&w, wrong, &err), EKM_OK);
+    double z[10], tt[2] = {0.0, 1.0}, f[20];
+    for (size_t k = 0; k < 10; k++)
+        z[k] = ((double)k + 0.5) / 10.0;
+    for (size_t k = 0; k < 20; k++)
+        f[k] = 1.0;
+    put(w, "z", z, 0, 10, "m");
+    put(w, "t", tt, 0, 2, "s");
+    put(w, "phi", f, 2, 10, "kg");
+    int reg[20] = {0};
+    size_t dims[2] = {2, 10};
+    assert_int_equal(ekm_h5_write_int(w, "regime", 2, dims, reg, "1", NULL, &err), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "variant", "full", &err), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_double(w, NULL, "gravity_z", -9.81, &err), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "code_version", "test", &err), EKM_OK);
+    assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+    o.ekm = wrong;
+    o.fields = "phi";
+    assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+    assert_non_null(strstr(err.message,
+                           "score_wrong_units.h5: dataset phi: units 'kg', expected '1' (the field schema)"));
 }
 
 int main(void)
 {
-  ekm_h5_quiet();
-  const struct CMUnitTest tests[] = {
-    cmocka_unit_test(test_known_errors),
-    cmocka_unit_test(test_region_and_last),
-    cmocka_unit_test(test_dem_against_dem),
-    cmocka_unit_test(test_se_floor),
-    cmocka_unit_test(test_bad_inputs),
-    cmocka_unit_test(test_common_support),
-  };
-  return cmocka_run_group_tests(tests, NULL, NULL);
+    ekm_h5_quiet();
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_known_errors),    cmocka_unit_test(test_region_and_last),
+        cmocka_unit_test(test_dem_against_dem), cmocka_unit_test(test_se_floor),
+        cmocka_unit_test(test_bad_inputs),      cmocka_unit_test(test_common_support),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -11,7 +11,7 @@
 
 #include "bc.h"
 
-#define N 4
+#define N      4
 #define LENGTH 0.2 /* m: dz = 0.05 m */
 
 /* A state with distinct values in every cell and face. */
@@ -66,8 +66,14 @@ static void test_inflow(void **state)
     (void)state;
     ekm_state *s = make_state();
     const double dz = LENGTH / N;
-    const ekm_bc bc = {.kind = EKM_BC_INFLOW, .w = -0.04, .phi = 0.3, .u = 0.7, .T = 2e-3, .t_stop = 5.0,
-                       .velocity = 0.9, .slip_length = 0.1};
+    const ekm_bc bc = {.kind = EKM_BC_INFLOW,
+                       .w = -0.04,
+                       .phi = 0.3,
+                       .u = 0.7,
+                       .T = 2e-3,
+                       .t_stop = 5.0,
+                       .velocity = 0.9,
+                       .slip_length = 0.1};
     for (int side = EKM_SIDE_BOTTOM; side <= EKM_SIDE_TOP; side++) {
         ekm_bc_face b = ekm_bc_evaluate(&bc, (ekm_side)side, 4.999, s);
         assert_int_equal(b.w_follows, 0);
@@ -144,8 +150,8 @@ static void test_piston(void **state)
     ekm_bc bc = {.kind = EKM_BC_PISTON, .w = 0.01, .period = 2.0, .w_return = -0.03};
     const struct {
         double t, w;
-    } program[] = {{0.0, 0.01}, {0.5, 0.01}, {0.999, 0.01}, {1.0, -0.03}, {1.5, -0.03},
-                   {1.999, -0.03}, {2.0, 0.01}, {2.5, 0.01}, {3.25, -0.03}};
+    } program[] = {{0.0, 0.01},    {0.5, 0.01}, {0.999, 0.01}, {1.0, -0.03}, {1.5, -0.03},
+                   {1.999, -0.03}, {2.0, 0.01}, {2.5, 0.01},   {3.25, -0.03}};
     for (int side = EKM_SIDE_BOTTOM; side <= EKM_SIDE_TOP; side++) {
         const int j = side == EKM_SIDE_BOTTOM ? 0 : N - 1;
         for (size_t k = 0; k < sizeof program / sizeof program[0]; k++) {
@@ -170,7 +176,7 @@ static void test_piston(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_wall), cmocka_unit_test(test_inflow), cmocka_unit_test(test_outflow),
+        cmocka_unit_test(test_wall),         cmocka_unit_test(test_inflow), cmocka_unit_test(test_outflow),
         cmocka_unit_test(test_free_surface), cmocka_unit_test(test_piston),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

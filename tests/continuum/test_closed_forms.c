@@ -73,15 +73,16 @@ static void couette_case(double phi, const char *t_end, const char *cells)
     assert_true(m.nu == 1.0);
     const double T_exact = 2 * m.eta0 * gdot * gdot / (3 * phi * m.eps0);
     const double g = ekm_g(&m, phi);
-    const double P_exact = m.rho_p * g * (2 * m.eta0 * gdot * gdot / (3 * m.eps0) + m.T0 * fmax(phi - m.phi_co, 0.0));
+    const double P_exact =
+        m.rho_p * g * (2 * m.eta0 * gdot * gdot / (3 * m.eps0) + m.T0 * fmax(phi - m.phi_co, 0.0));
     const double mu_exact = sqrt(3 * m.eta0 * m.eps0 / (2 * phi));
     snprintf(set_T, sizeof set_T, "initial.T=%.17g", 2 * T_exact);
     char set_t[64], set_n[64];
     snprintf(set_t, sizeof set_t, "run.t_end=%s", t_end);
     snprintf(set_n, sizeof set_n, "domain.cells=%s", cells);
     /* the fixed-gap cell: the wall stays put, the run goes to t_end */
-    const char *sets[] = {set_phi, set_rate, set_T, set_t, set_n, "run.output_dt=0.1", "top.pressure=none",
-                          "run.stop=t_end"};
+    const char *sets[] = {
+        set_phi, set_rate, set_T, set_t, set_n, "run.output_dt=0.1", "top.pressure=none", "run.stop=t_end"};
     assert_int_equal(test_run_scenario(&r, "scenarios/shear_cell.ini", sets, 8, NULL, NULL), EKM_OK);
     const int n = r.s->n;
     double *buf = calloc((size_t)n * 5, sizeof(double));
@@ -106,8 +107,16 @@ static void couette_case(double phi, const char *t_end, const char *cells)
     test_run_free(&r);
 }
 
-static void test_couette_dilute(void **state) { (void)state; couette_case(0.30, "10", "10"); }
-static void test_couette_dense(void **state) { (void)state; couette_case(0.62, "0.5", "10"); }
+static void test_couette_dilute(void **state)
+{
+    (void)state;
+    couette_case(0.30, "10", "10");
+}
+static void test_couette_dense(void **state)
+{
+    (void)state;
+    couette_case(0.62, "0.5", "10");
+}
 
 /* ---- chute flow, lambda0 = 0, Bagnold profile ---- */
 
@@ -123,7 +132,8 @@ static void chute_case(const char *cells, const char *t_end, chute_err *out)
     snprintf(set_t, sizeof set_t, "run.t_end=%s", t_end);
     const char *sets[] = {set_n, set_t, "run.output_dt=1"};
     test_run r;
-    assert_int_equal(test_run_scenario(&r, "tests/continuum/data/chute_bagnold.ini", sets, 3, NULL, NULL), EKM_OK);
+    assert_int_equal(test_run_scenario(&r, "tests/continuum/data/chute_bagnold.ini", sets, 3, NULL, NULL),
+                     EKM_OK);
     const ekm_material *m = &r.sc.material;
     const double th = r.sc.angle_deg * DEG, G = r.sc.gravity;
     const double phi_eq = 3 * m->eta0 * m->eps0 / (2 * tan(th) * tan(th));

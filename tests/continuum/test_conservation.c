@@ -154,9 +154,11 @@ static void test_phi_bound_violation_reported(void **state)
     (void)state;
     const char *sets[] = {"top.w=-0.1", "top.T=1e-4", "run.t_end=4", "numerics.dt_min=1"};
     test_run r;
-    assert_int_equal(test_run_scenario(&r, "scenarios/thesis_filling.ini", sets, 4, NULL, NULL), EKM_ENUMERIC);
+    assert_int_equal(test_run_scenario(&r, "scenarios/thesis_filling.ini", sets, 4, NULL, NULL),
+                     EKM_ENUMERIC);
     printf("forced violation: %s\n", r.err.message);
-    assert_non_null(strstr(r.err.message, "thesis_filling.ini: time step fell below dt_min = 1 s; last rejected step: t = "));
+    assert_non_null(strstr(
+        r.err.message, "thesis_filling.ini: time step fell below dt_min = 1 s; last rejected step: t = "));
     assert_non_null(strstr(r.err.message, PHI_REJECTION));
     assert_non_null(strstr(r.err.message, ", cell "));
     assert_int_equal(r.stats.rejected, 1);

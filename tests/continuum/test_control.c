@@ -54,8 +54,9 @@ static void test_max_dt(void **state)
      * half of phi_step_max of its gap phi_cp - phi per step */
     s->w[3] = 0.01;
     const double rate = 0.5 * 0.01 / s->dz / (sc.material.phi_cp - 0.5);
-    const double want = fmin(fmin(sc.numerics.cfl * s->dz / (0.01 + c), 0.5 * sc.numerics.phi_step_max / rate),
-                             sc.numerics.dt_max);
+    const double want =
+        fmin(fmin(sc.numerics.cfl * s->dz / (0.01 + c), 0.5 * sc.numerics.phi_step_max / rate),
+             sc.numerics.dt_max);
     printf("acoustic %.6g s, compression %.6g s, dt_max %.6g s\n", sc.numerics.cfl * s->dz / (0.01 + c),
            0.5 * sc.numerics.phi_step_max / rate, sc.numerics.dt_max);
     assert_rel(ekm_control_max_dt(&sc, s), want, "compression");
@@ -76,7 +77,8 @@ static void test_solid_and_restart(void **state)
         s->solid[j] = 1;
     const double c = sqrt(ekm_sound_speed_squared(&sc.material, 0.5, 1e-3));
     assert_rel(ekm_control_max_dt(&sc, s), sc.numerics.dt_max, "solid at rest");
-    assert_rel(ekm_control_restart_dt(&sc, s), fmin(sc.numerics.cfl * s->dz / c, sc.numerics.dt_max), "restart");
+    assert_rel(ekm_control_restart_dt(&sc, s), fmin(sc.numerics.cfl * s->dz / c, sc.numerics.dt_max),
+               "restart");
     ekm_state_free(s);
     ekm_scenario_free(&sc);
 }
@@ -86,8 +88,8 @@ static void check_target(const ekm_scenario *sc, double t, double t_out, double 
     int at_event = -1;
     const double got = ekm_control_target(sc, t, t_out, &at_event);
     if (!(fabs(got - want) <= 1e-15 * want) || at_event != want_event)
-        fail_msg("target from t = %g s (next output %g s): got %.17g s, event %d; want %.17g s, event %d", t, t_out,
-                 got, at_event, want, want_event);
+        fail_msg("target from t = %g s (next output %g s): got %.17g s, event %d; want %.17g s, event %d", t,
+                 t_out, got, at_event, want, want_event);
 }
 
 static void test_targets(void **state)

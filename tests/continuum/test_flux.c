@@ -60,7 +60,8 @@ static void test_limiter_unknown(void **state)
     ekm_error err = {0};
     assert_int_equal(ekm_limiter_find("koren", &lim, &err), EKM_EINPUT);
     assert_null(lim);
-    assert_string_equal(err.message, "[numerics] limiter: unknown limiter 'koren' (known: minmod vanleer superbee mc)");
+    assert_string_equal(err.message,
+                        "[numerics] limiter: unknown limiter 'koren' (known: minmod vanleer superbee mc)");
     const char *known = strstr(err.message, "(known:");
     assert_non_null(known);
     char list[256];

@@ -23,7 +23,8 @@ static double rel(double got, double want)
 static void assert_rel(const char *what, double got, double want, double tol)
 {
     if (!(rel(got, want) < tol))
-        fail_msg("%s: got %.17g, want %.17g (relative error %.3g > %.3g)", what, got, want, rel(got, want), tol);
+        fail_msg("%s: got %.17g, want %.17g (relative error %.3g > %.3g)", what, got, want, rel(got, want),
+                 tol);
 }
 
 /* MODEL.md section 7, written out independently of model.c. */
@@ -65,7 +66,8 @@ static void test_closed_forms(void **state)
                     worst = fmax(worst, fmax(rel(h.T, T), fmax(rel(h.P, P), rel(h.mu, mu))));
                     /* it is the root of libekm's own temperature source */
                     const double heat = 2.0 / 3.0 * h.sxz * gdots[c];
-                    const double S = ekm_temperature_source(&m, variants[d], phis[b], h.T, gdots[c] * gdots[c], 0.0, NULL);
+                    const double S =
+                        ekm_temperature_source(&m, variants[d], phis[b], h.T, gdots[c] * gdots[c], 0.0, NULL);
                     assert_true(fabs(S) < 1e-12 * heat);
                     cases++;
                 }
@@ -111,7 +113,8 @@ static void couette_case(double phi, double nu, const char *t_end, double tol)
     snprintf(set_T, sizeof set_T, "initial.T=%.17g", 2.0 * h.T);
     snprintf(set_nu, sizeof set_nu, "material.nu=%.17g", nu);
     snprintf(set_t, sizeof set_t, "run.t_end=%s", t_end);
-    const char *sets[] = {set_phi, set_rate, set_u, set_T, set_nu, set_t, "run.output_dt=1", "run.stop=t_end"};
+    const char *sets[] = {set_phi, set_rate,          set_u,           set_T, set_nu,
+                          set_t,   "run.output_dt=1", "run.stop=t_end"};
     test_run r;
     assert_int_equal(test_run_scenario(&r, "scenarios/simple_shear.ini", sets, 8, NULL, NULL), EKM_OK);
     const int n = r.s->n;
@@ -129,8 +132,10 @@ static void couette_case(double phi, double nu, const char *t_end, double tol)
         emu = fmax(emu, rel(fabs(f.sxz[j]) / f.P[j], h.mu));
         ephi = fmax(ephi, rel(r.s->phi[j], phi));
     }
-    printf("couette phi = %.3f nu = %.2f t = %s s, %d cells, %ld steps: max relative errors T %.2e P %.2e sxz %.2e "
-           "mu %.2e phi %.2e (tolerance %.0e)\n", phi, nu, t_end, n, r.stats.steps, eT, eP, es, emu, ephi, tol);
+    printf("couette phi = %.3f nu = %.2f t = %s s, %d cells, %ld steps: max relative errors T %.2e P %.2e "
+           "sxz %.2e "
+           "mu %.2e phi %.2e (tolerance %.0e)\n",
+           phi, nu, t_end, n, r.stats.steps, eT, eP, es, emu, ephi, tol);
     assert_true(eT < tol);
     assert_true(eP < tol);
     assert_true(es < tol);
@@ -141,17 +146,27 @@ static void couette_case(double phi, double nu, const char *t_end, double tol)
     test_run_free(&r);
 }
 
-static void test_couette_dilute(void **state) { (void)state; couette_case(0.55, 0.5, "40", 1e-10); }
-static void test_couette_dense(void **state) { (void)state; couette_case(0.62, 0.5, "0.5", 1e-10); }
-static void test_couette_dense_nu2(void **state) { (void)state; couette_case(0.63, 2.0, "0.5", 1e-10); }
+static void test_couette_dilute(void **state)
+{
+    (void)state;
+    couette_case(0.55, 0.5, "40", 1e-10);
+}
+static void test_couette_dense(void **state)
+{
+    (void)state;
+    couette_case(0.62, 0.5, "0.5", 1e-10);
+}
+static void test_couette_dense_nu2(void **state)
+{
+    (void)state;
+    couette_case(0.63, 2.0, "0.5", 1e-10);
+}
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_closed_forms),
-        cmocka_unit_test(test_bad_arguments),
-        cmocka_unit_test(test_couette_dilute),
-        cmocka_unit_test(test_couette_dense),
+        cmocka_unit_test(test_closed_forms),      cmocka_unit_test(test_bad_arguments),
+        cmocka_unit_test(test_couette_dilute),    cmocka_unit_test(test_couette_dense),
         cmocka_unit_test(test_couette_dense_nu2),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

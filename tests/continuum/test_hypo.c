@@ -25,7 +25,10 @@ static int rhs(double t, const double y[], double dydt[], void *p)
     const law *L = p;
     const ekm_hypo_stress s = {y[0], y[1], y[2], y[3]};
     const ekm_hypo_stress r = ekm_hypo_rate(&L->m, L->v, L->phi, &s, L->du_dz, L->dw_dz);
-    dydt[0] = r.xx; dydt[1] = r.yy; dydt[2] = r.zz; dydt[3] = r.xz;
+    dydt[0] = r.xx;
+    dydt[1] = r.yy;
+    dydt[2] = r.zz;
+    dydt[3] = r.xz;
     return GSL_SUCCESS;
 }
 
@@ -36,8 +39,8 @@ static void integrate(law *L, ekm_hypo_stress *s, double du_dz, double dw_dz, do
     L->dw_dz = dw_dz;
     const double PY = ekm_pressure_yield(&L->m, L->phi);
     gsl_odeiv2_system sys = {rhs, NULL, 4, L};
-    gsl_odeiv2_driver *d = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, span * 1e-6,
-                                                         1e-14 * PY, 1e-13);
+    gsl_odeiv2_driver *d =
+        gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, span * 1e-6, 1e-14 * PY, 1e-13);
     assert_non_null(d);
     double y[4] = {s->xx, s->yy, s->zz, s->xz}, t = 0.0;
     assert_int_equal(gsl_odeiv2_driver_apply(d, &t, span, y), GSL_SUCCESS);
@@ -70,7 +73,8 @@ static void test_compression_saturates(void **state)
         const double target = -PY * (1.0 + R);
         const double err = fabs(s.zz / target - 1.0);
         const double fy = ekm_hypo_yield(&L.m, L.v, L.phi, &s);
-        printf("%s: P_Y = %.6g Pa, R = %.6g, sigma_zz = %.10g Pa, -P_Y(1+R) = %.10g Pa, rel err %.2e, f_Y %.2e\n",
+        printf("%s: P_Y = %.6g Pa, R = %.6g, sigma_zz = %.10g Pa, -P_Y(1+R) = %.10g Pa, rel err %.2e, f_Y "
+               "%.2e\n",
                v ? "thesis" : "full", PY, R, s.zz, target, err, fy);
         assert_true(err < 1e-6);
         assert_true(fabs(fy) < 1e-6);
@@ -104,7 +108,8 @@ static void test_unloading_stiffer(void **state)
     integrate(&L, &a, 0.0, -1.0, de);
     integrate(&L, &b, 0.0, 1.0, de);
     const double ks_load = (a.zz - s.zz) / -de, ks_unload = (b.zz - s.zz) / de;
-    printf("thesis: secant stiffness over strain 1e-9: loading %.6g Pa, unloading %.6g Pa\n", ks_load, ks_unload);
+    printf("thesis: secant stiffness over strain 1e-9: loading %.6g Pa, unloading %.6g Pa\n", ks_load,
+           ks_unload);
     assert_true(ks_unload > ks_load);
     /* full variant: the axial stiffness, same statement */
     law F = thesis_law(EKM_VARIANT_FULL);
@@ -134,8 +139,8 @@ static void test_cycle_returns(void **state)
     const double f_mid = ekm_hypo_yield(&L.m, L.v, L.phi, &s);
     integrate(&L, &s, 0.0, 1.0, e);
     const double ret = fabs(s.zz - start.zz) / fabs(start.zz);
-    printf("thesis closed cycle: sigma %.12g -> %.12g Pa (f_Y at turn %.3f), relative change %.2e\n", start.zz,
-           s.zz, f_mid, ret);
+    printf("thesis closed cycle: sigma %.12g -> %.12g Pa (f_Y at turn %.3f), relative change %.2e\n",
+           start.zz, s.zz, f_mid, ret);
     assert_true(f_mid < 0.0);
     assert_true(ret < 1e-10);
     /* a generic start (sigma = -P_Y) does not return: ratcheting */
@@ -171,8 +176,9 @@ static void test_shear_critical_state(void **state)
     const double fy = ekm_hypo_yield(&L.m, L.v, L.phi, &s);
     const double tr = s.xx + s.yy + s.zz;
     const double mu = fabs(s.xz) / PY, mu_exact = sqrt(3.0 * L.m.eta0 * L.m.eps0 / (2.0 * L.phi));
-    printf("full shear: sigma_xz/P_Y = %.10g (sqrt(3 eta0 eps0/(2 phi)) = %.10g), f_Y %.2e, tr/(3P_Y) %.10g\n",
-           mu, mu_exact, fy, tr / (3 * PY));
+    printf(
+        "full shear: sigma_xz/P_Y = %.10g (sqrt(3 eta0 eps0/(2 phi)) = %.10g), f_Y %.2e, tr/(3P_Y) %.10g\n",
+        mu, mu_exact, fy, tr / (3 * PY));
     assert_true(fabs(fy) < 1e-6);
     assert_true(fabs(tr / (-3.0 * PY) - 1.0) < 1e-6);
     assert_true(fabs(mu / mu_exact - 1.0) < 1e-6); /* MODEL.md 7: the EKM's friction */
@@ -229,8 +235,8 @@ static void test_flow_stress_on_limit_surface(void **state)
             const double T = ekm_temperature_local_balance(&L.m, L.v, L.phi, du * du, dw * dw);
             const ekm_hypo_stress s = ekm_hypo_from_flow(&L.m, L.v, L.phi, T, du, dw);
             const double fy = ekm_hypo_yield(&L.m, L.v, L.phi, &s);
-            printf("%s: u' = %g, w' = %g: T_qs = %.3e, f_Y of the EKM stress = %.2e\n", v ? "thesis" : "full", du,
-                   dw, T, fy);
+            printf("%s: u' = %g, w' = %g: T_qs = %.3e, f_Y of the EKM stress = %.2e\n", v ? "thesis" : "full",
+                   du, dw, T, fy);
             assert_true(fabs(fy) < 1e-3);
         }
     }
@@ -267,7 +273,8 @@ static void test_relaxation_rate(void **state)
                    v ? "thesis" : "full", du, dw, r, c_d / dt, c_vol / dt);
             assert_true(r > 0.0);
             assert_true(fabs(r * dt / fmax(c_d, c_vol) - 1.0) < 1e-6);
-            assert_true(fabs(ekm_hypo_relaxation_rate(&L.m, L.v, L.phi, 3.0 * du, 3.0 * dw) / (3.0 * r) - 1.0) < 1e-12);
+            assert_true(fabs(ekm_hypo_relaxation_rate(&L.m, L.v, L.phi, 3.0 * du, 3.0 * dw) / (3.0 * r) -
+                             1.0) < 1e-12);
         }
         assert_true(ekm_hypo_relaxation_rate(&L.m, L.v, L.phi, 0.0, 0.0) == 0.0);
         assert_true(ekm_hypo_relaxation_rate(&L.m, L.v, L.m.phi_co - 0.01, 1.0, -1.0) == 0.0);
@@ -277,12 +284,9 @@ static void test_relaxation_rate(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_compression_saturates),
-        cmocka_unit_test(test_unloading_stiffer),
-        cmocka_unit_test(test_cycle_returns),
-        cmocka_unit_test(test_shear_critical_state),
-        cmocka_unit_test(test_implicit_step),
-        cmocka_unit_test(test_flow_stress_on_limit_surface),
+        cmocka_unit_test(test_compression_saturates), cmocka_unit_test(test_unloading_stiffer),
+        cmocka_unit_test(test_cycle_returns),         cmocka_unit_test(test_shear_critical_state),
+        cmocka_unit_test(test_implicit_step),         cmocka_unit_test(test_flow_stress_on_limit_surface),
         cmocka_unit_test(test_relaxation_rate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -69,15 +69,16 @@ static void test_normal_velocity_known_solution(void **state)
     for (int j = 0; j < N; j++)
         mu[j] = 300.0 + 1e3 * j; /* dt mu / (dz^2 rho) ~ 1-10 */
     for (int f = 1; f < N; f++)
-        rhs[f] = rho[f] * w_exact[f]
-               - dt / (dz * dz) * (mu[f] * (w_exact[f + 1] - w_exact[f]) - mu[f - 1] * (w_exact[f] - w_exact[f - 1]));
+        rhs[f] = rho[f] * w_exact[f] -
+                 dt / (dz * dz) *
+                     (mu[f] * (w_exact[f + 1] - w_exact[f]) - mu[f - 1] * (w_exact[f] - w_exact[f - 1]));
     const ekm_implicit_end bottom = {.follows = 0, .value = w_exact[0]};
     const ekm_implicit_end top = {.follows = 0, .value = w_exact[N]};
     ekm_implicit_work *wk = ekm_implicit_alloc(N);
     assert_non_null(wk);
     ekm_error err = {0};
-    assert_int_equal(ekm_implicit_normal_velocity(wk, N, dt, dz, rho, rhs, mu, dry_face, bottom, top, w, &err),
-                     EKM_OK);
+    assert_int_equal(
+        ekm_implicit_normal_velocity(wk, N, dt, dz, rho, rhs, mu, dry_face, bottom, top, w, &err), EKM_OK);
     assert_solution(w, w_exact, 0, N, "normal velocity");
     ekm_implicit_free(wk);
 }

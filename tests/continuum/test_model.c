@@ -43,16 +43,16 @@ static void test_dense_state(void **state)
     assert_rel(s.sigma_xz, 26.5604129032, 1e-10);
     assert_rel(s.sigma_zz, -1883.02809462, 1e-10);
     assert_rel(s.P, 1859.41883871, 1e-10);
-    assert_rel(ekm_temperature_source(&m, EKM_VARIANT_FULL, phi, T, du * du, dw * dw, NULL),
-               -77219.4283814, 1e-10);
+    assert_rel(ekm_temperature_source(&m, EKM_VARIANT_FULL, phi, T, du * du, dw * dw, NULL), -77219.4283814,
+               1e-10);
     /* thesis variant: bulk viscosity only in the normal stress */
     ekm_transport ct = ekm_transport_coefficients(&m, EKM_VARIANT_THESIS, phi, T);
     assert_rel(ct.mu_n, 2.98941935484, 1e-10);
     ekm_slab_stress st = ekm_stress_slab(&m, EKM_VARIANT_THESIS, phi, T, du, dw);
     assert_rel(st.sigma_zz, -1859.41883871, 1e-10);
     assert_rel(st.P, 1859.41883871, 1e-10);
-    assert_rel(ekm_temperature_source(&m, EKM_VARIANT_THESIS, phi, T, du * du, dw * dw, NULL),
-               -77250.9073892, 1e-10);
+    assert_rel(ekm_temperature_source(&m, EKM_VARIANT_THESIS, phi, T, du * du, dw * dw, NULL), -77250.9073892,
+               1e-10);
 }
 
 /* phi = 0.3 < phi_co (kinetic only), T = 0.04, u' = 5/s, w' = 1.5/s. */
@@ -71,7 +71,8 @@ static void test_dilute_state(void **state)
     assert_rel(s.sigma_zz, -35.6231529412, 1e-10);
     assert_rel(s.P, 36.0508235294, 1e-10);
     assert_rel(ekm_temperature_source(&m, EKM_VARIANT_FULL, phi, T, 25.0, 2.25, NULL), -3610.03570196, 1e-10);
-    assert_rel(ekm_temperature_source(&m, EKM_VARIANT_THESIS, phi, T, 25.0, 2.25, NULL), -3610.46337255, 1e-10);
+    assert_rel(ekm_temperature_source(&m, EKM_VARIANT_THESIS, phi, T, 25.0, 2.25, NULL), -3610.46337255,
+               1e-10);
 }
 
 /* dS/dT against a centred difference; the precomputed-coefficient form
@@ -88,7 +89,8 @@ static void test_source_derivative(void **state)
             double S = ekm_temperature_source(&m, (ekm_variant)v, phi, T, u2, w2, &dS);
             const double h = 1e-6 * T;
             double num = (ekm_temperature_source(&m, (ekm_variant)v, phi, T + h, u2, w2, NULL) -
-                          ekm_temperature_source(&m, (ekm_variant)v, phi, T - h, u2, w2, NULL)) / (2 * h);
+                          ekm_temperature_source(&m, (ekm_variant)v, phi, T - h, u2, w2, NULL)) /
+                         (2 * h);
             assert_rel(dS, num, 1e-6);
             ekm_source_coeffs c = ekm_temperature_source_coeffs(&m, (ekm_variant)v, phi, u2, w2);
             assert_rel(ekm_source_eval(&c, T, &dS2), S, 1e-12);
@@ -141,10 +143,8 @@ static void test_material_check(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_dense_state),
-        cmocka_unit_test(test_dilute_state),
-        cmocka_unit_test(test_source_derivative),
-        cmocka_unit_test(test_local_balance),
+        cmocka_unit_test(test_dense_state),       cmocka_unit_test(test_dilute_state),
+        cmocka_unit_test(test_source_derivative), cmocka_unit_test(test_local_balance),
         cmocka_unit_test(test_material_check),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

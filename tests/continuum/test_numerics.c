@@ -24,7 +24,8 @@ static double front_l1(const char *convection, const char *limiter)
     double l1 = 0;
     for (int j = 0; j < r.s->n; j++)
         l1 += fabs(r.s->phi[j] - (r.s->z[j] > 0.15 ? 0.3 : 0.0)) * r.s->dz;
-    const double balance = fabs(r.stats.mass_final - r.stats.mass_initial - r.stats.mass_in) / r.stats.mass_final;
+    const double balance =
+        fabs(r.stats.mass_final - r.stats.mass_initial - r.stats.mass_in) / r.stats.mass_final;
     printf("front %s/%s: L1 error %.3e m, mass balance %.1e\n", convection, limiter, l1, balance);
     assert_true(balance < 1e-12);
     test_run_free(&r);
@@ -50,15 +51,24 @@ static void test_slip_couette(void **state)
     char set_rate[64], set_u[64];
     snprintf(set_rate, sizeof set_rate, "initial.shear_rate=%.17g", gdot);
     snprintf(set_u, sizeof set_u, "initial.u=%.17g", gdot * b);
-    const char *sets[] = {"bottom.slip_length=0.005", "top.slip_length=0.005", "initial.phi=0.3", "initial.T=1e-4",
-                          "run.t_end=10", "domain.cells=10", set_rate, set_u, "top.pressure=none", "run.stop=t_end"};
+    const char *sets[] = {"bottom.slip_length=0.005",
+                          "top.slip_length=0.005",
+                          "initial.phi=0.3",
+                          "initial.T=1e-4",
+                          "run.t_end=10",
+                          "domain.cells=10",
+                          set_rate,
+                          set_u,
+                          "top.pressure=none",
+                          "run.stop=t_end"};
     test_run r;
     assert_int_equal(test_run_scenario(&r, "scenarios/shear_cell.ini", sets, 10, NULL, NULL), EKM_OK);
     double err = 0;
     for (int j = 1; j < r.s->n; j++)
         err = fmax(err, fabs((r.s->u[j] - r.s->u[j - 1]) / r.s->dz / gdot - 1));
     const double slip = r.s->u[0] - gdot * (0.5 * r.s->dz); /* u at the wall surface */
-    printf("slip Couette: shear rate error %.2e, wall slip velocity %.4g (expected %.4g)\n", err, slip, gdot * b);
+    printf("slip Couette: shear rate error %.2e, wall slip velocity %.4g (expected %.4g)\n", err, slip,
+           gdot * b);
     assert_true(err < 1e-3);
     assert_true(fabs(slip / (gdot * b) - 1) < 1e-3);
     test_run_free(&r);

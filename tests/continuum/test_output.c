@@ -20,7 +20,8 @@ static int setup(void **state)
     (void)state;
     snprintf(out_dir, sizeof out_dir, "%s/output_test", EKM_BINARY_DIR);
     char cmd[2048];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s' && '%s' run '%s/scenarios/chute.ini' -o '%s/chute.h5' "
+    snprintf(cmd, sizeof cmd,
+             "rm -rf '%s' && mkdir -p '%s' && '%s' run '%s/scenarios/chute.ini' -o '%s/chute.h5' "
              "--set run.t_end=0.2 --set run.output_dt=0.05 --quiet",
              out_dir, out_dir, EKM_BINARY, EKM_SOURCE_DIR, out_dir);
     return system(cmd) == 0 ? 0 : -1;
@@ -90,8 +91,10 @@ static void test_hdf5_layout(void **state)
     }
     assert_true(fabs(read_double_attr(f, "material.eps0") - 212.2) < 1e-12);
     assert_true(fabs(read_double_attr(f, "gravity.angle") - 24) < 1e-12);
-    assert_true(fabs(read_double_attr(f, "gravity_x") - 9.81 * sin(24 * 3.14159265358979323846 / 180)) < 1e-12);
-    assert_true(fabs(read_double_attr(f, "gravity_z") + 9.81 * cos(24 * 3.14159265358979323846 / 180)) < 1e-12);
+    assert_true(fabs(read_double_attr(f, "gravity_x") - 9.81 * sin(24 * 3.14159265358979323846 / 180)) <
+                1e-12);
+    assert_true(fabs(read_double_attr(f, "gravity_z") + 9.81 * cos(24 * 3.14159265358979323846 / 180)) <
+                1e-12);
     assert_true(fabs(read_double_attr(f, "run.t_end") - 0.2) < 1e-15); /* the --set value */
     /* run statistics (stats.*): counts consistent, the mass balance closes */
     const double steps = read_double_attr(f, "stats.steps");
@@ -160,7 +163,8 @@ static void test_xdmf_resolves(void **state)
             read_dims(f, dset, &rank, dims);
             char want[64];
             if (rank == 2)
-                snprintf(want, sizeof want, "%llu %llu", (unsigned long long)dims[0], (unsigned long long)dims[1]);
+                snprintf(want, sizeof want, "%llu %llu", (unsigned long long)dims[0],
+                         (unsigned long long)dims[1]);
             else
                 snprintf(want, sizeof want, "%llu", (unsigned long long)dims[0]);
             assert_string_equal((const char *)dims_attr, want);
@@ -186,15 +190,18 @@ static void test_failure_reported(void **state)
     (void)state;
     char cmd[2048], path[1024];
     snprintf(path, sizeof path, "%s/tilting_layer.h5", out_dir);
-    snprintf(cmd, sizeof cmd, "'%s' run '%s/scenarios/tilting_layer.ini' -o '%s' --set run.output_dt=8 --quiet",
-             EKM_BINARY, EKM_SOURCE_DIR, path);
+    snprintf(cmd, sizeof cmd,
+             "'%s' run '%s/scenarios/tilting_layer.ini' -o '%s' --set run.output_dt=8 --quiet", EKM_BINARY,
+             EKM_SOURCE_DIR, path);
     assert_int_equal(system(cmd), 0);
     hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     assert_true(f >= 0);
-    const double t_fail = read_double_attr(f, "hypo.fail_time"), angle = read_double_attr(f, "hypo.fail_angle");
+    const double t_fail = read_double_attr(f, "hypo.fail_time"),
+                 angle = read_double_attr(f, "hypo.fail_angle");
     const double fY = read_double_attr(f, "hypo.fail_fY");
-    printf("tilting_layer output: hypo.fail_time %.4f s, fail_angle %.4f deg, fail_fY %.2e, hypo.to_flow %.0f\n", t_fail,
-           angle, fY, read_double_attr(f, "hypo.to_flow"));
+    printf(
+        "tilting_layer output: hypo.fail_time %.4f s, fail_angle %.4f deg, fail_fY %.2e, hypo.to_flow %.0f\n",
+        t_fail, angle, fY, read_double_attr(f, "hypo.to_flow"));
     /* the scenario: tilting from 18 deg at t = 0.5 s, t_end 630 s (24.295 deg), 40 cells */
     assert_true(t_fail > 0.5 && t_fail < 630.0);
     assert_true(angle > 18.0 && angle < 24.295);
@@ -214,7 +221,8 @@ static void test_failure_reported(void **state)
         assert_int_equal(regime[0][j], 3);
         assert_int_equal(regime[78][j], 3); /* t = 624 s: still solid */
     }
-    assert_true(regime[79][0] == 1 || regime[79][0] == 2); /* the base flows (dense, or dilated below phi_co) */
+    assert_true(regime[79][0] == 1 ||
+                regime[79][0] == 2); /* the base flows (dense, or dilated below phi_co) */
     free(regime);
     H5Fclose(f);
 }

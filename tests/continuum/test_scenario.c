@@ -14,36 +14,35 @@
 #include "scenario.h"
 
 /* A valid scenario of 29 lines: a text appended to it starts at line 30. */
-static const char BASE[] =
-    "[scenario]\n"
-    "name = t\n"
-    "[material]\n"
-    "rho_p = 2500\n"
-    "phi_co = 0.60\n"
-    "phi_cp = 0.64\n"
-    "T0 = 1.5\n"
-    "eta0 = 3.55e-4\n"
-    "zeta0 = 1e-4\n"
-    "lambda0 = 3.4e-4\n"
-    "eps0 = 212.2\n"
-    "nu = 1\n"
-    "A_h = 200e6\n"
-    "B_h = 200e6\n"
-    "alpha = 0\n"
-    "[domain]\n"
-    "length = 0.06\n"
-    "cells = 60\n"
-    "[gravity]\n"
-    "magnitude = 9.81\n"
-    "angle = 24\n"
-    "[initial]\n"
-    "phi = 0.57\n"
-    "[bottom]\n"
-    "type = wall\n"
-    "[top]\n"
-    "type = free\n"
-    "[run]\n"
-    "t_end = 5\n";
+static const char BASE[] = "[scenario]\n"
+                           "name = t\n"
+                           "[material]\n"
+                           "rho_p = 2500\n"
+                           "phi_co = 0.60\n"
+                           "phi_cp = 0.64\n"
+                           "T0 = 1.5\n"
+                           "eta0 = 3.55e-4\n"
+                           "zeta0 = 1e-4\n"
+                           "lambda0 = 3.4e-4\n"
+                           "eps0 = 212.2\n"
+                           "nu = 1\n"
+                           "A_h = 200e6\n"
+                           "B_h = 200e6\n"
+                           "alpha = 0\n"
+                           "[domain]\n"
+                           "length = 0.06\n"
+                           "cells = 60\n"
+                           "[gravity]\n"
+                           "magnitude = 9.81\n"
+                           "angle = 24\n"
+                           "[initial]\n"
+                           "phi = 0.57\n"
+                           "[bottom]\n"
+                           "type = wall\n"
+                           "[top]\n"
+                           "type = free\n"
+                           "[run]\n"
+                           "t_end = 5\n";
 
 #define FILE_NAME "scenario_test.ini"
 /* 65 characters: longer than the 63 [scenario] name holds */
@@ -87,122 +86,289 @@ static void write_scenario(const char *edit)
 
 typedef struct {
     const char *what;
-    const char *edit;       /* write_scenario() edit */
-    const char *sets[3];    /* --set overrides, NULL-terminated */
+    const char *edit;    /* write_scenario() edit */
+    const char *sets[3]; /* --set overrides, NULL-terminated */
     ekm_status status;
-    const char *message;    /* the whole error line */
+    const char *message; /* the whole error line */
 } error_case;
 
 /* Reading errors of ekm's sections: docs/scenario-format.md. */
 static const error_case EKM_ERRORS[] = {
-    {"malformed number", "[numerics]\ncfl = 5x0", {NULL}, EKM_EINPUT,
+    {"malformed number",
+     "[numerics]\ncfl = 5x0",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [numerics] cfl: expected a number, got '5x0'"},
-    {"infinite number", "[numerics]\ndt_max = inf", {NULL}, EKM_EINPUT,
+    {"infinite number",
+     "[numerics]\ndt_max = inf",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [numerics] dt_max: expected a number, got 'inf'"},
-    {"malformed integer", "[numerics]\nnewton_max = 3.5", {NULL}, EKM_EINPUT,
+    {"malformed integer",
+     "[numerics]\nnewton_max = 3.5",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [numerics] newton_max: expected an integer, got '3.5'"},
     {"unknown key", "[material]\nfoo = 1", {NULL}, EKM_EINPUT, FILE_NAME ":31: [material] foo: unknown key"},
-    {"prefixed key of ekm", "[domain]\nref.cells = 1", {NULL}, EKM_EINPUT,
+    {"prefixed key of ekm",
+     "[domain]\nref.cells = 1",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [domain] ref.cells: unknown key"},
-    {"unknown section", "[materal]\nrho_p = 1", {NULL}, EKM_EINPUT,
-     FILE_NAME ":31: [materal]: unknown section (the sections are scenario material model domain gravity initial "
+    {"unknown section",
+     "[materal]\nrho_p = 1",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME
+     ":31: [materal]: unknown section (the sections are scenario material model domain gravity initial "
      "bottom top run numerics hypo dem compare campaign figures)"},
-    {"section in capitals", "[DEM]\nlx = 1", {NULL}, EKM_EINPUT,
+    {"section in capitals",
+     "[DEM]\nlx = 1",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [DEM]: unknown section (the sections are scenario material model domain gravity initial "
-     "bottom top run numerics hypo dem compare campaign figures)"},
+               "bottom top run numerics hypo dem compare campaign figures)"},
     {"missing key", "-eps0", {NULL}, EKM_EINPUT, FILE_NAME ": [material] eps0: missing (a required key)"},
-    {"value longer than allowed", "[scenario]\nname = " NAME_65, {NULL}, EKM_EINPUT,
+    {"value longer than allowed",
+     "[scenario]\nname = " NAME_65,
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [scenario] name: value longer than allowed: '" NAME_65 "'"},
     {"syntax", "this is not ini", {NULL}, EKM_EINPUT, FILE_NAME ":30: expected '[section]' or 'key = value'"},
-    {"variant", "[model]\nvariant = half", {NULL}, EKM_EINPUT,
+    {"variant",
+     "[model]\nvariant = half",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [model] variant: expected 'full' or 'thesis', got 'half'"},
-    {"convection", "[numerics]\nconvection = weno", {NULL}, EKM_EINPUT,
+    {"convection",
+     "[numerics]\nconvection = weno",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [numerics] convection: expected 'upwind' or 'tvd', got 'weno'"},
-    {"boundary type", NULL, {"bottom.type=moving", NULL}, EKM_EINPUT,
+    {"boundary type",
+     NULL,
+     {"bottom.type=moving", NULL},
+     EKM_EINPUT,
      "--set bottom.type: [bottom] type: expected one of wall inflow outflow free piston, got 'moving'"},
-    {"material check", "-phi_cp\n[material]\nphi_cp = -0.64", {NULL}, EKM_EINPUT,
+    {"material check",
+     "-phi_cp\n[material]\nphi_cp = -0.64",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":30: [material] phi_cp: expected a positive number, got -0.64"},
-    {"range in the file", "[numerics]\ncfl = 2", {NULL}, EKM_EINPUT,
+    {"range in the file",
+     "[numerics]\ncfl = 2",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [numerics] cfl: expected a number in (0, 1], got 2"},
-    {"range of a --set", NULL, {"domain.length=-1", NULL}, EKM_EINPUT,
+    {"range of a --set",
+     NULL,
+     {"domain.length=-1", NULL},
+     EKM_EINPUT,
      "--set domain.length: [domain] length: expected a length > 0 [m], got -1"},
-    {"cells", NULL, {"domain.cells=0", NULL}, EKM_EINPUT,
+    {"cells",
+     NULL,
+     {"domain.cells=0", NULL},
+     EKM_EINPUT,
      "--set domain.cells: [domain] cells: expected an integer in [1, 1e7], got 0"},
-    {"key of another boundary type", "[bottom]\nphi = 0.3", {NULL}, EKM_EINPUT,
+    {"key of another boundary type",
+     "[bottom]\nphi = 0.3",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [bottom] phi: only allowed with type = inflow (this side is wall)"},
-    {"limiter", NULL, {"numerics.limiter=foo", NULL}, EKM_EINPUT,
+    {"limiter",
+     NULL,
+     {"numerics.limiter=foo", NULL},
+     EKM_EINPUT,
      "--set numerics.limiter: [numerics] limiter: unknown limiter 'foo' (known: minmod vanleer superbee mc)"},
-    {"solid without hypo", NULL, {"initial.solid=1", NULL}, EKM_EINPUT,
+    {"solid without hypo",
+     NULL,
+     {"initial.solid=1", NULL},
+     EKM_EINPUT,
      "--set initial.solid: [initial] solid: expected 0 unless [hypo] enabled = 1, got 1"},
-    {"settled without solid", NULL, {"initial.settled=1", NULL}, EKM_EINPUT,
+    {"settled without solid",
+     NULL,
+     {"initial.settled=1", NULL},
+     EKM_EINPUT,
      "--set initial.settled: [initial] settled: expected 0 unless [initial] solid = 1, got 1"},
-    {"hypo yield_tol", NULL, {"hypo.enabled=1", "hypo.yield_tol=0.5", NULL}, EKM_EINPUT,
+    {"hypo yield_tol",
+     NULL,
+     {"hypo.enabled=1", "hypo.yield_tol=0.5", NULL},
+     EKM_EINPUT,
      "--set hypo.yield_tol: [hypo] yield_tol: expected a number in (0, 0.1), got 0.5"},
-    {"hypo phi_loose", "[hypo]\nphi_loose = 0.7", {NULL}, EKM_EINPUT,
+    {"hypo phi_loose",
+     "[hypo]\nphi_loose = 0.7",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [hypo] phi_loose: expected a number in (0, phi_co], got 0.7"},
     {"--set syntax", NULL, {"domain=1", NULL}, EKM_EINPUT, "--set domain=1: expected section.key=value"},
-    {"--set unknown key", NULL, {"domain.size=1", NULL}, EKM_EINPUT, "--set domain.size: [domain] size: unknown key"},
-    {"--set material range", NULL, {"material.phi_cp=-1", NULL}, EKM_EINPUT,
+    {"--set unknown key",
+     NULL,
+     {"domain.size=1", NULL},
+     EKM_EINPUT,
+     "--set domain.size: [domain] size: unknown key"},
+    {"--set material range",
+     NULL,
+     {"material.phi_cp=-1", NULL},
+     EKM_EINPUT,
      "--set material.phi_cp: [material] phi_cp: expected a positive number, got -1"},
-    {"--set position", NULL, {"domain.cells=10", "gravity.angle=x", NULL}, EKM_EINPUT,
+    {"--set position",
+     NULL,
+     {"domain.cells=10", "gravity.angle=x", NULL},
+     EKM_EINPUT,
      "--set gravity.angle: [gravity] angle: expected a number, got 'x'"},
 };
 
 /* Reading errors of the other tools' sections. */
 static const error_case TOOL_ERRORS[] = {
-    {"[dem] unknown key", "[dem]\nref.foo = 1", {NULL}, EKM_EINPUT, FILE_NAME ":31: [dem] ref.foo: unknown key"},
-    {"[dem] unknown prefix", "[dem]\nbig.lx = 1", {NULL}, EKM_EINPUT,
+    {"[dem] unknown key",
+     "[dem]\nref.foo = 1",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [dem] ref.foo: unknown key"},
+    {"[dem] unknown prefix",
+     "[dem]\nbig.lx = 1",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [dem] big.lx: unknown prefix (expected k, <engine>.k, <size>.k or <engine>.<size>.k; "
-     "engine liggghts or lammps, size smoke or ref)"},
-    {"[dem] size before engine", "[dem]\nref.lammps.lx = 1", {NULL}, EKM_EINPUT,
+               "engine liggghts or lammps, size smoke or ref)"},
+    {"[dem] size before engine",
+     "[dem]\nref.lammps.lx = 1",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [dem] ref.lammps.lx: unknown prefix (expected k, <engine>.k, <size>.k or "
-     "<engine>.<size>.k; engine liggghts or lammps, size smoke or ref)"},
-    {"[dem] three prefixes", "[dem]\nlammps.ref.x.lx = 1", {NULL}, EKM_EINPUT,
+               "<engine>.<size>.k; engine liggghts or lammps, size smoke or ref)"},
+    {"[dem] three prefixes",
+     "[dem]\nlammps.ref.x.lx = 1",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [dem] lammps.ref.x.lx: unknown prefix (expected k, <engine>.k, <size>.k or "
-     "<engine>.<size>.k; engine liggghts or lammps, size smoke or ref)"},
-    {"[dem] number", "[dem]\nlammps.ref.lx = 2x", {NULL}, EKM_EINPUT,
+               "<engine>.<size>.k; engine liggghts or lammps, size smoke or ref)"},
+    {"[dem] number",
+     "[dem]\nlammps.ref.lx = 2x",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [dem] lammps.ref.lx: expected a number, got '2x'"},
-    {"[dem] hex", "[dem]\ndt = 0x1p-10", {NULL}, EKM_EINPUT, FILE_NAME ":31: [dem] dt: expected a number, got '0x1p-10'"},
-    {"[dem] inf", "[dem]\ndt = inf", {NULL}, EKM_EINPUT, FILE_NAME ":31: [dem] dt: expected a number, got 'inf'"},
-    {"[dem] nan", "[dem]\ndt = nan", {NULL}, EKM_EINPUT, FILE_NAME ":31: [dem] dt: expected a number, got 'nan'"},
-    {"[dem] overflow", "[dem]\ndt = 1e999", {NULL}, EKM_EINPUT, FILE_NAME ":31: [dem] dt: expected a number, got '1e999'"},
+    {"[dem] hex",
+     "[dem]\ndt = 0x1p-10",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [dem] dt: expected a number, got '0x1p-10'"},
+    {"[dem] inf",
+     "[dem]\ndt = inf",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [dem] dt: expected a number, got 'inf'"},
+    {"[dem] nan",
+     "[dem]\ndt = nan",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [dem] dt: expected a number, got 'nan'"},
+    {"[dem] overflow",
+     "[dem]\ndt = 1e999",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [dem] dt: expected a number, got '1e999'"},
     {"[dem] empty", "[dem]\ndt =", {NULL}, EKM_EINPUT, FILE_NAME ":31: [dem] dt: expected a number, got ''"},
-    {"[dem] integer", "[dem]\nseed = 1.5", {NULL}, EKM_EINPUT, FILE_NAME ":31: [dem] seed: expected an integer, got '1.5'"},
-    {"[dem] flag", "[dem]\nref.require_steady = yes", {NULL}, EKM_EINPUT,
+    {"[dem] integer",
+     "[dem]\nseed = 1.5",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [dem] seed: expected an integer, got '1.5'"},
+    {"[dem] flag",
+     "[dem]\nref.require_steady = yes",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [dem] ref.require_steady: expected 0 or 1, got 'yes'"},
-    {"[dem] list", "[dem]\nref.angles = 22,24", {NULL}, EKM_EINPUT,
+    {"[dem] list",
+     "[dem]\nref.angles = 22,24",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [dem] ref.angles: expected numbers separated by blanks, got '22,24'"},
-    {"[dem] range", "[dem]\nlammps.ref.poisson = 0.5", {NULL}, EKM_EINPUT,
+    {"[dem] range",
+     "[dem]\nlammps.ref.poisson = 0.5",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [dem] lammps.ref.poisson: expected a Poisson ratio in (-1, 0.5), got '0.5'"},
-    {"[dem] range dt", "[dem]\ndt = 0", {NULL}, EKM_EINPUT, FILE_NAME ":31: [dem] dt: expected a time step > 0 [s], got '0'"},
-    {"[dem] range restitution", "[dem]\nrestitution = 1.2", {NULL}, EKM_EINPUT,
+    {"[dem] range dt",
+     "[dem]\ndt = 0",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [dem] dt: expected a time step > 0 [s], got '0'"},
+    {"[dem] range restitution",
+     "[dem]\nrestitution = 1.2",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [dem] restitution: expected a restitution in (0, 1], got '1.2'"},
-    {"[dem] range timeout", "[dem]\ntimeout = 0", {NULL}, EKM_EINPUT,
+    {"[dem] range timeout",
+     "[dem]\ntimeout = 0",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [dem] timeout: expected a timeout >= 1 [s], got '0'"},
-    {"[dem] range spread", "[dem]\nspread = 1", {NULL}, EKM_EINPUT,
+    {"[dem] range spread",
+     "[dem]\nspread = 1",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [dem] spread: expected a size spread in [0, 1), got '1'"},
-    {"[dem] range friction --set", NULL, {"dem.friction=-0.1", NULL}, EKM_EINPUT,
+    {"[dem] range friction --set",
+     NULL,
+     {"dem.friction=-0.1", NULL},
+     EKM_EINPUT,
      "--set dem.friction: [dem] friction: expected a friction coefficient >= 0, got '-0.1'"},
-    {"[dem] list --set", NULL, {"dem.phis=0.5 x", NULL}, EKM_EINPUT,
+    {"[dem] list --set",
+     NULL,
+     {"dem.phis=0.5 x", NULL},
+     EKM_EINPUT,
      "--set dem.phis: [dem] phis: expected numbers separated by blanks, got '0.5 x'"},
-    {"[compare] fields", "[compare]\nfields = phi,,T", {NULL}, EKM_EINPUT,
-     FILE_NAME ":31: [compare] fields: expected field names separated by commas (e.g. phi,vx,T), got 'phi,,T'"},
-    {"[compare] fields with blanks", "[compare]\nfields = phi, T", {NULL}, EKM_EINPUT,
-     FILE_NAME ":31: [compare] fields: expected field names separated by commas (e.g. phi,vx,T), got 'phi, T'"},
-    {"[compare] unknown field", "[compare]\nfields = phi,bogus", {NULL}, EKM_EINPUT,
-     FILE_NAME ":31: [compare] fields: expected field names of the schema (common/schema.c), not 'bogus', got "
-               "'phi,bogus'"},
-    {"[compare] unknown field --set", NULL, {"compare.fields=phi,bogus", NULL}, EKM_EINPUT,
-     "--set compare.fields: [compare] fields: expected field names of the schema (common/schema.c), not 'bogus', "
+    {"[compare] fields",
+     "[compare]\nfields = phi,,T",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME
+     ":31: [compare] fields: expected field names separated by commas (e.g. phi,vx,T), got 'phi,,T'"},
+    {"[compare] fields with blanks",
+     "[compare]\nfields = phi, T",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME
+     ":31: [compare] fields: expected field names separated by commas (e.g. phi,vx,T), got 'phi, T'"},
+    {"[compare] unknown field",
+     "[compare]\nfields = phi,bogus",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME
+     ":31: [compare] fields: expected field names of the schema (common/schema.c), not 'bogus', got "
+     "'phi,bogus'"},
+    {"[compare] unknown field --set",
+     NULL,
+     {"compare.fields=phi,bogus", NULL},
+     EKM_EINPUT,
+     "--set compare.fields: [compare] fields: expected field names of the schema (common/schema.c), not "
+     "'bogus', "
      "got 'phi,bogus'"},
-    {"[compare] enum", "[compare]\nlammps.ekm_time = first", {NULL}, EKM_EINPUT,
+    {"[compare] enum",
+     "[compare]\nlammps.ekm_time = first",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [compare] lammps.ekm_time: expected one of last interp, got 'first'"},
-    {"[compare] shift", "[compare]\nshift = -", {NULL}, EKM_EINPUT, FILE_NAME ":31: [compare] shift: expected a number, got '-'"},
-    {"[compare] unknown key", "[compare]\nsmoke.window = 1", {NULL}, EKM_EINPUT,
+    {"[compare] shift",
+     "[compare]\nshift = -",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [compare] shift: expected a number, got '-'"},
+    {"[compare] unknown key",
+     "[compare]\nsmoke.window = 1",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [compare] smoke.window: unknown key"},
-    {"[campaign] has no keys", "[campaign]\nengines = lammps", {NULL}, EKM_EINPUT,
+    {"[campaign] has no keys",
+     "[campaign]\nengines = lammps",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [campaign] engines: unknown key"},
-    {"[figures] has no keys", "[figures]\nformat = pdf", {NULL}, EKM_EINPUT,
+    {"[figures] has no keys",
+     "[figures]\nformat = pdf",
+     {NULL},
+     EKM_EINPUT,
      FILE_NAME ":31: [figures] format: unknown key"},
 };
 
@@ -220,8 +386,8 @@ static void check_errors(const error_case *cases, size_t n)
         ekm_status st = ekm_scenario_load(&sc, FILE_NAME, c->sets, n_sets, &err);
         ekm_scenario_free(&sc);
         if (st != c->status || strcmp(err.message, c->message) != 0) {
-            print_error("%s: status %d (want %d)\n  got  '%s'\n  want '%s'\n", c->what, (int)st, (int)c->status,
-                        st == EKM_OK ? "" : err.message, c->message);
+            print_error("%s: status %d (want %d)\n  got  '%s'\n  want '%s'\n", c->what, (int)st,
+                        (int)c->status, st == EKM_OK ? "" : err.message, c->message);
             failed = 1;
         }
     }
@@ -247,7 +413,8 @@ static void test_unreadable_and_long_line(void **state)
     ekm_error err = {0};
     assert_int_equal(ekm_scenario_load(&sc, "no_such_dir/none.ini", NULL, 0, &err), EKM_EIO);
     ekm_scenario_free(&sc);
-    assert_string_equal(err.message, "no_such_dir/none.ini: cannot open scenario file: No such file or directory");
+    assert_string_equal(err.message,
+                        "no_such_dir/none.ini: cannot open scenario file: No such file or directory");
     char line[400];
     memset(line, 'x', sizeof line - 1);
     line[sizeof line - 1] = '\0';
@@ -301,7 +468,8 @@ static void resolved_free(resolved *x)
     ekm_scenario_free(&x->sc);
 }
 
-static void assert_key(const resolved *x, const char *name, const char *value, const char *from, const char *as)
+static void assert_key(const resolved *x, const char *name, const char *value, const char *from,
+                       const char *as)
 {
     const ekm_resolve_key *k = ekm_resolve_find(&x->r, name);
     if (!k)
@@ -312,21 +480,20 @@ static void assert_key(const resolved *x, const char *name, const char *value, c
 }
 
 /* All four variants and the plain key: the most specific one wins. */
-static const char LOOKUP[] =
-    "[dem]\n"
-    "lx = 1\n"                   /* 31 */
-    "lammps.lx = 2\n"            /* 32 */
-    "ref.lx = 3\n"               /* 33 */
-    "lammps.ref.lx = 4\n"        /* 34 */
-    "ly = 5\n"                   /* 35 */
-    "lammps.ly = 6\n"            /* 36 */
-    "ref.ly = 7\n"               /* 37 */
-    "dt = 8\n"                   /* 38 */
-    "liggghts.dt = 9\n"          /* 39 */
-    "restitution = 0.8\n"        /* 40 */
-    "[compare]\n"
-    "smoke.cg_options = --a\n"   /* 42 */
-    "lammps.smoke.shift = 0.5\n"; /* 43 */
+static const char LOOKUP[] = "[dem]\n"
+                             "lx = 1\n"            /* 31 */
+                             "lammps.lx = 2\n"     /* 32 */
+                             "ref.lx = 3\n"        /* 33 */
+                             "lammps.ref.lx = 4\n" /* 34 */
+                             "ly = 5\n"            /* 35 */
+                             "lammps.ly = 6\n"     /* 36 */
+                             "ref.ly = 7\n"        /* 37 */
+                             "dt = 8\n"            /* 38 */
+                             "liggghts.dt = 9\n"   /* 39 */
+                             "restitution = 0.8\n" /* 40 */
+                             "[compare]\n"
+                             "smoke.cg_options = --a\n"    /* 42 */
+                             "lammps.smoke.shift = 0.5\n"; /* 43 */
 
 static void test_lookup_rule(void **state)
 {
@@ -415,8 +582,9 @@ static void test_chute_points(void **state)
     (void)state;
     char path[1024];
     resolved x;
-    assert_int_equal(resolve_file(&x, src_path("scenarios/chute.ini", path, sizeof path), "lammps", "ref", NULL, 0),
-                     EKM_OK);
+    assert_int_equal(
+        resolve_file(&x, src_path("scenarios/chute.ini", path, sizeof path), "lammps", "ref", NULL, 0),
+        EKM_OK);
     assert_int_equal(x.r.n_points, 3);
     const char *angle[] = {"22", "24", "26"};
     for (size_t i = 0; i < 3; i++) {
@@ -444,8 +612,9 @@ static void test_chute_smoke_point(void **state)
     (void)state;
     char path[1024];
     resolved x;
-    assert_int_equal(resolve_file(&x, src_path("scenarios/chute.ini", path, sizeof path), "liggghts", "smoke", NULL, 0),
-                     EKM_OK);
+    assert_int_equal(
+        resolve_file(&x, src_path("scenarios/chute.ini", path, sizeof path), "liggghts", "smoke", NULL, 0),
+        EKM_OK);
     assert_int_equal(x.r.n_points, 1);
     assert_string_equal(x.r.points[0].tag, "");
     assert_string_equal(x.r.points[0].var_value[0], "24");
@@ -491,21 +660,22 @@ static void test_simple_shear_points(void **state)
         assert_string_equal(p->set[2], want);
     }
     assert_int_equal(ekm_resolve_keep_point(&x.r, "phi0.5-rate10", &x.err), EKM_EINPUT);
-    assert_string_equal(x.err.message,
-                        "--point phi0.5-rate10: unknown point (the points are: phi0.45-rate5 phi0.45-rate10 "
-                        "phi0.45-rate20 phi0.50-rate5 phi0.50-rate10 phi0.50-rate20 phi0.53-rate5 phi0.53-rate10 "
-                        "phi0.53-rate20 phi0.56-rate5 phi0.56-rate10 phi0.56-rate20 phi0.58-rate5 phi0.58-rate10 "
-                        "phi0.58-rate20 phi0.60-rate5 phi0.60-rate10 phi0.60-rate20 phi0.62-rate5 phi0.62-rate10 "
-                        "phi0.62-rate20)");
+    assert_string_equal(
+        x.err.message,
+        "--point phi0.5-rate10: unknown point (the points are: phi0.45-rate5 phi0.45-rate10 "
+        "phi0.45-rate20 phi0.50-rate5 phi0.50-rate10 phi0.50-rate20 phi0.53-rate5 phi0.53-rate10 "
+        "phi0.53-rate20 phi0.56-rate5 phi0.56-rate10 phi0.56-rate20 phi0.58-rate5 phi0.58-rate10 "
+        "phi0.58-rate20 phi0.60-rate5 phi0.60-rate10 phi0.60-rate20 phi0.62-rate5 phi0.62-rate10 "
+        "phi0.62-rate20)");
     assert_int_equal(ekm_resolve_keep_point(&x.r, "phi0.53-rate20", &x.err), EKM_OK);
     assert_int_equal(x.r.n_points, 1);
     assert_string_equal(x.r.points[0].set[1], "top.velocity=0.2");
     resolved_free(&x);
 
     /* smoke: the single point of [initial] phi and the walls' rate 0.2 m/s / 0.02 m */
-    assert_int_equal(
-        resolve_file(&x, src_path("scenarios/simple_shear.ini", path, sizeof path), "lammps", "smoke", NULL, 0),
-        EKM_OK);
+    assert_int_equal(resolve_file(&x, src_path("scenarios/simple_shear.ini", path, sizeof path), "lammps",
+                                  "smoke", NULL, 0),
+                     EKM_OK);
     assert_int_equal(x.r.n_points, 1);
     assert_string_equal(x.r.points[0].tag, "");
     assert_string_equal(x.r.points[0].var_value[0], "0.55");
@@ -525,9 +695,9 @@ static void test_simple_shear_p_points(void **state)
     (void)state;
     char path[1024];
     resolved x;
-    assert_int_equal(
-        resolve_file(&x, src_path("scenarios/simple_shear_p.ini", path, sizeof path), "lammps", "ref", NULL, 0),
-        EKM_OK);
+    assert_int_equal(resolve_file(&x, src_path("scenarios/simple_shear_p.ini", path, sizeof path), "lammps",
+                                  "ref", NULL, 0),
+                     EKM_OK);
     assert_int_equal(x.r.n_points, 15);
     const char *pres[] = {"10", "100", "1000"}, *rate[] = {"0.3", "1", "3", "10", "30"},
                *wall[] = {"0.003", "0.01", "0.03", "0.1", "0.3"};
@@ -561,9 +731,9 @@ static void test_simple_shear_p_points(void **state)
     resolved_free(&x);
 
     /* smoke: three pressures at the plain rate 10 */
-    assert_int_equal(
-        resolve_file(&x, src_path("scenarios/simple_shear_p.ini", path, sizeof path), "lammps", "smoke", NULL, 0),
-        EKM_OK);
+    assert_int_equal(resolve_file(&x, src_path("scenarios/simple_shear_p.ini", path, sizeof path), "lammps",
+                                  "smoke", NULL, 0),
+                     EKM_OK);
     assert_int_equal(x.r.n_points, 3);
     assert_string_equal(x.r.points[2].tag, "p1000-rate10");
     assert_string_equal(x.r.points[2].var_value[2], "1000");
@@ -603,7 +773,8 @@ static void test_rate_formatting(void **state)
     (void)state;
     write_scenario("[dem]\nstrain = 2\nphis = 0.5 0.52\nrates = 3 7.5");
     resolved x;
-    const char *sets[] = {"top.type=wall", "top.velocity=0.1", "bottom.velocity=-0.0333", "domain.length=0.07"};
+    const char *sets[] = {"top.type=wall", "top.velocity=0.1", "bottom.velocity=-0.0333",
+                          "domain.length=0.07"};
     assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, sets, 4), EKM_OK);
     assert_int_equal(x.r.n_points, 4);
     assert_string_equal(x.r.points[1].tag, "phi0.5-rate7.5");
@@ -625,66 +796,77 @@ static void test_sweep_errors(void **state)
     write_scenario("[dem]\nref.angles = 22 24 22");
     resolved x;
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message, FILE_NAME ":31: [dem] ref.angles: value '22' given twice (each point needs its own tag)");
+    assert_string_equal(x.err.message, FILE_NAME
+                        ":31: [dem] ref.angles: value '22' given twice (each point needs its own tag)");
     resolved_free(&x);
     /* a rate <= 0 (once formatted as bottom.velocity=--...) and a phi outside (0, phi_cp) */
-    const char *walls[] = {"top.type=wall", "top.velocity=0.1", "bottom.velocity=-0.0333", "domain.length=0.07"};
+    const char *walls[] = {"top.type=wall", "top.velocity=0.1", "bottom.velocity=-0.0333",
+                           "domain.length=0.07"};
     write_scenario("[dem]\nstrain = 2\nphis = 0.5\nrates = 3 -4");
     assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, walls, 4), EKM_EINPUT);
-    assert_string_equal(x.err.message, FILE_NAME ":33: [dem] rates: expected shear rates > 0 [1/s], got '-4'");
+    assert_string_equal(x.err.message,
+                        FILE_NAME ":33: [dem] rates: expected shear rates > 0 [1/s], got '-4'");
     resolved_free(&x);
     write_scenario("[dem]\nstrain = 2\nphis = 0.5 0.7\nrates = 3");
     assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, walls, 4), EKM_EINPUT);
-    assert_string_equal(x.err.message, FILE_NAME ":32: [dem] phis: expected volume fractions in (0, phi_cp = 0.64), got '0.7'");
+    assert_string_equal(x.err.message, FILE_NAME
+                        ":32: [dem] phis: expected volume fractions in (0, phi_cp = 0.64), got '0.7'");
     resolved_free(&x);
     write_scenario("[dem]\nt_flow = 1\nsmoke.rates = 3");
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message,
-                        FILE_NAME ":32: [dem] smoke.rates: a key of the simple-shear sweep, but [dem] t_flow is one "
-                        "of the inclined-flow sweep: expected the keys of one sweep only (inclined flow: t_settle "
-                        "t_flow angles; simple shear: strain rates, and phis or pressures)");
+    assert_string_equal(
+        x.err.message,
+        FILE_NAME ":32: [dem] smoke.rates: a key of the simple-shear sweep, but [dem] t_flow is one "
+                  "of the inclined-flow sweep: expected the keys of one sweep only (inclined flow: t_settle "
+                  "t_flow angles; simple shear: strain rates, and phis or pressures)");
     resolved_free(&x);
     /* the two shear sweeps' lists together, in any variants */
     write_scenario("[dem]\nstrain = 2\nsmoke.pressures = 10 100\nref.phis = 0.5");
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "smoke", NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message,
-                        FILE_NAME ":33: [dem] ref.phis: a list of the phi x rate sweep, but [dem] smoke.pressures is "
-                        "one of the pressure x rate sweep: expected phis (shear at fixed volume) or pressures "
-                        "(shear at fixed pressure), not both");
+    assert_string_equal(
+        x.err.message,
+        FILE_NAME ":33: [dem] ref.phis: a list of the phi x rate sweep, but [dem] smoke.pressures is "
+                  "one of the pressure x rate sweep: expected phis (shear at fixed volume) or pressures "
+                  "(shear at fixed pressure), not both");
     resolved_free(&x);
     write_scenario("[dem]\npressures = 10\nt_settle = 1");
     assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message,
-                        FILE_NAME ":32: [dem] t_settle: a key of the inclined-flow sweep, but [dem] pressures is one "
-                        "of the simple-shear sweep: expected the keys of one sweep only (inclined flow: t_settle "
-                        "t_flow angles; simple shear: strain rates, and phis or pressures)");
+    assert_string_equal(
+        x.err.message,
+        FILE_NAME ":32: [dem] t_settle: a key of the inclined-flow sweep, but [dem] pressures is one "
+                  "of the simple-shear sweep: expected the keys of one sweep only (inclined flow: t_settle "
+                  "t_flow angles; simple shear: strain rates, and phis or pressures)");
     resolved_free(&x);
     /* a pressure sweep with no list at this size */
     write_scenario("[dem]\nref.pressures = 10 100\nrates = 1");
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "smoke", NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message, FILE_NAME ": [dem] pressures: missing for this engine and size (only other "
-                                                 "variants are given; a pressure x rate sweep needs its list of "
-                                                 "normal stresses)");
+    assert_string_equal(x.err.message,
+                        FILE_NAME ": [dem] pressures: missing for this engine and size (only other "
+                                  "variants are given; a pressure x rate sweep needs its list of "
+                                  "normal stresses)");
     resolved_free(&x);
     /* dump_strain: needs dt, and rates > 0 */
     write_scenario("[dem]\npressures = 10\nrates = 1\ndump_strain = 0.1");
     assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message,
-                        FILE_NAME ":33: [dem] dump_strain: needs [dem] dt (dump_every = dump_strain / (rate dt))");
+    assert_string_equal(x.err.message, FILE_NAME
+                        ":33: [dem] dump_strain: needs [dem] dt (dump_every = dump_strain / (rate dt))");
     resolved_free(&x);
     write_scenario("[dem]\npressures = 10 -5\nrates = 1");
     assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message, FILE_NAME ":31: [dem] pressures: expected normal stresses > 0 [Pa], got '-5'");
+    assert_string_equal(x.err.message,
+                        FILE_NAME ":31: [dem] pressures: expected normal stresses > 0 [Pa], got '-5'");
     resolved_free(&x);
     /* a rate of 0 is refused by the sweep's range check first */
     write_scenario("[dem]\npressures = 10\nref.rates = 1 0\ndump_strain = 0.1\ndt = 1e-5");
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message, FILE_NAME ":32: [dem] ref.rates: expected shear rates > 0 [1/s], got '0'");
+    assert_string_equal(x.err.message,
+                        FILE_NAME ":32: [dem] ref.rates: expected shear rates > 0 [1/s], got '0'");
     resolved_free(&x);
     write_scenario("[dem]\npressures = 10\nref.rates = 1\ndump_strain = 0\ndt = 1e-5");
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message, FILE_NAME ":33: [dem] dump_strain: expected dump_strain, dt and every rate > 0 "
-                                                 "(got dump_strain 0, dt 1e-5, rate 1 of [dem] ref.rates)");
+    assert_string_equal(x.err.message,
+                        FILE_NAME ":33: [dem] dump_strain: expected dump_strain, dt and every rate > 0 "
+                                  "(got dump_strain 0, dt 1e-5, rate 1 of [dem] ref.rates)");
     resolved_free(&x);
     write_scenario("");
     assert_int_equal(resolve_file(&x, FILE_NAME, "spring", NULL, NULL, 0), EKM_EINPUT);
@@ -699,8 +881,12 @@ static void test_sweep_errors(void **state)
 static void test_shipped_scenarios(void **state)
 {
     (void)state;
-    const char *names[] = {"chute", "cooling", "filling", "hypoplastic_cycle", "shear_cell", "simple_shear", "simple_shear_p",
-                           "thesis_column_incline", "thesis_filling", "thesis_kinetic_flow", "tilting_layer"};
+    const char *names[] = {"chute",          "cooling",
+                           "filling",        "hypoplastic_cycle",
+                           "shear_cell",     "simple_shear",
+                           "simple_shear_p", "thesis_column_incline",
+                           "thesis_filling", "thesis_kinetic_flow",
+                           "tilting_layer"};
     const char *engines[] = {"liggghts", "lammps"}, *sizes[] = {"smoke", "ref"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         for (size_t e = 0; e < 2; e++)
@@ -708,7 +894,8 @@ static void test_shipped_scenarios(void **state)
                 char rel[128], path[1024];
                 snprintf(rel, sizeof rel, "scenarios/%s.ini", names[i]);
                 resolved x;
-                ekm_status st = resolve_file(&x, src_path(rel, path, sizeof path), engines[e], sizes[z], NULL, 0);
+                ekm_status st =
+                    resolve_file(&x, src_path(rel, path, sizeof path), engines[e], sizes[z], NULL, 0);
                 if (st != EKM_OK)
                     fail_msg("%s %s %s: %s", names[i], engines[e], sizes[z], x.err.message);
                 assert_true(x.r.n_points >= 1);

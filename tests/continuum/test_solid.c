@@ -36,7 +36,7 @@ typedef struct {
     int regime[WATCH_MAX];
     const ekm_scenario *sc;
     long to_solid, to_flow, dense_switches;
-    double jump_max, jump_max_t;  /* largest relative jump and when */
+    double jump_max, jump_max_t; /* largest relative jump and when */
     int jump_max_cell, jump_max_dir;
     int verbose;
 } switch_watch;
@@ -85,7 +85,8 @@ static ekm_status watch_step(void *ctx, const ekm_state *s, const ekm_stepper *s
              * cell itself (per area: the smallest stress the grid resolves;
              * near a free surface both stresses are of that size or less) */
             const double g = sqrt(st->g_x * st->g_x + st->g_z * st->g_z);
-            const double scale = fmax(fmax(fabs(zz_before), fabs(xz_before)), m->rho_p * s->phi[j] * g * s->dz);
+            const double scale =
+                fmax(fmax(fabs(zz_before), fabs(xz_before)), m->rho_p * s->phi[j] * g * s->dz);
             const double jump = fmax(fabs(zz_solid - zz_flow), fabs(xz_solid - xz_flow)) / scale;
             if (to_solid)
                 w->to_solid++;
@@ -94,7 +95,8 @@ static ekm_status watch_step(void *ctx, const ekm_state *s, const ekm_stepper *s
             if (s->phi[j] > m->phi_co + st->sc->hypo.phi_margin)
                 w->dense_switches++;
             if (w->verbose)
-                printf("    switch t %.9g cell %d %s phi %.6f: sigma_zz %.8g -> %.8g, sigma_xz %.8g -> %.8g Pa, jump %.2e\n",
+                printf("    switch t %.9g cell %d %s phi %.6f: sigma_zz %.8g -> %.8g, sigma_xz %.8g -> %.8g "
+                       "Pa, jump %.2e\n",
                        s->t, j, to_solid ? "flow->solid" : "solid->flow", s->phi[j], zz_before,
                        to_solid ? zz_solid : zz_flow, xz_before, to_solid ? xz_solid : xz_flow, jump);
             if (!(jump <= w->jump_max)) {
@@ -128,10 +130,13 @@ static void run_watched(const char *scenario, const char *const *sets, size_t n_
     memset(w, 0, sizeof *w);
     w->verbose = getenv("EKM_TEST_VERBOSE") != NULL;
     const ekm_run_hooks hooks = {.frame = watch_start, .step = watch_step, .ctx = w};
-    assert_int_equal(test_run_scenario_hooks(r, scenario, sets, n_sets, &hooks, carry_over ? NULL : no_carry_over,
-                                             NULL), EKM_OK);
-    printf("%s%s%s%s: %ld switches flow -> solid, %ld solid -> flow (%ld of dense cells); largest jump %.2e (t = %.6g s, "
-           "cell %d, %s)\n", scenario, n_sets ? " " : "", n_sets ? sets[0] : "", carry_over ? "" : " without carry-over",
+    assert_int_equal(
+        test_run_scenario_hooks(r, scenario, sets, n_sets, &hooks, carry_over ? NULL : no_carry_over, NULL),
+        EKM_OK);
+    printf("%s%s%s%s: %ld switches flow -> solid, %ld solid -> flow (%ld of dense cells); largest jump %.2e "
+           "(t = %.6g s, "
+           "cell %d, %s)\n",
+           scenario, n_sets ? " " : "", n_sets ? sets[0] : "", carry_over ? "" : " without carry-over",
            w->to_solid, w->to_flow, w->dense_switches, w->jump_max, w->jump_max_t, w->jump_max_cell,
            w->jump_max_dir ? "flow -> solid" : "solid -> flow");
     assert_true(w->have_prev);
@@ -144,8 +149,9 @@ static void run_watched(const char *scenario, const char *const *sets, size_t n_
 static void test_switches_continuous(void **state)
 {
     (void)state;
-    const char *scen[] = {"scenarios/filling.ini", "scenarios/filling.ini", "scenarios/thesis_column_incline.ini",
-                          "scenarios/tilting_layer.ini", "scenarios/hypoplastic_cycle.ini"};
+    const char *scen[] = {"scenarios/filling.ini", "scenarios/filling.ini",
+                          "scenarios/thesis_column_incline.ini", "scenarios/tilting_layer.ini",
+                          "scenarios/hypoplastic_cycle.ini"};
     const char *rest[] = {"run.t_end=3"};
     const long min_dense[] = {19, 20, 40, 1, 0}; /* switches of dense cells, at least */
     for (int k = 0; k < 5; k++) {
@@ -210,15 +216,17 @@ static void test_filling_ends_at_rest(void **state)
         weight += 0.5 * m->rho_p * s->phi[top] * r.sc.gravity * s->dz;
     /* bottom normal stress: cell 0's stress extrapolated to the floor */
     const double bottom = -s->szz[0] + m->rho_p * s->phi[0] * r.sc.gravity * s->dz / 2;
-    printf("filling: bed of %d cells (%d with phi > phi_co, surface cell phi %.4f), %d solid; max |w| in the bed "
-           "%.2e m/s; bed weight %.10g Pa, bottom stress %.10g Pa (rel %.2e); remnant above: %.2e of the weight, "
+    printf("filling: bed of %d cells (%d with phi > phi_co, surface cell phi %.4f), %d solid; max |w| in the "
+           "bed "
+           "%.2e m/s; bed weight %.10g Pa, bottom stress %.10g Pa (rel %.2e); remnant above: %.2e of the "
+           "weight, "
            "max |w| %.2e m/s; switches %ld/%ld, jump max %.2e\n",
-           top, dense, s->phi[top - 1], solid, w_max, weight, bottom, bottom / weight - 1, gas / weight, w_gas,
-           r.stats.to_solid, r.stats.to_flow, r.stats.jump_max);
+           top, dense, s->phi[top - 1], solid, w_max, weight, bottom, bottom / weight - 1, gas / weight,
+           w_gas, r.stats.to_solid, r.stats.to_flow, r.stats.jump_max);
     if (solid != top || w_max >= 1e-9)
         for (int j = 0; j <= top && j < s->n; j++)
-            printf("  %3d phi %.6f solid %d T %.3e w %.3e szz %.6g\n", j, s->phi[j], s->solid[j], s->T[j], s->w[j],
-                   s->szz[j]);
+            printf("  %3d phi %.6f solid %d T %.3e w %.3e szz %.6g\n", j, s->phi[j], s->solid[j], s->T[j],
+                   s->w[j], s->szz[j]);
     assert_true(dense > 10);
     assert_int_equal(solid, top);
     assert_true(w_max < 1e-9);
@@ -297,7 +305,8 @@ static double check_cycle(const char *const *sets, size_t n_sets, int compacting
     cycle_ctx *c = calloc(1, sizeof *c);
     assert_non_null(c);
     test_run r;
-    assert_int_equal(test_run_scenario(&r, "scenarios/hypoplastic_cycle.ini", sets, n_sets, cycle_frame, c), EKM_OK);
+    assert_int_equal(test_run_scenario(&r, "scenarios/hypoplastic_cycle.ini", sets, n_sets, cycle_frame, c),
+                     EKM_OK);
     const ekm_material *m = &r.sc.material;
     assert_int_equal(r.sc.variant, EKM_VARIANT_THESIS);
     assert_int_equal(r.sc.cells, 1);
@@ -321,8 +330,12 @@ static double check_cycle(const char *const *sets, size_t n_sets, int compacting
         /* advance the ODE to t_i, half period by half period */
         while (t_ode < c->t[i] - 1e-9) {
             const long h = lround(floor(t_ode / half + 1e-9));
-            o.dw = (h % 2 == 0 ? r.sc.top.w : isnan(r.sc.top.w_return) ? -r.sc.top.w : r.sc.top.w_return) / r.sc.length;
-            gsl_odeiv2_driver *d = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, 1e-6, 1e-13 * PY0, 1e-13);
+            o.dw = (h % 2 == 0                 ? r.sc.top.w
+                    : isnan(r.sc.top.w_return) ? -r.sc.top.w
+                                               : r.sc.top.w_return) /
+                   r.sc.length;
+            gsl_odeiv2_driver *d =
+                gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, 1e-6, 1e-13 * PY0, 1e-13);
             assert_non_null(d);
             const double t1 = (h + 1) * half;
             assert_int_equal(gsl_odeiv2_driver_apply(d, &t_ode, t1, y), GSL_SUCCESS);
@@ -337,21 +350,23 @@ static double check_cycle(const char *const *sets, size_t n_sets, int compacting
         /* the lag: ds = d(s*)/d(ln phi) (central difference; 0 at a fixed
          * phi), k = f A_h/(R P_Y) */
         const double hphi = 1e-6 * phi;
-        const double ds = compacting ? phi * (limit_stress(m, phi + hphi) - limit_stress(m, phi - hphi)) / (2.0 * hphi)
-                                     : 0.0;
-        const double kk = m->A_h / (thesis_R(m, phi) * c->PY[i]) * (m->alpha == 0.0 ? 1.0
-                          : pow((phi - m->phi_co) / (m->phi_cp - phi), m->alpha));
+        const double ds =
+            compacting ? phi * (limit_stress(m, phi + hphi) - limit_stress(m, phi - hphi)) / (2.0 * hphi)
+                       : 0.0;
+        const double kk = m->A_h / (thesis_R(m, phi) * c->PY[i]) *
+                          (m->alpha == 0.0 ? 1.0 : pow((phi - m->phi_co) / (m->phi_cp - phi), m->alpha));
         const double lagged = limit - ds / kk;
         const double err_lag = fabs(c->szz[i] / lagged - 1.0);
         /* stiffness d(sigma)/d(strain), strain rate = -d ln(phi)/dt: loading
          * over the last frame before the reversal, unloading over the first after */
         const double k_load = (c->szz[i] - c->szz[i - 1]) / -(c->strain[i] - c->strain[i - 1]);
         const double k_unload = (c->szz[i + 1] - c->szz[i]) / -(c->strain[i + 1] - c->strain[i]);
-        printf("cycle (%s): t = %.3f s: sigma_zz = %.10g Pa; exact law (ODE) %.10g Pa, rel %.2e (phi %.2e rel); "
-               "-P_Y(1+R) = %.10g Pa, rel %.2e; with the compaction lag %.10g Pa, rel %.2e (lag %.2e); "
-               "stiffness loading %.4g Pa, unloading %.4g Pa\n", compacting ? "compacting" : "phi_fixed", c->t[i],
-               c->szz[i], y[0], err_ode, fabs(phi_cell / phi_ode - 1.0), limit, err, lagged, err_lag, -ds / kk / limit,
-               k_load, k_unload);
+        printf(
+            "cycle (%s): t = %.3f s: sigma_zz = %.10g Pa; exact law (ODE) %.10g Pa, rel %.2e (phi %.2e rel); "
+            "-P_Y(1+R) = %.10g Pa, rel %.2e; with the compaction lag %.10g Pa, rel %.2e (lag %.2e); "
+            "stiffness loading %.4g Pa, unloading %.4g Pa\n",
+            compacting ? "compacting" : "phi_fixed", c->t[i], c->szz[i], y[0], err_ode,
+            fabs(phi_cell / phi_ode - 1.0), limit, err, lagged, err_lag, -ds / kk / limit, k_load, k_unload);
         assert_true(err_ode < 1e-6);
         assert_true(err_lag < 1e-6);
         assert_true(err < 1e-3);
@@ -438,26 +453,30 @@ static void test_column_incline(void **state)
     (void)state;
     column_ctx c = {0};
     test_run r;
-    assert_int_equal(test_run_scenario(&r, "scenarios/thesis_column_incline.ini", NULL, 0, column_frame, &c), EKM_OK);
+    assert_int_equal(test_run_scenario(&r, "scenarios/thesis_column_incline.ini", NULL, 0, column_frame, &c),
+                     EKM_OK);
     const double m0 = r.stats.mass_initial, m1 = r.stats.mass_final, out = -r.stats.mass_in;
     const double balance = (m0 - m1 - out) / m0;
     printf("column: %d solid cells at t = 0, fewest solid in a frame %d; max |w| %.3g m/s; mass %.6g -> %.6g "
-           "kg/m^2, out through the outflow %.6g kg/m^2 (%.1f%%), balance %.1e; switches %ld -> flow, %ld -> solid, "
-           "jump max %.2e\n", c.solid_first, c.solid_min, c.w_max, m0, m1, out, 100 * out / m0, balance,
-           r.stats.to_flow, r.stats.to_solid, r.stats.jump_max);
+           "kg/m^2, out through the outflow %.6g kg/m^2 (%.1f%%), balance %.1e; switches %ld -> flow, %ld -> "
+           "solid, "
+           "jump max %.2e\n",
+           c.solid_first, c.solid_min, c.w_max, m0, m1, out, 100 * out / m0, balance, r.stats.to_flow,
+           r.stats.to_solid, r.stats.jump_max);
     int left = 0, remain = 0;
     for (int j = 0; j < 40; j++)
         left += c.ever_flow[j];
     for (int j = 0; j < r.s->n; j++)
         remain += r.s->solid[j];
-    printf("column: %d of the 40 initially solid cells flowed at some output time; %d cells solid at the end\n",
-           left, remain);
+    printf(
+        "column: %d of the 40 initially solid cells flowed at some output time; %d cells solid at the end\n",
+        left, remain);
     assert_true(c.solid_first == 40);
-    assert_int_equal(left, 40);             /* every cell left the solid state */
+    assert_int_equal(left, 40); /* every cell left the solid state */
     assert_true(c.solid_min == 0);
-    assert_true(c.w_max > 0.5);             /* it flows */
-    assert_true(out > 0.99 * m0);           /* it leaves (measured 99.998%) */
-    assert_true(fabs(balance) < 1e-13);     /* outflow = mass lost, to round-off */
+    assert_true(c.w_max > 0.5);         /* it flows */
+    assert_true(out > 0.99 * m0);       /* it leaves (measured 99.998%) */
+    assert_true(fabs(balance) < 1e-13); /* outflow = mass lost, to round-off */
     assert_true(r.stats.jump_max < 1e-3);
     test_run_free(&r);
 }
@@ -491,13 +510,13 @@ static void test_column_incline(void **state)
 typedef struct {
     int frames, all_solid_frames, verbose, compared, below_1e9;
     double v_solid_max, v_rest_max, t_all_solid, v_end;
-    double dev_inside_max;  /* largest |v/v_law - 1| with f_Y < -0.01 */
-    double ratio_max;       /* largest v/v_law while solid and loaded */
-    double v_1e9_max;       /* largest v where v_law < 1e-9 */
-    double angle_1e9;       /* largest angle where v_law < 1e-9 */
-    double v_el;            /* elastic estimate at the start of the tilting */
-    long solid_steps;       /* steps with every material cell solid, before the failure */
-    double v_step_max;      /* largest |u|, |w| of the material over those steps */
+    double dev_inside_max; /* largest |v/v_law - 1| with f_Y < -0.01 */
+    double ratio_max;      /* largest v/v_law while solid and loaded */
+    double v_1e9_max;      /* largest v where v_law < 1e-9 */
+    double angle_1e9;      /* largest angle where v_law < 1e-9 */
+    double v_el;           /* elastic estimate at the start of the tilting */
+    long solid_steps;      /* steps with every material cell solid, before the failure */
+    double v_step_max;     /* largest |u|, |w| of the material over those steps */
 } tilt_ctx;
 
 /* Largest |u| (cells) and |w| (faces) of the material; *solid, *wet:
@@ -539,7 +558,9 @@ static double tilt_fY(const ekm_material *m, double phi, const ekm_hypo_stress *
     const double tr = sg->xx + sg->yy + sg->zz;
     const double dx = sg->xx - tr / 3, dy = sg->yy - tr / 3, dz = sg->zz - tr / 3;
     const double s2 = dx * dx + dy * dy + dz * dz + 2 * sg->xz * sg->xz;
-    return (pow(tr + 3 * PY, 2) + 9 * m->zeta0 / (2 * m->eta0) * s2) / (27 * m->zeta0 * m->eps0 / (2 * phi) * PY * PY) - 1;
+    return (pow(tr + 3 * PY, 2) + 9 * m->zeta0 / (2 * m->eta0) * s2) /
+               (27 * m->zeta0 * m->eps0 / (2 * phi) * PY * PY) -
+           1;
 }
 
 /* The full rate law's quasi-static response of the layer to the growing
@@ -632,8 +653,10 @@ static ekm_status tilt_frame(void *ctx, const ekm_state *s, const ekm_stepper *s
             }
         }
         if (c->verbose)
-            printf("  t %.2f angle %.3f all solid: max|v| %.4e m/s, law %.4e m/s (ratio %.5f), elastic %.3e m/s, "
-                   "max f_Y %.3e\n", s->t, angle, v, v_law, v / v_law, v_el, fy_max);
+            printf("  t %.2f angle %.3f all solid: max|v| %.4e m/s, law %.4e m/s (ratio %.5f), elastic %.3e "
+                   "m/s, "
+                   "max f_Y %.3e\n",
+                   s->t, angle, v, v_law, v / v_law, v_el, fy_max);
     } else if (c->verbose) {
         printf("  t %.2f angle %.3f solid %d/%d max|v| %.3e\n", s->t, angle, solid, wet, v);
     }
@@ -648,15 +671,19 @@ static void test_tilting_layer(void **state)
     tilt_ctx c = {.verbose = getenv("EKM_TEST_VERBOSE") != NULL};
     test_run r;
     const ekm_run_hooks hooks = {.frame = tilt_frame, .step = tilt_step, .ctx = &c};
-    assert_int_equal(test_run_scenario_hooks(&r, "scenarios/tilting_layer.ini", NULL, 0, &hooks, NULL, NULL), EKM_OK);
+    assert_int_equal(test_run_scenario_hooks(&r, "scenarios/tilting_layer.ini", NULL, 0, &hooks, NULL, NULL),
+                     EKM_OK);
     const ekm_material *m = &r.sc.material;
     const double fy = r.stats.fail_cell >= 0 ? tilt_fY(m, r.stats.fail_phi, &r.stats.fail_stress) : NAN;
-    printf("tilting: all solid in %d frames from t = %.2f s; at rest before the tilting: max |v| %.1e m/s; "
-           "elastic (B_h) estimate at the start %.2e m/s; the law's response < 1e-9 m/s in %d frames (up to %.2f "
-           "deg), max |v| there %.3e m/s; |v/v_law - 1| <= %.2e inside (f_Y < -0.01), v/v_law <= %.4f in all %d "
-           "loaded solid frames; max |v| while solid %.2e m/s in frames, %.3e m/s in all %ld steps up to the "
-           "failure\n", c.all_solid_frames, c.t_all_solid, c.v_rest_max, c.v_el, c.below_1e9, c.angle_1e9,
-           c.v_1e9_max, c.dev_inside_max, c.ratio_max, c.compared, c.v_solid_max, c.v_step_max, c.solid_steps);
+    printf(
+        "tilting: all solid in %d frames from t = %.2f s; at rest before the tilting: max |v| %.1e m/s; "
+        "elastic (B_h) estimate at the start %.2e m/s; the law's response < 1e-9 m/s in %d frames (up to "
+        "%.2f "
+        "deg), max |v| there %.3e m/s; |v/v_law - 1| <= %.2e inside (f_Y < -0.01), v/v_law <= %.4f in all %d "
+        "loaded solid frames; max |v| while solid %.2e m/s in frames, %.3e m/s in all %ld steps up to the "
+        "failure\n",
+        c.all_solid_frames, c.t_all_solid, c.v_rest_max, c.v_el, c.below_1e9, c.angle_1e9, c.v_1e9_max,
+        c.dev_inside_max, c.ratio_max, c.compared, c.v_solid_max, c.v_step_max, c.solid_steps);
     printf("tilting: failure at t = %.4f s, angle %.4f deg, cell %d: f_Y = %.3e (recomputed from its stress "
            "%.3e; stepper %.3e); max |v| at the end %.3g m/s; switches %ld/%ld, jump max %.2e\n",
            r.stats.fail_time, r.stats.fail_angle, r.stats.fail_cell, fy, fy, r.stats.fail_fY, c.v_end,
@@ -668,7 +695,7 @@ static void test_tilting_layer(void **state)
     assert_true(c.v_1e9_max < 1e-9);
     assert_int_equal(c.below_1e9, c.compared); /* the law's response < 1e-9 m/s up to the failure */
     assert_true(c.solid_steps > 1000);
-    assert_true(c.v_step_max < 1e-9);          /* in every step while solid, up to the failure */
+    assert_true(c.v_step_max < 1e-9); /* in every step while solid, up to the failure */
     assert_true(c.dev_inside_max < 1e-2);
     assert_true(c.ratio_max < 1.01);
     assert_true(r.stats.fail_time > r.sc.angle_start);
@@ -683,10 +710,8 @@ static void test_tilting_layer(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_switches_continuous),
-        cmocka_unit_test(test_filling_ends_at_rest),
-        cmocka_unit_test(test_hypoplastic_cycle),
-        cmocka_unit_test(test_column_incline),
+        cmocka_unit_test(test_switches_continuous), cmocka_unit_test(test_filling_ends_at_rest),
+        cmocka_unit_test(test_hypoplastic_cycle),   cmocka_unit_test(test_column_incline),
         cmocka_unit_test(test_tilting_layer),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

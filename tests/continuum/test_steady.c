@@ -58,8 +58,9 @@ static void test_steady_couette(void **state)
 {
     (void)state;
     const double tol = 1e-4; /* steady_tol [1/s] */
-    const char *sets[] = {"initial.u=0", "initial.T=3.2e-4", "run.stop=steady", "run.steady_tol=1e-4",
-                          "run.steady_window=2", "run.t_end=200", "run.output_dt=0.5"};
+    const char *sets[] = {"initial.u=0",         "initial.T=3.2e-4",    "run.stop=steady",
+                          "run.steady_tol=1e-4", "run.steady_window=2", "run.t_end=200",
+                          "run.output_dt=0.5"};
     test_run r;
     assert_int_equal(test_run_scenario(&r, "scenarios/simple_shear.ini", sets, 7, NULL, NULL), EKM_OK);
     ekm_homog_state h;
@@ -68,8 +69,8 @@ static void test_steady_couette(void **state)
     assert_int_equal(ekm_homog_shear(&r.sc.material, r.sc.variant, r.sc.phi_init, gdot, &h, &e), EKM_OK);
     const double err = homog_error(&r, &h, r.sc.phi_init);
     printf("steady Couette: steady = %d at t = %g s (held from %g s), drift %.2e 1/s, largest relative "
-           "error %.2e (allowed %.1e)\n", r.stats.steady, r.s->t, r.stats.steady_time, r.stats.steady_drift, err,
-           tol * 1.0);
+           "error %.2e (allowed %.1e)\n",
+           r.stats.steady, r.s->t, r.stats.steady_time, r.stats.steady_drift, err, tol * 1.0);
     assert_int_equal(r.stats.steady, 1);
     assert_true(r.s->t < r.sc.t_end);
     assert_true(r.stats.steady_drift < tol);
@@ -90,13 +91,15 @@ static void test_unsteady_chute(void **state)
                           "run.output_dt=0.05"};
     test_run r;
     assert_int_equal(test_run_scenario(&r, "scenarios/chute.ini", sets, 5, NULL, NULL), EKM_OK);
-    printf("chute at 30 deg: steady = %d at t = %g s, drift %.3g 1/s, acceleration %.4g m/s^2, steady_time %g\n",
-           r.stats.steady, r.s->t, r.stats.steady_drift, r.stats.steady_acceleration, r.stats.steady_time);
+    printf(
+        "chute at 30 deg: steady = %d at t = %g s, drift %.3g 1/s, acceleration %.4g m/s^2, steady_time %g\n",
+        r.stats.steady, r.s->t, r.stats.steady_drift, r.stats.steady_acceleration, r.stats.steady_time);
     assert_int_equal(r.stats.steady, 0);
     assert_true(fabs(r.s->t - 0.5) < 1e-12);
     assert_true(isnan(r.stats.steady_time));
     assert_true(r.stats.steady_drift > r.sc.steady_tol);
-    assert_true(r.stats.steady_acceleration > 0.5 && r.stats.steady_acceleration < 9.81 * sin(30 * M_PI / 180));
+    assert_true(r.stats.steady_acceleration > 0.5 &&
+                r.stats.steady_acceleration < 9.81 * sin(30 * M_PI / 180));
     test_run_free(&r);
 }
 
@@ -152,8 +155,9 @@ static void pressure_case(const char *pressure, double rate)
     char set_p[64], set_rate[64];
     snprintf(set_p, sizeof set_p, "top.pressure=%s", pressure);
     snprintf(set_rate, sizeof set_rate, "top.pressure_rate=%g", rate);
-    const char *sets[] = {set_p, set_rate, "run.stop=steady", "run.steady_tol=1e-7", "run.steady_window=5",
-                          "run.t_end=400", "run.output_dt=1"};
+    const char *sets[] = {
+        set_p,           set_rate,         "run.stop=steady", "run.steady_tol=1e-7", "run.steady_window=5",
+        "run.t_end=400", "run.output_dt=1"};
     test_run r;
     assert_int_equal(test_run_scenario(&r, "scenarios/simple_shear.ini", sets, 7, NULL, NULL), EKM_OK);
     const int n = r.s->n;
@@ -174,8 +178,9 @@ static void pressure_case(const char *pressure, double rate)
     /* the mass per area is conserved while the gap moves */
     const double mass_err = fabs(r.stats.mass_final - r.stats.mass_initial) / r.stats.mass_initial;
     printf("pressure Couette P = %s Pa: steady = %d at t = %g s, gap %.9g m (initial %g), gdot %.6g 1/s, phi "
-           "%.9g (closed form %.9g), relative errors szz %.2e phi %.2e, mass %.1e\n", pressure, r.stats.steady,
-           r.s->t, L, r.sc.length, gdot, r.s->phi[n / 2], phi_cf, e_szz, e_phi, mass_err);
+           "%.9g (closed form %.9g), relative errors szz %.2e phi %.2e, mass %.1e\n",
+           pressure, r.stats.steady, r.s->t, L, r.sc.length, gdot, r.s->phi[n / 2], phi_cf, e_szz, e_phi,
+           mass_err);
     assert_int_equal(r.stats.steady, 1);
     assert_true(e_szz < 1e-6);
     assert_true(e_phi < 1e-6);
@@ -185,8 +190,16 @@ static void pressure_case(const char *pressure, double rate)
     test_run_free(&r);
 }
 
-static void test_pressure_dense(void **state) { (void)state; pressure_case("400", 1.0); }
-static void test_pressure_dilute(void **state) { (void)state; pressure_case("1", 1.0); }
+static void test_pressure_dense(void **state)
+{
+    (void)state;
+    pressure_case("400", 1.0);
+}
+static void test_pressure_dilute(void **state)
+{
+    (void)state;
+    pressure_case("1", 1.0);
+}
 
 int main(void)
 {
