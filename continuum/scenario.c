@@ -29,23 +29,24 @@ typedef struct {
     const char *only_for_bc; /* BC keys: the bc type they belong to, or NULL */
 } key_spec;
 
-/* clang-format off: the key registry reads as a table */
+/* The key registry reads as a table: */
+/* clang-format off */
 #define SC(field) offsetof(ekm_scenario, field)
-#define MAT(k)                                                 \
-    {                                                          \
-        "material", #k, KEY_DOUBLE, SC(material.k), 0, 1, NULL \
-    }
-#define BC(side, k, t, only)                 \
-    {                                        \
-#side, #k, t, SC(side.k), 0, 0, only \
-    }
-#define BC_KEYS(side)                                                                     \
-    {#side, "type", KEY_STRING, 0, 0, 1, NULL}, BC(side, velocity, KEY_DOUBLE, "wall"),   \
-        BC(side, slip_length, KEY_DOUBLE, "wall"), BC(side, phi, KEY_DOUBLE, "inflow"),   \
-        BC(side, w, KEY_DOUBLE, "inflow piston"), BC(side, u, KEY_DOUBLE, "inflow"),      \
-        BC(side, T, KEY_DOUBLE, "inflow"), BC(side, t_stop, KEY_DOUBLE, "inflow"),        \
-        BC(side, period, KEY_DOUBLE, "piston"), BC(side, w_return, KEY_DOUBLE, "piston"), \
-        BC(side, pressure, KEY_DOUBLE, "wall"), BC(side, pressure_rate, KEY_DOUBLE, "wall")
+#define MAT(k) {"material", #k, KEY_DOUBLE, SC(material.k), 0, 1, NULL}
+#define BC(side, k, t, only) {#side, #k, t, SC(side.k), 0, 0, only}
+#define BC_KEYS(side)                                  \
+    {#side, "type", KEY_STRING, 0, 0, 1, NULL},        \
+    BC(side, velocity, KEY_DOUBLE, "wall"),            \
+    BC(side, slip_length, KEY_DOUBLE, "wall"),         \
+    BC(side, phi, KEY_DOUBLE, "inflow"),               \
+    BC(side, w, KEY_DOUBLE, "inflow piston"),          \
+    BC(side, u, KEY_DOUBLE, "inflow"),                 \
+    BC(side, T, KEY_DOUBLE, "inflow"),                 \
+    BC(side, t_stop, KEY_DOUBLE, "inflow"),            \
+    BC(side, period, KEY_DOUBLE, "piston"),            \
+    BC(side, w_return, KEY_DOUBLE, "piston"),          \
+    BC(side, pressure, KEY_DOUBLE, "wall"),            \
+    BC(side, pressure_rate, KEY_DOUBLE, "wall")
 
 static const key_spec KEYS[] = {
     {"scenario", "name", KEY_STRING, SC(name), sizeof(((ekm_scenario *)0)->name), 0, NULL},
