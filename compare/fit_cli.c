@@ -138,7 +138,10 @@ static ekm_status parse_params(const char *list, cg_fit_problem *pb, ekm_error *
     }
 }
 
-static ekm_status parse_fields(const char *list, unsigned *mask, ekm_error *err)
+/* A comma-separated list of distinct names among name(0..n-1) as a bit mask;
+ * `known` lists them for the message. */
+static ekm_status parse_name_mask(const char *list, const char *(*name)(int), int n, const char *known,
+                                  unsigned *mask, ekm_error *err)
 {
     const char *p = list;
     *mask = 0;
@@ -146,17 +149,22 @@ static ekm_status parse_fields(const char *list, unsigned *mask, ekm_error *err)
         const char *q = strchr(p, ',');
         const size_t len = q ? (size_t)(q - p) : strlen(p);
         int found = -1;
-        for (int f = 0; f < CG_FIT_NFIELD; f++)
-            if (strlen(cg_fit_field_name(f)) == len && !strncmp(p, cg_fit_field_name(f), len))
+        for (int f = 0; f < n; f++)
+            if (strlen(name(f)) == len && !strncmp(p, name(f), len))
                 found = f;
         if (found < 0 || (*mask & (1u << found)))
-            return EKM_FAIL(err, EKM_EINPUT,
-                            "--fields: expected distinct names among P, sxz, T, mu, got '%s'", list);
+            return EKM_FAIL(err, EKM_EINPUT, "--fields: expected distinct names among %s, got '%s'", known,
+                            list);
         *mask |= 1u << found;
         if (!q)
             return EKM_OK;
         p = q + 1;
     }
+}
+
+static ekm_status parse_fields(const char *list, unsigned *mask, ekm_error *err)
+{
+    return parse_name_mask(list, cg_fit_field_name, CG_FIT_NFIELD, "P, sxz, T, mu", mask, err);
 }
 
 /* The output must not be one of the inputs (the CG files or --start). */
@@ -239,23 +247,7 @@ static ekm_status run_fit(const fit_args *a, ekm_error *err)
 
 static ekm_status parse_scen_fields(const char *list, unsigned *mask, ekm_error *err)
 {
-    const char *p = list;
-    *mask = 0;
-    for (;;) {
-        const char *q = strchr(p, ',');
-        const size_t len = q ? (size_t)(q - p) : strlen(p);
-        int found = -1;
-        for (int f = 0; f < CG_FITSC_NFIELD; f++)
-            if (strlen(cg_fitsc_field_name(f)) == len && !strncmp(p, cg_fitsc_field_name(f), len))
-                found = f;
-        if (found < 0 || (*mask & (1u << found)))
-            return EKM_FAIL(err, EKM_EINPUT,
-                            "--fields: expected distinct names among phi, vx, T, P, sxz, got '%s'", list);
-        *mask |= 1u << found;
-        if (!q)
-            return EKM_OK;
-        p = q + 1;
-    }
+    return parse_name_mask(list, cg_fitsc_field_name, CG_FITSC_NFIELD, "phi, vx, T, P, sxz", mask, err);
 }
 
 static void print_scen_summary(const cg_fitsc_problem *sc, const cg_fit_result *res)

@@ -86,9 +86,11 @@ static void test_fail_at_records_input(void **state)
 {
     (void)state;
     ekm_error err = {0};
+    /* one line, so that __LINE__ + 1 is the line of the call */
+    /* clang-format off */
     const int line = __LINE__ + 1;
-    ekm_status st =
-        EKM_FAIL_AT(&err, EKM_EINPUT, "chute.ini", 14, "[material] eps0: expected a number, got '%s'", "5x0");
+    ekm_status st = EKM_FAIL_AT(&err, EKM_EINPUT, "chute.ini", 14, "[material] eps0: expected a number, got '%s'", "5x0");
+    /* clang-format on */
     assert_int_equal(st, EKM_EINPUT);
     assert_string_equal(err.message, "chute.ini:14: [material] eps0: expected a number, got '5x0'");
     assert_string_equal(err.input_file, "chute.ini");
