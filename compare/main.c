@@ -199,6 +199,16 @@ static ekm_status get_stress(const char *s, stress_names *sn, cg_run_opts *o, ek
     return EKM_OK;
 }
 
+/* ARG(): v = the value of option a (argv[i + 1]) in an option loop over
+ * argv[0..argc-1]; a missing value is a usage error that leaves the loop
+ * (the break is the loop's: v is never used NULL). */
+#define ARG()                                             \
+    if (i + 1 >= argc) {                                  \
+        rc = usage_error(err, "%s: expected a value", a); \
+        break;                                            \
+    }                                                     \
+    v = argv[++i]
+
 static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
 {
     cg_run_opts o = cg_run_opts_default();
@@ -220,14 +230,6 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
             inputs[nin++] = a;
             continue;
         }
-#define ARG()                                                 \
-    do {                                                      \
-        if (i + 1 >= argc) {                                  \
-            rc = usage_error(err, "%s: expected a value", a); \
-            break;                                            \
-        }                                                     \
-        v = argv[++i];                                        \
-    } while (0)
         if (!strcmp(a, "-o")) {
             ARG();
             o.out = v;
@@ -329,7 +331,6 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
             o.log = NULL;
         else
             rc = usage_error(err, "cg: unknown option '%s' (see ekmcompare --help)", a);
-#undef ARG
     }
     if (!rc && o.every && o.window > 0)
         rc = EKM_FAIL(err, EKM_EUSAGE, "cg: expected --every or --window, not both");
@@ -358,14 +359,6 @@ static ekm_status cmd_score(int argc, char **argv, ekm_error *err)
     ekm_status rc = EKM_OK;
     for (int i = 0; i < argc && !rc; i++) {
         const char *a = argv[i], *v = NULL;
-#define ARG()                                                 \
-    do {                                                      \
-        if (i + 1 >= argc) {                                  \
-            rc = usage_error(err, "%s: expected a value", a); \
-            break;                                            \
-        }                                                     \
-        v = argv[++i];                                        \
-    } while (0)
         if (!strcmp(a, "--dem")) {
             ARG();
             o.dem = v;
@@ -399,7 +392,6 @@ static ekm_status cmd_score(int argc, char **argv, ekm_error *err)
             o.log = NULL;
         else
             rc = usage_error(err, "score: unknown argument '%s' (see ekmcompare --help)", a);
-#undef ARG
     }
     size_t nres;
     if (!rc)
@@ -425,14 +417,6 @@ static ekm_status cmd_steady(int argc, char **argv, ekm_error *err)
     ekm_status rc = EKM_OK;
     for (int i = 0; i < argc && !rc; i++) {
         const char *a = argv[i], *v = NULL;
-#define ARG()                                                 \
-    do {                                                      \
-        if (i + 1 >= argc) {                                  \
-            rc = usage_error(err, "%s: expected a value", a); \
-            break;                                            \
-        }                                                     \
-        v = argv[++i];                                        \
-    } while (0)
         if (!strcmp(a, "--column")) {
             ARG();
             size_t c;
@@ -451,7 +435,6 @@ static ekm_status cmd_steady(int argc, char **argv, ekm_error *err)
             rc = usage_error(err, "steady: expected one monitor file, got a second one '%s'", a);
         else
             path = a;
-#undef ARG
     }
     if (!rc && !path)
         rc = EKM_FAIL(err, EKM_EUSAGE, "steady: expected a monitor file (see ekmcompare --help)");

@@ -312,13 +312,10 @@ static void side_free(side *s)
     }
 }
 
-/* a dataset of shape [nt][n] if present (else *data = NULL) */
-static ekm_status read_optional(ekm_h5_file *f, const char *name, size_t nt, size_t n, double **data,
-                                ekm_error *err)
+/* a dataset that must have shape [nt][n] */
+static ekm_status read_shaped(ekm_h5_file *f, const char *name, size_t nt, size_t n, double **data,
+                              ekm_error *err)
 {
-    *data = NULL;
-    if (!ekm_h5_exists(f, name))
-        return EKM_OK;
     size_t nt1, n1;
     ekm_status rc = read_array(f, name, data, &nt1, &n1, err);
     if (!rc && (nt1 != nt || n1 != n)) {
@@ -328,6 +325,16 @@ static ekm_status read_optional(ekm_h5_file *f, const char *name, size_t nt, siz
                       n);
     }
     return rc;
+}
+
+/* a dataset of shape [nt][n] if present (else *data = NULL) */
+static ekm_status read_optional(ekm_h5_file *f, const char *name, size_t nt, size_t n, double **data,
+                                ekm_error *err)
+{
+    *data = NULL;
+    if (!ekm_h5_exists(f, name))
+        return EKM_OK;
+    return read_shaped(f, name, nt, n, data, err);
 }
 
 static ekm_status side_read(ekm_h5_file *f, size_t nt, size_t n, side *s, ekm_error *err)
@@ -656,7 +663,6 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
                       sdem.f[S_PHI] ? o->ekm : o->dem);
     for (size_t f = 0; f < nf && !rc; f++) {
         double *fd = NULL, *sd = NULL, *fe = NULL, *fse = NULL;
-        size_t nt1, n1, nt2 = 0, n2 = 0, nt3, n3, nt4, n4;
         char sename[48];
         snprintf(sename, sizeof sename, "%s_se", names[f]);
         if (!ekm_h5_exists(dem, names[f]))
@@ -668,29 +674,15 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
         if (!rc)
             rc = check_units(ekm, o->ekm, names[f], err);
         if (!rc)
-            rc = read_array(dem, names[f], &fd, &nt1, &n1, err);
-        if (!rc && (nt1 != ax.ntd || n1 != ax.nzd))
-            rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, names[f],
-                          ax.ntd, ax.nzd);
-        if (!rc && ekm_h5_exists(dem, sename)) {
-            rc = read_array(dem, sename, &sd, &nt2, &n2, err);
-            if (!rc && (nt2 != ax.ntd || n2 != ax.nzd))
-                rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->dem, sename,
-                              ax.ntd, ax.nzd);
-        }
+            rc = read_shaped(dem, names[f], ax.ntd, ax.nzd, &fd, err);
         if (!rc)
-            rc = read_array(ekm, names[f], &fe, &nt3, &n3, err);
-        if (!rc && (nt3 != ax.nte || n3 != ax.nze))
-            rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, names[f],
-                          ax.nte, ax.nze);
+            rc = read_optional(dem, sename, ax.ntd, ax.nzd, &sd, err);
+        if (!rc)
+            rc = read_shaped(ekm, names[f], ax.nte, ax.nze, &fe, err);
         /* a second coarse-grained DEM run in place of the EKM (engine against
          * engine) carries its own standard error: the two add in quadrature */
-        if (!rc && ekm_h5_exists(ekm, sename)) {
-            rc = read_array(ekm, sename, &fse, &nt4, &n4, err);
-            if (!rc && (nt4 != ax.nte || n4 != ax.nze))
-                rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset %s: expected shape [%zu][%zu]", o->ekm, sename,
-                              ax.nte, ax.nze);
-        }
+        if (!rc)
+            rc = read_optional(ekm, sename, ax.nte, ax.nze, &fse, err);
         /* the points both cover, in DEM order (time, then coordinate): the
          * model interpolated onto them, the DEM value and its standard error */
         double *pm = NULL, *pdem = NULL, *ps = NULL;

@@ -23,6 +23,11 @@ expect 0 "" -- "$ekmc" --help
 grep -q "Exit status" out.txt || fail "--help: no exit status section"
 expect 0 "" -- "$ekmc" --version
 expect 1 "unknown command 'frobnicate'" -- "$ekmc" frobnicate
+# an option given last without its value is a usage error (it crashed: the
+# value was read as NULL)
+expect 1 "--axis: expected a value" -- "$ekmc" cg x.dump --axis
+expect 1 "--shift: expected a value" -- "$ekmc" score --dem a.h5 --shift
+expect 1 "--tol: expected a value" -- "$ekmc" steady m.txt --tol
 
 # good inputs, every format
 for f in liggghts_deck.dump lammps_time.dump lammps_time.dump.gz triclinic.dump; do
