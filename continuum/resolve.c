@@ -15,6 +15,7 @@ typedef enum {
     TYPE_FLAG,    /* 0 or 1 */
     TYPE_NUMBERS, /* numbers separated by blanks (a sweep list) */
     TYPE_STRING,  /* free text */
+    TYPE_WORD,    /* a name: a letter, then letters, digits, '_' */
     TYPE_FIELDS,  /* field names separated by commas */
     TYPE_ENUM     /* one of the words of `choices` */
 } tool_type;
@@ -72,10 +73,18 @@ static const tool_key TOOL_KEYS[] = {
     {"compare", "shift", TYPE_NUMBER, NULL, "0", SWEEP_NONE},
     {"compare", "support", TYPE_NUMBER, NULL, "0.1", SWEEP_NONE},
     {"compare", "scalars", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
+    /* the calibration (docs/campaign.md "Calibration"): the training set
+     * the scenario's points belong to, and how that set is fitted */
+    {"campaign", "train", TYPE_WORD, NULL, "none", SWEEP_NONE},
+    {"campaign", "fit", TYPE_ENUM, "rheology scenario", NULL, SWEEP_NONE},
+    {"campaign", "fit_params", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
+    {"campaign", "fit_fields", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
+    {"campaign", "fit_engine", TYPE_ENUM, "lammps liggghts", "lammps", SWEEP_NONE},
+    {"campaign", "fit_starts", TYPE_INTEGER, NULL, NULL, SWEEP_NONE},
 };
 #define N_TOOL_KEYS (sizeof TOOL_KEYS / sizeof TOOL_KEYS[0])
 
-/* The sections of the other tools; [campaign] and [figures] have no keys yet. */
+/* The sections of the other tools; [figures] has no keys yet. */
 static const char *const TOOL_SECTIONS[] = {"dem", "compare", "campaign", "figures"};
 static const char *const ENGINES[] = {"liggghts", "lammps"};
 static const char *const SIZES[] = {"smoke", "ref"};
@@ -308,6 +317,14 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
             expected = "numbers separated by blanks";
         break;
     case TYPE_STRING: break;
+    case TYPE_WORD:
+        if (!((value[0] >= 'A' && value[0] <= 'Z') || (value[0] >= 'a' && value[0] <= 'z')) ||
+            strspn(value, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") != strlen(value))
+            expected = "a name (a letter, then letters, digits or '_')";
+        else if (strcmp(section, "campaign") == 0 && strcmp(base, "train") == 0 &&
+                 strcmp(value, "thesis") == 0)
+            expected = "a training-set name other than 'thesis' (the scenarios' own [material])";
+        break;
     case TYPE_FIELDS:
         if (!is_field_list(value))
             expected = "field names separated by commas (e.g. phi,vx,T)";
@@ -680,6 +697,8 @@ ekm_status ekm_resolve(const ekm_scenario *s, const char *engine, const char *si
         st = resolve_tool_section(s, r, "dem", sweep, err);
     if (st == EKM_OK && section_given(s, "compare"))
         st = resolve_tool_section(s, r, "compare", SWEEP_NONE, err);
+    if (st == EKM_OK && section_given(s, "campaign"))
+        st = resolve_tool_section(s, r, "campaign", SWEEP_NONE, err);
     if (st == EKM_OK)
         st = build_points(s, r, section_given(s, "dem") ? sweep : SWEEP_NONE, err);
     return st;

@@ -31,18 +31,18 @@ smk=(snakemake --snakefile workflow/Snakefile -j "$jobs"
               "from_cg=${FROM_CG:-0}"
      --quiet progress rules --rerun-triggers mtime --drop-metadata --rerun-incomplete --keep-going)
 # Snakemake's scheduler chatter off; its errors and summaries stay
-quiet() { grep -v -E '^(Select jobs to execute\.\.\.|Building DAG of jobs\.\.\.|Using shell: |Provided cores: |Rules claiming more threads will be scaled down\.|Complete log: )'; return 0; }
+quiet() { grep --line-buffered -v -E '^(Select jobs to execute\.\.\.|Building DAG of jobs\.\.\.|Using shell: |Provided cores: |Rules claiming more threads will be scaled down\.|Complete log: )'; return 0; }
 smk() { "${smk[@]}" "$@" 2>&1 | quiet; return "${PIPESTATUS[0]}"; }
 
 case $mode in
-  table) smk table || exit $(( $? == 1 ? 4 : $? )); cat "$res/scores.md"; exit ;;
+  table) smk table calibration || exit $(( $? == 1 ? 4 : $? )); cat "$res/scores.md"; exit ;;
   figures) smk figures || exit $(( $? == 1 ? 4 : $? )); exit ;;
   all) ;;
   *) echo "campaign.sh: unknown mode '$mode' (all, table, figures)" >&2; exit 1 ;;
 esac
 [ -d "$res" ] && find "$res" -maxdepth 3 -type f \( -name '*.tmp.*' -o -name '*.tmp' \) -delete
 [ -d "$runs" ] && find "$runs" -maxdepth 3 -type f -name 'campaign.stamp.tmp' -delete
-if out=$("${smk[@]}" -n scores table figures 2>&1); then
+if out=$("${smk[@]}" -n scores table calibration figures 2>&1); then
   case $out in
     *"Nothing to be done"*)
       echo "make campaign: everything is up to date ($res, SIZE=$size)"
@@ -54,8 +54,9 @@ else
 fi
 t0=$(date +%s); rc=0
 smk scores || rc=4
-smk table || rc=4
+smk table calibration || rc=4
 cat "$res/scores.md"
+[ -f "$res/calibration.md" ] && cat "$res/calibration.md"
 smk figures || rc=4
 echo "make campaign: SIZE=$size done in $(( $(date +%s) - t0 )) s: $res/scores.md, $res/figures/"
 [ $rc -eq 0 ] || echo "make campaign: some steps FAILED (messages above; the table marks them missing)" >&2

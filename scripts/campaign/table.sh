@@ -51,9 +51,14 @@ scell() {
   else jq -c --arg file "$1" '(.scalars // {}) | map_values(. + {file: $file})' "$1"
   fi
 }
+# sxcell FILE USABLE: as scell, and {"__status": "missing"} when the file is
+# missing (a fitted parameter set's scalar cells)
+sxcell() {
+  if [ "$2" = 1 ] && [ ! -f "$1" ]; then echo '{"__status": "missing"}'; else scell "$@"; fi
+}
 srows=$(mktemp); trap 'rm -f "$rows" "$srows" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
 # one line per scenario x point; tag "-" for the single case
-while IFS=$'\t' read -r s sup fields tag pvars; do
+while IFS=$'\t' read -r s sup fields tag pvars psets; do
   ok_l=0 ok_m=0
   case " $sup " in *" liggghts "*) ok_l=1 ;; esac
   case " $sup " in *" lammps "*) ok_m=1 ;; esac
@@ -61,23 +66,40 @@ while IFS=$'\t' read -r s sup fields tag pvars; do
   [ "$tag" = - ] && tag=
   d=$res/$s${tag:+/$tag}
   for f in ${fields//,/ }; do
-    jq -cn --arg s "$s" --arg p "$tag" --arg f "$f" --argjson v "$pvars" \
+    # the fitted parameter sets' cells: ekm_<set>_vs_<engine>
+    extra='{}'
+    for p in $psets; do
+      extra=$(jq -cn --argjson x "$extra" --arg p "$p" \
+        --argjson a "$(cell "$d/score_ekm_${p}_liggghts.json" "$f" $ok_l)" \
+        --argjson b "$(cell "$d/score_ekm_${p}_lammps.json" "$f" $ok_m)" \
+        '$x + {("ekm_" + $p + "_vs_liggghts"): $a, ("ekm_" + $p + "_vs_lammps"): $b}')
+    done
+    jq -cn --arg s "$s" --arg p "$tag" --arg f "$f" --argjson v "$pvars" --argjson x "$extra" \
       --argjson a "$(cell "$d/score_ekm_liggghts.json" "$f" $ok_l)" \
       --argjson b "$(cell "$d/score_ekm_lammps.json" "$f" $ok_m)" \
       --argjson c "$(cell "$d/score_liggghts_lammps.json" "$f" $both)" \
-      '{scenario: $s, point: $p, vars: $v, field: $f, ekm_vs_liggghts: $a, ekm_vs_lammps: $b, liggghts_vs_lammps: $c}' >> "$rows"
+      '{scenario: $s, point: $p, vars: $v, field: $f, ekm_vs_liggghts: $a, ekm_vs_lammps: $b, liggghts_vs_lammps: $c} + $x' >> "$rows"
   done
   # the scalars (scalars of the score files; the names of the first that has them)
-  jq -cn --arg s "$s" --arg p "$tag" \
+  extra='{}'
+  for p in $psets; do
+    extra=$(jq -cn --argjson x "$extra" --arg p "$p" \
+      --argjson a "$(sxcell "$d/score_ekm_${p}_liggghts.json" $ok_l)" \
+      --argjson b "$(sxcell "$d/score_ekm_${p}_lammps.json" $ok_m)" \
+      '$x + {("ekm_" + $p + "_vs_liggghts"): $a, ("ekm_" + $p + "_vs_lammps"): $b}')
+  done
+  jq -cn --arg s "$s" --arg p "$tag" --argjson x "$extra" \
     --argjson a "$(scell "$d/score_ekm_liggghts.json" $ok_l)" \
     --argjson b "$(scell "$d/score_ekm_lammps.json" $ok_m)" \
     --argjson c "$(scell "$d/score_liggghts_lammps.json" $both)" \
     '[$b, $a, $c] as $all | ([$all[] | keys_unsorted] | map(select(length > 0)) | .[0] // [])[] as $k
      | {scenario: $s, point: $p, scalar: $k, units: ([$all[][$k].units // empty][0]),
         ekm_vs_liggghts: ($a[$k] // {status: "n/a"}), ekm_vs_lammps: ($b[$k] // {status: "n/a"}),
-        liggghts_vs_lammps: ($c[$k] // {status: "n/a"})}' >> "$srows"
+        liggghts_vs_lammps: ($c[$k] // {status: "n/a"})}
+       + ($x | map_values(.[$k] // {status: (.__status // "n/a")}))' >> "$srows"
 done < <(jq -r '.[] | . as $sc | .points[] | [$sc.scenario, ($sc.engines | join(" ")), $sc.fields,
-                       (if .tag == "" then "-" else .tag end), (.vars | tojson)] | @tsv' "$plan")
+                       (if .tag == "" then "-" else .tag end), (.vars | tojson), (($sc.sets // []) | join(" "))] | @tsv' "$plan")
+allsets=$(jq -r '[.[].sets // [] | .[]] | unique | join(" ")' "$plan")
 missing=0
 grep -q '"status":"missing"' "$rows" && missing=1
 mkdir -p "$res" || die "$res: cannot create the results folder" 3
@@ -108,6 +130,26 @@ jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%
              "\(if .rel_l2 == null then "-" else (.rel_l2 * 1000 | round / 1000 | tostring) end) / \(if .noise_normalised == null then "-" else (.noise_normalised * 100 | round / 100 | tostring) end) (\(.points_left_out // "-") out, \(if .offset_d == null then "-" else (.offset_d * 100 | round / 100 + 0 | tostring) + " d" end))"
            else .status end;
          .rows[] | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.field) | \(.ekm_vs_liggghts | c) | \(.ekm_vs_lammps | c) | \(.liggghts_vs_lammps | c) |"' "$res/scores.json.tmp"
+  if [ -n "$allsets" ]; then
+    echo
+    echo "## By parameter set"
+    echo
+    echo "The EKM with each parameter set (thesis: the scenario files' own [material];"
+    echo "the others fitted by the campaign on their training set, results/calibration.md)"
+    echo "against the reference engine (LAMMPS where it runs the scenario, else"
+    echo "LIGGGHTS): relative L2 error / noise-normalised error on the common support;"
+    echo "the floor is LIGGGHTS vs LAMMPS."
+    echo
+    printf '| scenario | point | field | engine | EKM thesis |'; for p in $allsets; do printf ' EKM %s |' "$p"; done; echo ' floor |'
+    printf '|---|---|---|---|---:|'; for p in $allsets; do printf -- '---:|'; done; printf -- '---:|\n'
+    jq -r --arg sets "$allsets" 'def c: if .status == "ok" then
+             "\(if .rel_l2 == null then "-" else (.rel_l2 * 1000 | round / 1000 | tostring) end) / \(if .noise_normalised == null then "-" else (.noise_normalised * 100 | round / 100 | tostring) end)"
+           else .status end;
+         .rows[] | . as $r | (if .ekm_vs_lammps.status == "n/a" then "liggghts" else "lammps" end) as $e
+         | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.field) | \($e) | \(.["ekm_vs_" + $e] | c) |"
+           + ([$sets | split(" ")[] as $p | " \($r["ekm_" + $p + "_vs_" + $e] // {status: "n/a"} | c) |"] | join(""))
+           + " \(.liggghts_vs_lammps | c) |"' "$res/scores.json.tmp" || exit 3
+  fi
   echo
   echo "## Scalars"
   echo

@@ -4,7 +4,8 @@
 #   campaign_test.sh SOURCE_DIR BUILD_DIR WORK_DIR
 # Checks: exit 0; the score table has one row per scenario x sweep point x
 # scored field ([compare] fields), and every comparison that can exist is
-# there with finite numbers; a figure was written; a second run does no work
+# there with finite numbers; the smoke training set is fitted and every
+# point scored with it, with a train/test matrix; a figure was written; a second run does no work
 # ("everything is up to date"); touching one scenario file redoes only that
 # scenario (and not its DEM runs, whose inputs did not change); a failing
 # DEM engine is reported with its log while the other steps go on.
@@ -22,7 +23,7 @@ camp > "$work/run1.log" 2>&1; rc=$?
 [ $rc -eq 0 ] || { tail -30 "$work/run1.log" >&2; fail "make campaign exit status $rc"; }
 scores=$work/results/scores.json
 [ -s "$scores" ] || { fail "no $scores"; echo "$fails failure(s)" >&2; exit 1; }
-expected=0 expected_cmp=0
+expected=0 expected_cmp=0 expected_ekm=0
 for ini in "$src"/scenarios/*.ini; do
   # the campaign's scenarios: [dem] and [compare] in the file itself
   js=$("$build/continuum/ekm" scenario "$ini" --engine lammps --size smoke --json) ||
@@ -38,6 +39,7 @@ for ini in "$src"/scenarios/*.ini; do
   s=$(basename "$ini" .ini); nc=1
   [ -r "$src/dem_inputs/liggghts/$s.in" ] && [ ! -e "$src/dem_inputs/liggghts/$s.unsupported" ] && nc=3
   expected_cmp=$((expected_cmp + n * np * nc))
+  expected_ekm=$((expected_ekm + n * np * (nc == 3 ? 2 : 1)))   # EKM vs an engine
 done
 rows=$(jq '.rows | length' "$scores")
 [ "$rows" -eq "$expected" ] && [ "$rows" -gt 0 ] || fail "score table has $rows rows, expected $expected"
@@ -48,6 +50,26 @@ bad=$(jq '[.rows[] | (.ekm_vs_liggghts, .ekm_vs_lammps, .liggghts_vs_lammps)
 okn=$(jq '[.rows[] | (.ekm_vs_liggghts, .ekm_vs_lammps, .liggghts_vs_lammps) | select(.status == "ok")] | length' "$scores")
 [ "$okn" -eq "$expected_cmp" ] || fail "$okn comparisons made, expected $expected_cmp"
 grep -q "| chute | - | phi |" "$work/results/scores.md" || fail "scores.md has no chute phi row"
+# the calibration: the smoke training set `rheology` (simple_shear's and
+# simple_shear_p's smoke points, eta0 and eps0) is fitted, every point is
+# run and scored with it, and the train/test matrix has finite cells
+fit=$work/results/calibration/rheology/fit.json
+jq -e '(.params | keys) == ["eps0", "eta0"] and (.chi2_dof | type) == "number" and .dof > 0
+       and ([.points[] | .residuals.P, .residuals.sxz, .residuals.T | type == "number"] | all)' "$fit" > /dev/null ||
+  fail "$fit: no fit of eta0 and eps0 with finite chi2/dof and residuals"
+grep -q '^eta0 *=' "$work/results/calibration/rheology/fit.ini" || fail "no [material] eta0 in the fitted fit.ini"
+okr=$(jq '[.rows[] | (.ekm_rheology_vs_liggghts, .ekm_rheology_vs_lammps)
+           | select(.status == "ok" and (.rel_l2 | type) == "number")] | length' "$scores")
+[ "$okr" -eq "$expected_ekm" ] || fail "$okr comparisons with the fitted set, expected $expected_ekm"
+cal=$work/results/calibration.json
+jq -e '(.sets | map(.name)) == ["thesis", "rheology"]
+       and ([.matrix[][] | .rel_l2 | type == "number"] | all)
+       and .matrix.rheology.simple_shear.train and .matrix.rheology.simple_shear_p.train
+       and (.matrix.rheology.chute.train | not) and (.matrix.thesis.simple_shear.train | not)
+       and .sets[1].fitted.params.eta0.value > 0' "$cal" > /dev/null ||
+  fail "$cal: expected sets thesis and rheology, every cell finite, the training cells marked"
+grep -q "^| rheology | " "$work/results/calibration.md" || fail "calibration.md has no rheology row"
+grep -q "^## By parameter set" "$work/results/scores.md" || fail "scores.md has no table by parameter set"
 figs=$work/results/figures/figures.txt
 [ -s "$figs" ] || fail "no figures listed in $figs"
 while read -r f; do [ -s "$work/results/figures/$(basename "$f")" ] || fail "figure $f missing or empty"; done < "$figs"

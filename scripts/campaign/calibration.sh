@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# calibration.sh: the campaign's train/test matrix (rule calibration of
+# workflow/Snakefile; docs/campaign.md "Calibration").
+#   calibration.sh RES PLAN.json
+# PLAN.json (written by the Snakefile): {"size", "engines", "scenarios":
+# [every campaign scenario], "sets": [{"name", "fit": the fit's FIT.json
+# relative to RES or null (thesis), "train": [the member scenarios],
+# "how": "rheology"|"scenario"|null}]}.
+# Reads RES/scores.json (table.sh) and every set's FIT.json; writes
+# RES/calibration.json and RES/calibration.md (atomically) and prints the
+# markdown. A cell (set x scenario):
+#   rel_l2      mean of the relative L2 errors of phi, vx, P and T (those the
+#               scenario scores) over its points, on the common support,
+#               against the reference engine (LAMMPS where it runs the
+#               scenario, else LIGGGHTS): the cells ekm_vs_E (thesis) or
+#               ekm_<set>_vs_E of scores.json;
+#   scalar_rel  mean |relative error| of the scenario's scalar observables
+#               over its points (same engine);
+#   n_scores    the relative L2 errors averaged; missing: comparisons of
+#               the set that have no score (a failed step);
+#   train       whether the scenario is in the set's training data.
+# The floor row is LIGGGHTS vs LAMMPS (the scenarios both engines run).
+# Exit status (docs/exit-codes.md): 1 usage, 2 bad plan or score table,
+# 3 cannot write, 7 no jq.
+set -uo pipefail
+prog=calibration.sh
+die() { echo "$prog: $1" >&2; exit "${2:-1}"; }
+[ $# -eq 2 ] || die "usage: calibration.sh RES PLAN.json"
+res=$1 plan=$2
+command -v jq > /dev/null || die "jq not installed (scripts/deps.sh)" 7
+jq -e '.sets | type == "array"' "$plan" > /dev/null 2>&1 || die "$plan: expected the calibration plan ({\"sets\": [...]})" 2
+jq -e '.rows | type == "array"' "$res/scores.json" > /dev/null 2>&1 ||
+  die "$res/scores.json: expected the campaign's score table (rows); run the table first" 2
+trap 'rm -f "$res/calibration.json.tmp" "$res/calibration.md.tmp"' EXIT
+# the fits, {set: FIT.json or null}
+fits='{}'
+while IFS=$'\t' read -r name fit; do
+  if [ "$fit" = - ] || [ ! -f "$res/$fit" ]; then
+    fits=$(jq -cn --argjson f "$fits" --arg n "$name" '$f + {($n): null}')
+  else
+    jq -e '.params | type == "object"' "$res/$fit" > /dev/null 2>&1 ||
+      die "$res/$fit: expected an ekmcompare fit output (params)" 2
+    fits=$(jq -c --argjson f "$fits" --arg n "$name" \
+      '$f + {($n): {chi2_dof, dof, params, identifiable, why_not, fields, start: .start.source,
+                   inputs: ((.points // .cases) | length)}}' "$res/$fit")
+  fi
+done < <(jq -r '.sets[] | [.name, (.fit // "-")] | @tsv' "$plan")
+jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-%m-%dT%H:%M:%SZ)" '
+  def mean: if length == 0 then null else add / length end;
+  def engine_of: if .ekm_vs_lammps.status == "n/a" then "liggghts" else "lammps" end;
+  def cellname($set; $e): if $set == "thesis" then "ekm_vs_" + $e else "ekm_" + $set + "_vs_" + $e end;
+  . as $t | $plan[0] as $p
+  | ($t.rows | map(select(.field == "phi" or .field == "vx" or .field == "P" or .field == "T"))) as $rows
+  | ($t.scalar_rows // []) as $srows
+  | {size: $p.size, engines: $p.engines, created: $created, code_version: $t.code_version,
+     definitions: {rel_l2: "mean relative L2 error of phi, vx, P, T over the scenario'"'"'s points, common support, against the reference engine (LAMMPS where it runs the scenario, else LIGGGHTS)",
+                   scalar_rel: "mean |relative error| of the scenario'"'"'s scalar observables over its points, same engine",
+                   n_scores: "relative L2 errors averaged", missing: "comparisons of the set without a score (failed step)",
+                   train: "the scenario is in the set'"'"'s training data"},
+     sets: [$p.sets[] | . + {fitted: $fits[.name]}],
+     scenarios: $p.scenarios,
+     matrix: ([$p.sets[] as $set | {key: $set.name, value: ([$p.scenarios[] as $s
+       | ($rows | map(select(.scenario == $s) | .[cellname($set.name; engine_of)])) as $cells
+       | ($srows | map(select(.scenario == $s)) | map(. as $r
+           | ($t.rows | map(select(.scenario == $r.scenario and .point == $r.point)) | (.[0] // {}) | engine_of) as $e
+           | ($r[cellname($set.name; $e)] // {}))) as $scells
+       | {key: $s, value: {
+           rel_l2: ($cells | map(select(.status == "ok" and .rel_l2 != null) | .rel_l2) | mean),
+           scalar_rel: ($scells | map(select(.rel_error != null) | .rel_error | fabs) | mean),
+           n_scores: ($cells | map(select(.status == "ok" and .rel_l2 != null)) | length),
+           missing: ($cells | map(select(.status == "missing")) | length),
+           train: (($set.train | index($s)) != null)}}] | from_entries)}] | from_entries),
+     floor: ([$p.scenarios[] as $s
+       | ($rows | map(select(.scenario == $s) | .liggghts_vs_lammps)) as $cells
+       | ($srows | map(select(.scenario == $s) | .liggghts_vs_lammps)) as $scells
+       | {key: $s, value: {
+           rel_l2: ($cells | map(select(.status == "ok" and .rel_l2 != null) | .rel_l2) | mean),
+           scalar_rel: ($scells | map(select(.rel_error != null) | .rel_error | fabs) | mean),
+           n_scores: ($cells | map(select(.status == "ok" and .rel_l2 != null)) | length)}}] | from_entries)}
+' "$res/scores.json" > "$res/calibration.json.tmp" || die "$res/calibration.json.tmp: cannot write the matrix" 3
+{
+  echo "# Calibration: train/test matrix ($(jq -r .size "$plan") size)"
+  echo
+  echo "Rows: the parameter set the EKM ran with (thesis: each scenario file's own"
+  echo "[material]; the others fitted by \`make campaign\` on their training set)."
+  echo "Columns: every campaign scenario. Each cell: mean relative L2 error of"
+  echo "phi, vx, P, T (those the scenario scores) over its points on the common"
+  echo "support / mean |relative error| of its scalar observables, against LAMMPS"
+  echo "(LIGGGHTS where LAMMPS cannot run it); **bold**: the scenario is in the"
+  echo "set's training data (in-sample). The floor is LIGGGHTS vs LAMMPS."
+  echo "Made $(date -u +%Y-%m-%d) by \`make campaign SIZE=$(jq -r .size "$plan")\` ($(jq -r .code_version "$res/calibration.json.tmp"))."
+  echo
+  jq -r 'def n: if . == null then "-" else (. * 1000 | round / 1000 | tostring) end;
+         def c: if .rel_l2 == null and .scalar_rel == null then "-" else "\(.rel_l2 | n) / \(.scalar_rel | n)" end;
+         . as $c
+         | "| set | " + ($c.scenarios | join(" | ")) + " |",
+           "|---|" + ($c.scenarios | map("---:") | join("|")) + "|",
+           ($c.sets[] as $s | "| " + $s.name + " | "
+              + ([$c.scenarios[] as $x | $c.matrix[$s.name][$x] | if .train then "**" + c + "**" else c end
+                  + (if .missing > 0 then " (\(.missing) missing)" else "" end)] | join(" | ")) + " |"),
+           "| floor (LIGGGHTS vs LAMMPS) | " + ([$c.scenarios[] as $x | $c.floor[$x] | c] | join(" | ")) + " |"' \
+    "$res/calibration.json.tmp"
+  echo
+  echo "## Fitted parameters"
+  echo
+  echo "Value +- SE (scaled by max(1, chi2/dof)); held: not identifiable on the"
+  echo "training data (kept at the start value, the reason given); docs/compare.md"
+  echo "\"ekmcompare fit\"."
+  echo
+  jq -r 'def g: if . == null then "-" elif . == 0 then "0"
+                else . as $x | ($x | fabs | log10 | floor) as $e | ($x / pow(10; $e) * 1000 | round / 1000 | tostring) + "e" + ($e | tostring) end;
+         .sets[] | select(.fitted != null) | . as $s
+         | "### \(.name) (\(.how) fit of \(.train | join(", ")): chi2/dof = \(.fitted.chi2_dof | g), dof \(.fitted.dof), \(.fitted.inputs) inputs, fields \(.fitted.fields | join(",")))",
+           "",
+           "| parameter | value | SE | |",
+           "|---|---:|---:|---|",
+           (.fitted.params | to_entries[] | "| \(.key) | \(.value.value | g) | \(.value.se | g) | \(if $s.fitted.identifiable[.key] then "fitted" else "held: " + ($s.fitted.why_not[.key] // "not identifiable") end) |"),
+           ""' "$res/calibration.json.tmp"
+} > "$res/calibration.md.tmp" || die "$res/calibration.md.tmp: cannot write the matrix" 3
+mv "$res/calibration.json.tmp" "$res/calibration.json" || die "$res/calibration.json: cannot rename into place" 3
+mv "$res/calibration.md.tmp" "$res/calibration.md" || die "$res/calibration.md: cannot rename into place" 3
+cat "$res/calibration.md"
