@@ -21,14 +21,17 @@ static const struct {
     [CG_SCALAR_MU] = {"mu", "1", 0},
     [CG_SCALAR_MEAN_T] = {"mean_T", "m^2/s^2", 0},
     [CG_SCALAR_BED_HEIGHT] = {"bed_height", "m", 1},
+    [CG_SCALAR_GAP] = {"gap", "m", 0},
+    [CG_SCALAR_WALL_SLIP] = {"wall_slip", "m/s", 0},
+    [CG_SCALAR_BASE_STRESS_OVER_WEIGHT] = {"base_stress_over_weight", "1", 1},
 };
 
 static const struct {
     const char *set, *list;
 } SETS[] = {
     {"chute", "layer_height,bulk_phi,surface_velocity,depth_averaged_velocity,flow_rate,base_friction"},
-    {"shear_cell", "mean_phi,wall_shear_stress,wall_friction"},
-    {"filling", "bed_height,mean_phi"},
+    {"shear_cell", "mean_phi,wall_shear_stress,wall_friction,gap,wall_slip"},
+    {"filling", "bed_height,mean_phi,base_stress_over_weight"},
     {"simple_shear", "mean_P,mu,mean_T,mean_phi"},
 };
 
@@ -192,6 +195,113 @@ static cg_scalar_value flow(const cg_scalar_profile *p, int average)
     return r;
 }
 
+/* An edge of the material: z = z[i0] + t (z[i1] - z[i0]) (t in [0, 1] at
+ * a crossing of H, t > 1 at the grid's upper end, t < 0 at its lower end),
+ * its SE, and i0, i1, t for interpolating another field there. */
+typedef struct {
+    double z, se, t;
+    size_t i0, i1;
+} edge_at;
+
+static int material_edge(const cg_scalar_profile *p, int upper, edge_at *e)
+{
+    double h = half_max_phi(p);
+    if (p->n < 2)
+        return 0;
+    if (upper) {
+        size_t k = top_index(p, h);
+        if (k >= p->n)
+            return 0;
+        if (k == p->n - 1) { /* material to the grid's end: the wall */
+            e->i0 = k - 1;
+            e->i1 = k;
+            e->z = p->z[k] + 0.5 * width(p, k);
+            e->t = (e->z - p->z[k - 1]) / (p->z[k] - p->z[k - 1]);
+            e->se = 0.0;
+            return 1;
+        }
+        cg_scalar_value c = layer_height(p);
+        if (!isfinite(c.value))
+            return 0;
+        e->i0 = k;
+        e->i1 = k + 1;
+        e->z = c.value;
+        e->se = c.se;
+        e->t = (c.value - p->z[k]) / (p->z[k + 1] - p->z[k]);
+        return 1;
+    }
+    size_t b = base_index(p, h);
+    if (b >= p->n)
+        return 0;
+    if (b == 0) {
+        e->i0 = 0;
+        e->i1 = 1;
+        e->z = p->z[0] - 0.5 * width(p, 0);
+        e->t = (e->z - p->z[0]) / (p->z[1] - p->z[0]);
+        e->se = 0.0;
+        return 1;
+    }
+    if (!isfinite(p->phi[b - 1]))
+        return 0;
+    double d = p->phi[b] - p->phi[b - 1], dz = p->z[b] - p->z[b - 1];
+    double a = (h - p->phi[b - 1]) / d;
+    double s0 = (1.0 - a) * se_at(p->phi_se, b - 1), s1 = a * se_at(p->phi_se, b);
+    e->i0 = b - 1;
+    e->i1 = b;
+    e->z = p->z[b - 1] + a * dz;
+    e->t = a;
+    e->se = dz / d * sqrt(s0 * s0 + s1 * s1);
+    return 1;
+}
+
+static cg_scalar_value gap(const cg_scalar_profile *p)
+{
+    edge_at lo, hi;
+    if (!material_edge(p, 0, &lo) || !material_edge(p, 1, &hi))
+        return UNDEFINED;
+    cg_scalar_value r = {hi.z - lo.z, sqrt(lo.se * lo.se + hi.se * hi.se)};
+    return r;
+}
+
+static cg_scalar_value wall_slip(const cg_scalar_profile *p)
+{
+    edge_at e;
+    if (!p->vx || !isfinite(p->top_velocity) || !material_edge(p, 1, &e))
+        return UNDEFINED;
+    double v0 = p->vx[e.i0], v1 = p->vx[e.i1];
+    if (!isfinite(v0) || !isfinite(v1))
+        return UNDEFINED;
+    double v = v0 + e.t * (v1 - v0), slope = (v1 - v0) / (p->z[e.i1] - p->z[e.i0]);
+    double se_v = fabs(1.0 - e.t) * se_at(p->vx_se, e.i0) + fabs(e.t) * se_at(p->vx_se, e.i1);
+    double se_z = slope * e.se;
+    cg_scalar_value r = {p->top_velocity - v, sqrt(se_v * se_v + se_z * se_z)};
+    return r;
+}
+
+/* |szz| at the base over the weight per unit area above the base point */
+static cg_scalar_value base_stress_over_weight(const cg_scalar_profile *p)
+{
+    double h = half_max_phi(p), trace = CG_SCALAR_TRACE * 2.0 * h;
+    size_t b = base_index(p, h);
+    if (!p->szz || b >= p->n || !isfinite(p->szz[b]) || !isfinite(p->g_normal) || p->n < 2)
+        return UNDEFINED;
+    if (!p->rho && !isfinite(p->rho_p))
+        return UNDEFINED;
+    double w_sum = 0, w_se = 0;
+    for (size_t k = b; k < p->n; k++) {
+        double rho = p->rho ? p->rho[k] : p->rho_p * p->phi[k];
+        double rho_se = p->rho ? se_at(p->rho_se, k) : p->rho_p * se_at(p->phi_se, k);
+        if (!(p->phi[k] > trace) || !isfinite(rho))
+            continue;
+        double c = (k == b ? 0.5 : 1.0) * width(p, k);
+        w_sum += c * rho;
+        w_se += c * rho_se;
+    }
+    cg_scalar_value s = {fabs(p->szz[b]), se_at(p->szz_se, b)},
+                    w = {fabs(p->g_normal) * w_sum, fabs(p->g_normal) * w_se};
+    return ratio(s, w);
+}
+
 cg_scalar_value cg_scalar_compute(cg_scalar_kind kind, const cg_scalar_profile *p)
 {
     if (!p->phi || !p->z || p->n == 0)
@@ -237,6 +347,9 @@ cg_scalar_value cg_scalar_compute(cg_scalar_kind kind, const cg_scalar_profile *
         return ratio(mean_over(p, p->sxz, p->sxz_se, 1, -INFINITY, INFINITY),
                      mean_over(p, p->P, p->P_se, 0, -INFINITY, INFINITY));
     case CG_SCALAR_MEAN_T: return mean_over(p, p->T, p->T_se, 0, -INFINITY, INFINITY);
+    case CG_SCALAR_GAP: return gap(p);
+    case CG_SCALAR_WALL_SLIP: return wall_slip(p);
+    case CG_SCALAR_BASE_STRESS_OVER_WEIGHT: return base_stress_over_weight(p);
     case CG_SCALAR_COUNT: break;
     }
     return UNDEFINED;

@@ -40,6 +40,27 @@
  *   wall_friction     mean |sxz| / mean |szz|, mu = mean |sxz| / mean P,
  *                     over the points in material; SE with the two relative
  *                     SEs independent.
+ *   edges             the lower and upper edge of the material: where phi
+ *                     crosses H below the base (upwards) and above the
+ *                     highest point in material (downwards), linear, SE as
+ *                     layer_height's; an end point of the grid in material
+ *                     has its edge at the grid's end, z[0] - w_0/2 or
+ *                     z[n-1] + w_n-1/2 (a wall the continuum fills), SE 0.
+ *   gap               upper edge - lower edge (m), the material's thickness
+ *                     between two walls; SE the two edges' in quadrature.
+ *   wall_slip         top_velocity - vx at the upper edge (m/s): vx linear
+ *                     between the two points of the crossing, or extrapolated
+ *                     linearly from the two highest points to a grid end;
+ *                     SE^2 = (sum |c_i| se_vx_i)^2 + (dvx/dz se_edge)^2
+ *                     (c_i the interpolation weights; fully correlated).
+ *   base_stress_over_weight  |szz| at the base over the weight per unit area
+ *                     of the material above the base point,
+ *                     W = g_normal sum c_k rho_k w_k (c = 1/2 for the base
+ *                     bin, 1 above; bins with phi > CG_SCALAR_TRACE x the
+ *                     largest phi; rho = rho_p phi where no rho is given);
+ *                     SE with the relative SEs of |szz| and of W
+ *                     (g_normal sum c_k se_rho_k w_k, fully correlated)
+ *                     independent.
  * Every value is NaN (and its SE NaN) when a field it needs is missing or
  * there is no point to take it from; an SE is NaN when an SE it needs is.
  */
@@ -57,6 +78,10 @@ typedef struct {
     const double *z;                            /* [m], increasing */
     const double *phi, *vx, *sxz, *szz, *P, *T; /* [-], [m/s], [Pa], [m^2/s^2]; NULL: absent */
     const double *phi_se, *vx_se, *sxz_se, *szz_se, *P_se, *T_se; /* NULL: unknown */
+    const double *rho, *rho_se; /* [kg/m^3] bulk density; NULL: rho_p phi (SE rho_p se_phi) */
+    double rho_p;               /* [kg/m^3] grain density where rho is NULL; NaN: unknown */
+    double g_normal;            /* [m/s^2] |z component of gravity|; NaN: unknown */
+    double top_velocity;        /* [m/s] x velocity of the top wall; NaN: unknown */
 } cg_scalar_profile;
 
 typedef struct {
@@ -78,6 +103,9 @@ typedef enum {
     CG_SCALAR_MU,
     CG_SCALAR_MEAN_T,
     CG_SCALAR_BED_HEIGHT, /* the layer height at every compared time */
+    CG_SCALAR_GAP,
+    CG_SCALAR_WALL_SLIP,
+    CG_SCALAR_BASE_STRESS_OVER_WEIGHT, /* at every compared time */
     CG_SCALAR_COUNT
 } cg_scalar_kind;
 

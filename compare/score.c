@@ -297,11 +297,13 @@ static ekm_status read_axes(ekm_h5_file *dem, ekm_h5_file *ekm, const cg_score_o
 
 /* The fields the scalars and the support use, of one side ([nt][n] each,
  * NULL when absent). */
-enum { S_PHI, S_VX, S_SXZ, S_SZZ, S_P, S_T, S_N };
-static const char *const side_names[S_N] = {"phi", "vx", "sxz", "szz", "P", "T"};
+enum { S_PHI, S_VX, S_SXZ, S_SZZ, S_P, S_T, S_RHO, S_N };
+static const char *const side_names[S_N] = {"phi", "vx", "sxz", "szz", "P", "T", "rho"};
 
 typedef struct {
     double *f[S_N], *se[S_N];
+    double *gap;  /* [nt] wall-to-wall gap of a pressure-held wall [m], NULL: none */
+    double rho_p; /* [kg/m^3] the file's material.rho_p, NaN: none */
 } side;
 
 static void side_free(side *s)
@@ -310,6 +312,16 @@ static void side_free(side *s)
         free(s->f[i]);
         free(s->se[i]);
     }
+    free(s->gap);
+}
+
+/* A root attribute of the first of the two files that has it (NaN if
+ * neither). */
+static ekm_status attr_either(ekm_h5_file *a, ekm_h5_file *b, const char *name, double *v, ekm_error *err)
+{
+    *v = NAN;
+    ekm_h5_file *f = ekm_h5_attr_exists(a, NULL, name) ? a : ekm_h5_attr_exists(b, NULL, name) ? b : NULL;
+    return f ? ekm_h5_attr_get_double(f, NULL, name, v, err) : EKM_OK;
 }
 
 /* a dataset that must have shape [nt][n] */
@@ -347,13 +359,26 @@ static ekm_status side_read(ekm_h5_file *f, size_t nt, size_t n, side *s, ekm_er
         if (!rc)
             rc = read_optional(f, sename, nt, n, &s->se[i], err);
     }
+    /* an EKM run with a pressure-held wall: /z is the first frame's grid,
+     * frame i's is z gap[i] / gap[0] (docs/output-format.md) */
+    if (!rc && ekm_h5_exists(f, "gap")) {
+        size_t nt1, n1;
+        rc = read_array(f, "gap", &s->gap, &nt1, &n1, err);
+        if (!rc && (nt1 != 0 || n1 != nt || !(s->gap[0] > 0)))
+            rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset gap: expected [%zu] positive values", ekm_h5_path(f),
+                          nt);
+    }
+    s->rho_p = NAN;
+    if (!rc && ekm_h5_attr_exists(f, NULL, "material.rho_p"))
+        rc = ekm_h5_attr_get_double(f, NULL, "material.rho_p", &s->rho_p, err);
     return rc;
 }
 
-/* row i0 + at (row i1 - row i0) of every field of s into buf[2 S_N][n],
- * and the profile p pointing at it */
+/* row i0 + at (row i1 - row i0) of every field of s into buf[2 S_N + 1][n]
+ * (the last row: the grid, stretched with the gap), and the profile p
+ * pointing at it; g_normal and top_velocity are the scenario's */
 static void side_row(const side *s, const double *z, size_t n, size_t i0, size_t i1, double at, double *buf,
-                     cg_scalar_profile *p)
+                     double g_normal, double top_velocity, cg_scalar_profile *p)
 {
     const double *rows[2 * S_N];
     for (int i = 0; i < S_N; i++) {
@@ -371,6 +396,13 @@ static void side_row(const side *s, const double *z, size_t n, size_t i0, size_t
 #define ROW(i) (rows[i] ? buf + (size_t)(i)*n : NULL)
     p->n = n;
     p->z = z;
+    if (s->gap) {
+        double *zs = buf + (size_t)(2 * S_N) * n;
+        double stretch = (s->gap[i0] + at * (s->gap[i1] - s->gap[i0])) / s->gap[0];
+        for (size_t k = 0; k < n; k++)
+            zs[k] = z[k] * stretch;
+        p->z = zs;
+    }
     p->phi = ROW(S_PHI);
     p->vx = ROW(S_VX);
     p->sxz = ROW(S_SXZ);
@@ -383,6 +415,11 @@ static void side_row(const side *s, const double *z, size_t n, size_t i0, size_t
     p->szz_se = ROW(S_N + S_SZZ);
     p->P_se = ROW(S_N + S_P);
     p->T_se = ROW(S_N + S_T);
+    p->rho = ROW(S_RHO);
+    p->rho_se = ROW(S_N + S_RHO);
+    p->rho_p = s->rho_p;
+    p->g_normal = g_normal;
+    p->top_velocity = top_velocity;
 #undef ROW
 }
 
@@ -438,8 +475,8 @@ static ekm_status parse_scalars(const char *list, int *kinds, size_t *nk, ekm_er
 
 /* the free surface and the scalars (the sides' rows at the DEM times) */
 static ekm_status summarise(const cg_score_opts *o, const axes *ax, const side *sd, const side *se_,
-                            const size_t *ti, const double *ta, const int *tin, cg_score_summary *sm,
-                            ekm_error *err)
+                            const size_t *ti, const double *ta, const int *tin, double g_normal,
+                            double top_velocity, cg_score_summary *sm, ekm_error *err)
 {
     int kinds[CG_SCALAR_COUNT * 4];
     size_t nk;
@@ -455,7 +492,8 @@ static ekm_status summarise(const cg_score_opts *o, const axes *ax, const side *
     sm->nscalars = 0;
     if (jl == ax->ntd)
         return EKM_OK;
-    double *bd = malloc(2 * S_N * ax->nzd * sizeof *bd), *be = malloc(2 * S_N * ax->nze * sizeof *be);
+    double *bd = malloc((2 * S_N + 1) * ax->nzd * sizeof *bd),
+           *be = malloc((2 * S_N + 1) * ax->nze * sizeof *be);
     if (!bd || !be) {
         free(bd);
         free(be);
@@ -467,8 +505,8 @@ static ekm_status summarise(const cg_score_opts *o, const axes *ax, const side *
             continue;
         cg_scalar_profile pd, pe;
         size_t i1 = ti[j] + 1 < ax->nte ? ti[j] + 1 : ti[j];
-        side_row(sd, ax->zd, ax->nzd, j, j, 0.0, bd, &pd);
-        side_row(se_, ax->ze, ax->nze, ti[j], i1, ta[j], be, &pe);
+        side_row(sd, ax->zd, ax->nzd, j, j, 0.0, bd, g_normal, top_velocity, &pd);
+        side_row(se_, ax->ze, ax->nze, ti[j], i1, ta[j], be, g_normal, top_velocity, &pe);
         if (j == jl) {
             sm->dem_height = cg_scalar_compute(CG_SCALAR_LAYER_HEIGHT, &pd).value;
             sm->model_height = cg_scalar_compute(CG_SCALAR_LAYER_HEIGHT, &pe).value;
@@ -656,8 +694,15 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
             rc = ekm_h5_attr_get_double(which == o->dem ? dem : ekm, NULL, "mean_diameter",
                                         &sm->mean_diameter, err);
     }
+    /* the scenario's gravity (its z component) and top-wall velocity: the
+     * EKM file carries them ([gravity], [top] velocity), a CG file not */
+    double g_normal = NAN, top_velocity = NAN;
+    if (!rc)
+        rc = attr_either(dem, ekm, "gravity_z", &g_normal, err);
+    if (!rc)
+        rc = attr_either(dem, ekm, "top.velocity", &top_velocity, err);
     if (!rc && sdem.f[S_PHI] && smod.f[S_PHI])
-        rc = summarise(o, &ax, &sdem, &smod, ti, ta, tin, sm, err);
+        rc = summarise(o, &ax, &sdem, &smod, ti, ta, tin, g_normal, top_velocity, sm, err);
     else if (!rc && o->scalars && *o->scalars)
         rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset phi for --scalars",
                       sdem.f[S_PHI] ? o->ekm : o->dem);

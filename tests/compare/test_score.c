@@ -415,13 +415,101 @@ static void test_bad_inputs(void **state)
                            "score_wrong_units.h5: dataset phi: units 'kg', expected '1' (the field schema)"));
 }
 
+/* An EKM shear cell with a pressure-held top wall: 4 cells on the initial
+ * grid of 20 mm, /gap 20 mm at t = 0 and 10 mm at t = t1, phi 0.6, vx of
+ * no-slip Couette flow (0.05 .. 0.35 m/s, the wall at 0.4 m/s: the
+ * attribute top.velocity). */
+static void write_pressure_wall(const char *path, double t1)
+{
+    ekm_h5_file *w;
+    ekm_error err;
+    assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
+    double z[4], t[2] = {0.0, t1}, gap[2] = {0.020, 0.010}, phi[8], vx[8];
+    for (size_t k = 0; k < 4; k++) {
+        z[k] = 0.005 * ((double)k + 0.5);
+        for (size_t i = 0; i < 2; i++) {
+            phi[i * 4 + k] = 0.6;
+            vx[i * 4 + k] = 0.1 * ((double)k + 0.5);
+        }
+    }
+    put(w, "z", z, 0, 4, "m");
+    put(w, "t", t, 0, 2, "s");
+    put(w, "gap", gap, 0, 2, "m");
+    put(w, "phi", phi, 2, 4, "1");
+    put(w, "vx", vx, 2, 4, "m/s");
+    assert_int_equal(ekm_h5_attr_set_double(w, NULL, "top.velocity", 0.4, &err), EKM_OK);
+    assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+}
+
+/* The shear-cell scalars through the scorer: the EKM's frame is its /z
+ * stretched by gap(t) / gap[0], so its gap is the /gap of the compared
+ * time (10 mm at its last output, 15 mm halfway), and its extrapolated
+ * wall velocity the wall's (slip 0); the wall velocity of the EKM file
+ * serves the DEM side too. The DEM layer (write_layer: phi 0.6 below
+ * 10 mm on 20 bins of 1 mm, vx = 10 z) starts at the grid's end, z = 0,
+ * and ends at the crossing, 10 mm (SE as in test_common_support); vx there
+ * is 0.1 m/s: slip 0.3 m/s, SE sqrt(0.01^2 + (10 x se_edge)^2). */
+static void test_pressure_wall_scalars(void **state)
+{
+    (void)state;
+    char dem[512], ekm[512];
+    tmp_path(dem, sizeof dem, "pwall_dem.h5");
+    tmp_path(ekm, sizeof ekm, "pwall_ekm.h5");
+    write_layer(dem, 1, 20, 0.02, 0.0100, 0.001);
+    write_pressure_wall(ekm, 1.0);
+    cg_score_opts o = cg_score_opts_default();
+    cg_score_summary sm;
+    cg_score_field r[16];
+    o.dem = dem;
+    o.ekm = ekm;
+    o.ekm_last = 1;
+    o.summary = &sm;
+    o.fields = "phi";
+    o.scalars = "gap,wall_slip";
+    score_ok(&o, r);
+    assert_int_equal(sm.nscalars, 2);
+    double se_edge = 0.001 / 0.6 * sqrt(0.5) * 0.01;
+    assert_string_equal(sm.scalar[0].name, "gap");
+    assert_close(sm.scalar[0].dem, 0.010, 1e-15);
+    assert_close(sm.scalar[0].dem_se, se_edge, 1e-15);
+    assert_close(sm.scalar[0].model, 0.010, 1e-15);
+    assert_close(sm.scalar[0].model_se, 0.0, 0);
+    assert_string_equal(sm.scalar[1].name, "wall_slip");
+    assert_close(sm.scalar[1].dem, 0.3, 1e-14);
+    assert_close(sm.scalar[1].dem_se, sqrt(1e-4 + pow(10.0 * se_edge, 2)), 1e-15);
+    assert_close(sm.scalar[1].model, 0.0, 1e-15);
+    /* the DEM time (1 s) halfway between the EKM's outputs at 0 and 2 s:
+     * the gap interpolated, 15 mm */
+    write_pressure_wall(ekm, 2.0);
+    o.ekm_last = 0;
+    score_ok(&o, r);
+    assert_close(sm.scalar[0].model, 0.015, 1e-15);
+    /* a /gap that does not match /t is refused */
+    ekm_h5_file *w;
+    ekm_error err;
+    assert_int_equal(ekm_h5_create(&w, ekm, &err), EKM_OK);
+    double z[2] = {0.005, 0.015}, t[1] = {1.0}, gap[2] = {0.02, 0.02}, phi[2] = {0.6, 0.6};
+    put(w, "z", z, 0, 2, "m");
+    put(w, "t", t, 0, 1, "s");
+    put(w, "gap", gap, 0, 2, "m");
+    put(w, "phi", phi, 1, 2, "1");
+    assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+    size_t n;
+    assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+    assert_non_null(strstr(err.message, "pwall_ekm.h5: dataset gap: expected [1] positive values"));
+}
+
 int main(void)
 {
     ekm_h5_quiet();
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_known_errors),    cmocka_unit_test(test_region_and_last),
-        cmocka_unit_test(test_dem_against_dem), cmocka_unit_test(test_se_floor),
-        cmocka_unit_test(test_bad_inputs),      cmocka_unit_test(test_common_support),
+        cmocka_unit_test(test_known_errors),
+        cmocka_unit_test(test_region_and_last),
+        cmocka_unit_test(test_dem_against_dem),
+        cmocka_unit_test(test_se_floor),
+        cmocka_unit_test(test_bad_inputs),
+        cmocka_unit_test(test_common_support),
+        cmocka_unit_test(test_pressure_wall_scalars),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
