@@ -9,13 +9,15 @@ static int adjacent_cell(ekm_side side, const ekm_state *s)
     return side == EKM_SIDE_BOTTOM ? 0 : s->n - 1;
 }
 
+/* A wall; with shear_rate (top) its speed follows the gap L = n dz of the
+ * state: velocity ([bottom] velocity, scenario.h) + shear_rate L. */
 static ekm_bc_face bc_wall(const ekm_bc *bc, ekm_side side, const ekm_state *s)
 {
     (void)side;
     ekm_bc_face b = {0};
     b.w = 0.0;
     b.wall_conductance = 1.0 / (0.5 * s->dz + bc->slip_length);
-    b.u_wall = bc->velocity;
+    b.u_wall = ekm_bc_rate_wall(bc) ? bc->velocity + bc->shear_rate * s->n * s->dz : bc->velocity;
     return b;
 }
 
@@ -106,11 +108,23 @@ int ekm_bc_pressure_wall(const ekm_bc *bc)
     return bc->kind == EKM_BC_WALL && !isnan(bc->pressure);
 }
 
+int ekm_bc_rate_wall(const ekm_bc *bc)
+{
+    return bc->kind == EKM_BC_WALL && !isnan(bc->shear_rate);
+}
+
 /* dL/dt = rate L (-szz_top - P)/P with szz_top = -(P_K + P_Y) + mu_n (dL/dt
- * - w_{n-1})/dz of a flowing top cell (fields.h) taken at the new dL/dt
- * (implicit in the wall's own viscous stress, which an explicit wall
- * velocity would drive unstably), the rest at the start of the step. */
-double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s)
+ * - w_{n-1})/dz of a flowing top cell (fields.h) taken at the end of the
+ * step, linearised: its viscous term at the new dL/dt, and its equilibrium
+ * pressure P_K + P_Y at the top cell's phi after the step, which the wall
+ * compresses by dphi = phi dt (w_{n-1} - dL/dt)/dz (step.h), at the rate
+ * d(P_K + P_Y)/dphi = rho_p c^2 (model.h: adiabatic, the compression heats
+ * it).  Both are implicit in dL/dt: an explicit wall velocity is fed back
+ * on itself through the top cell and oscillates at the step size once
+ * rate L rho_p phi c^2 dt / (P dz) > 2 (dense cells near phi_co).  The rest
+ * is taken at the start of the step; the steady state (dL/dt = w = 0,
+ * P_K + P_Y = P) is the same. */
+double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s, double dt)
 {
     const int j = s->n - 1;
     const double P = sc->top.pressure;
@@ -122,5 +136,8 @@ double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s)
     const ekm_material *m = &sc->material;
     const ekm_transport c = ekm_transport_coefficients(m, sc->variant, s->phi[j], s->T[j]);
     const double p_eq = ekm_pressure_kinetic(m, s->phi[j], s->T[j]) + ekm_pressure_yield(m, s->phi[j]);
-    return k * (p_eq + c.mu_n * s->w[j] / s->dz - P) / (1.0 + k * c.mu_n / s->dz);
+    /* [Pa s]: the viscous and the compression response of szz_top to dL/dt */
+    const double stiffness =
+        c.mu_n + dt * m->rho_p * s->phi[j] * ekm_sound_speed_squared(m, s->phi[j], s->T[j]);
+    return k * (p_eq + stiffness * s->w[j] / s->dz - P) / (1.0 + k * stiffness / s->dz);
 }

@@ -18,7 +18,10 @@
  * relaxation): dL/dt = pressure_rate L (-szz_top - P) / P, szz_top the
  * normal stress of the top cell (fields.h) at the start of the step; the
  * grid stretches uniformly with the gap (step.h), so the steady state has
- * szz = -P at the wall.
+ * szz = -P at the wall.  With `shear_rate` R as well, its tangential speed
+ * is u_bottom + R L(t) at every instant ([bottom] velocity u_bottom, a wall;
+ * the scenario reader stores it in the top wall's velocity): the walls
+ * impose the shear rate R exactly while the gap follows the pressure.
  */
 #ifndef EKM_BC_H
 #define EKM_BC_H
@@ -44,8 +47,12 @@ ekm_bc_face ekm_bc_evaluate(const ekm_bc *bc, ekm_side side, double t, const ekm
 /* 1: bc is a wall held at a normal pressure (its gap moves). */
 int ekm_bc_pressure_wall(const ekm_bc *bc);
 
-/* dL/dt [m/s] of a pressure-controlled top wall for the state s. */
-double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s);
+/* 1: bc is a wall whose tangential speed follows the gap (shear_rate). */
+int ekm_bc_rate_wall(const ekm_bc *bc);
+
+/* dL/dt [m/s] of a pressure-controlled top wall for the state s and a step
+ * of dt [s] (the top cell's response to the wall is implicit, bc.c). */
+double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s, double dt);
 
 /* Normal velocity at the boundary face given the interior solution. */
 double ekm_bc_face_w(const ekm_bc_face *b, ekm_side side, const ekm_state *s);

@@ -643,14 +643,18 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
                     p->n_vars = 3;
                 }
                 /* the walls at -+ R L/2 (r * L / 2 printed "%.10g": the digits
-                 * the DEM campaign has always used); a pressure point runs the
-                 * EKM at a fixed gap (its [initial] phi): simple_shear_p's EKM
-                 * side does not use the [top] pressure wall yet */
+                 * the DEM campaign has always used); a pressure point holds
+                 * the top wall at P and its speed at [bottom] velocity + R gap
+                 * (bc.h), the bottom at -R L/2 of the initial gap */
                 const double v = strtod(a[1].item[j], NULL) * s->length / 2;
                 p->n_sets = 0;
-                if (!by_p)
+                if (by_p) {
+                    snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.pressure=%s", a[0].item[i]);
+                    snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.shear_rate=%s", a[1].item[j]);
+                } else {
                     snprintf(p->set[p->n_sets++], sizeof p->set[0], "initial.phi=%s", a[0].item[i]);
-                snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.velocity=%.10g", v);
+                    snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.velocity=%.10g", v);
+                }
                 snprintf(p->set[p->n_sets++], sizeof p->set[0], "bottom.velocity=%.10g", -v);
             }
     } else if (sweep == SWEEP_P_RATE) {

@@ -1,6 +1,7 @@
 /* scenario.c: defaults, INI reading (inih) and validation of a scenario. */
 #include "scenario.h"
 
+#include "bc.h"
 #include "flux.h"
 #include "resolve.h"
 
@@ -46,7 +47,8 @@ typedef struct {
     BC(side, period, KEY_DOUBLE, "piston"),            \
     BC(side, w_return, KEY_DOUBLE, "piston"),          \
     BC(side, pressure, KEY_DOUBLE, "wall"),            \
-    BC(side, pressure_rate, KEY_DOUBLE, "wall")
+    BC(side, pressure_rate, KEY_DOUBLE, "wall"),       \
+    BC(side, shear_rate, KEY_DOUBLE, "wall")
 
 static const key_spec KEYS[] = {
     {"scenario", "name", KEY_STRING, SC(name), sizeof(((ekm_scenario *)0)->name), 0, NULL},
@@ -126,7 +128,8 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->bottom.w_return = s->top.w_return = NAN; /* piston: -w */
     s->bottom.pressure = s->top.pressure = NAN; /* the wall stays put */
     s->bottom.pressure_rate = s->top.pressure_rate = 1.0;
-    s->output_dt = 0.0; /* 0: t_end / 100 */
+    s->bottom.shear_rate = s->top.shear_rate = NAN; /* the wall moves at its velocity */
+    s->output_dt = 0.0;                             /* 0: t_end / 100 */
     s->stop = EKM_STOP_T_END;
     s->steady_tol = 1e-3;
     s->steady_window = 0.0; /* 0: 10 output_dt */
@@ -340,8 +343,9 @@ static int handler(void *user, const char *section, const char *key, const char 
             return fail_once(c, EKM_EINPUT,
                              "[%s] %s: expected one of wall inflow outflow free piston, got '%s'", section,
                              key, value);
-    } else if (strcmp(key, "pressure") == 0 && strcmp(value, "none") == 0) {
-        *(double *)(base + ks->offset) = NAN; /* the wall stays put (the default) */
+    } else if ((strcmp(key, "pressure") == 0 || strcmp(key, "shear_rate") == 0) &&
+               strcmp(value, "none") == 0) {
+        *(double *)(base + ks->offset) = NAN; /* the wall stays put / moves at its velocity (the defaults) */
     } else if (ks->type == KEY_DOUBLE) {
         if (!parse_double(value, (double *)(base + ks->offset)))
             return fail_once(c, EKM_EINPUT, "[%s] %s: expected a number, got '%s'", section, key, value);
@@ -434,6 +438,31 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
         RANGE(bc->pressure > 0.0, side, "pressure", "a pressure > 0 [Pa]", bc->pressure);
         RANGE(bc->pressure_rate > 0.0, side, "pressure_rate", "a rate > 0 [1/s]", bc->pressure_rate);
     }
+    if (bc->kind == EKM_BC_WALL && !isnan(bc->shear_rate)) {
+        char w_[600];
+        RANGE(strcmp(side, "top") == 0, side, "shear_rate",
+              "no shear_rate on the bottom wall (the top wall's speed follows the gap)", bc->shear_rate);
+        if (isnan(bc->pressure))
+            return EKM_FAIL(
+                err, EKM_EINPUT,
+                "%s: [top] shear_rate: only with [top] pressure (the wall held at a pressure, its "
+                "gap moving; at a fixed gap the rate is ([top] velocity - [bottom] velocity) / "
+                "[domain] length)",
+                where(c, side, "shear_rate", w_, sizeof w_));
+        RANGE(bc->shear_rate > 0.0, side, "shear_rate", "a rate > 0 [1/s]", bc->shear_rate);
+        for (size_t k = 0; k < N_KEYS; k++)
+            if (strcmp(KEYS[k].section, "top") == 0 && strcmp(KEYS[k].key, "velocity") == 0 && c->seen[k])
+                return EKM_FAIL(err, EKM_EINPUT,
+                                "%s: [top] velocity: not with [top] shear_rate (the top wall then moves at "
+                                "[bottom] velocity + shear_rate * gap)",
+                                where(c, side, "velocity", w_, sizeof w_));
+        if (s->bottom.kind != EKM_BC_WALL)
+            return EKM_FAIL(
+                err, EKM_EINPUT,
+                "%s: [top] shear_rate: needs [bottom] type = wall (the top wall moves at [bottom] "
+                "velocity + shear_rate * gap), got %s",
+                where(c, side, "shear_rate", w_, sizeof w_), ekm_bc_kind_name(s->bottom.kind));
+    }
     if (bc->kind == EKM_BC_PISTON) {
         RANGE(bc->w != 0.0, side, "w", "a velocity != 0 [m/s]", bc->w);
         RANGE(bc->period > 0.0, side, "period", "a time > 0 [s]", bc->period);
@@ -523,9 +552,11 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
           h->initial_stress_ratio);
     RANGE(isfinite(s->angle_rate), "gravity", "angle_rate", "a rate [deg/s]", s->angle_rate);
     ekm_status st = check_bc(c, s, "bottom", &s->bottom, err);
-    if (st != EKM_OK)
-        return st;
-    return check_bc(c, s, "top", &s->top, err);
+    if (st == EKM_OK)
+        st = check_bc(c, s, "top", &s->top, err);
+    if (st == EKM_OK && ekm_bc_rate_wall(&s->top))
+        s->top.velocity = s->bottom.velocity; /* its speed at zero gap (bc.h) */
+    return st;
 }
 
 /* Parse one INI file into c (c->file names it). */
@@ -650,6 +681,8 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
                                                           : NULL;
     if (ks->only_for_bc && !type_in(ks->only_for_bc, ekm_bc_kind_name(bc->kind)))
         return 0;
+    if (bc && strcmp(ks->key, "velocity") == 0 && ekm_bc_rate_wall(bc))
+        return 0; /* not a key: the speed follows the gap */
     if (strcmp(ks->key, "variant") == 0)
         snprintf(value, size, "%s", s->variant == EKM_VARIANT_THESIS ? "thesis" : "full");
     else if (strcmp(ks->key, "convection") == 0)

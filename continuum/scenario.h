@@ -26,7 +26,9 @@ typedef enum {
 
 typedef struct {
     ekm_bc_kind kind;
-    double velocity;      /* wall: tangential velocity u of the wall [m/s] */
+    double velocity;      /* wall: tangential velocity u of the wall; a top wall with shear_rate:
+                           * its speed at zero gap, [bottom] velocity (set by the reader: the wall
+                           * moves at velocity + shear_rate L(t), bc.h) [m/s] */
     double slip_length;   /* wall: Navier slip length, 0 = no slip [m] */
     double phi;           /* inflow: volume fraction entering [-] */
     double w;             /* inflow: normal velocity along +z [m/s] */
@@ -39,6 +41,9 @@ typedef struct {
                            * stays put (bc.h, the gap L(t)) [Pa] */
     double pressure_rate; /* wall with pressure: relative gap speed per relative stress
                            * mismatch, dL/dt = rate L (P_top - P)/P [1/s] */
+    double shear_rate;    /* wall with pressure (top only): the wall's tangential speed is
+                           * [bottom] velocity + shear_rate L(t) at every instant, so the walls
+                           * impose the shear rate while the gap L(t) moves; NAN: none [1/s] */
 } ekm_bc;
 
 /* When a run ends ([run] stop): at t_end, or when steady (run.h). */

@@ -275,7 +275,7 @@ static void boundaries(ekm_stepper *st, ekm_state *s, double dt, ekm_bc_face *bb
     *bb = ekm_bc_evaluate(&sc->bottom, EKM_SIDE_BOTTOM, s->t, s);
     *bt = ekm_bc_evaluate(&sc->top, EKM_SIDE_TOP, s->t, s);
     if (st->moving) {
-        st->gap_rate = ekm_bc_gap_rate(sc, s);
+        st->gap_rate = ekm_bc_gap_rate(sc, s, dt);
         st->dz_new = s->dz + dt * st->gap_rate / n;
         bt->w = st->gap_rate;
     }

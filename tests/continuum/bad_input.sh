@@ -78,6 +78,26 @@ check "pressure not positive" 2 "--set top.pressure: \[top\] pressure: expected 
 check "pressure on a free top" 2 "--set top.pressure: \[top\] pressure: only allowed with type = wall" \
     run "$base" -o out.h5 --set top.pressure=100
 
+# [top] shear_rate: the top wall's speed follows the gap (only with pressure)
+shear_p="$src/scenarios/simple_shear_p.ini"
+grep -v '^pressure *=' "$shear_p" > rate_no_p.ini
+check "shear_rate without pressure" 2 "^ekm: rate_no_p.ini:$(grep -n '^shear_rate' rate_no_p.ini | cut -d: -f1): \[top\] shear_rate: only with \[top\] pressure" \
+    run rate_no_p.ini -o out.h5
+check "shear_rate with pressure none" 2 "^ekm: $shear_p:[0-9]+: \[top\] shear_rate: only with \[top\] pressure" \
+    run "$shear_p" -o out.h5 --set top.pressure=none
+sed 's/^shear_rate *=.*/shear_rate = -5/' "$shear_p" > rate_negative.ini
+check "shear_rate negative" 2 "^ekm: rate_negative.ini:$(grep -n '^shear_rate' rate_negative.ini | cut -d: -f1): \[top\] shear_rate: expected a rate > 0 \[1/s\], got -5" \
+    run rate_negative.ini -o out.h5
+check "shear_rate zero" 2 "^ekm: --set top.shear_rate: \[top\] shear_rate: expected a rate > 0 \[1/s\], got 0" \
+    run "$shear_p" -o out.h5 --set top.shear_rate=0
+check "shear_rate on the bottom wall" 2 "^ekm: --set bottom.shear_rate: \[bottom\] shear_rate: expected no shear_rate on the bottom wall" \
+    run "$shear_p" -o out.h5 --set bottom.shear_rate=10
+check "shear_rate and top velocity" 2 "^ekm: --set top.velocity: \[top\] velocity: not with \[top\] shear_rate" \
+    run "$shear_p" -o out.h5 --set top.velocity=0.1
+grep -v '^velocity *= *-0.1' "$shear_p" > rate_outflow.ini
+check "shear_rate over a bottom that is not a wall" 2 "^ekm: rate_outflow.ini:[0-9]+: \[top\] shear_rate: needs \[bottom\] type = wall .*, got outflow" \
+    run rate_outflow.ini -o out.h5 --set bottom.type=outflow
+
 check "unknown limiter" 2 "--set numerics.limiter: \[numerics\] limiter: unknown limiter 'foo' \(known: minmod vanleer superbee mc\)" \
     run "$base" -o out.h5 --set numerics.limiter=foo
 

@@ -89,13 +89,15 @@ json "simple_shear ref: 21 points" \
        | ("5", "10", "20") as $r | "phi\($p)-rate\($r)"]' \
     "$shear" --engine lammps --size ref --json
 shear_p=$src/scenarios/simple_shear_p.ini
-json "simple_shear_p ref: pressures x rates, dump_every per point, EKM at a fixed gap" \
+json "simple_shear_p ref: pressures x rates, dump_every per point, EKM top wall at P moving at the rate" \
     '[.points[].tag] == [("10", "100", "1000") as $p | ("0.3", "1", "3", "10", "30") as $r | "p\($p)-rate\($r)"]
      and .points[5] == {"tag": "p100-rate0.3", "vars": {"pressure": "100", "rate": "0.3", "dump_every": "33333"},
-       "ekm_set": ["top.velocity=0.003", "bottom.velocity=-0.003"]}
+       "ekm_set": ["top.pressure=100", "top.shear_rate=0.3", "bottom.velocity=-0.003"]}
      and [.points[0:5][].vars.dump_every] == ["33333", "10000", "3333", "1000", "333"]
      and .keys["dem.dump_strain"].value == "0.1" and .keys["dem.p_gain"].value == "0.25"
-     and (.keys | has("dem.phis") | not)' \
+     and (.keys | has("dem.phis") | not)
+     and .keys["top.shear_rate"].value == "10" and .keys["top.pressure"].value == "100"
+     and (.keys | has("top.velocity") | not) and .keys["run.stop"].value == "steady"' \
     "$shear_p" --engine lammps --size ref --json
 json "simple_shear_p --set dem.pressures: the plain key beats the variants" \
     '[.points[].tag] == ["p50-rate0.3", "p50-rate1", "p50-rate3", "p50-rate10", "p50-rate30"]' \

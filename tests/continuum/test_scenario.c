@@ -688,8 +688,9 @@ static void test_simple_shear_points(void **state)
 }
 
 /* The pressure x rate sweep of simple_shear_p: tags p<P>-rate<R> from the
- * values as written, vars pressure rate dump_every, the EKM at a fixed gap
- * (the point's rate, [initial] phi). */
+ * values as written, vars pressure rate dump_every, the EKM's top wall held
+ * at the point's pressure and moving at the point's shear rate (bc.h), the
+ * bottom wall at -R L/2. */
 static void test_simple_shear_p_points(void **state)
 {
     (void)state;
@@ -715,11 +716,13 @@ static void test_simple_shear_p_points(void **state)
         assert_string_equal(p->var_value[1], rate[i % 5]);
         assert_string_equal(p->var_name[2], "dump_every");
         assert_string_equal(p->var_value[2], every[i % 5]);
-        assert_int_equal(p->n_sets, 2);
-        snprintf(want, sizeof want, "top.velocity=%s", wall[i % 5]);
+        assert_int_equal(p->n_sets, 3);
+        snprintf(want, sizeof want, "top.pressure=%s", pres[i / 5]);
         assert_string_equal(p->set[0], want);
-        snprintf(want, sizeof want, "bottom.velocity=-%s", wall[i % 5]);
+        snprintf(want, sizeof want, "top.shear_rate=%s", rate[i % 5]);
         assert_string_equal(p->set[1], want);
+        snprintf(want, sizeof want, "bottom.velocity=-%s", wall[i % 5]);
+        assert_string_equal(p->set[2], want);
     }
     const ekm_resolve_key *k = ekm_resolve_find(&x.r, "dem.pressures");
     assert_non_null(k);
@@ -756,8 +759,10 @@ static void test_simple_shear_p_points(void **state)
     assert_int_equal(x.r.n_points, 2);
     assert_string_equal(x.r.points[0].tag, "p50-rate2.5");
     assert_string_equal(x.r.points[1].tag, "p5e1-rate2.5");
-    assert_string_equal(x.r.points[1].var_value[2], "4000"); /* 0.2 / (2.5 2e-5) */
-    assert_string_equal(x.r.points[1].set[0], "top.velocity=0.025");
+    assert_string_equal(x.r.points[1].var_value[2], "4000");       /* 0.2 / (2.5 2e-5) */
+    assert_string_equal(x.r.points[1].set[0], "top.pressure=5e1"); /* as written */
+    assert_string_equal(x.r.points[1].set[1], "top.shear_rate=2.5");
+    assert_string_equal(x.r.points[1].set[2], "bottom.velocity=-0.025");
     resolved_free(&x);
     /* without dump_strain: no per-point dump_every */
     write_scenario("[dem]\npressures = 50\nrates = 2 4");

@@ -4,7 +4,8 @@
  * steady within its maximum time (it ends there with steady = 0 and a
  * positive acceleration); Couette at a fixed normal pressure reaches
  * szz = -P and the phi of MODEL.md section 7's closed form for that P and
- * the final shear rate. */
+ * the final shear rate; with the top wall's speed following the gap
+ * ([top] shear_rate) the shear rate is the one imposed as well. */
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_roots.h>
 #include <math.h>
@@ -16,6 +17,7 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "bc.h"
 #include "fields.h"
 #include "homogeneous.h"
 #include "testutil.h"
@@ -190,6 +192,80 @@ static void pressure_case(const char *pressure, double rate)
     test_run_free(&r);
 }
 
+/* scenarios/simple_shear_p.ini: the top wall held at P and moving at
+ * [bottom] velocity + R L(t) (bc.h).  At steady state (steady_tol 1e-7
+ * 1/s) every cell has |szz| = P, the walls' rate (u_top - u_bottom)/L and
+ * the profile's (u_{n-1} - u_0)/((n-1) dz) are R, and phi is the closed
+ * form's at (P, R), each to 1e-6 relative.  Three points: 100 Pa, 10/s
+ * (dense: the gap closes from 20 to 18.29 mm, phi 0.6015), 10 Pa, 30/s
+ * (kinetic, phi 0.479 < phi_co: it opens to 22.9 mm) and 10 Pa, 10/s (phi
+ * 9e-5 above phi_co, where d ln P / d ln phi is about 3600: an explicit
+ * wall cycled at the step size there, docs/model.md). */
+static void pressure_rate_case(const char *pressure, const char *rate, const char *bottom_velocity)
+{
+    char set_p[64], set_r[64], set_b[64];
+    snprintf(set_p, sizeof set_p, "top.pressure=%s", pressure);
+    snprintf(set_r, sizeof set_r, "top.shear_rate=%s", rate);
+    snprintf(set_b, sizeof set_b, "bottom.velocity=%s", bottom_velocity);
+    const char *sets[] = {
+        set_p,          set_r, set_b, "run.stop=steady", "run.steady_tol=1e-7", "run.steady_window=5",
+        "run.t_end=400"};
+    test_run r;
+    assert_int_equal(test_run_scenario(&r, "scenarios/simple_shear_p.ini", sets, 7, NULL, NULL), EKM_OK);
+    const int n = r.s->n;
+    const double L = n * r.s->dz, P = strtod(pressure, NULL), R = strtod(rate, NULL);
+    const ekm_bc_face bb = ekm_bc_evaluate(&r.sc.bottom, EKM_SIDE_BOTTOM, r.s->t, r.s);
+    const ekm_bc_face bt = ekm_bc_evaluate(&r.sc.top, EKM_SIDE_TOP, r.s->t, r.s);
+    const double rate_walls = (bt.u_wall - bb.u_wall) / L;
+    const double rate_profile = (r.s->u[n - 1] - r.s->u[0]) / ((n - 1) * r.s->dz);
+    const double phi_cf = phi_at_pressure(&r.sc.material, r.sc.variant, R, P);
+    double *buf = calloc((size_t)n * 5, sizeof(double));
+    int *regime = calloc((size_t)n, sizeof(int));
+    assert_non_null(buf);
+    assert_non_null(regime);
+    ekm_fields f = {buf, buf + n, buf + 2 * n, buf + 3 * n, buf + 4 * n, regime};
+    ekm_fields_compute(&r.sc, r.s, r.s->t, &f);
+    double e_szz = 0.0, e_phi = 0.0, e_local = 0.0; /* the largest over the cells */
+    for (int j = 0; j < n; j++) {
+        e_szz = fmax(e_szz, rel(-f.szz[j], P));
+        e_phi = fmax(e_phi, rel(r.s->phi[j], phi_cf));
+        if (j > 0)
+            e_local = fmax(e_local, rel((r.s->u[j] - r.s->u[j - 1]) / r.s->dz, R));
+    }
+    const double mass_err = fabs(r.stats.mass_final - r.stats.mass_initial) / r.stats.mass_initial;
+    printf("pressure + rate Couette P = %s Pa, R = %s 1/s: steady = %d at t = %g s, gap %.9g m (initial %g), "
+           "phi %.9g (closed form %.9g), relative errors szz %.2e rate walls %.2e profile %.2e (cells "
+           "%.2e) phi %.2e, mass %.1e\n",
+           pressure, rate, r.stats.steady, r.s->t, L, r.sc.length, r.s->phi[n / 2], phi_cf, e_szz,
+           rel(rate_walls, R), rel(rate_profile, R), e_local, e_phi, mass_err);
+    assert_int_equal(r.stats.steady, 1);
+    assert_true(e_szz < 1e-6);
+    assert_true(rel(rate_walls, R) < 1e-12); /* exact by construction, to round-off */
+    assert_true(rel(rate_profile, R) < 1e-6);
+    assert_true(e_local < 1e-6);
+    assert_true(e_phi < 1e-6);
+    assert_true(mass_err < 1e-12);
+    free(buf);
+    free(regime);
+    test_run_free(&r);
+}
+
+static void test_pressure_rate_dense(void **state)
+{
+    (void)state;
+    pressure_rate_case("100", "10", "-0.1");
+}
+static void test_pressure_rate_kinetic(void **state)
+{
+    (void)state;
+    pressure_rate_case("10", "30", "-0.3");
+}
+static void test_pressure_rate_at_phi_co(void **state)
+{
+    (void)state;
+    pressure_rate_case("10", "10", "-0.1");
+}
+
 static void test_pressure_dense(void **state)
 {
     (void)state;
@@ -205,10 +281,10 @@ int main(void)
 {
     gsl_set_error_handler_off();
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_steady_couette),
-        cmocka_unit_test(test_unsteady_chute),
-        cmocka_unit_test(test_pressure_dense),
-        cmocka_unit_test(test_pressure_dilute),
+        cmocka_unit_test(test_steady_couette),          cmocka_unit_test(test_unsteady_chute),
+        cmocka_unit_test(test_pressure_dense),          cmocka_unit_test(test_pressure_dilute),
+        cmocka_unit_test(test_pressure_rate_dense),     cmocka_unit_test(test_pressure_rate_kinetic),
+        cmocka_unit_test(test_pressure_rate_at_phi_co),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
