@@ -312,21 +312,13 @@ def make_fit(fd, writer):
     big = 0
     for m, off in zip(fd.models, offsets):
         colour, _dash = C.set_style(m.index)
-        for p, s in zip(fd.dem, m.at):
-            if s is None:
+        for k, p, r in residuals(fd, m):
+            if not np.isfinite(r):
                 continue
-            I = p.rate * p.d / np.sqrt(p.P / rho)
-            res = [
-                (0, I * 10 ** (off * 0.1), (float(s["mu"]) - p.mu) / p.mu_se),
-                (1, I * 10 ** (off * 0.1), (phi_at_I(m, p.rate, I, d, rho) - p.phi) / p.phi_se),
-                (2, p.phi + off * 0.01, (float(s["P"]) - p.P) / p.P_se),
-                (3, p.phi + off * 0.01, (float(s["T"]) - p.T) / p.T_se),
-            ]
-            for k, x, r in res:
-                if np.isfinite(r):
-                    big += abs(r) > RES_CLIP
-                    bot[k].plot([x], [np.clip(r, -RES_CLIP, RES_CLIP)], color=colour, marker=marker[p.sweep], ls="none",
-                                ms=3.2, mew=0.7, mfc=colour if m.index == 0 else "white", zorder=2)
+            x = p.rate * p.d / np.sqrt(p.P / rho) * 10 ** (off * 0.1) if k < 2 else p.phi + off * 0.01
+            big += abs(r) > RES_CLIP
+            bot[k].plot([x], [np.clip(r, -RES_CLIP, RES_CLIP)], color=colour, marker=marker[p.sweep], ls="none",
+                        ms=3.2, mew=0.7, mfc=colour if m.index == 0 else "white", zorder=2)
     if big:
         notes.append("rheology_fit: %d residual(s) beyond +-%g SE drawn at +-%g" % (big, RES_CLIP, RES_CLIP))
     # axes
@@ -382,6 +374,24 @@ def make_fit(fd, writer):
     fig.tight_layout(rect=(0, 0.02, 1, 1 - 0.05 * nrow), w_pad=0.8, h_pad=0.3)
     writer.save(fig, "rheology_fit")
     return notes
+
+
+def residuals(fd, m):
+    """(panel, DemPoint, (model - DEM)/SE) of one set at every DEM point
+    where it has a steady state: panel 0 mu, 1 phi (the model's phi at the
+    point's I and rate), 2 P, 3 T; NaN where the SE is not finite."""
+    d = float(np.mean([p.d for p in fd.dem]))
+    out = []
+    for p, s in zip(fd.dem, m.at):
+        if s is None:
+            continue
+        I = p.rate * p.d / np.sqrt(p.P / fd.rho_p)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            out += [(0, p, (float(s["mu"]) - p.mu) / p.mu_se),
+                    (1, p, (phi_at_I(m, p.rate, I, d, fd.rho_p) - p.phi) / p.phi_se),
+                    (2, p, (float(s["P"]) - p.P) / p.P_se),
+                    (3, p, (float(s["T"]) - p.T) / p.T_se)]
+    return out
 
 
 def phi_at_I(m, rate, I, d, rho):
