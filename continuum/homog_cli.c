@@ -14,8 +14,9 @@
 #include "homogeneous.h"
 #include "scenario.h"
 
-#define HOMOG_MAX_PHI   100000 /* points of --phi LO:HI:N */
-#define HOMOG_MAX_RATES 1000   /* values of --rate */
+#define HOMOG_MAX_PHI    100000  /* points of --phi LO:HI:N */
+#define HOMOG_MAX_RATES  1000    /* values of --rate */
+#define HOMOG_MAX_POINTS 1000000 /* phi x rate points of one call */
 
 typedef struct {
     double phi_lo, phi_hi; /* --phi LO:HI [-] */
@@ -207,6 +208,9 @@ int ekm_homog_cli_main(int argc, char **argv)
     ekm_status st = homog_parse_phi(phi_arg, &grid, &err);
     if (st == EKM_OK)
         st = homog_parse_rates(rate_arg, &grid, &err);
+    if (st == EKM_OK && (double)grid.n_phi * (double)grid.n_rates > HOMOG_MAX_POINTS)
+        st = EKM_FAIL(&err, EKM_EINPUT, "--phi N = %ld times %zu rates: at most %d points", grid.n_phi,
+                      grid.n_rates, HOMOG_MAX_POINTS);
     ekm_scenario sc;
     int loaded = 0;
     if (st == EKM_OK) {

@@ -42,6 +42,7 @@ error "phi N = 1, LO != HI" 2 "^ekm: --phi '0.5:0.6:1': N = 1 needs LO = HI" "$s
 error "rate zero" 2 "^ekm: --rate '10,0': '0': expected a shear rate > 0" "$scen" --phi 0.5:0.6:2 --rate 10,0 --json
 error "rate not a number" 2 "^ekm: --rate '10,,3': '': expected a shear rate > 0" "$scen" --phi 0.5:0.6:2 --rate 10,,3 --json
 error "rate inf" 2 "^ekm: --rate 'inf': 'inf': expected a shear rate > 0" "$scen" --phi 0.5:0.6:2 --rate inf --json
+error "too many points" 2 "^ekm: --phi N = 100000 times 11 rates: at most 1000000 points" "$scen" --phi 0.1:0.6:100000 --rate 1,2,3,4,5,6,7,8,9,10,11 --json
 error "bad --set" 2 "^ekm: --set material.eps0: \[material\] eps0: expected a number, got 'x'" "$scen" --set material.eps0=x --phi 0.5:0.6:2 --rate 1 --json
 error "missing scenario" 3 "^ekm: nonexistent.ini: cannot open scenario file" nonexistent.ini --phi 0.5:0.6:2 --rate 1 --json
 error "missing material file" 3 "^ekm: nofit.ini: cannot open material file" "$scen" --material nofit.ini --phi 0.5:0.6:2 --rate 1 --json

@@ -357,10 +357,10 @@ def param_sets(src, work):
     expect_failure(src, bad, "ref", ["rheology", "fit.ini", "eps0"], "a bad fit.ini", 2)
     expect_failure(src, bad_matrix, "ref", ["calibration.json", "matrix.rheology.chute", "train"],
                    "a matrix cell without train", 2)
-    rc, _, err = subprocess.run([sys.executable, os.path.join(src, "figures", "make_figures.py"), "--size", "ref",
-                                 "--ekm", os.path.join(work, "no-such-ekm"), no_ekm],
-                                capture_output=True, text=True).returncode, None, None
-    check(rc == 7, "sets: a missing ekm program: exit status %d, expected 7" % rc)
+    p = subprocess.run([sys.executable, os.path.join(src, "figures", "make_figures.py"), "--size", "ref",
+                        "--ekm", os.path.join(work, "no-such-ekm"), no_ekm], capture_output=True, text=True)
+    check(p.returncode == 7 and "no-such-ekm" in p.stderr and "ekm homog" in p.stderr,
+          "sets: a missing ekm program: exit status %d, expected 7: %s" % (p.returncode, p.stderr.strip()))
     check(not os.path.isdir(os.path.join(no_ekm, "figures")), "sets: a missing ekm program: figures written")
 
     # what the figures computed, in-process
