@@ -10,6 +10,7 @@
 #include "bc.h"
 #include "ekm_version.h"
 #include "h5out.h"
+#include "homog_cli.h"
 #include "resolve.h"
 #include "run.h"
 #include "scenario.h"
@@ -24,6 +25,8 @@ static void usage(FILE *fp)
             "               [--quiet]\n"
             "       ekm scenario FILE.ini [--engine liggghts|lammps] [--size smoke|ref]\n"
             "                    [--point TAG] [--material FIT.ini] [--set section.key=value ...] --json\n"
+            "       ekm homog FILE.ini [--material FIT.ini] [--set section.key=value ...]\n"
+            "                 --phi LO:HI:N --rate R[,R,...] --json\n"
             "       ekm --help | --version\n"
             "\n"
             "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
@@ -47,6 +50,12 @@ static void usage(FILE *fp)
             "  --size S         smoke or ref: choose the <size>.k variants and the sweep\n"
             "  --point TAG      keep only that sweep point\n"
             "  --json           the output format (required)\n"
+            "\n"
+            "ekm homog prints the EKM's steady homogeneous simple shear of FILE.ini's\n"
+            "material and [model] variant (docs/model.md, \"ekm homog\") as one JSON\n"
+            "object: T, P, P_K, P_Y, |sigma_xz|, mu at N volume fractions from LO to HI\n"
+            "(inclusive) times each shear rate R [1/s]; a point with phi >= phi_cp has\n"
+            "status \"no_steady_state\" and the reason.\n"
             "\n"
             "Exit codes (docs/exit-codes.md): 0 success; 1 usage error; 2 bad scenario or\n"
             "command line value; 3 file could not be read or written (also: -o names the\n"
@@ -311,6 +320,8 @@ int main(int argc, char **argv)
         return cmd_run(argc - 2, argv + 2);
     if (strcmp(argv[1], "scenario") == 0)
         return cmd_scenario(argc - 2, argv + 2);
+    if (strcmp(argv[1], "homog") == 0)
+        return ekm_homog_cli_main(argc - 2, argv + 2);
     fprintf(stderr, "ekm: unknown command '%s' (see ekm --help)\n", argv[1]);
     return ekm_status_exit_code(EKM_EUSAGE);
 }

@@ -151,7 +151,8 @@ class Point:
         self.status = {}            # engine -> 'ok' | 'missing' (score status)
         self.cg = {}                # engine -> CgData
         self.dem_json = {}          # engine -> dict
-        self.ekm = None             # EkmRun
+        self.ekm = None             # EkmRun of the thesis set (ekm.h5)
+        self.ekm_sets = {}          # parameter set -> EkmRun (ekm_<set>.h5), name order
         self.shift = {}             # engine -> shift [m] of its score's options
         self.vars = {}              # sweep variable -> value as the reader resolved it
         self.where = ""             # "RES/scores.json: rows[i]" of its first row
@@ -448,6 +449,15 @@ def load_campaign(res, size):
                 notes.append("%s: no DEM profiles: EKM in the cost chart only" % where)
             else:
                 notes.append("%s: neither DEM profiles nor an EKM run: left out" % where)
+            # the runs with a fitted parameter set (--material
+            # RES/calibration/<set>/fit.ini): drawn with the thesis run
+            if pt.ekm is not None:
+                for f in sorted(os.listdir(pt.folder)):
+                    m = re.fullmatch(r"ekm_([A-Za-z0-9_.-]+)\.h5", f)
+                    if m:
+                        pt.ekm_sets[m.group(1)] = EkmRun(
+                            os.path.join(pt.folder, f), fields,
+                            "the EKM run of %s with parameter set %s" % (where, m.group(1)))
             for src in list(pt.cg.values()) + ([pt.ekm] if pt.ekm is not None else []):
                 for n, u in src.units.items():
                     sc.units.setdefault(n, u)
@@ -500,3 +510,93 @@ class Writer:
             if os.path.exists(tmp):
                 os.remove(tmp)
         return path
+
+
+# --- parameter sets and the EKM's closed-form rheology (ekm homog) ------------------
+
+UNAVAILABLE = 7   # docs/exit-codes.md: a required program is missing
+THESIS = "thesis"
+# EKM line styles of the parameter sets after the first (thesis: solid);
+# colours of the sets where the colour is free (rheology figures, heat map)
+SET_DASHES = ["-.", (0, (5, 1.2, 1, 1.2, 1, 1.2)), (0, (1.2, 1.2)), (0, (6, 2))]
+SET_COLOURS = ["black", "#009E73", "#CC79A7", "#E69F00", "#56B4E9"]
+
+
+class ParamSet:
+    """An EKM parameter set: `thesis` (the scenario files' own [material])
+    or one fitted by the campaign's calibration, whose [material] is
+    RES/calibration/<name>/fit.ini (`ekmcompare fit --ini`)."""
+
+    def __init__(self, name, fit_ini=None):
+        self.name = name
+        self.fit_ini = fit_ini      # None: the scenario file's [material]
+
+
+def set_style(index):
+    """(colour, line style) of the index-th parameter set."""
+    dash = "-" if index == 0 else SET_DASHES[(index - 1) % len(SET_DASHES)]
+    return SET_COLOURS[index % len(SET_COLOURS)], dash
+
+
+def load_sets(res):
+    """The parameter sets that exist in RES: thesis, then every set named
+    in RES/calibration.json (if there is one) or found as a folder
+    RES/calibration/<set>/, in that order; a set without its fit.ini is
+    left out with a note. Returns (sets, notes)."""
+    sets, notes = [ParamSet(THESIS)], []
+    names = []
+    cal = os.path.join(res, "calibration.json")
+    if os.path.isfile(cal):
+        js = read_json(cal, "the calibration summary, which names the parameter sets")
+        lst = js.get("sets") if isinstance(js, dict) else None
+        if not isinstance(lst, list) or not all(isinstance(s, dict) and isinstance(s.get("name"), str)
+                                                for s in lst):
+            raise InputError("%s: 'sets': expected a list of objects with a 'name'" % rel(cal))
+        names = [s["name"] for s in lst if s["name"] != THESIS]
+    folder = os.path.join(res, "calibration")
+    if os.path.isdir(folder):
+        names += sorted(n for n in os.listdir(folder)
+                        if os.path.isdir(os.path.join(folder, n)) and n not in names and n != THESIS)
+    for n in names:
+        if not re.fullmatch(r"[A-Za-z0-9_.-]+", n):
+            raise InputError("%s: bad parameter set name %r" % (rel(cal), n))
+        ini = os.path.join(folder, n, "fit.ini")
+        if os.path.isfile(ini):
+            sets.append(ParamSet(n, ini))
+        else:
+            notes.append("parameter set %s: %s missing: left out" % (n, rel(ini)))
+    return sets, notes
+
+
+def default_ekm():
+    """build/continuum/ekm of the checkout the figures are in."""
+    return os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                        "build", "continuum", "ekm")
+
+
+def homog(ekm, ini, pset, phis, rates):
+    """`ekm homog` (docs/model.md): the EKM's steady homogeneous simple
+    shear of scenario file ini with the set's material, at the volume
+    fractions phis = (lo, hi, n) times the rates [1/s]. Returns the parsed
+    JSON ({"material": .., "units": .., "points": [..]})."""
+    import subprocess
+    if not (os.path.isfile(ekm) and os.access(ekm, os.X_OK)):
+        raise InputError("%s: missing (the ekm program, whose `ekm homog` gives the EKM's "
+                         "closed-form rheology; build it, or give --ekm)" % rel(ekm), UNAVAILABLE)
+    cmd = [ekm, "homog", ini]
+    if pset.fit_ini:
+        cmd += ["--material", pset.fit_ini]
+    cmd += ["--phi", "%.17g:%.17g:%d" % phis, "--rate", ",".join("%.17g" % r for r in rates), "--json"]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        msg = p.stderr.strip().splitlines()
+        raise InputError("parameter set %s: ekm homog %s%s: %s" % (
+            pset.name, rel(ini), " --material " + rel(pset.fit_ini) if pset.fit_ini else "",
+            msg[-1] if msg else "exit status %d" % p.returncode),
+            p.returncode if p.returncode in (BAD_INPUT, IO_ERROR) else BAD_INPUT)
+    try:
+        js = json.loads(p.stdout)
+        js["points"], js["material"]
+    except (ValueError, KeyError, TypeError):
+        raise InputError("parameter set %s: ekm homog: output is not the JSON of docs/model.md" % pset.name)
+    return js

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """make_figures.py: the paper figures of a validation campaign.
 
-    /usr/bin/python3 figures/make_figures.py --size smoke|ref RES
+    /usr/bin/python3 figures/make_figures.py --size smoke|ref [--ekm PATH] RES
 
 RES is a campaign results folder (results/smoke or results; make campaign,
 make figures). Writes PDF and PNG (300 dpi) under RES/figures/, each under
@@ -16,6 +16,10 @@ the list of the files written (one path a line):
                           phi(z, t) of DEM and EKM, and the bed height h(t)
   rheology_simple_shear   P and |sxz|/P against shear rate at each phi: DEM,
                           EKM runs and the EKM's closed form (MODEL.md 7)
+  rheology_fit            mu(I), phi(I), P/(rho_p d^2 gdot^2), T/(d gdot)^2
+                          against phi: DEM of both simple-shear sweeps, the
+                          closed form of every parameter set, residuals
+  calibration_matrix      the train/test matrix (RES/calibration.json)
   cost                    wall time of DEM (per engine) and EKM per scenario
 
 Every input is read and checked before anything is drawn. A missing or
@@ -24,7 +28,9 @@ for, and no figures.txt (a previous one is removed once drawing starts).
 Exit status (docs/exit-codes.md): 0 done; 1 usage; 2 bad input (a dataset,
 attribute or key missing or not as expected); 3 a file missing or
 unreadable, or an output that cannot be written; 7 a Python package
-missing (numpy, h5py, matplotlib). SIGTERM and SIGHUP (and SIGINT) end it
+missing (numpy, h5py, matplotlib) or the ekm program (--ekm, default
+build/continuum/ekm of this checkout: `ekm homog` gives the EKM's
+closed-form rheology). SIGTERM and SIGHUP (and SIGINT) end it
 with 128+N after removing the temporary of the figure being written.
 """
 import argparse
@@ -63,6 +69,8 @@ def main(argv=None):
         signal.signal(sig, on_signal)
     ap = ArgParser(prog=C.PROG, description="Paper figures of a campaign results folder.")
     ap.add_argument("--size", choices=("smoke", "ref"), required=True, help="campaign size")
+    ap.add_argument("--ekm", default=C.default_ekm(),
+                    help="the ekm program, for `ekm homog` (default: %(default)s)")
     ap.add_argument("res", help="results folder (results/smoke or results)")
     a = ap.parse_args(argv)
     if not os.path.isdir(a.res):
@@ -77,22 +85,27 @@ def main(argv=None):
               file=sys.stderr)
         return UNAVAILABLE
     C.style()
-    try:
-        scenarios, notes = C.load_campaign(a.res, a.size)
-    except C.InputError as e:
-        print("%s: %s" % (C.PROG, e), file=sys.stderr)
-        return e.status
-    for n in notes:
-        print("%s: note: %s" % (C.PROG, n), file=sys.stderr)
-
     import profiles
     import spacetime
     import rheology
+    import calibration
     import cost
+    # every input read and every closed form evaluated before any drawing
+    try:
+        scenarios, notes = C.load_campaign(a.res, a.size)
+        sets, set_notes = C.load_sets(a.res)
+        matrix, matrix_notes = calibration.load(a.res)
+        rheo = rheology.prepare(scenarios, a.ekm, os.path.dirname(HERE), sets)
+    except C.InputError as e:
+        print("%s: %s" % (C.PROG, e), file=sys.stderr)
+        return e.status
+    for n in notes + set_notes + matrix_notes:
+        print("%s: note: %s" % (C.PROG, n), file=sys.stderr)
 
     outdir = os.path.join(a.res, "figures")
     try:
-        return draw(scenarios, outdir, profiles, spacetime, rheology, cost)
+        return draw(outdir, scenarios, [ps.name for ps in sets], rheo, matrix,
+                    (profiles, spacetime, rheology, calibration, cost))
     except C.InputError as e:
         print("%s: %s" % (C.PROG, e), file=sys.stderr)
         return e.status
@@ -102,9 +115,9 @@ def main(argv=None):
         return C.IO_ERROR
 
 
-def draw(scenarios, outdir, *modules):
+def draw(outdir, scenarios, set_names, rheo, matrix, modules):
     """Every figure into outdir, then the listing figures.txt."""
-    profiles, spacetime, rheology, cost = modules
+    profiles, spacetime, rheology, calibration, cost = modules
     listing = os.path.join(outdir, "figures.txt")
     previous = []
     if os.path.isfile(listing):
@@ -112,9 +125,9 @@ def draw(scenarios, outdir, *modules):
             previous = [l.strip() for l in fh if l.strip()]
         os.remove(listing)
     w = C.Writer(outdir)
-    profiles.make(scenarios, w)
+    profiles.make(scenarios, w, set_names)
     spacetime.make(scenarios, w)
-    for n in rheology.make(scenarios, w) + cost.make(scenarios, w):
+    for n in rheology.make(rheo, w) + calibration.make(matrix, w) + cost.make(scenarios, w):
         print("%s: note: %s" % (C.PROG, n), file=sys.stderr)
     # figures of a previous run that this one did not make again
     now = {os.path.basename(p) for p in w.written}

@@ -1,5 +1,9 @@
 """profiles.py: figure 1, EKM profiles over DEM profiles (+-2 SE bands).
 
+Every parameter set's EKM run of a point is drawn: ekm.h5 (thesis, solid)
+and each ekm_<set>.h5 there (the run with RES/calibration/<set>/fit.ini;
+dash-dotted or dotted), the legend naming the set.
+
 Steady scenarios (scored with ekm_time = last: the score's options): the DEM's time-averaged
 profile against the EKM's last output. Time series (filling): one row per
 chosen DEM window, the EKM interpolated linearly in time to the window's
@@ -40,6 +44,16 @@ def masked(name, val, phi):
     if name in ("vx", "vz", "T") and phi is not None:
         val = np.where(phi > C.PHI_VISIBLE, val, np.nan)
     return val
+
+
+def set_line(mode, index, colour):
+    """Line style of the EKM run with the index-th parameter set (0:
+    thesis, ekm.h5, as style(.., "ekm", ..)); the others dash-dotted or
+    dotted in their own colour (one point) or the point's colour."""
+    if index == 0:
+        return style(mode, "ekm", colour)
+    set_colour, dash = C.set_style(index)
+    return dict(color=set_colour if mode == "single" else colour, ls=dash, lw=1.2)
 
 
 def style(mode, src, colour):
@@ -93,10 +107,11 @@ class Extent:
         return 0 if name == "phi" or not self.lines else C.scale_exponent(np.concatenate(self.lines))
 
 
-def draw_point(ax, name, pt, d, mode, colour, ext, its=None, t=None):
+def draw_point(ax, name, pt, d, mode, colour, ext, set_index, its=None, t=None):
     """One field of one point: each DEM engine (window its[engine], or the
     time average) with its +-2 SE band, then the EKM (at time t, or its last
-    output)."""
+    output) of the thesis set and of every other parameter set run there
+    (set_index: set name -> its index in the sets' order)."""
     for e, cg in pt.cg.items():
         it = None if its is None else its[e]
         v, s = dem_profile(cg, name, it)
@@ -109,14 +124,14 @@ def draw_point(ax, name, pt, d, mode, colour, ext, its=None, t=None):
         ax.fill_betweenx(zz, lo, hi, color=st["color"], alpha=0.18 if mode == "single" else 0.13, lw=0)
         ax.plot(v, zz, **st)
         ext.add(v, lo, hi)
-    e = pt.ekm
-    v = e.val[name][-1] if t is None else e.at(name, t)
-    phi = None
-    if "phi" in e.val:
-        phi = e.val["phi"][-1] if t is None else e.at("phi", t)
-    v = masked(name, v, phi)
-    ax.plot(v, e.z / d, **style(mode, "ekm", colour))
-    ext.add(v)
+    for k, e in [(0, pt.ekm)] + [(set_index[n], r) for n, r in pt.ekm_sets.items()]:
+        v = e.val[name][-1] if t is None else e.at(name, t)
+        phi = None
+        if "phi" in e.val:
+            phi = e.val["phi"][-1] if t is None else e.at("phi", t)
+        v = masked(name, v, phi)
+        ax.plot(v, e.z / d, **set_line(mode, k, colour))
+        ext.add(v)
 
 
 def z_range(points, d):
@@ -174,7 +189,7 @@ def point_label(pt):
     return pt.name or "-"
 
 
-def legend_handles(points, mode, colours):
+def legend_handles(points, mode, colours, set_index):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
     h = []
@@ -182,7 +197,10 @@ def legend_handles(points, mode, colours):
     ref = None if mode == "single" else "0.2"
     for e in engines:
         h.append((Line2D([], [], **style(mode, e, ref)), r"%s ($\pm$2 SE)" % C.ENGINE_LABEL[e]))
-    h.append((Line2D([], [], **style(mode, "ekm", ref)), C.EKM_LABEL))
+    sets = sorted({n for p in points for n in p.ekm_sets}, key=lambda n: set_index[n])
+    h.append((Line2D([], [], **style(mode, "ekm", ref)), C.EKM_LABEL + (", %s" % C.THESIS if sets else "")))
+    for n in sets:
+        h.append((Line2D([], [], **set_line(mode, set_index[n], ref)), "%s, %s" % (C.EKM_LABEL, n)))
     if mode != "single":
         for p, c in zip(points, colours):
             h.append((Patch(color=c, lw=0), point_label(p)))
@@ -197,7 +215,7 @@ def mean_d(points):
     return float(np.mean([c.d for p in points for c in p.cg.values()]))
 
 
-def steady_figure(sc, points, writer, stem):
+def steady_figure(sc, points, writer, stem, set_index):
     """Steady profiles of one or a few points of a scenario: one panel per
     field, three to a row; the legend in a spare panel or above."""
     import matplotlib.pyplot as plt
@@ -207,7 +225,7 @@ def steady_figure(sc, points, writer, stem):
     nrows = int(math.ceil(n / ncols))
     spare = nrows * ncols - n
     mode = "single" if len(points) == 1 else "points"
-    handles = legend_handles(points, mode, C.POINT_COLOURS)
+    handles = legend_handles(points, mode, C.POINT_COLOURS, set_index)
     top_h = 0.0 if spare else 0.25 * int(math.ceil(len(handles) / 4))
     fig, axes = plt.subplots(nrows, ncols, figsize=(C.PAGE_W, 2.05 * nrows + top_h),
                              sharey=True, squeeze=False)
@@ -217,7 +235,7 @@ def steady_figure(sc, points, writer, stem):
     for k, (ax, name) in enumerate(zip(flat, fields)):
         ext = Extent()
         for pt, col in zip(points, C.POINT_COLOURS):
-            draw_point(ax, name, pt, d, mode, col, ext)
+            draw_point(ax, name, pt, d, mode, col, ext, set_index)
         finish_panel(ax, name, sc.units[name], ext, ext.scale(name), zlim, d, LETTERS[k])
     for r in range(nrows):
         axes[r, 0].set_ylabel(zlabel(d))
@@ -251,7 +269,7 @@ def series_times(cg, nrows=3):
     return out
 
 
-def series_figure(sc, pt, writer, stem):
+def series_figure(sc, pt, writer, stem, set_index):
     """Time series (filling): rows = DEM windows, columns = fields."""
     import matplotlib.pyplot as plt
     fields = sc.plotted_fields()
@@ -269,7 +287,7 @@ def series_figure(sc, pt, writer, stem):
         t = float(first.t[it])
         its = {e: int(np.argmin(np.abs(cg.t - t))) for e, cg in pt.cg.items()}
         for c, name in enumerate(fields):
-            draw_point(axes[r, c], name, pt, d, "single", None, exts[c], its=its, t=t)
+            draw_point(axes[r, c], name, pt, d, "single", None, exts[c], set_index, its=its, t=t)
         axes[r, 0].set_ylabel(zlabel(d))
         axes[r, 0].text(1.0, 1.02, r"$t$ = %.2f s" % t, transform=axes[r, 0].transAxes,
                         ha="right", va="bottom", fontsize=7)
@@ -278,14 +296,19 @@ def series_figure(sc, pt, writer, stem):
         for r in range(nrows):
             finish_panel(axes[r, c], name, sc.units[name], exts[c], exp, zlim, d, LETTERS[r * n + c],
                          xlabel=(r == nrows - 1))
-    h = legend_handles([pt], "single", None)
+    h = legend_handles([pt], "single", None, set_index)
     fig.legend([a for a, _ in h], [b for _, b in h], loc="upper center", ncol=len(h),
                handlelength=2.6, bbox_to_anchor=(0.5, 1.0))
     fig.tight_layout(rect=(0, 0, 1, 1 - top_h / fig.get_figheight()), h_pad=0.5, w_pad=0.5)
     writer.save(fig, stem)
 
 
-def make(scenarios, writer):
+def make(scenarios, writer, set_names):
+    """set_names: the parameter sets in their order (thesis first); a run
+    ekm_<set>.h5 of a set not among them comes after them."""
+    set_index = {n: i for i, n in enumerate(set_names)}
+    for n in sorted({n for sc in scenarios for p in sc.points for n in p.ekm_sets}):
+        set_index.setdefault(n, len(set_index))
     for sc in scenarios:
         pts = [p for p in sc.points if p.cg and p.ekm is not None]
         if not pts:
@@ -293,9 +316,9 @@ def make(scenarios, writer):
         stem = "profiles_%s" % sc.name
         if not sc.steady:
             for p in pts:
-                series_figure(sc, p, writer, stem + ("_%s" % p.name if p.name else ""))
+                series_figure(sc, p, writer, stem + ("_%s" % p.name if p.name else ""), set_index)
         elif 1 < len(pts) <= MAX_POINTS_AS_COLOURS:
-            steady_figure(sc, pts, writer, stem)
+            steady_figure(sc, pts, writer, stem, set_index)
         else:
             for p in pts:
-                steady_figure(sc, [p], writer, stem + ("_%s" % p.name if p.name else ""))
+                steady_figure(sc, [p], writer, stem + ("_%s" % p.name if p.name else ""), set_index)

@@ -2,10 +2,10 @@
 """figures_test.py: tests of figures/make_figures.py on synthetic results
 folders (make_synthetic.py), written under WORK (the build directory).
 
-    /usr/bin/python3 figures_test.py SOURCE_DIR WORK CASE FIELDS_JSON
+    /usr/bin/python3 figures_test.py SOURCE_DIR WORK CASE FIELDS_JSON EKM
 
 FIELDS_JSON: build/generated/fields.json (the field schema the synthetic
-files take their units from).
+files take their units from). EKM: the built ekm program (`ekm homog`).
 
 CASE:
   complete-ref    ref layout (sweep points): every expected figure, PDF and
@@ -25,6 +25,12 @@ CASE:
                   unknown option, no --size), a Python package missing 7,
                   figures.txt that cannot be written 3 (no temporary left),
                   SIGTERM while drawing 143 (no temporary left)
+  sets            the parameter sets: every calibration/<set>/fit.ini in
+                  rheology_fit and every ekm_<set>.h5 in the profiles (the
+                  figures change without them), a set without fit.ini a
+                  note; the closed forms are ekm homog's (residuals of the
+                  synthetic sweep); calibration.json's cells in the matrix;
+                  a bad fit.ini or matrix cell 2, no ekm program 7
 Exit status 77 (skipped) when /usr/bin/python3 lacks matplotlib or h5py.
 """
 import os
@@ -37,14 +43,16 @@ EXPECTED = {
             "profiles_simple_shear_phi0.50-rate5", "profiles_simple_shear_phi0.50-rate10",
             "profiles_simple_shear_phi0.53-rate5", "profiles_simple_shear_phi0.53-rate10",
             "profiles_simple_shear_p",
-            "filling_phi_map", "filling_bed_height", "rheology_simple_shear", "rheology_simple_shear_p", "cost"],
+            "filling_phi_map", "filling_bed_height", "rheology_simple_shear", "rheology_fit",
+            "calibration_matrix", "cost"],
     "smoke": ["profiles_chute", "profiles_filling", "profiles_shear_cell", "profiles_simple_shear",
               "profiles_simple_shear_p",
-              "filling_phi_map", "filling_bed_height", "rheology_simple_shear", "rheology_simple_shear_p", "cost"],
+              "filling_phi_map", "filling_bed_height", "rheology_simple_shear", "rheology_fit", "cost"],
 }
 
 failures = []
 FIELDS_JSON = []   # [path]: set by main() from the command line
+EKM = []           # [path of the ekm program]: set by main()
 
 
 def check(cond, msg):
@@ -62,7 +70,8 @@ def synth(src, out, layout):
 
 def figures(src, res, size, extra=(), env=None):
     p = subprocess.run([sys.executable, os.path.join(src, "figures", "make_figures.py"),
-                        "--size", size, res] + list(extra), capture_output=True, text=True, env=env)
+                        "--size", size, "--ekm", EKM[0], res] + list(extra), capture_output=True, text=True,
+                       env=env)
     return p.returncode, p.stdout, p.stderr
 
 
@@ -255,7 +264,8 @@ def exit_codes(src, work):
     rc, _, err = figures(src, res, "ref")
     check(rc == 3 and "figures.txt" in err,
           "figures.txt not writable: exit status %d, expected 3 (%s)" % (rc, err.strip()))
-    check(len(err.strip().splitlines()) == 1, "figures.txt not writable: not one line: %r" % err)
+    errors = [l for l in err.strip().splitlines() if ": note: " not in l]   # notes come before drawing
+    check(len(errors) == 1, "figures.txt not writable: not one error line: %r" % err)
     left = tmp_files(os.path.join(res, "figures"))
     check(not left, "figures.txt not writable: temporaries left: %s" % left)
     # SIGTERM while drawing: 143, no temporary left
@@ -264,7 +274,7 @@ def exit_codes(src, work):
     shutil.copytree(base, res)
     figdir = os.path.join(res, "figures")
     proc = subprocess.Popen([sys.executable, os.path.join(src, "figures", "make_figures.py"),
-                             "--size", "ref", res], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+                             "--size", "ref", "--ekm", EKM[0], res], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     import time
     for _ in range(600):   # until the first figure is there: drawing has started
         if os.path.isdir(figdir) and any(f.endswith(".png") for f in os.listdir(figdir)):
@@ -278,6 +288,120 @@ def exit_codes(src, work):
     check(not os.path.exists(os.path.join(figdir, "figures.txt")), "SIGTERM: figures.txt written")
 
 
+def variant(base, work, name, change=None):
+    """A copy of the results folder base (before any figures) changed by
+    change(folder)."""
+    res = os.path.join(work, name)
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res)
+    if change:
+        change(res)
+    return res
+
+
+def same_png(a, b, stem):
+    with open(os.path.join(a, "figures", stem + ".png"), "rb") as fa, \
+            open(os.path.join(b, "figures", stem + ".png"), "rb") as fb:
+        return fa.read() == fb.read()
+
+
+def param_sets(src, work):
+    """The parameter sets: thesis (scenarios/simple_shear.ini) and every
+    RES/calibration/<set>/fit.ini in the rheology figure, every
+    ekm_<set>.h5 in the profiles, the train/test matrix of
+    calibration.json; a set without fit.ini left out with a note; the
+    closed forms are ekm homog's (the residuals of the synthetic sweep,
+    whose DEM T is the thesis closed form and DEM P five times it)."""
+    import json
+    import numpy as np
+    base = os.path.join(work, "sets-base")
+    synth(src, base, "ref")
+    no_fit = variant(base, work, "sets-no-fit",
+                     lambda r: os.remove(os.path.join(r, "calibration", "rheology", "fit.ini")))
+
+    def no_runs(r):
+        for d, _dirs, files in os.walk(r):
+            for f in files:
+                if f == "ekm_rheology.h5":
+                    os.remove(os.path.join(d, f))
+    no_run = variant(base, work, "sets-no-run", no_runs)
+
+    def bad_fit(r):
+        with open(os.path.join(r, "calibration", "rheology", "fit.ini"), "a") as fh:
+            fh.write("eps0 = 3x\n")
+    bad = variant(base, work, "sets-bad-fit", bad_fit)
+
+    def bad_cell(r):
+        path = os.path.join(r, "calibration.json")
+        with open(path) as fh:
+            js = json.load(fh)
+        del js["matrix"]["rheology"]["chute"]["train"]
+        with open(path, "w") as fh:
+            json.dump(js, fh)
+    bad_matrix = variant(base, work, "sets-bad-matrix", bad_cell)
+    no_ekm = variant(base, work, "sets-no-ekm")
+
+    rc, _, err = figures(src, base, "ref")
+    check(rc == 0, "sets: exit status %d: %s" % (rc, err.strip()))
+    check("parameter set chute" in err and os.path.join("calibration", "chute", "fit.ini") in err,
+          "sets: no note for the set without fit.ini (chute): %s" % err.strip())
+    rc, _, err = figures(src, no_fit, "ref")
+    check(rc == 0 and "parameter set rheology" in err, "sets: without rheology/fit.ini: %d %s" % (rc, err))
+    check(not same_png(base, no_fit, "rheology_fit"),
+          "sets: rheology_fit is the same without calibration/rheology/fit.ini (the set not drawn)")
+    rc, _, err = figures(src, no_run, "ref")
+    check(rc == 0, "sets: without ekm_rheology.h5: %d %s" % (rc, err))
+    for stem, same in (("profiles_chute", False), ("profiles_shear_cell", False), ("profiles_filling", True)):
+        check(same_png(base, no_run, stem) == same, "sets: %s.png %s without ekm_rheology.h5" % (
+            stem, "differs" if same else "is the same: the rheology run was not drawn"))
+    expect_failure(src, bad, "ref", ["rheology", "fit.ini", "eps0"], "a bad fit.ini", 2)
+    expect_failure(src, bad_matrix, "ref", ["calibration.json", "matrix.rheology.chute", "train"],
+                   "a matrix cell without train", 2)
+    p = subprocess.run([sys.executable, os.path.join(src, "figures", "make_figures.py"), "--size", "ref",
+                        "--ekm", os.path.join(work, "no-such-ekm"), no_ekm], capture_output=True, text=True)
+    check(p.returncode == 7 and "no-such-ekm" in p.stderr and "ekm homog" in p.stderr,
+          "sets: a missing ekm program: exit status %d, expected 7: %s" % (p.returncode, p.stderr.strip()))
+    check(not os.path.isdir(os.path.join(no_ekm, "figures")), "sets: a missing ekm program: figures written")
+
+    # what the figures computed, in-process
+    sys.path.insert(0, os.path.join(src, "figures"))
+    import common as C
+    import rheology
+    import calibration
+    scenarios, _ = C.load_campaign(base, "ref")
+    sets, _ = C.load_sets(base)
+    check([s.name for s in sets] == ["thesis", "rheology"], "sets: %s" % [s.name for s in sets])
+    fd = rheology.prepare(scenarios, EKM[0], src, sets)["fit"]
+    check(fd is not None and len(fd.models) == 2, "sets: rheology_fit has not both sets")
+    if fd is not None:
+        m = C.homog(EKM[0], os.path.join(src, "scenarios", "simple_shear.ini"), sets[0],
+                    (0.5, 0.5, 1), [5.0])["material"]
+        n = {0: 0, 2: 0, 3: 0}
+        for k, p, r in rheology.residuals(fd, fd.models[0]):
+            if p.sweep != "fixed volume":
+                continue
+            if k == 0:   # nu = 1, phi < phi_co: mu = sqrt(3 eta0 eps0 / (2 phi)) (MODEL.md 7)
+                want = np.sqrt(3 * m["eta0"] * m["eps0"] / (2 * p.phi))
+                check(abs(r * p.mu_se + p.mu - want) < 1e-9 * want, "sets: thesis mu at phi %g: %g, want %g"
+                      % (p.phi, r * p.mu_se + p.mu, want))
+            elif k == 2:  # DEM P = 5 P_EKM (1 +- 1%), SE 3% of it: (1 - 5)/0.15
+                check(abs(r + 4 / 0.15) < 1.0, "sets: thesis P residual %g, want -26.7 +- 1" % r)
+            elif k == 3:  # DEM T = T_EKM (1 +- 1%), SE 3%
+                check(abs(r) < 1.0, "sets: thesis T residual %g, want |r| < 1" % r)
+            if k in n:
+                n[k] += 1
+        check(all(v == 4 for v in n.values()), "sets: residuals of the four volume-sweep points: %s" % n)
+        rt = [r for k, p, r in rheology.residuals(fd, fd.models[1]) if k == 3 and p.sweep == "fixed volume"]
+        check(rt and min(abs(x) for x in rt) > 1.0, "sets: the rheology set's T residuals %s: the same "
+              "as the thesis set's (its fit.ini not used?)" % rt)
+    data, _ = calibration.load(base)
+    names, scen, rel_l2, scalar, train, present, _size = data
+    check(names == ["thesis", "rheology", "chute"] and scen[3] == "simple_shear", "matrix: %s %s" % (names, scen))
+    check(rel_l2[1][3] == 0.12 and train[1][3] and not train[0][3] and np.isnan(scalar[1][3])
+          and np.isnan(rel_l2[0][4]) and present[0][4] and not present[2][1] and scalar[2][0] == 0.04,
+          "matrix: cells not as in tests/figures/calibration.json")
+
+
 def edit_options(path, change):
     """Change the "options" of a score file in place."""
     import json
@@ -289,11 +413,12 @@ def edit_options(path, change):
 
 
 def main():
-    if len(sys.argv) != 5:
-        print("usage: figures_test.py SOURCE_DIR WORK CASE FIELDS_JSON", file=sys.stderr)
+    if len(sys.argv) != 6:
+        print("usage: figures_test.py SOURCE_DIR WORK CASE FIELDS_JSON EKM", file=sys.stderr)
         return 2
-    src, work, case, fields = sys.argv[1:]
+    src, work, case, fields, ekm = sys.argv[1:]
     FIELDS_JSON.append(fields)
+    EKM.append(ekm)
     try:
         import matplotlib  # noqa: F401
         import h5py  # noqa: F401
@@ -314,6 +439,8 @@ def main():
         bad_data(src, work)
     elif case == "exit-codes":
         exit_codes(src, work)
+    elif case == "sets":
+        param_sets(src, work)
     else:
         print("figures_test: unknown case %r" % case, file=sys.stderr)
         return 2

@@ -9,8 +9,13 @@ ref:   chute at theta22, theta24 (both engines), filling and shear_cell
        single cases, simple_shear at phi0.50-rate5, phi0.50-rate10,
        phi0.53-rate5, phi0.53-rate10 (LAMMPS only), simple_shear_p at
        p10-rate10, p100-rate10 (LAMMPS only)
+       and the calibration: calibration.json (the fixture
+       tests/figures/calibration.json), calibration/rheology/fit.ini (a
+       fitted [material]) with its runs ekm_rheology.h5 in the chute points
+       and shear_cell, and calibration/chute/ without fit.ini (a set that
+       did not fit: left out by the figures)
 smoke: every scenario a single case (simple_shear's phi and rate then come
-       from the EKM attributes)
+       from the EKM attributes); no calibration
 Profiles are smooth made-up shapes (a Bagnold-like chute, a filling front,
 a linear shear profile), not physics: only what the figures read matters.
 """
@@ -100,6 +105,24 @@ def write_ekm(path, z, t, prof, scenario, attrs, wall):
         _str(f, "created", "2026-01-01T00:00:00Z")
         f.attrs["stats.wall_time_s"] = float(wall)
         f.attrs["stats.steps"] = 1000.0
+
+
+# a fitted [material] (ekmcompare fit --ini): the rheology set of ref
+FIT_INI = """; [material] fitted by ekmcompare fit --rheology (synthetic)
+[material]
+rho_p   = 2500
+phi_co  = 0.58 ; fitted, SE 0.002
+phi_cp  = 0.64
+T0      = 3.2 ; fitted, SE 0.3
+eta0    = 2.4e-4 ; fitted, SE 2e-5
+zeta0   = 1e-4
+lambda0 = 3.4e-4
+eps0    = 300 ; fitted, SE 20
+nu      = 1
+A_h     = 200e6
+B_h     = 200e6
+alpha   = 0
+"""
 
 
 def write_dem_json(path, scenario, engine, point, wall):
@@ -234,6 +257,11 @@ def main():
         write_ekm(os.path.join(d, "ekm.h5"), zc(0, 0.06, 60), np.linspace(0, 5, 11), chute(theta, False),
                   "chute", {"gravity.angle": theta, "gravity.magnitude": 9.81, "top.type": "free",
                             "bottom.type": "wall", "domain.length": 0.06, "domain.cells": 60.0}, 0.7)
+        if ref:   # the run with the fitted rheology set: another made-up profile
+            write_ekm(os.path.join(d, "ekm_rheology.h5"), zc(0, 0.06, 60), np.linspace(0, 5, 11),
+                      chute(theta + 2, False), "chute",
+                      {"gravity.angle": theta, "gravity.magnitude": 9.81, "top.type": "free",
+                       "bottom.type": "wall", "domain.length": 0.06, "domain.cells": 60.0}, 0.8)
         add_rows("chute", p, both, {"theta": "%g" % theta})
     # filling: a time series
     d = point_dir("filling", "")
@@ -253,6 +281,10 @@ def main():
     write_ekm(os.path.join(d, "ekm.h5"), zc(0, 0.042, 42), np.linspace(0, 100, 11), shear_cell(False),
               "shear_cell", {"top.velocity": 0.42, "bottom.velocity": 0.0, "domain.length": 0.042,
                              "domain.cells": 42.0}, 1.4)
+    if ref:
+        write_ekm(os.path.join(d, "ekm_rheology.h5"), zc(0, 0.042, 42), np.linspace(0, 100, 11),
+                  shear_cell(True), "shear_cell", {"top.velocity": 0.42, "bottom.velocity": 0.0,
+                                                   "domain.length": 0.042, "domain.cells": 42.0}, 1.5)
     add_rows("shear_cell", "", both, {})
     # simple_shear: LAMMPS only; sweep over phi and rate (ref)
     pts = ["phi0.50-rate5", "phi0.50-rate10", "phi0.53-rate5", "phi0.53-rate10"] if ref else [""]
@@ -283,6 +315,18 @@ def main():
                   {"initial.phi": 0.55, "top.velocity": v, "bottom.velocity": -v,
                    "domain.length": 0.02, "domain.cells": 20.0, "gravity.magnitude": 0.0}, 0.06)
         add_rows("simple_shear_p", p, ("lammps",), {"pressure": "%g" % P, "rate": "%g" % rate})
+    if ref:
+        here = os.path.dirname(os.path.abspath(__file__))
+        with open(os.path.join(here, "calibration.json")) as fh:
+            cal = fh.read()
+        with open(os.path.join(a.out, "calibration.json"), "w") as fh:
+            fh.write(cal)
+        for name in ("rheology", "chute"):
+            os.makedirs(os.path.join(a.out, "calibration", name), exist_ok=True)
+            with open(os.path.join(a.out, "calibration", name, "fit.json"), "w") as fh:
+                json.dump({"params": {}, "chi2_dof": 1.0}, fh)
+        with open(os.path.join(a.out, "calibration", "rheology", "fit.ini"), "w") as fh:
+            fh.write(FIT_INI)
     with open(os.path.join(a.out, "scores.json"), "w") as fh:
         json.dump({"size": a.layout, "engines": ["liggghts", "lammps"], "created": "2026-01-01T00:00:00Z",
                    "code_version": "synthetic", "rows": rows}, fh, indent=1)
