@@ -353,7 +353,17 @@ class EkmRun:
                     v = v.reshape(-1)[0]
                 self.attrs[k] = v
             self.wall_time = _attr(f, path, "stats.wall_time_s", "the EKM wall time for the cost chart")
-        self.z, self.t = d["z"], d["t"]
+            gap = None
+            if "gap" in f:
+                # a pressure-held top wall: the cell centres at time t are
+                # /z * gap(t) / gap[0] (docs/output-format.md)
+                gap = np.asarray(f["gap"][()], dtype=float)
+                if gap.shape != d["t"].shape or not np.all(np.isfinite(gap)) or np.any(gap <= 0):
+                    raise InputError("%s: dataset /gap: expected one positive gap per output time (%d), got shape %s"
+                                     % (rel(path), d["t"].size, gap.shape))
+        self.t = d["t"]
+        # the grid of the last output (the steady state the profiles show)
+        self.z = d["z"] if gap is None else d["z"] * (gap[-1] / gap[0])
         self.val = {n: d[n] for n in fields}
         if self.z.size > 1:
             self.top = self.z[-1] + 0.5 * (self.z[-1] - self.z[-2])
