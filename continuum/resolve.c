@@ -486,8 +486,11 @@ static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, c
             else if (strcmp(name, "dem.phis") == 0 && sweep == SWEEP_PHI_RATE)
                 src = ekm_resolve_find(r, "initial.phi");
             else if (strcmp(name, "dem.rates") == 0 && (sweep == SWEEP_PHI_RATE || sweep == SWEEP_P_RATE))
-                /* as scripts/dem/run.sh computed it: awk printf "%.10g" */
-                snprintf(value, sizeof value, "%.10g", (s->top.velocity - s->bottom.velocity) / s->length);
+                /* the imposed rate of a rate-held top wall, else the walls'
+                 * (as scripts/dem/run.sh computed it: awk printf "%.10g") */
+                snprintf(value, sizeof value, "%.10g",
+                         !isnan(s->top.shear_rate) ? s->top.shear_rate
+                                                   : (s->top.velocity - s->bottom.velocity) / s->length);
             if (src)
                 snprintf(value, sizeof value, "%s", src->value);
             if (value[0])
