@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <time.h>
 
+#include "bc.h"
 #include "fields.h"
 #include "h5.h"
 #include "run.h"
@@ -245,7 +246,16 @@ static ekm_status read_dem(const char *path, size_t i, cg_fitsc_case *c, ekm_err
 }
 
 /* The candidate points of each field (fit_scen.h), given the EKM's cell
- * centres ze. */
+ * centres ze; ze NULL: the EKM's gap moves (a pressure-held wall), so no
+ * point is left out for the domain here: each evaluation compares those
+ * inside the cell centres of that run's last state. */
+static int in_domain(const double *ze, size_t nze, double z)
+{
+    size_t zi;
+    double az;
+    return !ze || cg_score_locate(ze, nze, z, &zi, &az);
+}
+
 static ekm_status find_candidates(const char *path, size_t i, cg_fitsc_case *c, const double *ze, size_t nze,
                                   double support, ekm_error *err)
 {
@@ -264,9 +274,7 @@ static ekm_status find_candidates(const char *path, size_t i, cg_fitsc_case *c, 
         double sd2 = 0.0;
         size_t nd = 0;
         for (size_t k = 0; k < c->nzd; k++) {
-            size_t zi;
-            double az;
-            if (!cg_score_locate(ze, nze, c->zd[k], &zi, &az))
+            if (!in_domain(ze, nze, c->zd[k]))
                 continue;
             for (size_t j = 0; j < c->ntd; j++) {
                 const double d = c->fd[f][j * c->nzd + k];
@@ -280,9 +288,7 @@ static ekm_status find_candidates(const char *path, size_t i, cg_fitsc_case *c, 
         for (size_t j = 0; j < c->ntd; j++)
             for (size_t k = 0; k < c->nzd; k++) {
                 const size_t q = j * c->nzd + k;
-                size_t zi;
-                double az;
-                if (!cg_score_locate(ze, nze, c->zd[k], &zi, &az))
+                if (!in_domain(ze, nze, c->zd[k]))
                     continue;
                 if (!isfinite(c->fd[f][q]) || !(isfinite(c->sd[f][q]) && c->sd[f][q] > floor_se))
                     continue;
@@ -351,11 +357,15 @@ ekm_status cg_fitsc_load(cg_fitsc_problem *pb, const char *cases_path, ekm_error
                 c->phi_init_max = fmax(c->phi_init_max, sc.bottom.phi);
             if (sc.top.kind == EKM_BC_INFLOW)
                 c->phi_init_max = fmax(c->phi_init_max, sc.top.phi);
+            /* the initial grid; a pressure-held wall moves it (the EKM's
+             * state stretches it with the gap, step.c), so its candidates
+             * are not cut to the initial domain */
+            const int moving = ekm_bc_pressure_wall(&sc.bottom) || ekm_bc_pressure_wall(&sc.top);
             ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
             if (!s)
                 st = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
             else
-                st = find_candidates(cases_path, i, c, s->z, (size_t)s->n, pb->support, err);
+                st = find_candidates(cases_path, i, c, moving ? NULL : s->z, (size_t)s->n, pb->support, err);
             ekm_state_free(s);
         }
         ekm_scenario_free(&sc);
@@ -385,7 +395,10 @@ ekm_status cg_fitsc_start_material(const cg_fitsc_problem *pb, ekm_material *m, 
 /* ---- the residuals ---- */
 
 /* Run case c at material m; the EKM's profiles at its last state into
- * prof[f] (n values each, cell centres in ze). */
+ * prof[f] (n values each) and the cell centres of that state into ze: the
+ * state's own grid, which a pressure-held wall stretches with its current
+ * gap at every step (step.c stretch_grid), the centres `score` gets from
+ * /z and /gap with cg_score_centres. */
 static int run_case(const cg_fitsc_problem *pb, cg_fitsc_case *c, const ekm_material *m, double **ze_out,
                     double *prof[CG_FITSC_NFIELD], size_t *nze)
 {

@@ -58,6 +58,14 @@ double cg_score_interp(const double *r0, const double *r1, size_t nze, size_t zi
     return e0 + at * (e1 - e0);
 }
 
+void cg_score_centres(const double *z0, size_t n, const double *gap, size_t i0, size_t i1, double at,
+                      double *z)
+{
+    const double stretch = gap ? (gap[i0] + at * (gap[i1] - gap[i0])) / gap[0] : 1.0;
+    for (size_t k = 0; k < n; k++)
+        z[k] = z0[k] * stretch;
+}
+
 static int increasing(const double *x, size_t n)
 {
     for (size_t i = 1; i < n; i++)
@@ -364,7 +372,10 @@ static ekm_status side_read(ekm_h5_file *f, size_t nt, size_t n, side *s, ekm_er
     if (!rc && ekm_h5_exists(f, "gap")) {
         size_t nt1, n1;
         rc = read_array(f, "gap", &s->gap, &nt1, &n1, err);
-        if (!rc && (nt1 != 0 || n1 != nt || !(s->gap[0] > 0)))
+        int positive = !rc && nt1 == 0 && n1 == nt;
+        for (size_t i = 0; positive && i < nt; i++)
+            positive = s->gap[i] > 0 && isfinite(s->gap[i]);
+        if (!rc && !positive)
             rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset gap: expected [%zu] positive values", ekm_h5_path(f),
                           nt);
     }
@@ -375,7 +386,7 @@ static ekm_status side_read(ekm_h5_file *f, size_t nt, size_t n, side *s, ekm_er
 }
 
 /* row i0 + at (row i1 - row i0) of every field of s into buf[2 S_N + 1][n]
- * (the last row: the grid, stretched with the gap), and the profile p
+ * (the last row: the grid at that time, cg_score_centres), and the profile p
  * pointing at it; g_normal and top_velocity are the scenario's */
 static void side_row(const side *s, const double *z, size_t n, size_t i0, size_t i1, double at, double *buf,
                      double g_normal, double top_velocity, cg_scalar_profile *p)
@@ -395,14 +406,9 @@ static void side_row(const side *s, const double *z, size_t n, size_t i0, size_t
     }
 #define ROW(i) (rows[i] ? buf + (size_t)(i)*n : NULL)
     p->n = n;
-    p->z = z;
-    if (s->gap) {
-        double *zs = buf + (size_t)(2 * S_N) * n;
-        double stretch = (s->gap[i0] + at * (s->gap[i1] - s->gap[i0])) / s->gap[0];
-        for (size_t k = 0; k < n; k++)
-            zs[k] = z[k] * stretch;
-        p->z = zs;
-    }
+    double *zs = buf + (size_t)(2 * S_N) * n;
+    cg_score_centres(z, n, s->gap, i0, i1, at, zs);
+    p->z = zs;
     p->phi = ROW(S_PHI);
     p->vx = ROW(S_VX);
     p->sxz = ROW(S_SXZ);
@@ -730,10 +736,10 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
             rc = read_optional(ekm, sename, ax.nte, ax.nze, &fse, err);
         /* the points both cover, in DEM order (time, then coordinate): the
          * model interpolated onto them, the DEM value and its standard error */
-        double *pm = NULL, *pdem = NULL, *ps = NULL;
+        double *pm = NULL, *pdem = NULL, *ps = NULL, *zc = NULL;
         size_t ncand = ax.ntd * ax.nzd;
         if (!rc && (!(pm = malloc(ncand * sizeof *pm)) || !(pdem = malloc(ncand * sizeof *pdem)) ||
-                    !(ps = malloc(ncand * sizeof *ps))))
+                    !(ps = malloc(ncand * sizeof *ps)) || !(zc = malloc(ax.nze * sizeof *zc))))
             rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
         if (!rc) {
             size_t np = 0, left_out = 0;
@@ -742,10 +748,12 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
                     continue;
                 size_t i0 = ti[j], i1 = i0 + 1 < ax.nte ? i0 + 1 : i0;
                 double at = ta[j];
+                /* the EKM's cell centres at this DEM time */
+                cg_score_centres(ax.ze, ax.nze, smod.gap, i0, i1, at, zc);
                 for (size_t k = 0; k < ax.nzd; k++) {
                     size_t zi;
                     double az;
-                    if (!cg_score_locate(ax.ze, ax.nze, ax.zd[k], &zi, &az))
+                    if (!cg_score_locate(zc, ax.nze, ax.zd[k], &zi, &az))
                         continue;
                     if (support_phi > 0) {
                         /* common support: material on both sides */
@@ -788,6 +796,7 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
         free(pm);
         free(pdem);
         free(ps);
+        free(zc);
     }
     if (!rc && o->table) {
         fprintf(o->table, "| field | points | left out | rel. L2 error | noise-normalised error "

@@ -23,6 +23,7 @@
 #include "h5.h"
 #include "run.h"
 #include "scenario.h"
+#include "schema.h"
 #include "score.h"
 #include "state.h"
 #include "step.h"
@@ -48,17 +49,20 @@ static const char scenario_text[] =
 static const char *const case_sets[2][2] = {{"top.velocity=0.1", "bottom.velocity=-0.1"},
                                             {"top.velocity=0.25", "bottom.velocity=-0.25"}};
 
-/* The EKM's last state at the true material, interpolated onto the DEM
- * grid; written as a cg output with SE = REL_SE x RMS and noise. */
-static void write_synthetic_dem(const char *ini, int which, const char *path, gsl_rng *rng)
+/* The EKM's last state at the true material (the case's sets, then extra
+ * if not NULL), interpolated onto the DEM grid (NB bins from the first to
+ * the last cell centre of that state); written as a cg output with
+ * SE = REL_SE x RMS, plus noise if rng is not NULL. */
+static void write_synthetic_dem(const char *ini, int which, const char *extra, const char *path, gsl_rng *rng)
 {
     char eta[64], eps[64];
     snprintf(eta, sizeof eta, "material.eta0=%.17g", TRUE_ETA0);
     snprintf(eps, sizeof eps, "material.eps0=%.17g", TRUE_EPS0);
-    const char *sets[4] = {case_sets[which][0], case_sets[which][1], eta, eps};
+    const char *sets[5] = {case_sets[which][0], case_sets[which][1], eta, eps, extra};
+    const size_t nsets = extra ? 5 : 4;
     ekm_scenario sc;
     ekm_error err = {0};
-    assert_int_equal(ekm_scenario_load(&sc, ini, sets, 4, &err), EKM_OK);
+    assert_int_equal(ekm_scenario_load(&sc, ini, sets, nsets, &err), EKM_OK);
     ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
     ekm_stepper *st = ekm_step_alloc(&sc, &err);
     assert_non_null(s);
@@ -87,7 +91,8 @@ static void write_synthetic_dem(const char *ini, int which, const char *path, gs
         rms = sqrt(rms / NB);
         for (size_t k = 0; k < NB; k++) {
             se[f][k] = REL_SE * rms;
-            val[f][k] += gsl_ran_gaussian(rng, se[f][k]);
+            if (rng)
+                val[f][k] += gsl_ran_gaussian(rng, se[f][k]);
         }
     }
     ekm_h5_file *w;
@@ -99,9 +104,10 @@ static void write_synthetic_dem(const char *ini, int which, const char *path, gs
     for (int f = 0; f < CG_FITSC_NFIELD; f++) {
         char name[32];
         snprintf(name, sizeof name, "%s_se", cg_fitsc_field_name(f));
-        assert_int_equal(ekm_h5_write_double(w, cg_fitsc_field_name(f), 2, d2, val[f], "1", NULL, &err),
+        const char *units = ekm_field_units(cg_fitsc_field_name(f));
+        assert_int_equal(ekm_h5_write_double(w, cg_fitsc_field_name(f), 2, d2, val[f], units, NULL, &err),
                          EKM_OK);
-        assert_int_equal(ekm_h5_write_double(w, name, 2, d2, se[f], "1", NULL, &err), EKM_OK);
+        assert_int_equal(ekm_h5_write_double(w, name, 2, d2, se[f], units, NULL, &err), EKM_OK);
     }
     assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
     assert_int_equal(ekm_h5_attr_set_string(w, NULL, "kernel", "gauss", &err), EKM_OK);
@@ -138,8 +144,8 @@ static files make_files(void)
     assert_int_equal(write_text(fs.ini, scenario_text), 0);
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 4242);
-    write_synthetic_dem(fs.ini, 0, fs.dem[0], rng);
-    write_synthetic_dem(fs.ini, 1, fs.dem[1], rng);
+    write_synthetic_dem(fs.ini, 0, NULL, fs.dem[0], rng);
+    write_synthetic_dem(fs.ini, 1, NULL, fs.dem[1], rng);
     gsl_rng_free(rng);
     write_cases(fs.cases, fs.ini, fs.dem[0], fs.dem[1]);
     return fs;
@@ -307,10 +313,85 @@ static void test_bad_input(void **state)
     assert_int_equal(access(out, F_OK), -1);
 }
 
+/* A pressure-held top wall (the shear cell's setup; here 50 Pa closes the
+ * 20 mm gap to about 18.3 mm in the 1 s): the "DEM" is the EKM's last
+ * state at the true material without noise, on NB bins from its first to
+ * its last cell centre, i.e. on the stretched grid (0.92 .. 17.4 mm, the
+ * first bin below the initial grid's first centre, 1 mm). Every bin is a
+ * candidate (the initial grid does not cut them), and at the true material
+ * each is compared on the run's current cell centres: all used, every
+ * residual 0. `ekm run` of the same case, scored with `--ekm-time last`,
+ * its /z stretched by /gap (cg_score_centres), gives the same points and 0
+ * errors: the fit and the scorer see the same grid. */
+static void test_pressure_wall(void **state)
+{
+    (void)state;
+    char ini[512], dem[512], cases[512], ekm_out[512], text[4096];
+    tmp_path(ini, sizeof ini, "fitsc_pwall.ini");
+    tmp_path(dem, sizeof dem, "fitsc_pwall_dem.h5");
+    tmp_path(cases, sizeof cases, "fitsc_pwall_cases.json");
+    tmp_path(ekm_out, sizeof ekm_out, "fitsc_pwall_ekm.h5");
+    assert_int_equal(write_text(ini, scenario_text), 0);
+    write_synthetic_dem(ini, 0, "top.pressure=50", dem, NULL);
+    snprintf(text, sizeof text,
+             "{\"cases\": [{\"dem\": \"%s\", \"scenario\": \"%s\", \"set\": [\"%s\", \"%s\", "
+             "\"top.pressure=50\"]}]}\n",
+             dem, ini, case_sets[0][0], case_sets[0][1]);
+    assert_int_equal(write_text(cases, text), 0);
+    cg_fitsc_problem pb;
+    memset(&pb, 0, sizeof pb);
+    pb.fields = (1u << CG_FITSC_NFIELD) - 1;
+    pb.support = CG_FITSC_SUPPORT;
+    pb.nparams = 2;
+    pb.param[0] = cg_fit_param_lookup("eta0");
+    pb.param[1] = cg_fit_param_lookup("eps0");
+    ekm_error err = {0};
+    if (cg_fitsc_load(&pb, cases, &err) != EKM_OK)
+        fail_msg("%s", err.message);
+    const cg_fitsc_case *c = &pb.cases[0];
+    for (int f = 0; f < CG_FITSC_NFIELD; f++)
+        assert_int_equal(c->ncand[f], NB);
+    ekm_material m;
+    ekm_variant variant;
+    assert_int_equal(cg_fitsc_start_material(&pb, &m, &variant, &err), EKM_OK);
+    cg_fit_param_set(&m, pb.param[0], TRUE_ETA0);
+    cg_fit_param_set(&m, pb.param[1], TRUE_EPS0);
+    double r[CG_FITSC_NFIELD * NB];
+    assert_int_equal(pb.nres, CG_FITSC_NFIELD * NB);
+    assert_int_equal(cg_fitsc_residuals(&pb, &m, r), 0);
+    for (int f = 0; f < CG_FITSC_NFIELD; f++)
+        assert_int_equal(c->used[f], NB);
+    for (size_t i = 0; i < pb.nres; i++)
+        assert_close(r[i], 0.0, 1e-9);
+    cg_fitsc_free(&pb);
+    /* the same case through `ekm run` and `score` */
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd,
+             "%s run %s -o %s --quiet --set %s --set %s --set top.pressure=50 --set material.eta0=%.17g "
+             "--set material.eps0=%.17g",
+             EKM_BINARY, ini, ekm_out, case_sets[0][0], case_sets[0][1], TRUE_ETA0, TRUE_EPS0);
+    assert_int_equal(system(cmd), 0);
+    cg_score_opts o = cg_score_opts_default();
+    o.dem = dem;
+    o.ekm = ekm_out;
+    o.ekm_last = 1;
+    o.fields = "phi,vx,T,P,sxz";
+    cg_score_field res[16];
+    size_t nres;
+    if (cg_score(&o, res, &nres, &err) != EKM_OK)
+        fail_msg("%s", err.message);
+    assert_int_equal(nres, 5);
+    for (size_t i = 0; i < nres; i++) {
+        assert_int_equal(res[i].points, NB);
+        assert_close(res[i].rel_l2, 0.0, 1e-12);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_recovery),
+        cmocka_unit_test(test_pressure_wall),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -499,6 +499,151 @@ static void test_pressure_wall_scalars(void **state)
     assert_non_null(strstr(err.message, "pwall_ekm.h5: dataset gap: expected [1] positive values"));
 }
 
+/* An EKM run with a pressure-held wall whose fields are a known function
+ * of the stretched coordinate: 8 cells on the initial grid of 20 mm (the
+ * file's /z: centres 1.25 .. 18.75 mm), outputs at t = 0 and 2 s with gaps
+ * 20 and 10 mm (the /gap series, left out with gap = 0: the same values on
+ * an unstretched grid); phi, vx, T at cell k and output i are
+ * a + b z_k s_i + c t_i, s_i = gap_i / gap_0: f(z, t) = a + b z + c t of
+ * the cell's position at that time. */
+#define PW_A 0.5
+#define PW_B 10.0
+#define PW_C 0.01
+static void write_pwall_fields(const char *path, int gap)
+{
+    ekm_h5_file *w;
+    ekm_error err;
+    assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
+    double z[8], t[2] = {0.0, 2.0}, g[2] = {0.020, 0.010}, f[16];
+    for (size_t k = 0; k < 8; k++) {
+        z[k] = 0.0025 * ((double)k + 0.5);
+        for (size_t i = 0; i < 2; i++)
+            f[i * 8 + k] = PW_A + PW_B * z[k] * g[i] / g[0] + PW_C * t[i];
+    }
+    put(w, "z", z, 0, 8, "m");
+    put(w, "t", t, 0, 2, "s");
+    if (gap)
+        put(w, "gap", g, 0, 2, "m");
+    const char *names[] = {"phi", "vx", "T"};
+    for (size_t i = 0; i < 3; i++)
+        put(w, names[i], f, 2, 8, ekm_field_units(names[i]));
+    assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+}
+
+/* rel. L2 and noise-normalised error of an EKM that is the DEM's
+ * f = a + b z + c t with its z scaled by q_j at DEM time t_j, over the DEM
+ * points z_k (SE se). */
+static void scaled_errors(const double *zk, size_t nz, const double *t, const double *q, size_t nt, double se,
+                          double *rel, double *noise)
+{
+    double e2 = 0, d2 = 0;
+    for (size_t j = 0; j < nt; j++)
+        for (size_t k = 0; k < nz; k++) {
+            double d = PW_A + PW_B * zk[k] + PW_C * t[j], e = PW_B * zk[k] * (q[j] - 1.0);
+            e2 += e * e;
+            d2 += d * d;
+        }
+    *rel = sqrt(e2 / d2);
+    *noise = sqrt(e2 / (double)(nz * nt)) / se;
+}
+
+/* The field scores on the EKM's grid at the compared time (issue 11: the
+ * shear cell's EKM was compared on its initial 42 mm grid while its gap was
+ * 38.4 mm). The DEM (10 bins of 1 mm, centres 0.5 .. 9.5 mm, SE 0.01) is
+ * sampled from the same f: on the stretched grid every field scores 0;
+ * with the unstretched grid (no /gap) it does not, by exactly the error of
+ * the unstretched EKM. */
+static void test_pressure_wall_fields(void **state)
+{
+    (void)state;
+    char dem[512], ekm[512], flat[512];
+    tmp_path(dem, sizeof dem, "pwf_dem.h5");
+    tmp_path(ekm, sizeof ekm, "pwf_ekm.h5");
+    tmp_path(flat, sizeof flat, "pwf_flat.h5");
+    write_pwall_fields(ekm, 1);
+    write_pwall_fields(flat, 0);
+    double zk[10];
+    for (size_t k = 0; k < 10; k++)
+        zk[k] = 0.001 * ((double)k + 0.5);
+    cg_score_opts o = cg_score_opts_default();
+    cg_score_field r[16];
+    double rel, noise;
+    o.dem = dem;
+    o.fields = "phi,vx,T";
+    /* --ekm-time last, the DEM at the EKM's last time (2 s): its centres
+     * are 0.625 .. 9.375 mm (gap 10 mm), which cover the DEM's
+     * 1.5 .. 8.5 mm: 8 points, error 0 */
+    double t_last[1] = {2.0};
+    write_dem(dem, 10, 0.0, 0.01, 1, t_last, PW_A, PW_B, PW_C, 0.01);
+    o.ekm_last = 1;
+    o.ekm = ekm;
+    assert_int_equal(score_ok(&o, r), 3);
+    for (size_t i = 0; i < 3; i++) {
+        assert_int_equal(r[i].points, 8);
+        assert_int_equal(r[i].points_left_out, 0);
+        assert_close(r[i].rel_l2, 0.0, 1e-14);
+        assert_close(r[i].noise, 0.0, 1e-11);
+    }
+    /* the unstretched grid (1.25 .. 18.75 mm: 9 points, 1.5 .. 9.5 mm)
+     * carries the last output at twice its positions: the EKM there is
+     * f(z/2) */
+    double q_last[1] = {0.5};
+    scaled_errors(zk + 1, 9, t_last, q_last, 1, 0.01, &rel, &noise);
+    o.ekm = flat;
+    score_ok(&o, r);
+    for (size_t i = 0; i < 3; i++) {
+        assert_int_equal(r[i].points, 9);
+        assert_close(r[i].rel_l2, rel, 1e-12);
+        assert_close(r[i].noise, noise, 1e-9);
+        assert_true(r[i].rel_l2 > 0.05);
+    }
+    /* interpolated in time: DEM windows at 0.5 and 1.5 s, the gap 17.5 and
+     * 12.5 mm (linear in time as the fields), centres from 1.09 and 0.78 mm:
+     * 9 points per time, error 0 */
+    double t_mid[2] = {0.5, 1.5};
+    write_dem(dem, 10, 0.0, 0.01, 2, t_mid, PW_A, PW_B, PW_C, 0.01);
+    o.ekm_last = 0;
+    o.ekm = ekm;
+    score_ok(&o, r);
+    for (size_t i = 0; i < 3; i++) {
+        assert_int_equal(r[i].points, 18);
+        assert_close(r[i].rel_l2, 0.0, 1e-14);
+        assert_close(r[i].noise, 0.0, 1e-11);
+    }
+    /* unstretched: the EKM at time t is f(z s(t)), s = 1 - t/4 */
+    double q_mid[2] = {0.875, 0.625};
+    scaled_errors(zk + 1, 9, t_mid, q_mid, 2, 0.01, &rel, &noise);
+    o.ekm = flat;
+    score_ok(&o, r);
+    for (size_t i = 0; i < 3; i++) {
+        assert_int_equal(r[i].points, 18);
+        assert_close(r[i].rel_l2, rel, 1e-12);
+        assert_close(r[i].noise, noise, 1e-9);
+        assert_true(r[i].rel_l2 > 0.02);
+    }
+}
+
+/* The model's cell centres at a time level: /z itself without /gap, else
+ * stretched by the gap interpolated in time. */
+static void test_cell_centres(void **state)
+{
+    (void)state;
+    const double z0[3] = {0.5, 1.5, 2.5}, gap[3] = {3.0, 1.5, 6.0};
+    double z[3];
+    cg_score_centres(z0, 3, NULL, 1, 2, 0.5, z);
+    for (size_t k = 0; k < 3; k++)
+        assert_true(z[k] == z0[k]);
+    cg_score_centres(z0, 3, gap, 1, 2, 0.0, z); /* gap 1.5 of 3 */
+    for (size_t k = 0; k < 3; k++)
+        assert_close(z[k], 0.5 * z0[k], 1e-15);
+    cg_score_centres(z0, 3, gap, 1, 2, 0.5, z); /* gap 3.75 of 3 */
+    for (size_t k = 0; k < 3; k++)
+        assert_close(z[k], 1.25 * z0[k], 1e-15);
+    cg_score_centres(z0, 3, gap, 2, 2, 0.0, z); /* the last level: 6 of 3 */
+    for (size_t k = 0; k < 3; k++)
+        assert_close(z[k], 2.0 * z0[k], 1e-15);
+}
+
 int main(void)
 {
     ekm_h5_quiet();
@@ -510,6 +655,8 @@ int main(void)
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_common_support),
         cmocka_unit_test(test_pressure_wall_scalars),
+        cmocka_unit_test(test_pressure_wall_fields),
+        cmocka_unit_test(test_cell_centres),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
