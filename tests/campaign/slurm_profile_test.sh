@@ -5,7 +5,8 @@
 # 1. `snakemake -n --profile workflow/profiles/slurm` (dry run, SIZE=ref,
 #    NP=4): one cluster job (rule dem) per campaign scenario x supported
 #    engine with ntasks = 4 and runtime = (points x [dem] timeout)/60 + 5
-#    min from the resolved scenario; every other rule is a localrule.
+#    min from the resolved scenario; one cluster job (rule fit) per training
+#    set; every other rule is a localrule.
 # 2. The same through a fake `sbatch` on PATH that records its arguments and
 #    job script and refuses the job: each dem job is submitted with
 #    --ntasks=4 and --time=<that runtime>, its job script runs that rule for
@@ -43,9 +44,13 @@ snakemake -n --profile workflow/profiles/slurm "${cfg[@]}" > "$work/dry.log" 2>&
   { tail -20 "$work/dry.log" >&2; fail "dry run failed"; }
 n=$(grep -c '^rule dem:' "$work/dry.log")
 [ "$n" -eq ${#expected[@]} ] || fail "dry run: $n cluster jobs of rule dem, expected ${#expected[@]}"
-other=$(grep -E '^rule ' "$work/dry.log" | grep -v '^rule dem:' | sort -u | tr '\n' ' ')
-[ -z "$other" ] || fail "dry run: rules other than dem would go to the cluster: $other"
-for r in cg ekm score_ekm score_engines; do
+other=$(grep -E '^rule ' "$work/dry.log" | grep -v -E '^rule (dem|fit):' | sort -u | tr '\n' ' ')
+[ -z "$other" ] || fail "dry run: rules other than dem and fit would go to the cluster: $other"
+# the calibration fits are cluster jobs too (a scenario fit runs the EKM
+# hundreds of times), one per training set
+nfit=$(grep -c '^rule fit:' "$work/dry.log")
+[ "$nfit" -eq 2 ] || fail "dry run: $nfit cluster jobs of rule fit, expected 2 (training sets chute, rheology)"
+for r in cg ekm ekm_set score_ekm score_ekm_set score_engines; do
   grep -q "^localrule $r:" "$work/dry.log" || fail "dry run: no local job of rule $r"
 done
 for x in "${expected[@]}"; do
