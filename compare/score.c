@@ -118,6 +118,23 @@ static double in_d(double v, double d)
     return (isfinite(d) && d > 0) ? v / d : NAN;
 }
 
+/* "model_run": the model's steadiness (null: not an EKM run to steady) */
+static void write_model_run(FILE *fp, const cg_score_summary *sm)
+{
+    fputs(",\n  \"model_run\": ", fp);
+    if (!sm->run_until_steady) {
+        fputs("null", fp);
+        return;
+    }
+    fprintf(fp, "{\"stop\": \"steady\", \"steady\": %d, \"steady_time_s\": ", sm->run_steady);
+    json_num(fp, sm->run_steady_time);
+    fputs(", \"drift_per_s\": ", fp);
+    json_num(fp, sm->run_steady_drift);
+    fputs(", \"acceleration\": ", fp);
+    json_num(fp, sm->run_steady_acceleration);
+    fputc('}', fp);
+}
+
 static void write_scalars(FILE *fp, const cg_score_summary *sm)
 {
     fputs(",\n  \"scalars\": {", fp);
@@ -229,6 +246,7 @@ static ekm_status write_json(const cg_score_opts *o, const cg_score_field *res, 
         fprintf(fp, ", \"se\": \"%s\"}", res[i].se_both ? "both, in quadrature" : "dem");
     }
     fputs("\n  }", fp);
+    write_model_run(fp, sm);
     write_scalars(fp, sm);
     fputs("\n}\n", fp);
     return ekm_atomic_commit(&out, err);
@@ -330,6 +348,40 @@ static ekm_status attr_either(ekm_h5_file *a, ekm_h5_file *b, const char *name, 
     *v = NAN;
     ekm_h5_file *f = ekm_h5_attr_exists(a, NULL, name) ? a : ekm_h5_attr_exists(b, NULL, name) ? b : NULL;
     return f ? ekm_h5_attr_get_double(f, NULL, name, v, err) : EKM_OK;
+}
+
+/* Whether the model file is an EKM run made to stop when steady and, if so,
+ * whether it got there (its root attributes, docs/output-format.md): a run
+ * that ended at t_end without reaching it is a transient, which the table
+ * marks instead of scoring it as a steady state. */
+static ekm_status model_run(ekm_h5_file *f, cg_score_summary *sm, ekm_error *err)
+{
+    sm->run_until_steady = 0;
+    sm->run_steady = -1;
+    sm->run_steady_time = sm->run_steady_drift = sm->run_steady_acceleration = NAN;
+    if (!ekm_h5_attr_exists(f, NULL, "run.stop"))
+        return EKM_OK;
+    char stop[32];
+    ekm_status rc = ekm_h5_attr_get_string(f, NULL, "run.stop", stop, sizeof stop, err);
+    if (rc || strcmp(stop, "steady") != 0)
+        return rc;
+    double steady = NAN;
+    rc = ekm_h5_attr_get_double(f, NULL, "steady", &steady, err);
+    if (!rc && steady != 0.0 && steady != 1.0)
+        rc = EKM_FAIL(err, EKM_EINPUT,
+                      "%s: root attribute steady: expected 0 or 1 (run.stop = steady), got %g",
+                      ekm_h5_path(f), steady);
+    if (!rc && ekm_h5_attr_exists(f, NULL, "steady_time"))
+        rc = ekm_h5_attr_get_double(f, NULL, "steady_time", &sm->run_steady_time, err);
+    if (!rc && ekm_h5_attr_exists(f, NULL, "steady_drift"))
+        rc = ekm_h5_attr_get_double(f, NULL, "steady_drift", &sm->run_steady_drift, err);
+    if (!rc && ekm_h5_attr_exists(f, NULL, "steady_acceleration"))
+        rc = ekm_h5_attr_get_double(f, NULL, "steady_acceleration", &sm->run_steady_acceleration, err);
+    if (!rc) {
+        sm->run_until_steady = 1;
+        sm->run_steady = steady == 1.0;
+    }
+    return rc;
 }
 
 /* a dataset that must have shape [nt][n] */
@@ -703,6 +755,8 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
     /* the scenario's gravity (its z component) and top-wall velocity: the
      * EKM file carries them ([gravity], [top] velocity), a CG file not */
     double g_normal = NAN, top_velocity = NAN;
+    if (!rc)
+        rc = model_run(ekm, sm, err);
     if (!rc)
         rc = attr_either(dem, ekm, "gravity_z", &g_normal, err);
     if (!rc)

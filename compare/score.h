@@ -73,6 +73,14 @@ typedef struct cg_score_summary {
     double dem_height;    /* [m], DEM coordinate with --shift; NaN: none */
     double model_height;  /* [m] */
     double mean_diameter; /* [m] (the DEM file's, else the model file's), NaN */
+    /* the model file's run, when it is an EKM run with [run] stop = steady
+     * (its root attributes run.stop, steady, steady_time, steady_drift,
+     * steady_acceleration); run_until_steady 0: not such a run */
+    int run_until_steady;
+    int run_steady;                 /* 1: reached its steady state; 0: ended at t_end */
+    double run_steady_time;         /* [s], NaN when not reached */
+    double run_steady_drift;        /* relative change per unit time at its end [1/s] */
+    double run_steady_acceleration; /* d(flow rate)/dt at its end, run.h [m^2/s^2] */
     size_t nscalars;
     cg_score_scalar scalar[CG_SCORE_MAX_SCALARS];
 } cg_score_summary;

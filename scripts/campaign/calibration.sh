@@ -17,7 +17,9 @@
 #   scalar_rel  mean |relative error| of the scenario's scalar observables
 #               over its points (same engine);
 #   n_scores    the relative L2 errors averaged; missing: comparisons of
-#               the set that have no score (a failed step);
+#               the set that have no score (a failed step); not_steady:
+#               comparisons left out because the EKM run with that set
+#               ended at its t_end without reaching its steady state;
 #   train       whether the scenario is in the set's training data.
 # The floor row is LIGGGHTS vs LAMMPS (the scenarios both engines run).
 # Exit status (docs/exit-codes.md): 1 usage, 2 bad plan or score table,
@@ -56,6 +58,7 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
      definitions: {rel_l2: "mean relative L2 error of phi, vx, P, T over the scenario'"'"'s points, common support, against the reference engine (LAMMPS where it runs the scenario, else LIGGGHTS)",
                    scalar_rel: "mean |relative error| of the scenario'"'"'s scalar observables over its points, same engine",
                    n_scores: "relative L2 errors averaged", missing: "comparisons of the set without a score (failed step)",
+                   not_steady: "comparisons left out: the EKM run with the set ended at t_end without reaching its steady state",
                    train: "the scenario is in the set'"'"'s training data"},
      sets: [$p.sets[] | . + {fitted: $fits[.name]}],
      scenarios: $p.scenarios,
@@ -69,6 +72,7 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
            scalar_rel: ($scells | map(select(.rel_error != null) | .rel_error | fabs) | mean),
            n_scores: ($cells | map(select(.status == "ok" and .rel_l2 != null)) | length),
            missing: ($cells | map(select(.status == "missing")) | length),
+           not_steady: ($cells | map(select(.status == "not_steady")) | length),
            train: (($set.train | index($s)) != null)}}] | from_entries)}] | from_entries),
      floor: ([$p.scenarios[] as $s
        | ($rows | map(select(.scenario == $s) | .liggghts_vs_lammps)) as $cells
@@ -97,7 +101,8 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
            "|---|" + ($c.scenarios | map("---:") | join("|")) + "|",
            ($c.sets[] as $s | "| " + $s.name + " | "
               + ([$c.scenarios[] as $x | $c.matrix[$s.name][$x] | if .train then "**" + c + "**" else c end
-                  + (if .missing > 0 then " (\(.missing) missing)" else "" end)] | join(" | ")) + " |"),
+                  + (if .missing > 0 then " (\(.missing) missing)" else "" end)
+                  + (if .not_steady > 0 then " (\(.not_steady) not steady)" else "" end)] | join(" | ")) + " |"),
            "| floor (LIGGGHTS vs LAMMPS) | " + ([$c.scenarios[] as $x | $c.floor[$x] | c] | join(" | ")) + " |"' \
     "$res/calibration.json.tmp"
   echo

@@ -15,7 +15,12 @@
 # A comparison that cannot exist (engine cannot run the scenario, or not in
 # ENGINES) is "n/a"; one whose score file is missing (failed step) is
 # "missing" (with a warning; the campaign's exit status reports the failed
-# step itself). Exit status (docs/exit-codes.md): 1 usage, 2 bad plan,
+# step itself); one whose EKM run was to stop when steady and ended at its
+# t_end without getting there ("model_run" of the score, steady 0) is
+# "not_steady" with its flow-rate acceleration, not scored as a steady state
+# (the score file keeps the numbers of that transient; the matrix leaves it
+# out); the scalar cells likewise.
+# Exit status (docs/exit-codes.md): 1 usage, 2 bad plan,
 # 3 the table cannot be written, 7 no jq.
 set -uo pipefail
 prog=table.sh
@@ -40,6 +45,8 @@ cell() {
   elif [ ! -f "$1" ]; then echo "{\"status\": \"missing\", \"file\": \"$1\"}"
   else jq -c --arg f "$2" --arg file "$1" \
       '.fields[$f] as $r | if $r == null then {status: "missing", file: $file}
+       elif .model_run.steady == 0 then {status: "not_steady", acceleration: .model_run.acceleration,
+             drift_per_s: .model_run.drift_per_s, file: $file}
        else {status: "ok", rel_l2: $r.rel_l2, noise_normalised: $r.noise_normalised, points: $r.points,
              points_left_out: $r.points_left_out, offset_d: .free_surface.offset_d, offset_m: .free_surface.offset_m,
              file: $file} end' "$1"
@@ -48,7 +55,8 @@ cell() {
 # scell FILE USABLE: the scalars of one comparison, {name: {...}}
 scell() {
   if [ "$2" != 1 ] || [ ! -f "$1" ]; then echo '{}'
-  else jq -c --arg file "$1" '(.scalars // {}) | map_values(. + {file: $file})' "$1"
+  else jq -c --arg file "$1" 'if .model_run.steady == 0 then (.scalars // {}) | map_values({status: "not_steady", file: $file})
+      else (.scalars // {}) | map_values(. + {file: $file}) end' "$1"
   fi
 }
 # sxcell FILE USABLE: as scell, and {"__status": "missing"} when the file is
@@ -128,6 +136,7 @@ jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%
   echo "|---|---|---|---:|---:|---:|"
   jq -r 'def c: if .status == "ok" then
              "\(if .rel_l2 == null then "-" else (.rel_l2 * 1000 | round / 1000 | tostring) end) / \(if .noise_normalised == null then "-" else (.noise_normalised * 100 | round / 100 | tostring) end) (\(.points_left_out // "-") out, \(if .offset_d == null then "-" else (.offset_d * 100 | round / 100 + 0 | tostring) + " d" end))"
+           elif .status == "not_steady" then "EKM not steady (flow-rate acceleration \(.acceleration) m^2/s^2 at t_end)"
            else .status end;
          .rows[] | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.field) | \(.ekm_vs_liggghts | c) | \(.ekm_vs_lammps | c) | \(.liggghts_vs_lammps | c) |"' "$res/scores.json.tmp"
   if [ -n "$allsets" ]; then
@@ -144,6 +153,7 @@ jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%
     printf '|---|---|---|---|---:|'; for p in $allsets; do printf -- '---:|'; done; printf -- '---:|\n'
     jq -r --arg sets "$allsets" 'def c: if .status == "ok" then
              "\(if .rel_l2 == null then "-" else (.rel_l2 * 1000 | round / 1000 | tostring) end) / \(if .noise_normalised == null then "-" else (.noise_normalised * 100 | round / 100 | tostring) end)"
+           elif .status == "not_steady" then "not steady"
            else .status end;
          .rows[] | . as $r | (if .ekm_vs_lammps.status == "n/a" then "liggghts" else "lammps" end) as $e
          | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.field) | \($e) | \(.["ekm_vs_" + $e] | c) |"
