@@ -807,8 +807,14 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
                 for (size_t k = 0; k < ax.nzd; k++) {
                     size_t zi;
                     double az;
-                    if (!cg_score_locate(zc, ax.nze, ax.zd[k], &zi, &az))
+                    if (!cg_score_locate(zc, ax.nze, ax.zd[k], &zi, &az)) {
+                        /* outside the model's cell centres: left out when
+                         * the DEM has material there (e.g. above a
+                         * pressure-held EKM gap shorter than the DEM's) */
+                        if (support_phi > 0 && sdem.f[S_PHI][j * ax.nzd + k] > support_phi)
+                            left_out++;
                         continue;
+                    }
                     if (support_phi > 0) {
                         /* common support: material on both sides */
                         double mphi = cg_score_interp(smod.f[S_PHI] + i0 * ax.nze,
