@@ -37,11 +37,13 @@ trap 'rm -f "$res/calibration.json.tmp" "$res/calibration.md.tmp"' EXIT
 # the fits, {set: FIT.json or null}
 fits='{}'
 while IFS=$'\t' read -r name fit; do
-  if [ "$fit" = - ] || [ ! -f "$res/$fit" ]; then
+  if [ "$fit" = - ]; then
     fits=$(jq -cn --argjson f "$fits" --arg n "$name" '$f + {($n): null}')
   else
-    jq -e '.params | type == "object"' "$res/$fit" > /dev/null 2>&1 ||
-      die "$res/$fit: expected an ekmcompare fit output (params)" 2
+    [ -f "$res/$fit" ] || die "$res/$fit: missing (the fit of set $name named in $plan)" 2
+    jq -e '(.params | type == "object") and (.fields | type == "array") and (.dof | type == "number")
+           and (.chi2_dof | type == "number") and (.identifiable | type == "object")' "$res/$fit" > /dev/null 2>&1 ||
+      die "$res/$fit: expected an ekmcompare fit output (params, fields, dof, chi2_dof, identifiable)" 2
     fits=$(jq -c --argjson f "$fits" --arg n "$name" \
       '$f + {($n): {chi2_dof, dof, params, identifiable, why_not, fields, start: .start.source,
                    inputs: ((.points // .cases) | length)}}' "$res/$fit")
@@ -57,13 +59,13 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
   | {size: $p.size, engines: $p.engines, created: $created, code_version: $t.code_version,
      definitions: {rel_l2: "mean relative L2 error of phi, vx, P, T over the scenario'"'"'s points, common support, against the reference engine (LAMMPS where it runs the scenario, else LIGGGHTS)",
                    scalar_rel: "mean |relative error| of the scenario'"'"'s scalar observables over its points, same engine",
-                   n_scores: "relative L2 errors averaged", missing: "comparisons of the set without a score (failed step)",
+                   n_scores: "relative L2 errors averaged", points: "DEM points those errors were taken over (sets on the same scenario can differ: each run has its own common support)", missing: "comparisons of the set without a score (failed step)",
                    not_steady: "comparisons left out: the EKM run with the set ended at t_end without reaching its steady state",
                    train: "the scenario is in the set'"'"'s training data"},
      sets: [$p.sets[] | . + {fitted: $fits[.name]}],
      scenarios: $p.scenarios,
      matrix: ([$p.sets[] as $set | {key: $set.name, value: ([$p.scenarios[] as $s
-       | ($rows | map(select(.scenario == $s) | .[cellname($set.name; engine_of)])) as $cells
+       | ($rows | map(select(.scenario == $s) | (.[cellname($set.name; engine_of)] // {status: "missing"}))) as $cells
        | ($srows | map(select(.scenario == $s)) | map(. as $r
            | ($t.rows | map(select(.scenario == $r.scenario and .point == $r.point)) | (.[0] // {}) | engine_of) as $e
            | ($r[cellname($set.name; $e)] // {}))) as $scells
@@ -71,6 +73,7 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
            rel_l2: ($cells | map(select(.status == "ok" and .rel_l2 != null) | .rel_l2) | mean),
            scalar_rel: ($scells | map(select(.rel_error != null) | .rel_error | fabs) | mean),
            n_scores: ($cells | map(select(.status == "ok" and .rel_l2 != null)) | length),
+           points: ($cells | map(select(.status == "ok") | .points // 0) | add // 0),
            missing: ($cells | map(select(.status == "missing")) | length),
            not_steady: ($cells | map(select(.status == "not_steady")) | length),
            train: (($set.train | index($s)) != null)}}] | from_entries)}] | from_entries),
@@ -86,7 +89,9 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
   echo "# Calibration: train/test matrix ($(jq -r .size "$plan") size)"
   echo
   echo "Rows: the parameter set the EKM ran with (thesis: each scenario file's own"
-  echo "[material]; the others fitted by \`make campaign\` on their training set)."
+  echo "[material], the thesis's constants with the grains' rho_p and eps0 set from"
+  echo "the DEM chute's phi at 24 degrees, hence trained on the chute; the others"
+  echo "fitted by \`make campaign\` on their training set)."
   echo "Columns: every campaign scenario. Each cell: mean relative L2 error of"
   echo "phi, vx, P, T (those the scenario scores) over its points on the common"
   echo "support / mean |relative error| of its scalar observables, against LAMMPS"

@@ -28,6 +28,9 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 die() { echo "$prog: $1" >&2; exit "${2:-1}"; }
 [ $# -eq 4 ] || die "usage: table.sh SIZE RES \"ENGINES\" PLAN.json"
 size=$1 res=$2 engines=$3 plan=$4
+# absolute, as the script works from the checkout's top folder
+case $res in /*) ;; *) res=$PWD/$res ;; esac
+case $plan in /*) ;; *) plan=$PWD/$plan ;; esac
 command -v jq > /dev/null || die "jq not installed (scripts/deps.sh)" 7
 jq -e 'type == "array"' "$plan" > /dev/null 2>&1 || die "$plan: expected a JSON array (the campaign plan)" 2
 cd "$root" || exit 3
@@ -100,11 +103,11 @@ while IFS=$'\t' read -r s sup fields tag pvars psets; do
     --argjson a "$(scell "$d/score_ekm_liggghts.json" $ok_l)" \
     --argjson b "$(scell "$d/score_ekm_lammps.json" $ok_m)" \
     --argjson c "$(scell "$d/score_liggghts_lammps.json" $both)" \
-    '[$b, $a, $c] as $all | ([$all[] | keys_unsorted] | map(select(length > 0)) | .[0] // [])[] as $k
+    '[$b, $a, $c, ($x | .[] | del(.__status))] as $all | ([$all[] | keys_unsorted] | map(select(length > 0)) | .[0] // [])[] as $k
      | {scenario: $s, point: $p, scalar: $k, units: ([$all[][$k].units // empty][0]),
         ekm_vs_liggghts: ($a[$k] // {status: "n/a"}), ekm_vs_lammps: ($b[$k] // {status: "n/a"}),
         liggghts_vs_lammps: ($c[$k] // {status: "n/a"})}
-       + ($x | map_values(.[$k] // {status: (.__status // "n/a")}))' >> "$srows"
+       + ($x | map_values(.[$k] // {status: (if .__status then .__status elif length > 0 then "missing" else "n/a" end)}))' >> "$srows"
 done < <(jq -r '.[] | . as $sc | .points[] | [$sc.scenario, ($sc.engines | join(" ")), $sc.fields,
                        (if .tag == "" then "-" else .tag end), (.vars | tojson), (($sc.sets // []) | join(" "))] | @tsv' "$plan")
 allsets=$(jq -r '[.[].sets // [] | .[]] | unique | join(" ")' "$plan")
