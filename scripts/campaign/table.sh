@@ -42,11 +42,14 @@ version() {
   echo "$v"
 }
 rows=$(mktemp); trap 'rm -f "$rows" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
+# the score files as the table names them: relative to the checkout
+# when inside it (as the scores name their inputs)
+relpath() { case $1 in "$root"/*) echo "${1#"$root"/}" ;; *) echo "$1" ;; esac; }
 # cell FILE FIELD USABLE: JSON for one comparison
 cell() {
   if [ "$3" != 1 ]; then echo '{"status": "n/a"}'
-  elif [ ! -f "$1" ]; then echo "{\"status\": \"missing\", \"file\": \"$1\"}"
-  else jq -c --arg f "$2" --arg file "$1" \
+  elif [ ! -f "$1" ]; then echo "{\"status\": \"missing\", \"file\": \"$(relpath "$1")\"}"
+  else jq -c --arg f "$2" --arg file "$(relpath "$1")" \
       '.fields[$f] as $r | if $r == null then {status: "missing", file: $file}
        elif .model_run.steady == 0 then {status: "not_steady", acceleration: .model_run.acceleration,
              drift_per_s: .model_run.drift_per_s, file: $file}
@@ -58,7 +61,7 @@ cell() {
 # scell FILE USABLE: the scalars of one comparison, {name: {...}}
 scell() {
   if [ "$2" != 1 ] || [ ! -f "$1" ]; then echo '{}'
-  else jq -c --arg file "$1" 'if .model_run.steady == 0 then (.scalars // {}) | map_values({status: "not_steady", file: $file})
+  else jq -c --arg file "$(relpath "$1")" 'if .model_run.steady == 0 then (.scalars // {}) | map_values({status: "not_steady", file: $file})
       else (.scalars // {}) | map_values(. + {file: $file}) end' "$1"
   fi
 }
