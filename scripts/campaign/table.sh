@@ -70,6 +70,19 @@ scell() {
 sxcell() {
   if [ "$2" = 1 ] && [ ! -f "$1" ]; then echo '{"__status": "missing"}'; else scell "$@"; fi
 }
+# set_cells CELLFUN [FIELD]: the fitted parameter sets' cells of one row,
+# {"ekm_<set>_vs_<engine>": CELLFUN's JSON} (of the loop below: $psets, $d,
+# $ok_l, $ok_m)
+set_cells() {
+  local fun=$1 x='{}' p; shift
+  for p in $psets; do
+    x=$(jq -cn --argjson x "$x" --arg p "$p" \
+      --argjson a "$("$fun" "$d/score_ekm_${p}_liggghts.json" "$@" $ok_l)" \
+      --argjson b "$("$fun" "$d/score_ekm_${p}_lammps.json" "$@" $ok_m)" \
+      '$x + {("ekm_" + $p + "_vs_liggghts"): $a, ("ekm_" + $p + "_vs_lammps"): $b}')
+  done
+  echo "$x"
+}
 srows=$(mktemp); trap 'rm -f "$rows" "$srows" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
 # one line per scenario x point; tag "-" for the single case
 while IFS=$'\t' read -r s sup fields tag pvars psets; do
@@ -80,14 +93,7 @@ while IFS=$'\t' read -r s sup fields tag pvars psets; do
   [ "$tag" = - ] && tag=
   d=$res/$s${tag:+/$tag}
   for f in ${fields//,/ }; do
-    # the fitted parameter sets' cells: ekm_<set>_vs_<engine>
-    extra='{}'
-    for p in $psets; do
-      extra=$(jq -cn --argjson x "$extra" --arg p "$p" \
-        --argjson a "$(cell "$d/score_ekm_${p}_liggghts.json" "$f" $ok_l)" \
-        --argjson b "$(cell "$d/score_ekm_${p}_lammps.json" "$f" $ok_m)" \
-        '$x + {("ekm_" + $p + "_vs_liggghts"): $a, ("ekm_" + $p + "_vs_lammps"): $b}')
-    done
+    extra=$(set_cells cell "$f")
     jq -cn --arg s "$s" --arg p "$tag" --arg f "$f" --argjson v "$pvars" --argjson x "$extra" \
       --argjson a "$(cell "$d/score_ekm_liggghts.json" "$f" $ok_l)" \
       --argjson b "$(cell "$d/score_ekm_lammps.json" "$f" $ok_m)" \
@@ -95,13 +101,7 @@ while IFS=$'\t' read -r s sup fields tag pvars psets; do
       '{scenario: $s, point: $p, vars: $v, field: $f, ekm_vs_liggghts: $a, ekm_vs_lammps: $b, liggghts_vs_lammps: $c} + $x' >> "$rows"
   done
   # the scalars (scalars of the score files; the names of the first that has them)
-  extra='{}'
-  for p in $psets; do
-    extra=$(jq -cn --argjson x "$extra" --arg p "$p" \
-      --argjson a "$(sxcell "$d/score_ekm_${p}_liggghts.json" $ok_l)" \
-      --argjson b "$(sxcell "$d/score_ekm_${p}_lammps.json" $ok_m)" \
-      '$x + {("ekm_" + $p + "_vs_liggghts"): $a, ("ekm_" + $p + "_vs_lammps"): $b}')
-  done
+  extra=$(set_cells sxcell)
   jq -cn --arg s "$s" --arg p "$tag" --argjson x "$extra" \
     --argjson a "$(scell "$d/score_ekm_liggghts.json" $ok_l)" \
     --argjson b "$(scell "$d/score_ekm_lammps.json" $ok_m)" \
