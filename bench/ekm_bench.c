@@ -79,7 +79,7 @@ static ekm_status throughput(const char *src, const char *name, int cells, doubl
         const double t0 = now_s();
         double elapsed = 0;
         while (elapsed < 1.0 || steps < 20) {
-            double dt = ekm_control_max_dt(&sc, s);
+            double dt = ekm_control_max_dt(&sc, s, NULL);
             int accepted = 0;
             while (!accepted) {
                 status = ekm_step_apply(st, s, dt, &accepted, &err);

@@ -47,23 +47,31 @@ static double solid_relaxation_max(const ekm_scenario *sc, const ekm_state *s)
 }
 
 /* Largest convective speed [m/s] (faces and inflows) and the largest EKM
- * sound speeds squared [m^2/s^2] of the flowing and of the solid cells. */
-static void wave_speeds(const ekm_scenario *sc, const ekm_state *s, double *speed, double *c2_flow,
-                        double *c2_solid)
+ * sound speeds squared [m^2/s^2] of the flowing and of the solid cells,
+ * and the cells that have them (-1 when none). */
+typedef struct {
+    double speed, c2_flow, c2_solid;
+    int cell_flow, cell_solid;
+} wave_speed_max;
+
+static wave_speed_max wave_speeds(const ekm_scenario *sc, const ekm_state *s)
 {
     double v = 0.0;
     for (int f = 0; f <= s->n; f++)
         v = max2(v, fabs(s->w[f]));
     v = max2(v, sc->bottom.kind == EKM_BC_INFLOW ? fabs(sc->bottom.w) : 0.0);
     v = max2(v, sc->top.kind == EKM_BC_INFLOW ? fabs(sc->top.w) : 0.0);
-    *speed = v;
-    *c2_flow = *c2_solid = 0.0;
+    wave_speed_max m = {.speed = v, .cell_flow = -1, .cell_solid = -1};
     for (int j = 0; j < s->n; j++)
         if (s->phi[j] >= sc->numerics.phi_dry) {
             const double c2 = ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]);
-            double *c2_max = s->solid[j] ? c2_solid : c2_flow;
-            *c2_max = max2(*c2_max, c2);
+            double *c2_max = s->solid[j] ? &m.c2_solid : &m.c2_flow;
+            if (c2 > *c2_max) {
+                *c2_max = c2;
+                *(s->solid[j] ? &m.cell_solid : &m.cell_flow) = j;
+            }
         }
+    return m;
 }
 
 /* cfl dz / (speed + sqrt(c2)), INFINITY when nothing moves. */
@@ -72,45 +80,50 @@ static double acoustic_dt(const ekm_scenario *sc, const ekm_state *s, double spe
     return speed + sqrt(c2) > 0.0 ? sc->numerics.cfl * s->dz / (speed + sqrt(c2)) : INFINITY;
 }
 
-double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s)
+double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_limit *why)
 {
-    double speed, c2_max, c2_solid;
-    wave_speeds(sc, s, &speed, &c2_max, &c2_solid);
+    const wave_speed_max w = wave_speeds(sc, s);
     /* Compression limit: predicted dphi/dt = -phi dw/dz must not close more
      * than half of phi_step_max of the gap to phi_cp in one step (the
      * step is rejected beyond phi_step_max; this avoids most rejections). */
     double rate_max = 0.0; /* largest compression rate relative to the gap [1/s] */
+    int cell_rate = -1;
     const double phi_cp = sc->material.phi_cp;
     for (int j = 0; j < s->n; j++)
         if (s->phi[j] >= sc->numerics.phi_dry) {
             const double compression = -s->phi[j] * (s->w[j + 1] - s->w[j]) / s->dz;
-            if (compression > 0.0)
-                rate_max = max2(rate_max, compression / (phi_cp - s->phi[j]));
+            if (compression > 0.0 && compression / (phi_cp - s->phi[j]) > rate_max) {
+                rate_max = compression / (phi_cp - s->phi[j]);
+                cell_rate = j;
+            }
         }
-    double dt = acoustic_dt(sc, s, speed, c2_max);
+    ekm_dt_limit lim = {"acoustic", w.cell_flow, acoustic_dt(sc, s, w.speed, w.c2_flow)};
     /* Solid cells: their stress is implicit in the momentum solves (hypo.h),
      * so the EKM's sound speed does not limit them; the accuracy of the law's
      * lagged norm does (solid_relax_step, solid_relaxation_max).  Never
      * below the acoustic limit they had as flow cells: at that step the
      * linearly implicit law is accurate enough (and a cell flowing
      * plastically on the limit surface relaxes fast but to its fixed point). */
-    if (c2_solid > 0.0) {
+    if (w.c2_solid > 0.0) {
         const double relax = solid_relaxation_max(sc, s);
         const double dt_relax = relax > 0.0 ? sc->numerics.solid_relax_step / relax : INFINITY;
-        dt = fmin(dt, fmax(dt_relax, acoustic_dt(sc, s, speed, c2_solid)));
+        const double dt_solid = fmax(dt_relax, acoustic_dt(sc, s, w.speed, w.c2_solid));
+        if (dt_solid < lim.dt_s)
+            lim = (ekm_dt_limit){"solid relaxation", w.cell_solid, dt_solid};
     }
-    if (!isfinite(dt))
-        dt = sc->numerics.dt_max;
-    if (rate_max > 0.0)
-        dt = fmin(dt, 0.5 * sc->numerics.phi_step_max / rate_max);
-    return fmin(dt, sc->numerics.dt_max);
+    if (rate_max > 0.0 && 0.5 * sc->numerics.phi_step_max / rate_max < lim.dt_s)
+        lim = (ekm_dt_limit){"compression", cell_rate, 0.5 * sc->numerics.phi_step_max / rate_max};
+    if (!(lim.dt_s < sc->numerics.dt_max)) /* also when nothing limits it (INFINITY) */
+        lim = (ekm_dt_limit){"dt_max", -1, sc->numerics.dt_max};
+    if (why)
+        *why = lim;
+    return lim.dt_s;
 }
 
 double ekm_control_restart_dt(const ekm_scenario *sc, const ekm_state *s)
 {
-    double speed, c2_flow, c2_solid;
-    wave_speeds(sc, s, &speed, &c2_flow, &c2_solid);
-    return fmin(acoustic_dt(sc, s, speed, max2(c2_flow, c2_solid)), ekm_control_max_dt(sc, s));
+    const wave_speed_max w = wave_speeds(sc, s);
+    return fmin(acoustic_dt(sc, s, w.speed, max2(w.c2_flow, w.c2_solid)), ekm_control_max_dt(sc, s, NULL));
 }
 
 double ekm_control_target(const ekm_scenario *sc, double t, double t_next_out, int *at_event)

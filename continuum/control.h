@@ -19,10 +19,19 @@
 #include "scenario.h"
 #include "state.h"
 
+/* Which limit set the step, and where: for the diagnostic of a run whose
+ * step limit fell below dt_min (run.c). */
+typedef struct {
+    const char *limit; /* "acoustic", "solid relaxation", "compression" or "dt_max" */
+    int cell;          /* the cell that set it, -1 for dt_max */
+    double dt_s;       /* the limit [s] */
+} ekm_dt_limit;
+
 /* Largest step for the state: cfl dz / max(|w| + c) over the flowing
  * cells, the solid cells' accuracy limit ([numerics] solid_relax_step,
- * never below their own acoustic step), the compression limit and dt_max. */
-double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s);
+ * never below their own acoustic step), the compression limit and dt_max.
+ * *why (may be NULL) says which limit it was and which cell set it. */
+double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_limit *why);
 
 /* The step to restart from after a change of the driving (an inflow
  * closes, the base starts tilting, a piston reverses): the acoustic step

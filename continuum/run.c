@@ -30,6 +30,22 @@ static void progress_line(const ekm_state *s, double t_end, double dt, double st
     fflush(stderr);
 }
 
+/* EKM_ENUMERIC: the state's own step limit (not a rejection) is below
+ * dt_min; say at what time, which limit, which cell and its state. */
+static ekm_status step_limit_failure(const ekm_scenario *sc, const ekm_state *s, const ekm_dt_limit *limit,
+                                     ekm_error *err)
+{
+    if (limit->cell < 0)
+        return EKM_FAIL(err, EKM_ENUMERIC, "%s: t = %.9g s: the %s step limit %.3g s is below dt_min = %g s",
+                        sc->source, s->t, limit->limit, limit->dt_s, sc->numerics.dt_min);
+    const int j = limit->cell;
+    return EKM_FAIL(err, EKM_ENUMERIC,
+                    "%s: t = %.9g s: the %s step limit %.3g s is below dt_min = %g s, set by cell %d "
+                    "(z = %.6g m: phi = %.9g, T = %.3g m^2/s^2, w = %.3g/%.3g m/s below/above, %s)",
+                    sc->source, s->t, limit->limit, limit->dt_s, sc->numerics.dt_min, j, (j + 0.5) * s->dz,
+                    s->phi[j], s->T[j], s->w[j], s->w[j + 1], s->solid[j] ? "solid" : "flowing");
+}
+
 ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const ekm_run_hooks *hooks,
                    ekm_run_stats *stats, ekm_error *err)
 {
@@ -59,7 +75,12 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
     double dt_prev = ekm_control_restart_dt(sc, s) / 1.5;
     while (!is_steady && s->t < sc->t_end * (1.0 - 1e-14)) {
         const double t_next_out = fmin(sc->t_end, (frame + 1) * sc->output_dt);
-        double dt = fmin(ekm_control_max_dt(sc, s), 1.5 * dt_prev);
+        ekm_dt_limit limit;
+        double dt = fmin(ekm_control_max_dt(sc, s, &limit), 1.5 * dt_prev);
+        if (!(limit.dt_s >= sc->numerics.dt_min)) { /* NaN too */
+            rc = step_limit_failure(sc, s, &limit, err);
+            goto done;
+        }
         int at_event; /* the step ends at a change of the driving */
         const double t_target = ekm_control_target(sc, s->t, t_next_out, &at_event);
         const int reaches = s->t + dt >= t_target * (1.0 - 1e-12);

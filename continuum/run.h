@@ -2,7 +2,8 @@
  * control.h, grows at most x1.5 per step, ends on the next output time or
  * change of the driving (control.h, then restarts from the acoustic step),
  * is halved on a rejected step down to dt_min (below it: EKM_ENUMERIC with
- * the last rejection's reason); frames at output_dt, progress line.
+ * the last rejection's reason; also when the limit itself is below dt_min,
+ * naming the limit and the cell); frames at output_dt, progress line.
  * [run] stop = steady: the steady-state test of steady.h at every output;
  * the run ends at the first output where it holds (t_end: the longest). */
 #ifndef EKM_RUN_H

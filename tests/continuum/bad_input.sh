@@ -127,8 +127,8 @@ check "missing argument" 1 "missing scenario file" run -o out.h5
 check "unknown command" 1 "unknown command 'walk'" walk "$base"
 
 # A run that cannot continue leaves no output either: a dt_min larger than
-# any possible step makes the first rejection fatal.
-check "solver failure" 4 "phi .* -> " run "$base" -o out.h5 --set initial.T=1e2 \
+# any possible step stops it before the first step (run.c, the step limit).
+check "solver failure" 4 "step limit .* below dt_min" run "$base" -o out.h5 --set initial.T=1e2 \
     --set numerics.phi_step_max=1e-9 --set numerics.dt_min=1e-3 --set numerics.dt_max=1
 
 # The output may not replace the scenario file (exit 3, before any work),

@@ -146,19 +146,20 @@ static void test_phi_bound_thesis_filling_extremes(void **state)
     bound_case("scenarios/thesis_filling.ini", slow, 4, 1);
 }
 
-/* The fast filling with dt_min above every step it takes: its first phi
+/* The fast filling with dt_min below its first step limit (0.04 s) but
+ * above half of it: its first phi
  * rejection cannot be retried and ends the run with EKM_ENUMERIC, the
  * message naming dt_min and the rejected step's cell, phi and bound. */
 static void test_phi_bound_violation_reported(void **state)
 {
     (void)state;
-    const char *sets[] = {"top.w=-0.1", "top.T=1e-4", "run.t_end=4", "numerics.dt_min=1"};
+    const char *sets[] = {"top.w=-0.1", "top.T=1e-4", "run.t_end=4", "numerics.dt_min=0.03"};
     test_run r;
     assert_int_equal(test_run_scenario(&r, "scenarios/thesis_filling.ini", sets, 4, NULL, NULL),
                      EKM_ENUMERIC);
     printf("forced violation: %s\n", r.err.message);
     assert_non_null(strstr(
-        r.err.message, "thesis_filling.ini: time step fell below dt_min = 1 s; last rejected step: t = "));
+        r.err.message, "thesis_filling.ini: time step fell below dt_min = 0.03 s; last rejected step: t = "));
     assert_non_null(strstr(r.err.message, PHI_REJECTION));
     assert_non_null(strstr(r.err.message, ", cell "));
     assert_int_equal(r.stats.rejected, 1);
