@@ -121,6 +121,9 @@ def check_plot_over_line(xdmf, path):
         data = dsa.WrapDataObject(servermanager.Fetch(line))
         z = np.asarray(data.Points)[:, 2]
         for name in names:
+            if name not in data.PointData.keys():
+                failures.append("%s: Plot Over Line has no %s" % (rname, name))
+                continue
             values = np.asarray(data.PointData[name])
             want = h5[name][frame]
             pos = (z - lo) / dz

@@ -11,6 +11,7 @@ tool=$1 sig=$2 ekm=$3 ekmcompare=$4 src=$5 work=$6
 rm -rf "$work" && mkdir -p "$work/out" || exit 1
 cd "$work" || exit 1
 out=$work/out/o.h5
+after=1 # s: the temporary exists long before
 case $tool in
 ekm)
     if [ "$sig" = XFSZ ]; then
@@ -28,7 +29,8 @@ with open(sys.argv[2], "w") as out:
     for k in range(400):
         out.write("ITEM: TIMESTEP\n%d\n%s" % (first + k * every, snaps[k % 2][1]))
 PY
-    cmd=("$ekmcompare" cg long.dump --dt 1e-5 --every 1 -o "$out") ;;
+    cmd=("$ekmcompare" cg long.dump --dt 1e-5 --every 1 -o "$out")
+    after=0.2 ;; # still reading (0.6 s to read them on a quiet machine)
 esac
 num=$(kill -l "$sig")
 if [ "$sig" = XFSZ ]; then
@@ -37,7 +39,7 @@ if [ "$sig" = XFSZ ]; then
 else
     # timeout starts the command with default signal dispositions (a
     # background job of a script would have SIGINT ignored)
-    timeout --preserve-status -s "$sig" 1 "${cmd[@]}" 2>err.txt
+    timeout --preserve-status -s "$sig" "$after" "${cmd[@]}" 2>err.txt
     rc=$?
 fi
 left=$(ls -A "$work/out")
