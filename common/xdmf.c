@@ -52,21 +52,11 @@ void ekm_xdmf_escape(FILE *fp, const char *text)
     const unsigned char *s = (const unsigned char *)text;
     while (*s) {
         switch (*s) {
-        case '&':
-            fputs("&amp;", fp);
-            break;
-        case '<':
-            fputs("&lt;", fp);
-            break;
-        case '>':
-            fputs("&gt;", fp);
-            break;
-        case '"':
-            fputs("&quot;", fp);
-            break;
-        case '\'':
-            fputs("&apos;", fp);
-            break;
+        case '&': fputs("&amp;", fp); break;
+        case '<': fputs("&lt;", fp); break;
+        case '>': fputs("&gt;", fp); break;
+        case '"': fputs("&quot;", fp); break;
+        case '\'': fputs("&apos;", fp); break;
         default:
             if (*s < 0x20) { /* tab, newline included: not kept in a name */
                 fputc('?', fp);
