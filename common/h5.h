@@ -24,7 +24,8 @@
  * full disk or a file-size limit is "PATH: cannot write the output file:
  * No space left on device" (EKM_EIO), never a failed H5Fclose (HDF5 1.10
  * keeps the id of a file whose close failed and closes it again at exit, a
- * use after free).  The memory held is the size of the file.
+ * use after free).  The memory held is the size of the file (twice that
+ * while commit copies out its image).
  */
 #ifndef EKM_H5_H
 #define EKM_H5_H
