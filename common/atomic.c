@@ -197,15 +197,31 @@ static int fsync_path(const char *path, int flags)
     return rc;
 }
 
-ekm_status ekm_atomic_commit(ekm_atomic *a, ekm_error *err)
+ekm_status ekm_atomic_write(ekm_atomic *a, const void *data, size_t n, ekm_error *err)
+{
+    if (!a->active || !a->fp)
+        return EKM_FAIL(err, EKM_EINTERNAL, "%s: write to an output that is not open", a->path);
+    errno = 0;
+    if (n > 0 && fwrite(data, 1, n, a->fp) != n) {
+        const int e = errno ? errno : EIO;
+        ekm_atomic_abort(a);
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output file: %s", a->path, strerror(e));
+    }
+    return EKM_OK;
+}
+
+ekm_status ekm_atomic_finish(ekm_atomic *a, ekm_error *err)
 {
     if (!a->active)
         return EKM_FAIL(err, EKM_EINTERNAL, "%s: commit of an output that is not open", a->path);
+    if (a->synced)
+        return EKM_OK;
     if (a->fp) {
         FILE *fp = a->fp;
         a->fp = NULL;
+        errno = 0;
         int bad = ferror(fp) || fflush(fp) != 0 || fsync(fileno(fp)) != 0;
-        int e = errno;
+        int e = errno ? errno : EIO;
         if (fclose(fp) != 0 && !bad) {
             bad = 1;
             e = errno;
@@ -219,6 +235,15 @@ ekm_status ekm_atomic_commit(ekm_atomic *a, ekm_error *err)
         ekm_atomic_abort(a);
         return EKM_FAIL(err, EKM_EIO, "%s: cannot write the output file: %s", a->path, strerror(e));
     }
+    a->synced = 1;
+    return EKM_OK;
+}
+
+ekm_status ekm_atomic_commit(ekm_atomic *a, ekm_error *err)
+{
+    ekm_status st = ekm_atomic_finish(a, err);
+    if (st != EKM_OK)
+        return st;
     if (rename(a->tmp_path, a->path) != 0) {
         const int e = errno;
         ekm_atomic_abort(a);

@@ -36,6 +36,7 @@ typedef struct {
     FILE *fp;                                /* stdio mode: write here; NULL in path mode */
     int slot;                                /* registry slot, -1 when none */
     int active;                              /* 1 between open/begin and commit/abort */
+    int synced;                              /* 1 after ekm_atomic_finish: only the rename left */
 } ekm_atomic;
 
 /* Create the temporary for PATH and open it for writing (a->fp). */
@@ -46,9 +47,20 @@ ekm_status ekm_atomic_open(ekm_atomic *a, const char *path, ekm_error *err);
  * under that name is removed first. */
 ekm_status ekm_atomic_begin_path(ekm_atomic *a, const char *path, ekm_error *err);
 
+/* Write n bytes to the temporary (stdio mode); on failure (disk full,
+ * EFBIG) abort it: EKM_EIO "PATH: cannot write the output file: REASON". */
+ekm_status ekm_atomic_write(ekm_atomic *a, const void *data, size_t n, ekm_error *err);
+
 /* Flush, fsync and close the temporary (stdio mode), or fsync the closed
- * temporary (path mode); rename it onto a->path; fsync the directory.
- * On failure the temporary is removed and the target left as it was. */
+ * temporary (path mode), without renaming it: after this only the rename
+ * of ekm_atomic_commit is left (so several outputs can be completed
+ * before any is renamed into place).  On failure the temporary is removed:
+ * EKM_EIO "PATH: cannot write the output file: REASON". */
+ekm_status ekm_atomic_finish(ekm_atomic *a, ekm_error *err);
+
+/* ekm_atomic_finish (unless already done), then rename the temporary onto
+ * a->path and fsync the directory.  On failure the temporary is removed
+ * and the target left as it was. */
 ekm_status ekm_atomic_commit(ekm_atomic *a, ekm_error *err);
 
 /* Close (stdio mode) and remove the temporary; harmless when a is NULL,

@@ -4,6 +4,7 @@
 #include <hdf5.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/types.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -15,7 +16,7 @@ _Static_assert(sizeof(int) == 4, "EKM_H5_INT datasets are int32: int must be 32 
 struct ekm_h5_file {
     hid_t file;     /* -1 once closed */
     int writing;    /* created by ekm_h5_create (then `out` is active) */
-    ekm_atomic out; /* the temporary and the target (writing) */
+    ekm_atomic out; /* the temporary (open, empty until commit) and the target (writing) */
     char *path;     /* target (writing) or input (reading) */
 };
 
@@ -46,6 +47,9 @@ static void free_file(ekm_h5_file *f)
     free(f);
 }
 
+/* Bytes by which the in-memory file image grows (the core driver). */
+enum { CORE_INCREMENT = 1 << 20 };
+
 ekm_status ekm_h5_create(ekm_h5_file **out, const char *path, ekm_error *err)
 {
     *out = NULL;
@@ -56,13 +60,22 @@ ekm_status ekm_h5_create(ekm_h5_file **out, const char *path, ekm_error *err)
         return EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory", path);
     }
     f->file = -1;
-    ekm_status st = ekm_atomic_begin_path(&f->out, path, err);
+    /* the temporary exists (empty) from now on, so a target that cannot
+     * be written fails here, before any work */
+    ekm_status st = ekm_atomic_open(&f->out, path, err);
     if (st != EKM_OK) {
         free_file(f);
         return st;
     }
     f->writing = 1;
-    f->file = H5Fcreate(f->out.tmp_path, H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
+    /* HDF5 writes into memory only (core driver, no backing store): a
+     * failing disk can never make H5Fclose fail (HDF5 1.10 frees the file
+     * of a failed close but keeps its id, and closes it again at exit);
+     * the image reaches the disk through ekm_atomic_write at commit */
+    hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    if (fapl >= 0 && H5Pset_fapl_core(fapl, CORE_INCREMENT, 0) >= 0)
+        f->file = H5Fcreate(f->out.tmp_path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+    close_once(&fapl, H5Pclose);
     if (f->file < 0) {
         ekm_atomic_abort(&f->out);
         free_file(f);
@@ -72,21 +85,41 @@ ekm_status ekm_h5_create(ekm_h5_file **out, const char *path, ekm_error *err)
     return EKM_OK;
 }
 
-ekm_status ekm_h5_commit(ekm_h5_file *f, ekm_error *err)
+ekm_status ekm_h5_finish(ekm_h5_file *f, ekm_atomic *out, ekm_error *err)
 {
     if (!f->writing) {
         ekm_h5_close(f);
         return EKM_FAIL(err, EKM_EINTERNAL, "commit of a file opened for reading");
     }
     ekm_status st = EKM_OK;
-    if (close_once(&f->file, H5Fclose) != 0) {
+    void *image = NULL;
+    ssize_t size = -1;
+    if (H5Fflush(f->file, H5F_SCOPE_GLOBAL) >= 0)
+        size = H5Fget_file_image(f->file, NULL, 0);
+    if (size > 0 && !(image = malloc((size_t)size)))
+        st = EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory (%lld bytes)", f->path, (long long)size);
+    else if (size <= 0 || H5Fget_file_image(f->file, image, (size_t)size) != size)
+        st = EKM_FAIL(err, EKM_EINTERNAL, "%s: cannot take the HDF5 file image", f->path);
+    if (close_once(&f->file, H5Fclose) != 0 && st == EKM_OK)
+        st = EKM_FAIL(err, EKM_EINTERNAL, "%s: cannot close the HDF5 file", f->path);
+    if (st == EKM_OK)
+        st = ekm_atomic_write(&f->out, image, (size_t)size, err);
+    free(image);
+    if (st == EKM_OK)
+        st = ekm_atomic_finish(&f->out, err);
+    if (st == EKM_OK)
+        *out = f->out;
+    else
         ekm_atomic_abort(&f->out);
-        st = EKM_FAIL(err, EKM_EIO, "%s: cannot write the output file (closing it failed)", f->path);
-    } else {
-        st = ekm_atomic_commit(&f->out, err);
-    }
     free_file(f);
     return st;
+}
+
+ekm_status ekm_h5_commit(ekm_h5_file *f, ekm_error *err)
+{
+    ekm_atomic out;
+    ekm_status st = ekm_h5_finish(f, &out, err);
+    return st == EKM_OK ? ekm_atomic_commit(&out, err) : st;
 }
 
 void ekm_h5_abort(ekm_h5_file *f)
@@ -379,6 +412,37 @@ ekm_status ekm_h5_append(ekm_h5_file *f, const char *name, const void *row, ekm_
         ok = 0;
     if (!ok)
         return EKM_FAIL(err, EKM_EIO, "%s: cannot append to the dataset %s", f->path, name);
+    return EKM_OK;
+}
+
+ekm_status ekm_h5_row_view(ekm_h5_file *f, const char *view, const char *source, size_t row, ekm_error *err)
+{
+    hid_t d = H5Dopen2(f->file, source, H5P_DEFAULT), sspace = -1, vspace = -1, type = -1, dcpl = -1,
+          lcpl = -1, v = -1;
+    hsize_t dims[2];
+    int ok = d >= 0 && (sspace = H5Dget_space(d)) >= 0 && H5Sget_simple_extent_ndims(sspace) == 2 &&
+             H5Sget_simple_extent_dims(sspace, dims, NULL) >= 0 && row < dims[0] &&
+             (type = H5Dget_type(d)) >= 0;
+    if (ok) {
+        const hsize_t start[2] = {row, 0}, count[2] = {1, dims[1]};
+        ok = H5Sselect_hyperslab(sspace, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+             (vspace = H5Screate_simple(1, &dims[1], NULL)) >= 0 &&
+             (dcpl = H5Pcreate(H5P_DATASET_CREATE)) >= 0 &&
+             H5Pset_virtual(dcpl, vspace, ".", source, sspace) >= 0 &&
+             (lcpl = H5Pcreate(H5P_LINK_CREATE)) >= 0 && H5Pset_create_intermediate_group(lcpl, 1) >= 0 &&
+             (v = H5Dcreate2(f->file, view, type, vspace, lcpl, dcpl, H5P_DEFAULT)) >= 0;
+    }
+    if (close_once(&v, H5Dclose) != 0)
+        ok = 0;
+    close_once(&lcpl, H5Pclose);
+    close_once(&dcpl, H5Pclose);
+    close_once(&type, H5Tclose);
+    close_once(&vspace, H5Sclose);
+    close_once(&sspace, H5Sclose);
+    close_once(&d, H5Dclose);
+    if (!ok)
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the dataset %s (row %llu of %s)", f->path, view,
+                        (unsigned long long)row, source);
     return EKM_OK;
 }
 

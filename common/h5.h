@@ -2,8 +2,8 @@
  * file-creation functions; outputs are created atomically via atomic.h).
  *
  * A file is an opaque ekm_h5_file, created for writing (ekm_h5_create:
- * a temporary in the target's directory, renamed by ekm_h5_commit, removed
- * by ekm_h5_abort) or opened for reading (ekm_h5_open, closed by
+ * built in memory, written to a temporary in the target's directory and
+ * renamed by ekm_h5_commit, removed by ekm_h5_abort) or opened for reading (ekm_h5_open, closed by
  * ekm_h5_close).  Datasets and attributes are named by path: `obj` is the
  * object an attribute is attached to, NULL or "/" for the file's root
  * group, else a dataset name ("phi").
@@ -18,12 +18,21 @@
  * Every HDF5 status is checked, every handle closed exactly once (a failed
  * close is not retried), HDF5's own error-stack printing is off, and every
  * failure is one line naming the file and the dataset or attribute.
+ *
+ * A file being written lives in memory (HDF5's core driver) until commit,
+ * which writes its image to the temporary with ordinary checked writes: a
+ * full disk or a file-size limit is "PATH: cannot write the output file:
+ * No space left on device" (EKM_EIO), never a failed H5Fclose (HDF5 1.10
+ * keeps the id of a file whose close failed and closes it again at exit, a
+ * use after free).  The memory held is the size of the file (twice that
+ * while commit copies out its image).
  */
 #ifndef EKM_H5_H
 #define EKM_H5_H
 
 #include <stddef.h>
 
+#include "atomic.h"
 #include "status.h"
 
 typedef struct ekm_h5_file ekm_h5_file;
@@ -39,6 +48,11 @@ void ekm_h5_quiet(void);
 ekm_status ekm_h5_create(ekm_h5_file **out, const char *path, ekm_error *err);
 /* Close the file and rename it into place; frees f (also on failure). */
 ekm_status ekm_h5_commit(ekm_h5_file *f, ekm_error *err);
+/* Close the file and write it, complete and fsynced, to its temporary,
+ * handed over in *out for ekm_atomic_commit or ekm_atomic_abort (to write
+ * a sidecar before either is renamed); frees f; on failure nothing is
+ * left. */
+ekm_status ekm_h5_finish(ekm_h5_file *f, ekm_atomic *out, ekm_error *err);
 /* Close and remove the temporary; frees f; NULL is harmless. */
 void ekm_h5_abort(ekm_h5_file *f);
 
@@ -80,6 +94,12 @@ ekm_status ekm_h5_create_series(ekm_h5_file *f, const char *name, ekm_h5_type ty
                                 const char *description, ekm_error *err);
 /* Append one row (prod(row_dims) values of the series' type). */
 ekm_status ekm_h5_append(ekm_h5_file *f, const char *name, const void *row, ekm_error *err);
+
+/* A virtual dataset VIEW (1D, created with its groups) showing row `row`
+ * of the 2D dataset SOURCE of the same file, without copying it (a plain
+ * dataset to readers that cannot select a row, e.g. ParaView's Xdmf3
+ * readers). */
+ekm_status ekm_h5_row_view(ekm_h5_file *f, const char *view, const char *source, size_t row, ekm_error *err);
 
 /* Existence: a dataset (or any link) named name; an attribute on obj. */
 int ekm_h5_exists(ekm_h5_file *f, const char *name);

@@ -9,6 +9,7 @@
 #include "atomic.h"
 #include "h5.h"
 #include "schema.h"
+#include "xdmf.h"
 
 static const char *const axis_names[3] = {"x", "y", "z"};
 
@@ -25,11 +26,67 @@ static ekm_status dataset(ekm_h5_file *w, const char *name, const double *data, 
     return ekm_h5_write_double(w, name, 2, dims, data, units, NULL, err);
 }
 
+/* The sidecar may not replace a dump (the HDF5 output is checked by
+ * cgrun.c before any work). */
+static ekm_status refuse_sidecar_input(const cg_run_opts *o, const char *xdmf, ekm_error *err)
+{
+    ekm_status rc = ekm_atomic_refuse_input(xdmf, o->inputs, o->ninputs, err);
+    if (!rc)
+        rc = ekm_atomic_refuse_input(xdmf, o->pairs, o->npairs, err);
+    if (!rc && o->csv)
+        rc = ekm_atomic_refuse_input(xdmf, &o->csv, 1, err);
+    return rc;
+}
+
+/* The sidecar's series: every [nt][n] field and its standard error, the
+ * bins as cells along ParaView's Z (common/xdmf.h). */
+static ekm_status commit_with_sidecar(ekm_h5_file *w, const cg_run_opts *o, const cg_grid *g,
+                                      const cg_window_results *r, int nfield, ekm_error *err)
+{
+    ekm_xdmf_field fields[2 * CG_NFIELD];
+    char se_names[CG_NFIELD][64];
+    const size_t nt = r->nt ? r->nt : 1;
+    double *lo = malloc(nt * sizeof *lo), *dz = malloc(nt * sizeof *dz);
+    if (!lo || !dz) {
+        free(lo);
+        free(dz);
+        ekm_h5_abort(w);
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    }
+    for (size_t i = 0; i < nt; i++) {
+        lo[i] = g->lo;
+        dz[i] = g->dz;
+    }
+    for (int f = 0; f < nfield; f++) {
+        snprintf(se_names[f], sizeof se_names[f], "%s_se", cg_field_name(f));
+        fields[2 * f] = (ekm_xdmf_field){.name = cg_field_name(f), .is_int = 0};
+        fields[2 * f + 1] = (ekm_xdmf_field){.name = se_names[f], .is_int = 0};
+    }
+    const ekm_xdmf_series series = {.title = "ekmcompare cg",
+                                    .h5_path = o->out,
+                                    .n = g->n,
+                                    .nt = r->nt,
+                                    .t = r->t,
+                                    .lo = lo,
+                                    .dz = dz,
+                                    .fields = fields,
+                                    .nfields = 2 * (size_t)nfield};
+    ekm_status rc = ekm_xdmf_commit_with(w, &series, err);
+    free(lo);
+    free(dz);
+    return rc;
+}
+
 ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
                         const cg_kernel *k, const cg_run_info *info, ekm_error *err)
 {
+    char xdmf[EKM_ATOMIC_PATH_MAX + 8];
+    ekm_xdmf_path(o->out, xdmf, sizeof xdmf);
+    ekm_status rc = refuse_sidecar_input(o, xdmf, err);
+    if (rc)
+        return rc;
     ekm_h5_file *w;
-    ekm_status rc = ekm_h5_create(&w, o->out, err);
+    rc = ekm_h5_create(&w, o->out, err);
     if (rc)
         return rc;
     size_t n = g->n;
@@ -111,7 +168,7 @@ ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_
         ekm_h5_abort(w);
         return rc;
     }
-    return ekm_h5_commit(w, err);
+    return commit_with_sidecar(w, o, g, r, nfield, err);
 }
 
 ekm_status cg_output_csv(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r, ekm_error *err)

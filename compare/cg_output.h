@@ -2,7 +2,9 @@
  * window with their standard errors and the run's description, as HDF5
  * (datasets with `units`, root attributes: docs/compare.md) or CSV (one
  * row per window and bin), each written under a temporary name and
- * renamed when complete.
+ * renamed when complete.  Beside the HDF5 file, OUT.xdmf (common/xdmf.h)
+ * opens every field and its standard error in ParaView, the bins as cells
+ * along ParaView's Z axis, like ekm's output.
  */
 #ifndef CG_OUTPUT_H
 #define CG_OUTPUT_H

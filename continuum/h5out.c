@@ -13,6 +13,7 @@
 #include "fields.h"
 #include "h5.h"
 #include "schema.h"
+#include "xdmf.h"
 
 enum { F_PHI, F_VX, F_VZ, F_T, F_P, F_SXZ, F_SZZ, F_REGIME, N_FIELDS };
 
@@ -26,7 +27,8 @@ struct ekm_h5_writer {
     size_t nt, nz;
     double *buf[N_FIELDS - 1];
     int *regime;
-    double *times; /* nt, for the XDMF sidecar */
+    double *times; /* [nt] output times [s], for the XDMF sidecar */
+    double *dz;    /* [nt] cell size [m] at each output (the gap / nz with a moving wall) */
     size_t times_cap;
 };
 
@@ -79,6 +81,7 @@ static void free_writer(ekm_h5_writer *w)
         free(w->buf[f]);
     free(w->regime);
     free(w->times);
+    free(w->dz);
     free(w);
 }
 
@@ -166,12 +169,16 @@ ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error 
     if (w->nt == w->times_cap) {
         size_t cap = w->times_cap ? 2 * w->times_cap : 64;
         double *t = realloc(w->times, cap * sizeof *t);
-        if (!t)
+        if (t)
+            w->times = t;
+        double *dz = t ? realloc(w->dz, cap * sizeof *dz) : NULL;
+        if (!dz)
             return EKM_FAIL(err, EKM_ENOMEM, "out of memory writing %s", w->path);
-        w->times = t;
+        w->dz = dz;
         w->times_cap = cap;
     }
     w->times[w->nt] = s->t;
+    w->dz[w->nt] = s->dz;
     ekm_status st = ekm_h5_append(w->file, "t", &s->t, err);
     for (int f = 0; f < N_FIELDS && st == EKM_OK; f++)
         st = ekm_h5_append(w->file, FIELD_NAMES[f],
@@ -187,51 +194,7 @@ ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error 
 
 void ekm_h5_xdmf_path(const char *h5_path, char *out, size_t size)
 {
-    size_t len = strlen(h5_path);
-    if (len > 3 && strcmp(h5_path + len - 3, ".h5") == 0)
-        snprintf(out, size, "%.*s.xdmf", (int)(len - 3), h5_path);
-    else
-        snprintf(out, size, "%s.xdmf", h5_path);
-}
-
-static void write_xdmf(const ekm_h5_writer *w, FILE *fp)
-{
-    const char *base = strrchr(w->path, '/');
-    base = base ? base + 1 : w->path;
-    const unsigned long long nt = w->nt, nz = w->nz;
-    const double dz = w->sc->length / (double)w->nz;
-    fprintf(fp,
-            "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
-            "<!-- ekm output %s: slab fields along z, shown along the mesh x axis -->\n"
-            "<Xdmf Version=\"2.0\">\n <Domain>\n"
-            "  <Grid Name=\"%s\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
-            base, w->sc->name);
-    for (unsigned long long i = 0; i < nt; i++) {
-        fprintf(fp,
-                "   <Grid Name=\"frame%llu\" GridType=\"Uniform\">\n"
-                "    <Time Value=\"%.17g\"/>\n"
-                "    <Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"1 %llu\"/>\n"
-                "    <Geometry GeometryType=\"ORIGIN_DXDY\">\n"
-                "     <DataItem Dimensions=\"2\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">0 "
-                "%.17g</DataItem>\n"
-                "     <DataItem Dimensions=\"2\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">1 "
-                "%.17g</DataItem>\n"
-                "    </Geometry>\n",
-                i, w->times[i], nz, 0.5 * dz, dz);
-        for (int f = 0; f < N_FIELDS; f++) {
-            fprintf(fp,
-                    "    <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-                    "     <DataItem ItemType=\"HyperSlab\" Dimensions=\"1 %llu\" Type=\"HyperSlab\">\n"
-                    "      <DataItem Dimensions=\"3 2\" Format=\"XML\">%llu 0 1 1 1 %llu</DataItem>\n"
-                    "      <DataItem Dimensions=\"%llu %llu\" NumberType=\"%s\" Precision=\"%d\" "
-                    "Format=\"HDF\">%s:/%s</DataItem>\n"
-                    "     </DataItem>\n    </Attribute>\n",
-                    FIELD_NAMES[f], nz, i, nz, nt, nz, f == F_REGIME ? "Int" : "Float", f == F_REGIME ? 4 : 8,
-                    base, FIELD_NAMES[f]);
-        }
-        fprintf(fp, "   </Grid>\n");
-    }
-    fprintf(fp, "  </Grid>\n </Domain>\n</Xdmf>\n");
+    ekm_xdmf_path(h5_path, out, size);
 }
 
 ekm_status ekm_h5_writer_set_attr(ekm_h5_writer *w, const char *name, double value, ekm_error *err)
@@ -239,31 +202,30 @@ ekm_status ekm_h5_writer_set_attr(ekm_h5_writer *w, const char *name, double val
     return ekm_h5_attr_set_double(w->file, NULL, name, value, err);
 }
 
-/* The sidecar is written to its temporary first; then the HDF5 file and
- * the sidecar are renamed into place, in that order (a failure before the
- * first rename leaves neither). */
+/* The HDF5 file with its row views and the sidecar are completed on disk,
+ * then renamed into place (common/xdmf.h): a failure leaves neither. */
 ekm_status ekm_h5_writer_commit(ekm_h5_writer *w, ekm_error *err)
 {
-    char xdmf[1100];
-    ekm_h5_xdmf_path(w->path, xdmf, sizeof xdmf);
-    ekm_atomic sidecar;
-    ekm_status rc = ekm_atomic_open(&sidecar, xdmf, err);
-    if (rc != EKM_OK) {
+    ekm_xdmf_field fields[N_FIELDS];
+    for (int f = 0; f < N_FIELDS; f++)
+        fields[f] = (ekm_xdmf_field){.name = FIELD_NAMES[f], .is_int = f == F_REGIME};
+    double *lo = calloc(w->nt ? w->nt : 1, sizeof *lo); /* the column starts at z = 0 */
+    if (!lo) {
         ekm_h5_writer_abort(w);
-        return rc;
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory writing %s", w->path);
     }
-    write_xdmf(w, sidecar.fp);
-    if (fflush(sidecar.fp) != 0 || ferror(sidecar.fp)) {
-        ekm_atomic_abort(&sidecar);
-        ekm_h5_writer_abort(w);
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot write XDMF sidecar", xdmf);
-    }
-    rc = ekm_h5_commit(w->file, err);
+    const ekm_xdmf_series series = {.title = w->sc->name,
+                                    .h5_path = w->path,
+                                    .n = w->nz,
+                                    .nt = w->nt,
+                                    .t = w->times,
+                                    .lo = lo,
+                                    .dz = w->dz,
+                                    .fields = fields,
+                                    .nfields = N_FIELDS};
+    ekm_status rc = ekm_xdmf_commit_with(w->file, &series, err);
     w->file = NULL;
-    if (rc == EKM_OK)
-        rc = ekm_atomic_commit(&sidecar, err);
-    else
-        ekm_atomic_abort(&sidecar);
+    free(lo);
     free_writer(w);
     return rc;
 }

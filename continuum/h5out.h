@@ -12,8 +12,12 @@
  *   hypo.to_solid, hypo.to_flow (switch counts), hypo.jump_max (largest
  *   relative stress jump at a switch), hypo.fail_time [s], hypo.fail_angle
  *   [deg], hypo.fail_fY (first solid -> flow switch; fail_time -1: none).
- * The file is written under a temporary (common/atomic.h) and renamed to PATH on commit; the
- * sidecar PATH-without-.h5 + ".xdmf" lets ParaView open the time series.
+ *   /xdmf/FIELD/I: row I of FIELD as a virtual dataset (no copy), for the
+ *   XDMF sidecar (common/xdmf.h).
+ * The file is built in memory, written under a temporary (common/atomic.h)
+ * and renamed to PATH on commit together with its sidecar
+ * PATH-without-.h5 + ".xdmf", which lets ParaView open the time series
+ * (any of its three XDMF readers; the profile along ParaView's Z axis).
  */
 #ifndef EKM_H5OUT_H
 #define EKM_H5OUT_H

@@ -257,7 +257,7 @@ static void test_abort_and_create_errors(void **state)
     snprintf(path, sizeof path, "%s/no/such/dir.h5", dir);
     assert_int_equal(ekm_h5_create(&f, path, &err), EKM_EIO);
     assert_null(f);
-    snprintf(expected, sizeof expected, "%s: cannot create the output file", path);
+    snprintf(expected, sizeof expected, "%s: cannot create the output file: No such file or directory", path);
     assert_string_equal(err.message, expected);
 }
 

@@ -123,8 +123,38 @@ static void test_hdf5_layout(void **state)
     H5Fclose(f);
 }
 
+/* The values of dataset `view` (a row view /xdmf/FIELD/I) equal row I of
+ * /FIELD, read as doubles. */
+static void check_view(hid_t file, const char *view)
+{
+    char field[64];
+    unsigned row;
+    assert_int_equal(sscanf(view, "/xdmf/%63[^/]/%u", field, &row), 2);
+    int rank;
+    hsize_t vd[2], fd[2];
+    read_dims(file, view, &rank, vd);
+    assert_int_equal(rank, 1);
+    read_dims(file, field, &rank, fd);
+    assert_int_equal(rank, 2);
+    assert_true(row < fd[0] && vd[0] == fd[1]);
+    double *all = malloc(fd[0] * fd[1] * sizeof *all), *got = malloc(vd[0] * sizeof *got);
+    assert_non_null(all);
+    assert_non_null(got);
+    hid_t d = H5Dopen2(file, field, H5P_DEFAULT);
+    assert_true(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all) >= 0);
+    H5Dclose(d);
+    d = H5Dopen2(file, view, H5P_DEFAULT);
+    assert_true(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, got) >= 0);
+    H5Dclose(d);
+    assert_memory_equal(got, all + row * fd[1], vd[0] * sizeof *got);
+    free(all);
+    free(got);
+}
+
 /* Every DataItem with Format="HDF" names FILE:/DATASET; the file must be the
- * sidecar's HDF5 file and the dataset must exist with the stated dims. */
+ * sidecar's HDF5 file and the dataset must exist with the stated dims: the
+ * row view of its field and frame, equal to that row.  The mesh is the
+ * column of cells along Z (3DCoRectMesh "nz+1 2 2"), fields cell-centred. */
 static void test_xdmf_resolves(void **state)
 {
     (void)state;
@@ -146,6 +176,19 @@ static void test_xdmf_resolves(void **state)
                 stack[top++] = c;
         if (xmlStrcmp(node->name, BAD_CAST "Time") == 0)
             n_grids++;
+        if (xmlStrcmp(node->name, BAD_CAST "Topology") == 0) {
+            xmlChar *type = xmlGetProp(node, BAD_CAST "TopologyType"),
+                    *dims = xmlGetProp(node, BAD_CAST "Dimensions");
+            assert_string_equal((const char *)type, "3DCoRectMesh");
+            assert_string_equal((const char *)dims, "61 2 2"); /* chute: 60 cells */
+            xmlFree(type);
+            xmlFree(dims);
+        }
+        if (xmlStrcmp(node->name, BAD_CAST "Attribute") == 0) {
+            xmlChar *center = xmlGetProp(node, BAD_CAST "Center");
+            assert_string_equal((const char *)center, "Cell");
+            xmlFree(center);
+        }
         if (xmlStrcmp(node->name, BAD_CAST "DataItem") != 0)
             continue;
         xmlChar *format = xmlGetProp(node, BAD_CAST "Format");
@@ -168,6 +211,7 @@ static void test_xdmf_resolves(void **state)
             else
                 snprintf(want, sizeof want, "%llu", (unsigned long long)dims[0]);
             assert_string_equal((const char *)dims_attr, want);
+            check_view(f, dset);
             n_refs++;
             xmlFree(text);
             xmlFree(dims_attr);

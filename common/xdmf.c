@@ -1,0 +1,174 @@
+/* xdmf.c: the XDMF sidecar of a profile time series (see xdmf.h). */
+#include "xdmf.h"
+
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "atomic.h"
+
+void ekm_xdmf_path(const char *h5_path, char *out, size_t size)
+{
+    const size_t len = strlen(h5_path);
+    if (len > 3 && strcmp(h5_path + len - 3, ".h5") == 0)
+        snprintf(out, size, "%.*s.xdmf", (int)(len - 3), h5_path);
+    else
+        snprintf(out, size, "%s.xdmf", h5_path);
+}
+
+/* Length of the valid UTF-8 sequence at s (1-4), 0 when invalid. */
+static size_t utf8_length(const unsigned char *s)
+{
+    size_t len;
+    unsigned int cp;
+    if (s[0] < 0x80)
+        return 1;
+    if ((s[0] & 0xE0) == 0xC0) {
+        len = 2;
+        cp = s[0] & 0x1F;
+    } else if ((s[0] & 0xF0) == 0xE0) {
+        len = 3;
+        cp = s[0] & 0x0F;
+    } else if ((s[0] & 0xF8) == 0xF0) {
+        len = 4;
+        cp = s[0] & 0x07;
+    } else {
+        return 0;
+    }
+    for (size_t i = 1; i < len; i++) {
+        if ((s[i] & 0xC0) != 0x80)
+            return 0;
+        cp = (cp << 6) | (s[i] & 0x3F);
+    }
+    static const unsigned int min_cp[5] = {0, 0, 0x80, 0x800, 0x10000};
+    /* overlong forms, surrogates, beyond U+10FFFF, U+FFFE/U+FFFF: not XML */
+    if (cp < min_cp[len] || (cp >= 0xD800 && cp <= 0xDFFF) || cp > 0x10FFFF || cp == 0xFFFE || cp == 0xFFFF)
+        return 0;
+    return len;
+}
+
+void ekm_xdmf_escape(FILE *fp, const char *text)
+{
+    const unsigned char *s = (const unsigned char *)text;
+    while (*s) {
+        switch (*s) {
+        case '&': fputs("&amp;", fp); break;
+        case '<': fputs("&lt;", fp); break;
+        case '>': fputs("&gt;", fp); break;
+        case '"': fputs("&quot;", fp); break;
+        case '\'': fputs("&apos;", fp); break;
+        default:
+            if (*s < 0x20) { /* tab, newline included: not kept in a name */
+                fputc('?', fp);
+            } else {
+                const size_t len = utf8_length(s);
+                if (len == 0) {
+                    fputc('?', fp);
+                } else {
+                    fwrite(s, 1, len, fp);
+                    s += len - 1;
+                }
+            }
+        }
+        s++;
+    }
+}
+
+static const char *base_name(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+ekm_status ekm_xdmf_add_views(ekm_h5_file *f, const ekm_xdmf_series *s, ekm_error *err)
+{
+    char view[256];
+    for (size_t k = 0; k < s->nfields; k++)
+        for (size_t i = 0; i < s->nt; i++) {
+            snprintf(view, sizeof view, "xdmf/%s/%zu", s->fields[k].name, i);
+            ekm_status st = ekm_h5_row_view(f, view, s->fields[k].name, i, err);
+            if (st != EKM_OK)
+                return st;
+        }
+    return EKM_OK;
+}
+
+void ekm_xdmf_write(FILE *fp, const ekm_xdmf_series *s)
+{
+    const char *base = base_name(s->h5_path);
+    fputs("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+          "<!-- profile along ParaView's Z axis (the slab normal z): one column of cells, one cell\n"
+          "     wide in X and Y; every field cell-centred (docs/output-format.md) -->\n"
+          "<Xdmf Version=\"2.0\">\n <Domain>\n  <Grid Name=\"",
+          fp);
+    ekm_xdmf_escape(fp, s->title);
+    fputs("\" GridType=\"Collection\" CollectionType=\"Temporal\">\n", fp);
+    for (size_t i = 0; i < s->nt; i++) {
+        /* 3DCoRectMesh: dimensions, origin and spacing in the order Z Y X */
+        fprintf(fp,
+                "   <Grid Name=\"frame%zu\" GridType=\"Uniform\">\n"
+                "    <Time Value=\"%.17g\"/>\n"
+                "    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"%zu 2 2\"/>\n"
+                "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
+                "     <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">"
+                "%.17g 0 0</DataItem>\n"
+                "     <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">"
+                "%.17g %.17g %.17g</DataItem>\n"
+                "    </Geometry>\n",
+                i, s->t[i], s->n + 1, s->lo[i], s->dz[i], s->dz[i], s->dz[i]);
+        for (size_t k = 0; k < s->nfields; k++) {
+            const ekm_xdmf_field *fl = &s->fields[k];
+            fputs("    <Attribute Name=\"", fp);
+            ekm_xdmf_escape(fp, fl->name);
+            fprintf(fp,
+                    "\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+                    "     <DataItem Dimensions=\"%zu\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">",
+                    s->n, fl->is_int ? "Int" : "Float", fl->is_int ? 4 : 8);
+            ekm_xdmf_escape(fp, base);
+            fputs(":/xdmf/", fp);
+            ekm_xdmf_escape(fp, fl->name);
+            fprintf(fp, "/%zu</DataItem>\n    </Attribute>\n", i);
+        }
+        fputs("   </Grid>\n", fp);
+    }
+    fputs("  </Grid>\n </Domain>\n</Xdmf>\n", fp);
+}
+
+ekm_status ekm_xdmf_commit_with(ekm_h5_file *h5, const ekm_xdmf_series *s, ekm_error *err)
+{
+    char xdmf[EKM_ATOMIC_PATH_MAX + 8];
+    ekm_xdmf_path(s->h5_path, xdmf, sizeof xdmf);
+    ekm_status st = ekm_xdmf_add_views(h5, s, err);
+    if (st != EKM_OK) {
+        ekm_h5_abort(h5);
+        return st;
+    }
+    ekm_atomic data, sidecar;
+    st = ekm_h5_finish(h5, &data, err); /* frees h5 */
+    if (st != EKM_OK)
+        return st;
+    st = ekm_atomic_open(&sidecar, xdmf, err);
+    if (st != EKM_OK) {
+        ekm_atomic_abort(&data);
+        return st;
+    }
+    ekm_xdmf_write(sidecar.fp, s);
+    st = ekm_atomic_finish(&sidecar, err);
+    if (st != EKM_OK) {
+        ekm_atomic_abort(&data);
+        return st;
+    }
+    /* both complete on disk: rename the data, then the sidecar (if that
+     * rename fails, the new data file goes too) */
+    st = ekm_atomic_commit(&data, err);
+    if (st != EKM_OK) {
+        ekm_atomic_abort(&sidecar);
+        return st;
+    }
+    st = ekm_atomic_commit(&sidecar, err);
+    if (st != EKM_OK) { /* no output without its sidecar (nor a half-synced pair) */
+        unlink(s->h5_path);
+        unlink(xdmf);
+    }
+    return st;
+}
