@@ -58,9 +58,9 @@ relpath() { case $1 in "$root"/*) echo "${1#"$root"/}" ;; *) echo "$1" ;; esac; 
 # inputs) is shown, marked "inputs unrecorded".
 sums_list=$(mktemp); trap 'rm -f "$rows" "$sums_list" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
 while IFS= read -r -d '' f; do
-  jq -r '.inputs // {} | .[] | .path // empty' "$f" 2> /dev/null
+  jq -r '.inputs // {} | .[] | .path // empty' "$f" 2> /dev/null || :
 done < <(find "$res" -type f -name 'score_*.json' -print0 2> /dev/null) | sort -u |
-  while IFS= read -r p; do [ -f "$p" ] && printf '%s\0' "$p"; done |
+  while IFS= read -r p; do if [ -f "$p" ]; then printf '%s\0' "$p"; fi; done |
   xargs -0 -r sha256sum -- > "$sums_list" || die "cannot compute the checksums of the scores' inputs" 3
 SUMS=$(jq -Rn '[inputs | capture("^(?<s>[0-9a-f]{64}) [ *](?<p>.*)$") | {(.p): .s}] | add // {}' "$sums_list") ||
   die "cannot read the checksums of the scores' inputs" 5

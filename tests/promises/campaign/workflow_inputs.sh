@@ -86,7 +86,8 @@ case $case in
     [ "$(wc -l < "$work/step.err")" -eq 1 ] || fail "cg_step.sh on a truncated dump: not one line: $(cat "$work/step.err")"
     [ -e "$work/x.h5" ] || [ -e "$work/x.json" ] && fail "cg_step.sh on a truncated dump wrote an output" ;;
   table_input_changed)
-    jq -e --arg s "$(sha256sum "$res/chute/cg_liggghts.h5" | cut -d' ' -f1)" --arg p "$res/chute/cg_liggghts.h5" \
+    # the record (the path as the score names it: relative to the checkout when inside)
+    jq -e --arg s "$(sha256sum "$res/chute/cg_liggghts.h5" | cut -d' ' -f1)" --arg p "${res#"$src"/}/chute/cg_liggghts.h5" \
       '.inputs.ekm == {path: $p, sha256: $s}' "$score" > /dev/null ||
       fail "$score: no record of its input cg_liggghts.h5: $(jq -c .inputs "$score")"
     touch -r "$res/chute/cg_liggghts.h5" "$work/mtime"
@@ -103,7 +104,7 @@ case $case in
   table_input_gone)
     rm "$res/chute/cg_liggghts.h5"
     # as campaign.sh with FROM_CG=1: the steps, then the table
-    smk 1 scores > "$work/run2.log" 2>&1
+    smk 1 "$score" > "$work/run2.log" 2>&1
     smk 1 --allowed-rules table -- "$res/scores.json" > "$work/table2.log" 2>&1 || fail "the table was not made: $(tail -5 "$work/table2.log")"
     grep -q "score_liggghts_lammps.json: its input .*cg_liggghts.h5 is gone: the table is made again" "$work/run2.log" ||
       fail "the campaign does not say the score's input is gone: $(grep -m3 campaign: "$work/run2.log")"
