@@ -23,7 +23,9 @@ fi
 chk=$("$root/scripts/dem/dump_record.sh" verify "$run" atoms.dump 2>&1); rc=$?
 if [ $rc -ne 0 ]; then
   # the checker's line, as the campaign's: what differs, and what to do
-  echo "campaign: CG $words: ${chk#dump_record.sh: }; redo the DEM run (FORCE=1) or restore the dump" >&2
+  redo=$(jq -r '"make dem SCENARIO=\(.scenario) ENGINE=\(.engine) SIZE=\(.size)"' "$run/run.json" 2> /dev/null) ||
+    redo="make dem"
+  echo "campaign: CG $words: ${chk#dump_record.sh: }; run the DEM again ($redo) or restore the dump" >&2
   exit $rc
 fi
 [ -z "$chk" ] || echo "campaign: CG $words: ${chk#dump_record.sh: }" >&2
