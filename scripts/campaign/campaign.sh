@@ -5,7 +5,8 @@
 # SCENARIOS (blank-separated; empty: all): the campaign scenarios whose
 # steps run (the Snakefile's config scenarios).
 # all: removes the campaign's stale temporaries (an interrupted table or
-# figure, a stamp), says "everything is up to date" when Snakemake has
+# figure, a stamp, a killed step's OUTPUT.tmp.PID whose process is gone:
+# scripts/campaign/stale_temps.sh) and names each, says "everything is up to date" when Snakemake has
 # nothing to do, else runs the steps up to the scores (--keep-going: a
 # failed step does not stop the others), then the table and the figures
 # from the scores that exist (a second invocation, so that the workflow is
@@ -43,8 +44,19 @@ case $mode in
   all) ;;
   *) echo "campaign.sh: unknown mode '$mode' (all, table, figures)" >&2; exit 1 ;;
 esac
-[ -d "$res" ] && find "$res" -maxdepth 3 -type f \( -name '*.tmp.*' -o -name '*.tmp' \) -delete
-[ -d "$runs" ] && find "$runs" -maxdepth 3 -type f -name 'campaign.stamp.tmp' -delete
+# the campaign's own stale temporaries, each named as it is removed:
+# OUTPUT.tmp.PID whose process is gone (a step killed: ekmcompare's, the
+# steps'; one whose process is alive is kept), OUTPUT.tmp (ekm's, the
+# table's), and the DEM step's stamp temporary
+"$root/scripts/campaign/stale_temps.sh" sweep "$res" || exit
+stale() { # stale DIR DEPTH NAME: remove DIR's files named NAME, saying so
+  [ -d "$1" ] || return 0
+  find "$1" -maxdepth "$2" -type f -name "$3" -print0 | while IFS= read -r -d '' f; do
+    rm -f -- "$f" && echo "campaign: removed stale temporary $f (left by an interrupted step)" >&2
+  done
+}
+stale "$res" 4 '*.tmp'
+stale "$runs" 3 'campaign.stamp.tmp'
 if out=$("${smk[@]}" -n scores table calibration figures 2>&1); then
   case $out in
     *"Nothing to be done"*)
@@ -57,7 +69,10 @@ else
 fi
 t0=$(date +%s); rc=0
 smk scores || rc=4
-smk table calibration || rc=4
+# the table and the matrix from the scores that exist now, never a step
+# behind them again (a failed step would keep the table from being made,
+# and an old table show scores whose inputs are gone)
+smk --allowed-rules table calibration -- table calibration || rc=4
 cat "$res/scores.md"
 [ -f "$res/calibration.md" ] && cat "$res/calibration.md"
 smk figures || rc=4

@@ -15,7 +15,12 @@
 # A comparison that cannot exist (engine cannot run the scenario, or not in
 # ENGINES) is "n/a"; one whose score file is missing (failed step) is
 # "missing" (with a warning; the campaign's exit status reports the failed
-# step itself); one whose EKM run was to stop when steady and ended at its
+# step itself), and so is one whose score records inputs (score_step.sh:
+# path and sha256 of its cg and EKM files) that are gone or changed since
+# ("reason": "input gone" / "input changed"; "missing (input changed)" in
+# the markdown), never the old numbers; a score without that record (made
+# before scores recorded their inputs) is shown with "inputs":
+# "unrecorded" ("[inputs unrecorded]"); one whose EKM run was to stop when steady and ended at its
 # t_end without getting there ("model_run" of the score, steady 0) is
 # "not_steady" with its flow-rate acceleration, not scored as a steady state
 # (the score file keeps the numbers of that transient; the matrix leaves it
@@ -45,24 +50,49 @@ rows=$(mktemp); trap 'rm -f "$rows" "$res/scores.json.tmp" "$res/scores.md.tmp"'
 # the score files as the table names them: relative to the checkout
 # when inside it (as the scores name their inputs)
 relpath() { case $1 in "$root"/*) echo "${1#"$root"/}" ;; *) echo "$1" ;; esac; }
+# The inputs each score records (score_step.sh: "inputs", the path and
+# sha256 of its cg and EKM files), checked once each: SUMS = {path: sha256}
+# of those that exist. A score whose input is gone or changed is a missing
+# comparison with the reason ("input gone", "input changed"), not its old
+# numbers; one without a record (made before scores recorded their
+# inputs) is shown, marked "inputs unrecorded".
+sums_list=$(mktemp); trap 'rm -f "$rows" "$sums_list" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
+while IFS= read -r -d '' f; do
+  jq -r '.inputs // {} | .[] | .path // empty' "$f" 2> /dev/null || :
+done < <(find "$res" -type f -name 'score_*.json' -print0 2> /dev/null) | sort -u |
+  while IFS= read -r p; do if [ -f "$p" ]; then printf '%s\0' "$p"; fi; done |
+  xargs -0 -r sha256sum -- > "$sums_list" || die "cannot compute the checksums of the scores' inputs" 3
+SUMS=$(jq -Rn '[inputs | capture("^(?<s>[0-9a-f]{64}) [ *](?<p>.*)$") | {(.p): .s}] | add // {}' "$sums_list") ||
+  die "cannot read the checksums of the scores' inputs" 5
+rm -f "$sums_list"
+# jq: instate: "ok", "unrecorded", "input gone" or "input changed" for the
+# score read
+INSTATE='def instate: if .inputs == null then "unrecorded"
+  else [.inputs[] | if $sums[.path] == null then "input gone" elif $sums[.path] != .sha256 then "input changed" else empty end]
+       | if length == 0 then "ok" elif index("input gone") != null then "input gone" else "input changed" end end;'
 # cell FILE FIELD USABLE: JSON for one comparison
 cell() {
   if [ "$3" != 1 ]; then echo '{"status": "n/a"}'
   elif [ ! -f "$1" ]; then echo "{\"status\": \"missing\", \"file\": \"$(relpath "$1")\"}"
-  else jq -c --arg f "$2" --arg file "$(relpath "$1")" \
-      '.fields[$f] as $r | if $r == null then {status: "missing", file: $file}
+  else jq -c --arg f "$2" --arg file "$(relpath "$1")" --argjson sums "$SUMS" "$INSTATE"'
+      instate as $in | .fields[$f] as $r | if $in == "input gone" or $in == "input changed" then
+         {status: "missing", reason: $in, inputs: [.inputs[].path], file: $file}
+       elif $r == null then {status: "missing", file: $file}
        elif .model_run.steady == 0 then {status: "not_steady", acceleration: .model_run.acceleration,
              drift_per_s: .model_run.drift_per_s, file: $file}
        else {status: "ok", rel_l2: $r.rel_l2, noise_normalised: $r.noise_normalised, points: $r.points,
              points_left_out: $r.points_left_out, offset_d: .free_surface.offset_d, offset_m: .free_surface.offset_m,
-             file: $file} end' "$1"
+             file: $file} end | if $in == "unrecorded" and .status != "missing" then . + {inputs: "unrecorded"} else . end' "$1"
   fi
 }
 # scell FILE USABLE: the scalars of one comparison, {name: {...}}
 scell() {
   if [ "$2" != 1 ] || [ ! -f "$1" ]; then echo '{}'
-  else jq -c --arg file "$(relpath "$1")" 'if .model_run.steady == 0 then (.scalars // {}) | map_values({status: "not_steady", file: $file})
-      else (.scalars // {}) | map_values(. + {file: $file}) end' "$1"
+  else jq -c --arg file "$(relpath "$1")" --argjson sums "$SUMS" "$INSTATE"'instate as $in
+      | if $in == "input gone" or $in == "input changed" then [.inputs[].path] as $i | (.scalars // {}) | map_values({status: "missing", reason: $in, inputs: $i, file: $file})
+      elif .model_run.steady == 0 then (.scalars // {}) | map_values({status: "not_steady", file: $file})
+      else (.scalars // {}) | map_values(. + {file: $file}) end
+      | if $in == "unrecorded" then map_values(. + {inputs: "unrecorded"}) else . end' "$1"
   fi
 }
 # sxcell FILE USABLE: as scell, and {"__status": "missing"} when the file is
@@ -83,7 +113,7 @@ set_cells() {
   done
   echo "$x"
 }
-srows=$(mktemp); trap 'rm -f "$rows" "$srows" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
+srows=$(mktemp); trap 'rm -f "$rows" "$sums_list" "$srows" "$res/scores.json.tmp" "$res/scores.md.tmp"' EXIT
 # one line per scenario x point; tag "-" for the single case
 while IFS=$'\t' read -r s sup fields tag pvars psets; do
   ok_l=0 ok_m=0
@@ -143,7 +173,8 @@ jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%
   jq -r 'def c: if .status == "ok" then
              "\(if .rel_l2 == null then "-" else (.rel_l2 * 1000 | round / 1000 | tostring) end) / \(if .noise_normalised == null then "-" else (.noise_normalised * 100 | round / 100 | tostring) end) (\(.points_left_out // "-") out, \(if .offset_d == null then "-" else (.offset_d * 100 | round / 100 + 0 | tostring) + " d" end))"
            elif .status == "not_steady" then "EKM not steady (flow-rate acceleration \(.acceleration) m^2/s^2 at t_end)"
-           else .status end;
+           elif .reason then "\(.status) (\(.reason))"
+           else .status end + (if .inputs == "unrecorded" then " [inputs unrecorded]" else "" end);
          .rows[] | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.field) | \(.ekm_vs_liggghts | c) | \(.ekm_vs_lammps | c) | \(.liggghts_vs_lammps | c) |"' "$res/scores.json.tmp"
   if [ -n "$allsets" ]; then
     echo
@@ -160,7 +191,8 @@ jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%
     jq -r --arg sets "$allsets" 'def c: if .status == "ok" then
              "\(if .rel_l2 == null then "-" else (.rel_l2 * 1000 | round / 1000 | tostring) end) / \(if .noise_normalised == null then "-" else (.noise_normalised * 100 | round / 100 | tostring) end)"
            elif .status == "not_steady" then "not steady"
-           else .status end;
+           elif .reason then "\(.status) (\(.reason))"
+           else .status end + (if .inputs == "unrecorded" then " [inputs unrecorded]" else "" end);
          .rows[] | . as $r | (if .ekm_vs_lammps.status == "n/a" then "liggghts" else "lammps" end) as $e
          | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.field) | \($e) | \(.["ekm_vs_" + $e] | c) |"
            + ([$sets | split(" ")[] as $p | " \($r["ekm_" + $p + "_vs_" + $e] // {status: "n/a"} | c) |"] | join(""))
@@ -177,8 +209,9 @@ jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%
   jq -r 'def n: if . == null then "-" else (. * 1e4 | round / 1e4 + 0 | tostring) end;
          def g: if . == null then "-" elif . == 0 then "0"
                 else . as $x | ($x | fabs | log10 | floor) as $e | ($x / pow(10; $e) * 1000 | round / 1000 | tostring) + "e" + ($e | tostring) end;
-         def c: if .dem == null and .model == null then (.status // "-")
-                else "\(.dem | g) +- \(.dem_se | g), \(.model | g): \(.rel_error | n) / \(if .error_over_se == null then "-" else (.error_over_se * 100 | round / 100 + 0 | tostring) end)" end;
+         def c: if .dem == null and .model == null then (.status // "-") + (if .reason then " (\(.reason))" else "" end)
+                else "\(.dem | g) +- \(.dem_se | g), \(.model | g): \(.rel_error | n) / \(if .error_over_se == null then "-" else (.error_over_se * 100 | round / 100 + 0 | tostring) end)" end
+                + (if .inputs == "unrecorded" then " [inputs unrecorded]" else "" end);
          .scalar_rows[] | "| \(.scenario) | \(if .point == "" then "-" else .point end) | \(.scalar) | \(.units) | \(.ekm_vs_liggghts | c) | \(.ekm_vs_lammps | c) | \(.liggghts_vs_lammps | c) |"' "$res/scores.json.tmp"
 } > "$res/scores.md.tmp" || die "$res/scores.md.tmp: cannot write the score table" 3
 mv "$res/scores.json.tmp" "$res/scores.json" || die "$res/scores.json: cannot rename into place" 3

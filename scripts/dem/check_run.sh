@@ -3,7 +3,9 @@
 #
 #   scripts/dem/check_run.sh [--filling | --pressure] DIR
 #
-# Checks: run.json has status "ok"; atoms.dump exists, has at least two
+# Checks: run.json has status "ok"; every dump is what the run recorded
+# in run.json "dumps" (frames, bytes, sha256: not changed after the run);
+# atoms.dump exists, has at least two
 # frames and its ITEM: ATOMS header names the columns the comparison tool
 # needs (id type x y z vx vy vz radius mass c_sa[1..6]); pairs.dump exists;
 # log and deck copies exist. With --filling also the mass balance: mass in
@@ -16,7 +18,8 @@
 # equals the target `pressure` of vars.txt within 3 block standard errors
 # (monitor_stats.sh). Exit status (docs/exit-codes.md):
 # 0 all pass; 1 usage; 3 run.json or another file of the run is missing;
-# 2 a file is there but not as expected (status not ok, too few frames, a
+# 2 a file is there but not as expected (status not ok, a dump that
+# differs from its run.json record, too few frames, a
 # missing column or EKMDEM_MASS marker, no [dem] rest_ke, no pressure in
 # vars.txt, no v_Pzz column in monitor.txt); 4 the filling mass balance or
 # rest check, or the barostat check, fails; 7 ekm not built. The first
@@ -39,6 +42,13 @@ grep -q '"status": "ok"' "$dir/run.json" || bad 2 "status is not ok: $(grep -o '
 for f in deck.in vars.txt log.txt screen.txt atoms.dump pairs.dump; do
   [ -s "$dir/$f" ] || bad 3 "missing or empty $f"
 done
+# the dumps are what the run produced (run.json "dumps": frames, bytes,
+# sha256; scripts/dem/dump_record.sh)
+chk=$("$here/dump_record.sh" verify "$dir" 2>&1); r=$?
+if [ $r -ne 0 ]; then
+  while IFS= read -r l; do bad "$([ $r -eq 3 ] && echo 3 || echo 2)" "${l#dump_record.sh: "$dir"/}"; done <<< "$chk"
+elif [ -n "$chk" ]; then echo "check_run: $dir: ${chk#dump_record.sh: }" >&2
+fi
 if [ -s "$dir/atoms.dump" ]; then
   frames=$(grep -c '^ITEM: TIMESTEP' "$dir/atoms.dump")
   [ "$frames" -ge 2 ] || bad 2 "atoms.dump has $frames frame(s), expected >= 2"

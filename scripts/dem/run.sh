@@ -11,7 +11,9 @@
 #   -n NP     MPI ranks (default 1; NP > 1 runs through mpirun)
 #   -f        overwrite a finished run (FORCE=1 in make)
 #   -s k=v    override a [dem] key for this run (repeatable): passed to the
-#             scenario reader as --set dem.k=v
+#             scenario reader as --set dem.k=v, whatever it is (a bad or
+#             unknown key or value, or no '=', is the reader's error: one
+#             line naming the key, exit 2)
 #   -o DIR    output root (default runs/)
 #   -l        list the sweep points, one "TAG|name value ..." per line (TAG
 #             empty: a single case in the top directory), and run nothing
@@ -27,7 +29,10 @@
 # the deck variables. Every case writes
 # runs/<scenario>/<engine>-<size>[/<point>]/ with the deck (deck.in), the
 # variables (vars.txt), the engine log (log.txt), its screen output
-# (screen.txt), dumps, a monitor series (monitor.txt) and run.json.
+# (screen.txt), dumps, a monitor series (monitor.txt) and run.json, which
+# records the status and what the run produced: "dumps", the frames, bytes
+# and sha256 of every dump (scripts/dem/dump_record.sh). A finished run
+# whose dumps no longer match that record is run again.
 #
 # Exit status (docs/exit-codes.md): 0 ok (or already done), 1 usage,
 # 2 scenario error (the reader's message), 3 output folder not writable,
@@ -88,8 +93,9 @@ ekmcompare=${EKMCOMPARE:-$(dirname "$(dirname "$ekm")")/compare/ekmcompare}
 [ -x "$ekmcompare" ] || { echo "$prog: ekmcompare not built: run make build (no executable $ekmcompare)" >&2; exit 7; }
 command -v jq > /dev/null || { echo "$prog: jq not installed (scripts/deps.sh base)" >&2; exit 7; }
 setargs=()
+# every -s goes to the reader as it is written (also one without '='): its
+# rules, its error line naming the key, its exit status 2
 for s in "${sets[@]+"${sets[@]}"}"; do
-  [[ $s == ?*=* ]] || usage "-s expects key=value, got '$s'"
   setargs+=(--set "dem.$s")
 done
 resolved=$("$ekm" scenario "$ini" --engine "$engine" --size "$size" "${setargs[@]+"${setargs[@]}"}" --json)
@@ -261,6 +267,19 @@ run_case() { # run_case TAG "name value ..."
     done
     [ "$newvars" = "$(cat "$dir/vars.txt" 2>/dev/null)"$'\n' ] || same=0
     [ $same -eq 0 ] && [ $force -eq 0 ] && echo "$prog: $dir: inputs changed (deck or variables): running again"
+    # the dumps must still be what the run produced (run.json "dumps":
+    # frames, bytes, sha256); one that changed after the run (truncated,
+    # edited, removed) is not a finished run
+    if [ $same -eq 1 ] && [ $force -eq 0 ]; then
+      local chk
+      if chk=$("$here/dump_record.sh" verify "$dir" 2>&1); then
+        [ -z "$chk" ] || echo "$chk" >&2
+      else
+        echo "$chk" >&2
+        echo "$prog: $dir: its dumps are not what the run produced: running again" >&2
+        same=0
+      fi
+    fi
   fi
   if [ -f "$dir/run.json" ] && [ $force -eq 0 ] && [ $same -eq 1 ]; then
     if grep -q '"status": "ok"' "$dir/run.json"; then
@@ -301,6 +320,10 @@ run_case() { # run_case TAG "name value ..."
     natoms=$(grep -m1 '^EKMDEM_DONE' "$dir/screen.txt" | sed -n 's/.*natoms \([0-9]*\).*/\1/p')
     steps=$(grep -m1 '^EKMDEM_DONE' "$dir/screen.txt" | sed -n 's/.*steps \([0-9]*\).*/\1/p')
   fi
+  # what the run produced: frames, bytes and sha256 of every dump, so that
+  # a later step can tell a dump that changed after the run
+  local dumps
+  dumps=$("$here/dump_record.sh" record "$dir") || return 3
   # --- steady state: last quarter of the monitor series vs the one before ---
   local steady=null drift=null
   if [ "$st" = ok ] && [ -s "$dir/monitor.txt" ]; then
@@ -325,6 +348,7 @@ run_case() { # run_case TAG "name value ..."
     echo "  \"ranks\": $np, \"steps\": ${steps:-null}, \"dt\": ${K[dem.dt]},"
     echo "  \"particles\": ${natoms:-null}, \"wall_time_s\": $wall,"
     echo "  \"steady\": $steady, \"monitor_drift\": $drift, \"steady_tol\": $steady_tol,"
+    echo "  \"dumps\": $dumps,"
     echo "  \"status\": \"$st\", \"message\": \"$(echo "$msg" | json_escape)\","
     echo "  \"finished\": \"$(date -u +%Y-%m-%dT%H:%M:%SZ)\""
     echo "}"
