@@ -137,7 +137,7 @@ static const tool_key *find_key(const char *section, const char *base)
 
 /* A decimal floating-point literal: [-+]? (digits [. digits*] | . digits)
  * ([eE] [-+]? digits)?, representable (no overflow or underflow). */
-static int is_number(const char *v, size_t len)
+static int is_number(const char *v, size_t len, double *out)
 {
     size_t i = 0, digits = 0;
     if (i < len && (v[i] == '-' || v[i] == '+'))
@@ -171,18 +171,37 @@ static int is_number(const char *v, size_t len)
     char *end;
     errno = 0;
     const double x = strtod(buf, &end);
-    return *end == '\0' && errno != ERANGE && isfinite(x);
+    if (*end != '\0' || errno == ERANGE || !isfinite(x))
+        return 0;
+    if (out)
+        *out = x;
+    return 1;
 }
 
-static int is_integer(const char *v)
+/* A decimal integer: [-+]? digits, within long long. */
+static int is_integer(const char *v, long long *out)
 {
     const char *p = v + (*v == '-' || *v == '+');
     if (!*p || strspn(p, "0123456789") != strlen(p))
         return 0;
     char *end;
     errno = 0;
-    (void)strtoll(v, &end, 10);
-    return errno != ERANGE;
+    const long long x = strtoll(v, &end, 10);
+    if (errno == ERANGE)
+        return 0;
+    if (out)
+        *out = x;
+    return 1;
+}
+
+int ekm_resolve_parse_number(const char *value, double *out)
+{
+    return is_number(value, strlen(value), out);
+}
+
+int ekm_resolve_parse_integer(const char *value, long long *out)
+{
+    return is_integer(value, out);
 }
 
 #define BLANKS " \t"
@@ -192,7 +211,7 @@ static int is_number_list(const char *v)
     size_t n = 0;
     for (const char *p = v + strspn(v, BLANKS); *p; p += strspn(p, BLANKS)) {
         const size_t len = strcspn(p, BLANKS);
-        if (!is_number(p, len))
+        if (!is_number(p, len, NULL))
             return 0;
         p += len;
         n++;
@@ -301,11 +320,11 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
     char choices[128];
     switch (tk->type) {
     case TYPE_NUMBER:
-        if (!is_number(value, strlen(value)))
+        if (!is_number(value, strlen(value), NULL))
             expected = "a number";
         break;
     case TYPE_INTEGER:
-        if (!is_integer(value))
+        if (!is_integer(value, NULL))
             expected = "an integer";
         break;
     case TYPE_FLAG:

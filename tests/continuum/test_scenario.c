@@ -57,7 +57,9 @@ static void write_file(const char *text)
 }
 
 /* BASE with `edit`: a line "-key" removes the first line starting with
- * "key " from BASE; the other lines are appended. */
+ * "key " from BASE, "=key:TEXT" replaces it by TEXT, "+key:TEXT" inserts
+ * TEXT after it (a section of BASE is given once); the other lines are
+ * appended. */
 static void write_scenario(const char *edit)
 {
     char text[8192];
@@ -67,13 +69,22 @@ static void write_scenario(const char *edit)
     while (p && *p) {
         const char *nl = strchr(p, '\n');
         size_t len = nl ? (size_t)(nl - p) : strlen(p);
-        if (p[0] == '-') {
+        if (p[0] == '-' || p[0] == '=' || p[0] == '+') {
+            const char *colon = memchr(p, ':', len);
+            const size_t key_len = p[0] == '-' ? len - 1 : (size_t)(colon - p - 1);
+            assert_true(p[0] == '-' || colon);
             char key[64];
-            snprintf(key, sizeof key, "\n%.*s ", (int)len - 1, p + 1);
+            snprintf(key, sizeof key, "\n%.*s ", (int)key_len, p + 1);
             char *at = strstr(text, key);
             assert_non_null(at);
             char *end = strchr(at + 1, '\n');
-            memmove(at, end, strlen(end) + 1);
+            char rest[8192];
+            snprintf(rest, sizeof rest, "%s", end + 1);
+            if (p[0] == '-')
+                memmove(at, end, strlen(end) + 1);
+            else
+                snprintf(p[0] == '+' ? end : at, sizeof text - (size_t)((p[0] == '+' ? end : at) - text),
+                         "\n%.*s\n%s", (int)(len - key_len - 2), colon + 1, rest);
         } else {
             strncat(append, p, len);
             strcat(append, "\n");
@@ -109,31 +120,31 @@ static const error_case EKM_ERRORS[] = {
      {NULL},
      EKM_EINPUT,
      FILE_NAME ":31: [numerics] newton_max: expected an integer, got '3.5'"},
-    {"unknown key", "[material]\nfoo = 1", {NULL}, EKM_EINPUT, FILE_NAME ":31: [material] foo: unknown key"},
+    {"unknown key", "+alpha:foo = 1", {NULL}, EKM_EINPUT, FILE_NAME ":16: [material] foo: unknown key"},
     {"prefixed key of ekm",
-     "[domain]\nref.cells = 1",
+     "+cells:ref.cells = 1",
      {NULL},
      EKM_EINPUT,
-     FILE_NAME ":31: [domain] ref.cells: unknown key"},
+     FILE_NAME ":19: [domain] ref.cells: unknown key"},
     {"unknown section",
      "[materal]\nrho_p = 1",
      {NULL},
      EKM_EINPUT,
      FILE_NAME
-     ":31: [materal]: unknown section (the sections are scenario material model domain gravity initial "
+     ":30: [materal]: unknown section (the sections are scenario material model domain gravity initial "
      "bottom top run numerics hypo dem compare campaign figures)"},
     {"section in capitals",
      "[DEM]\nlx = 1",
      {NULL},
      EKM_EINPUT,
-     FILE_NAME ":31: [DEM]: unknown section (the sections are scenario material model domain gravity initial "
+     FILE_NAME ":30: [DEM]: unknown section (the sections are scenario material model domain gravity initial "
                "bottom top run numerics hypo dem compare campaign figures)"},
     {"missing key", "-eps0", {NULL}, EKM_EINPUT, FILE_NAME ": [material] eps0: missing (a required key)"},
     {"value longer than allowed",
-     "[scenario]\nname = " NAME_65,
+     "=name:name = " NAME_65,
      {NULL},
      EKM_EINPUT,
-     FILE_NAME ":31: [scenario] name: value longer than allowed: '" NAME_65 "'"},
+     FILE_NAME ":2: [scenario] name: value longer than allowed: '" NAME_65 "'"},
     {"syntax", "this is not ini", {NULL}, EKM_EINPUT, FILE_NAME ":30: expected '[section]' or 'key = value'"},
     {"variant",
      "[model]\nvariant = half",
@@ -151,10 +162,10 @@ static const error_case EKM_ERRORS[] = {
      EKM_EINPUT,
      "--set bottom.type: [bottom] type: expected one of wall inflow outflow free piston, got 'moving'"},
     {"material check",
-     "-phi_cp\n[material]\nphi_cp = -0.64",
+     "=phi_cp:phi_cp = -0.64",
      {NULL},
      EKM_EINPUT,
-     FILE_NAME ":30: [material] phi_cp: expected a positive number, got -0.64"},
+     FILE_NAME ":6: [material] phi_cp: expected a positive number, got -0.64"},
     {"range in the file",
      "[numerics]\ncfl = 2",
      {NULL},
@@ -171,10 +182,10 @@ static const error_case EKM_ERRORS[] = {
      EKM_EINPUT,
      "--set domain.cells: [domain] cells: expected an integer in [1, 1e7], got 0"},
     {"key of another boundary type",
-     "[bottom]\nphi = 0.3",
+     "+type:phi = 0.3",
      {NULL},
      EKM_EINPUT,
-     FILE_NAME ":31: [bottom] phi: only allowed with type = inflow (this side is wall)"},
+     FILE_NAME ":26: [bottom] phi: only allowed with type = inflow (this side is wall)"},
     {"limiter",
      NULL,
      {"numerics.limiter=foo", NULL},
@@ -418,11 +429,11 @@ static void test_unreadable_and_long_line(void **state)
     char line[400];
     memset(line, 'x', sizeof line - 1);
     line[sizeof line - 1] = '\0';
-    memcpy(line, "[scenario]\ndescription = ", 25);
+    memcpy(line, "+name:description = ", 20);
     write_scenario(line);
     assert_int_equal(ekm_scenario_load(&sc, FILE_NAME, NULL, 0, &err), EKM_EINPUT);
     ekm_scenario_free(&sc);
-    assert_string_equal(err.message, FILE_NAME ":31: line longer than 198 characters");
+    assert_string_equal(err.message, FILE_NAME ":3: line longer than 198 characters");
 }
 
 /* A scenario with a valid [dem] key loads for ekm run (the values are not ekm's). */
