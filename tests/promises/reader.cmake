@@ -17,7 +17,7 @@ foreach(name output_dt_tiny fifo_scenario fifo_material dev_zero_scenario dev_ur
   ekm_reader_case(no_hang ${name})
 endforeach()
 foreach(name unterminated_header nul_in_header long_header set_value_with_newline material_file_check_line
-             cross_key_dt_max cross_key_phi_loose inflow_missing_key)
+             cross_key_dt_max cross_key_phi_loose inflow_missing_key derived_default)
   ekm_reader_case(clear_errors ${name})
 endforeach()
 

@@ -179,6 +179,14 @@ inflow_missing_key)
     expect 2 "^ekm: inflow.ini:$(line inflow.ini '^type = inflow'): \[top\] phi: missing \(required with type = inflow\)$" \
         scenario inflow.ini --json
     ;;
+derived_default)
+    # a sweep list's default derived from another key was blamed on "default:"
+    sed 's/^phi *=.*/phi = 0/' "$src/scenarios/simple_shear.ini" > phi0.ini
+    expect 2 "^ekm: phi0.ini:$(line phi0.ini '^phi *='): \[dem\] phis: expected volume fractions in \(0, phi_cp = 0.64\), got '0' \(the default: \[initial\] phi\)$" \
+        scenario phi0.ini --json
+    expect 2 "^ekm: --set top.velocity: \[dem\] rates: expected shear rates > 0 \[1/s\], got '0' \(the default: " \
+        scenario "$src/scenarios/simple_shear.ini" --set top.velocity=-0.1 --json
+    ;;
 *)
     echo "cases.sh: unknown case '$case_name'" >&2
     exit 1
