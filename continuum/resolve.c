@@ -137,7 +137,7 @@ static const tool_key *find_key(const char *section, const char *base)
 
 /* A decimal floating-point literal: [-+]? (digits [. digits*] | . digits)
  * ([eE] [-+]? digits)?, representable (no overflow or underflow). */
-static int is_number(const char *v, size_t len)
+static int is_number(const char *v, size_t len, double *out)
 {
     size_t i = 0, digits = 0;
     if (i < len && (v[i] == '-' || v[i] == '+'))
@@ -171,18 +171,37 @@ static int is_number(const char *v, size_t len)
     char *end;
     errno = 0;
     const double x = strtod(buf, &end);
-    return *end == '\0' && errno != ERANGE && isfinite(x);
+    if (*end != '\0' || errno == ERANGE || !isfinite(x))
+        return 0;
+    if (out)
+        *out = x;
+    return 1;
 }
 
-static int is_integer(const char *v)
+/* A decimal integer: [-+]? digits, within long long. */
+static int is_integer(const char *v, long long *out)
 {
     const char *p = v + (*v == '-' || *v == '+');
     if (!*p || strspn(p, "0123456789") != strlen(p))
         return 0;
     char *end;
     errno = 0;
-    (void)strtoll(v, &end, 10);
-    return errno != ERANGE;
+    const long long x = strtoll(v, &end, 10);
+    if (errno == ERANGE)
+        return 0;
+    if (out)
+        *out = x;
+    return 1;
+}
+
+int ekm_resolve_parse_number(const char *value, double *out)
+{
+    return is_number(value, strlen(value), out);
+}
+
+int ekm_resolve_parse_integer(const char *value, long long *out)
+{
+    return is_integer(value, out);
 }
 
 #define BLANKS " \t"
@@ -192,7 +211,7 @@ static int is_number_list(const char *v)
     size_t n = 0;
     for (const char *p = v + strspn(v, BLANKS); *p; p += strspn(p, BLANKS)) {
         const size_t len = strcspn(p, BLANKS);
-        if (!is_number(p, len))
+        if (!is_number(p, len, NULL))
             return 0;
         p += len;
         n++;
@@ -301,11 +320,11 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
     char choices[128];
     switch (tk->type) {
     case TYPE_NUMBER:
-        if (!is_number(value, strlen(value)))
+        if (!is_number(value, strlen(value), NULL))
             expected = "a number";
         break;
     case TYPE_INTEGER:
-        if (!is_integer(value))
+        if (!is_integer(value, NULL))
             expected = "an integer";
         break;
     case TYPE_FLAG:
@@ -528,16 +547,50 @@ static ekm_status split_list(const ekm_resolve_key *k, item_list *out, ekm_error
     return EKM_OK;
 }
 
+/* Where the value of a sweep list came from, for a message blaming it: its
+ * FILE:LINE or --set; a derived default (dem.phis: [initial] phi, dem.rates:
+ * the walls' rate) names the key it was derived from, and says so in why. */
+static void blame_of(const ekm_scenario *s, const ekm_resolved *r, const ekm_resolve_key *k, char *from,
+                     size_t from_size, char *why, size_t why_size)
+{
+    snprintf(from, from_size, "%s", k->from);
+    why[0] = '\0';
+    if (strcmp(k->from, "default") != 0)
+        return;
+    const char *source = NULL;
+    if (strcmp(k->name, "dem.phis") == 0) {
+        source = "initial.phi";
+        snprintf(why, why_size, " (the default: [initial] phi)");
+    } else if (strcmp(k->name, "dem.rates") == 0) {
+        source = !isnan(s->top.shear_rate) ? "top.shear_rate" : "top.velocity";
+        snprintf(why, why_size, "%s",
+                 !isnan(s->top.shear_rate)
+                     ? " (the default: [top] shear_rate)"
+                     : " (the default: ([top] velocity - [bottom] velocity) / [domain] length)");
+        if (isnan(s->top.shear_rate) && !ekm_scenario_entry_find(s->entries, s->n_entries, "top.velocity"))
+            source = "bottom.velocity";
+    }
+    const ekm_resolve_key *src = source ? ekm_resolve_find(r, source) : NULL;
+    if (src && strcmp(src->from, "--set") == 0)
+        snprintf(from, from_size, "--set %s", source);
+    else
+        snprintf(from, from_size, "%s", src && strcmp(src->from, "default") != 0 ? src->from : s->source);
+}
+
 /* Every item of a [dem] sweep list in (lo, hi) (hi <= 0: no upper bound). */
-static ekm_status check_sweep_items(const ekm_resolve_key *k, const item_list *l, double lo, double hi,
-                                    const char *expected, ekm_error *err)
+static ekm_status check_sweep_items(const ekm_scenario *s, const ekm_resolved *r, const ekm_resolve_key *k,
+                                    const item_list *l, double lo, double hi, const char *expected,
+                                    ekm_error *err)
 {
     const char *key = k->as[0] ? k->as : k->name + 4;
     for (size_t i = 0; i < l->n; i++) {
         const double x = strtod(l->item[i], NULL);
-        if (!(x > lo) || (hi > 0 && !(x < hi)))
-            return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: expected %s, got '%s'", k->from, key, expected,
-                            l->item[i]);
+        if (!(x > lo) || (hi > 0 && !(x < hi))) {
+            char from[600], why[96];
+            blame_of(s, r, k, from, sizeof from, why, sizeof why);
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: expected %s, got '%s'%s", from, key, expected,
+                            l->item[i], why);
+        }
     }
     return EKM_OK;
 }
@@ -617,12 +670,12 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
         char phi_range[64];
         snprintf(phi_range, sizeof phi_range, "volume fractions in (0, phi_cp = %g)", s->material.phi_cp);
         if (st == EKM_OK)
-            st = by_p ? check_sweep_items(pressures, &a[0], 0.0, 0.0, "normal stresses > 0 [Pa]", err)
-                      : check_sweep_items(phis, &a[0], 0.0, s->material.phi_cp, phi_range, err);
+            st = by_p ? check_sweep_items(s, r, pressures, &a[0], 0.0, 0.0, "normal stresses > 0 [Pa]", err)
+                      : check_sweep_items(s, r, phis, &a[0], 0.0, s->material.phi_cp, phi_range, err);
         if (st == EKM_OK)
             st = split_list(rates, &a[1], err);
         if (st == EKM_OK)
-            st = check_sweep_items(rates, &a[1], 0.0, 0.0, "shear rates > 0 [1/s]", err);
+            st = check_sweep_items(s, r, rates, &a[1], 0.0, 0.0, "shear rates > 0 [1/s]", err);
         const size_t n = a[0].n * a[1].n;
         for (size_t i = 0; i < a[0].n && st == EKM_OK; i++)
             for (size_t j = 0; j < a[1].n && st == EKM_OK; j++) {

@@ -27,6 +27,17 @@ int ekm_resolve_is_tool_section(const char *section);
  * message without the file:line, e.g. "[dem] ref.lx: expected a number, got '2x'". */
 int ekm_resolve_check_key(const char *section, const char *key, const char *value, char *why, size_t size);
 
+/* The one number syntax of every scenario key (docs/scenario-format.md): a
+ * decimal floating-point literal, the whole value ([-+]? digits [. digits]
+ * [e [-+] digits], or [-+]? . digits ...; no blanks, hex, inf or nan),
+ * finite and without overflow or underflow. Returns 1 and *out (out may be
+ * NULL), or 0. */
+int ekm_resolve_parse_number(const char *value, double *out);
+
+/* A decimal integer, the whole value ([-+]? digits) within long long:
+ * 1 and *out (out may be NULL), or 0. */
+int ekm_resolve_parse_integer(const char *value, long long *out);
+
 /* One resolved key. */
 typedef struct {
     char name[64];   /* "section.key", the plain key */

@@ -5,15 +5,19 @@
 #include "flux.h"
 #include "resolve.h"
 
+#include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <ini.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #define DEG (3.14159265358979323846 / 180.0)
 
@@ -129,10 +133,10 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->bottom.pressure = s->top.pressure = NAN; /* the wall stays put */
     s->bottom.pressure_rate = s->top.pressure_rate = 1.0;
     s->bottom.shear_rate = s->top.shear_rate = NAN; /* the wall moves at its velocity */
-    s->output_dt = 0.0;                             /* 0: t_end / 100 */
+    s->output_dt = 0.0;                             /* not given: t_end / 100 (check_scenario) */
     s->stop = EKM_STOP_T_END;
     s->steady_tol = 1e-3;
-    s->steady_window = 0.0; /* 0: 10 output_dt */
+    s->steady_window = 0.0; /* not given: 10 output_dt (check_scenario) */
     s->numerics = (ekm_numerics){
         .cfl = 0.4,
         .convection = EKM_CONVECTION_UPWIND,
@@ -162,36 +166,212 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     };
 }
 
+/* The sections a file may have, ekm's (the registry's) and the other
+ * tools' (15), fewer than N_SECTIONS_MAX, each name shorter than
+ * SECTION_NAME_MAX. */
+#define N_SECTIONS_MAX   16
+#define SECTION_NAME_MAX 16
+
 typedef struct {
     ekm_scenario *s;
-    const char *file; /* file name or "--set" */
-    FILE *fp;
+    const char *file;  /* file name or "--set" */
+    const char *text;  /* the file's text being read (not NUL-terminated) */
+    size_t size;       /* its length [B] */
+    size_t pos;        /* where the next line starts [B] */
     int line;          /* current line number */
     ekm_origin origin; /* EKM_FROM_FILE, or EKM_FROM_SET while reading the --set overrides */
-    int long_line;     /* line number of a line too long for inih, or 0 */
     int skip_material; /* 1: [material] of this file is ignored (a material file replaces it) */
     int material_only; /* 1: reading the material file: [material] only */
     int failed;
+    ekm_status failed_status; /* the status of the failure recorded in err */
     ekm_error *err;
-    int seen[N_KEYS]; /* 1 + entry index where the key was set, 0 if not */
+    int seen[N_KEYS]; /* 1 if the key was set */
     int seen_line[N_KEYS];
     char set_name[140]; /* "section.key" of the --set being read (messages: "--set section.key: ...") */
+    struct {
+        char name[SECTION_NAME_MAX];
+        int line;
+    } sections[N_SECTIONS_MAX]; /* the section headers of this file (each known, each once) */
+    size_t n_sections;
 } parse_ctx;
 
+static int fail_at_line(parse_ctx *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Record "FILE:LINE: message" (the line being read) and stop reading. */
+static int fail_at_line(parse_ctx *c, const char *fmt, ...)
+{
+    if (!c->failed) {
+        char buf[700];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(buf, sizeof buf, fmt, ap);
+        va_end(ap);
+        c->failed = 1;
+        c->failed_status = EKM_EINPUT;
+        EKM_FAIL(c->err, EKM_EINPUT, "%s:%d: %s", c->file, c->line, buf);
+    }
+    return 0;
+}
+
+static int section_known(const char *section)
+{
+    for (size_t i = 0; i < N_KEYS; i++)
+        if (strcmp(KEYS[i].section, section) == 0)
+            return 1;
+    return 0;
+}
+
+#define SECTION_LIST                                                                                    \
+    "scenario material model domain gravity initial bottom top run numerics hypo dem compare campaign " \
+    "figures"
+
+/* Where inih ends a name or a header: at one of chars, at an inline comment
+ * (';' after a blank) or at the end (inih's find_chars_or_comment). */
+static size_t span_to(const char *s, const char *chars)
+{
+    size_t i = 0;
+    int was_space = 0;
+    while (s[i] && !strchr(chars, s[i]) && !(was_space && s[i] == ';')) {
+        was_space = isspace((unsigned char)s[i]);
+        i++;
+    }
+    return i;
+}
+
+/* A section header line "[name]" (s starts with '['; blanks stripped):
+ * a known section, given once, nothing after it but a comment. */
+static int check_header(parse_ctx *c, const char *s)
+{
+    const size_t close = span_to(s + 1, "]") + 1;
+    if (s[close] != ']')
+        return fail_at_line(c, "malformed section header \"%s\" (expected [name])", s);
+    const char *rest = s + close + 1;
+    rest += strspn(rest, " \t\v\f\r");
+    if (*rest && *rest != ';')
+        return fail_at_line(
+            c, "text after the section header \"%s\" (expected [name] alone, or a ';' comment)", s);
+    const int len = (int)close - 1;
+    char name[SECTION_NAME_MAX] = "";
+    if (len < (int)sizeof name)
+        snprintf(name, sizeof name, "%.*s", len, s + 1);
+    if (len >= (int)sizeof name || (!section_known(name) && !ekm_resolve_is_tool_section(name)))
+        return fail_at_line(c, "[%.*s]: unknown section (the sections are " SECTION_LIST ")", len, s + 1);
+    for (size_t i = 0; i < c->n_sections; i++)
+        if (strcmp(c->sections[i].name, name) == 0)
+            return fail_at_line(c, "[%s]: duplicate section (first at line %d)", name, c->sections[i].line);
+    /* known sections are fewer than N_SECTIONS_MAX and each is here once */
+    snprintf(c->sections[c->n_sections].name, sizeof c->sections[0].name, "%s", name);
+    c->sections[c->n_sections++].line = c->line;
+    return 1;
+}
+
+/* Check one line before inih parses it, so that a malformed line is the
+ * error reported (inih goes on after one, and a later key of the wrong
+ * section would be blamed instead). The line loses its leading blanks
+ * (indentation means nothing; inih would take an indented line for the
+ * continuation of the value above) and a UTF-8 byte-order mark. */
+static int check_line(parse_ctx *c, char *str)
+{
+    char *s = str;
+    if (c->line == 1 && strncmp(s, "\xEF\xBB\xBF", 3) == 0)
+        s += 3;
+    while (isspace((unsigned char)*s))
+        s++;
+    size_t n = strlen(s);
+    while (n > 0 && isspace((unsigned char)s[n - 1]))
+        n--;
+    memmove(str, s, n);
+    str[n] = '\0';
+    if (n == 0 || str[0] == ';' || str[0] == '#')
+        return 1;
+    if (str[0] == '[')
+        return check_header(c, str);
+    const size_t name_end = span_to(str, "=:");
+    if ((str[name_end] != '=' && str[name_end] != ':') || name_end == 0)
+        return fail_at_line(c, "expected '[section]' or 'key = value'");
+    if (c->n_sections == 0)
+        return fail_at_line(c, "'%s': a key before the first [section]", str);
+    return 1;
+}
+
+/* inih's line reader over the text in memory: one line (without its '\n')
+ * at a time, each checked (check_line); a line longer than inih's buffer
+ * is an error at that line. */
 static char *reader(char *str, int num, void *stream)
 {
     parse_ctx *c = stream;
-    if (!fgets(str, num, c->fp))
+    if (c->failed || c->pos >= c->size || num < 3)
         return NULL;
+    const char *p = c->text + c->pos;
+    const char *nl = memchr(p, '\n', c->size - c->pos);
+    const size_t len = nl ? (size_t)(nl - p) : c->size - c->pos;
+    c->pos += len + (nl != NULL);
     c->line++;
-    size_t n = strlen(str);
-    if (n == (size_t)num - 1 && str[n - 1] != '\n' && !feof(c->fp)) {
-        if (!c->long_line)
-            c->long_line = c->line;
-        int ch; /* skip the rest of the line */
-        while ((ch = fgetc(c->fp)) != EOF && ch != '\n') {}
+    if (len > (size_t)num - 2) {
+        fail_at_line(c, "line longer than %d characters", num - 2);
+        return NULL;
     }
-    return str;
+    memcpy(str, p, len);
+    str[len] = '\0';
+    return check_line(c, str) ? str : NULL;
+}
+
+/* The first byte of t[0, size) that is a control character: any but tab;
+ * with newlines, also not LF, nor CR before LF or at the end. Returns its
+ * offset, or size. */
+static size_t first_control(const unsigned char *t, size_t size, int newlines)
+{
+    for (size_t i = 0; i < size; i++) {
+        const unsigned char b = t[i];
+        if (b >= 0x20 && b != 0x7f)
+            continue;
+        if (b == '\t' || (newlines && b == '\n') ||
+            (newlines && b == '\r' && (i + 1 == size || t[i + 1] == '\n')))
+            continue;
+        return i;
+    }
+    return size;
+}
+
+/* Whether the string is UTF-8 (RFC 3629: no overlong forms, surrogates or
+ * code points above U+10FFFF). */
+static int is_utf8(const char *str)
+{
+    const unsigned char *t = (const unsigned char *)str;
+    while (*t) {
+        const unsigned char b = *t;
+        size_t n;
+        unsigned char lo = 0x80, hi = 0xBF; /* the range of the second byte */
+        if (b < 0x80)
+            n = 1;
+        else if (b >= 0xC2 && b <= 0xDF)
+            n = 2;
+        else if (b >= 0xE0 && b <= 0xEF) {
+            n = 3;
+            lo = b == 0xE0 ? 0xA0 : 0x80;
+            hi = b == 0xED ? 0x9F : 0xBF;
+        } else if (b >= 0xF0 && b <= 0xF4) {
+            n = 4;
+            lo = b == 0xF0 ? 0x90 : 0x80;
+            hi = b == 0xF4 ? 0x8F : 0xBF;
+        } else
+            return 0;
+        if (n > 1 && (t[1] < lo || t[1] > hi))
+            return 0;
+        for (size_t k = 2; k < n; k++)
+            if (t[k] < 0x80 || t[k] > 0xBF)
+                return 0;
+        t += n;
+    }
+    return 1;
+}
+
+static void describe_byte(unsigned char b, char *buf, size_t size)
+{
+    if (b == 0)
+        snprintf(buf, size, "a NUL byte");
+    else
+        snprintf(buf, size, "control character 0x%02x", b);
 }
 
 static int fail_once(parse_ctx *c, ekm_status code, const char *fmt, const char *section, const char *key,
@@ -199,6 +379,7 @@ static int fail_once(parse_ctx *c, ekm_status code, const char *fmt, const char 
 {
     if (!c->failed) {
         c->failed = 1;
+        c->failed_status = code;
         char buf[700];
         snprintf(buf, sizeof buf, fmt, section, key, detail);
         if (c->origin == EKM_FROM_SET)
@@ -211,21 +392,13 @@ static int fail_once(parse_ctx *c, ekm_status code, const char *fmt, const char 
 
 static int parse_double(const char *v, double *out)
 {
-    char *end;
-    errno = 0;
-    double x = strtod(v, &end);
-    if (end == v || *end != '\0' || errno == ERANGE || !isfinite(x))
-        return 0;
-    *out = x;
-    return 1;
+    return ekm_resolve_parse_number(v, out);
 }
 
 static int parse_int(const char *v, int *out)
 {
-    char *end;
-    errno = 0;
-    long x = strtol(v, &end, 10);
-    if (end == v || *end != '\0' || errno == ERANGE || x < -2147483647L || x > 2147483647L)
+    long long x;
+    if (!ekm_resolve_parse_integer(v, &x) || x < -2147483647LL || x > 2147483647LL)
         return 0;
     *out = (int)x;
     return 1;
@@ -260,13 +433,31 @@ const ekm_entry *ekm_scenario_entry_find(const ekm_entry *list, size_t n, const 
     return NULL;
 }
 
-static int section_known(const char *section)
+/* A key of a file already given in it: an error naming both lines (a
+ * --set overrides a file's key: no error). */
+static int refuse_duplicate(parse_ctx *c, const ekm_entry *list, size_t n, const char *section,
+                            const char *key)
 {
-    for (size_t i = 0; i < N_KEYS; i++)
-        if (strcmp(KEYS[i].section, section) == 0)
-            return 1;
+    if (c->origin == EKM_FROM_SET)
+        return 0;
+    char name[sizeof((ekm_entry *)0)->name], first[32];
+    snprintf(name, sizeof name, "%s.%s", section, key);
+    const ekm_entry *e = ekm_scenario_entry_find(list, n, name);
+    if (!e)
+        return 0;
+    snprintf(first, sizeof first, "%d", e->line);
+    fail_once(c, EKM_EINPUT, "[%s] %s: duplicate key (first at line %s)", section, key, first);
+    return 1;
+}
+
+static int record_failed(parse_ctx *c)
+{
+    c->failed = 1;
+    c->failed_status = c->err->code;
     return 0;
 }
+
+#define VALUE_MAX (sizeof(((ekm_entry *)0)->value) - 1)
 
 static int handler(void *user, const char *section, const char *key, const char *value)
 {
@@ -281,19 +472,19 @@ static int handler(void *user, const char *section, const char *key, const char 
     if (ekm_resolve_is_tool_section(section)) {
         /* the other tools' keys: checked here, resolved by resolve.c */
         char why[700];
+        if (!is_utf8(value))
+            return fail_once(c, EKM_EINPUT, "[%s] %s: expected UTF-8 text%s", section, key, "");
         if (!ekm_resolve_check_key(section, key, value, why, sizeof why))
             return fail_once(c, EKM_EINPUT, "%s%s%s", why, "", "");
-        if (record_entry(&c->s->tool_entries, &c->s->n_tool_entries, section, key, value, c->origin, c->line,
-                         c->err) != EKM_OK) {
-            c->failed = 1;
+        if (refuse_duplicate(c, c->s->tool_entries, c->s->n_tool_entries, section, key))
             return 0;
-        }
+        if (record_entry(&c->s->tool_entries, &c->s->n_tool_entries, section, key, value, c->origin, c->line,
+                         c->err) != EKM_OK)
+            return record_failed(c);
         return 1;
     }
     if (!section_known(section))
-        return fail_once(c, EKM_EINPUT,
-                         "[%s]%s: unknown section (the sections are scenario material model domain gravity "
-                         "initial bottom top run numerics hypo dem compare campaign figures)%s",
+        return fail_once(c, EKM_EINPUT, "[%s]%s: unknown section (the sections are " SECTION_LIST ")%s",
                          section, "", "");
     size_t k;
     for (k = 0; k < N_KEYS; k++)
@@ -301,6 +492,15 @@ static int handler(void *user, const char *section, const char *key, const char 
             break;
     if (k == N_KEYS)
         return fail_once(c, EKM_EINPUT, "[%s] %s: unknown key%s", section, key, "");
+    if (refuse_duplicate(c, c->s->entries, c->s->n_entries, section, key))
+        return 0;
+    if (!is_utf8(value))
+        return fail_once(c, EKM_EINPUT, "[%s] %s: expected UTF-8 text%s", section, key, "");
+    if (strlen(value) > VALUE_MAX) {
+        char limit[32];
+        snprintf(limit, sizeof limit, "%zu", VALUE_MAX);
+        return fail_once(c, EKM_EINPUT, "[%s] %s: value longer than %s characters", section, key, limit);
+    }
     const key_spec *ks = &KEYS[k];
     char *base = (char *)c->s;
     if (strcmp(key, "variant") == 0) {
@@ -360,10 +560,8 @@ static int handler(void *user, const char *section, const char *key, const char 
     c->seen[k] = 1;
     c->seen_line[k] = c->line;
     if (record_entry(&c->s->entries, &c->s->n_entries, section, key, value, c->origin, c->line, c->err) !=
-        EKM_OK) {
-        c->failed = 1;
-        return 0;
-    }
+        EKM_OK)
+        return record_failed(c);
     return 1;
 }
 
@@ -388,6 +586,15 @@ static const char *where(const parse_ctx *c, const char *section, const char *ke
         }
     snprintf(buf, n, "%s", c->file);
     return buf;
+}
+
+/* Whether section.key was given (in a file or a --set). */
+static int given(const parse_ctx *c, const char *section, const char *key)
+{
+    for (size_t k = 0; k < N_KEYS; k++)
+        if (strcmp(KEYS[k].section, section) == 0 && strcmp(KEYS[k].key, key) == 0)
+            return c->seen[k];
+    return 0;
 }
 
 #define RANGE(cond, section, key, expect, value)                                                           \
@@ -420,6 +627,18 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
             return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: only allowed with type = %s (this side is %s)",
                             where(c, side, KEYS[k].key, w_, sizeof w_), side, KEYS[k].key,
                             KEYS[k].only_for_bc, type);
+        }
+    /* the keys a type needs (no default): missing, named at the type's line */
+    static const struct {
+        ekm_bc_kind kind;
+        const char *key;
+    } needs[] = {
+        {EKM_BC_INFLOW, "phi"}, {EKM_BC_INFLOW, "w"}, {EKM_BC_PISTON, "w"}, {EKM_BC_PISTON, "period"}};
+    for (size_t i = 0; i < sizeof needs / sizeof needs[0]; i++)
+        if (bc->kind == needs[i].kind && !given(c, side, needs[i].key)) {
+            char w_[600];
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: missing (required with type = %s)",
+                            where(c, side, "type", w_, sizeof w_), side, needs[i].key, type);
         }
     const double phi_cp = s->material.phi_cp;
     if (bc->kind == EKM_BC_WALL)
@@ -480,9 +699,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
                             KEYS[k].section, KEYS[k].key);
     ekm_error merr;
     if (ekm_material_check(&s->material, &merr) != EKM_OK) {
-        if (strcmp(material_file, c->file) != 0) /* --material FIT.ini: the whole section is its */
-            return EKM_FAIL(err, EKM_EINPUT, "%s: %s", material_file, merr.message);
-        /* merr says "[material] KEY: ..."; prefix where KEY came from (file:line or --set) */
+        /* merr says "[material] KEY: ..."; prefix where KEY came from (FILE:LINE of the
+         * scenario or material file, or --set) */
         char key[64] = "", w_[600];
         if (sscanf(merr.message, "[material] %63[^:]", key) != 1)
             key[0] = '\0';
@@ -497,18 +715,37 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(s->T_init >= 0.0, "initial", "T", "a temperature >= 0 [m^2/s^2]", s->T_init);
     RANGE(s->layer_height > 0.0, "initial", "layer_height", "a height > 0 [m]", s->layer_height);
     RANGE(s->t_end > 0.0, "run", "t_end", "a time > 0 [s]", s->t_end);
-    if (s->output_dt == 0.0)
+    /* output_dt and steady_window: given, a time > 0; not given, their defaults */
+    if (!given(c, "run", "output_dt"))
         s->output_dt = s->t_end / 100.0;
     RANGE(s->output_dt > 0.0, "run", "output_dt", "a time > 0 [s]", s->output_dt);
+    /* the frames written: the initial state and one every output_dt to t_end */
+    if (!(s->t_end / s->output_dt <= EKM_SCENARIO_MAX_FRAMES - 1)) {
+        char w_[600];
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [run] output_dt: expected a time >= t_end / %d = %g s (at most %d output "
+                        "frames), got %g",
+                        where(c, "run", "output_dt", w_, sizeof w_), EKM_SCENARIO_MAX_FRAMES - 1,
+                        s->t_end / (EKM_SCENARIO_MAX_FRAMES - 1), EKM_SCENARIO_MAX_FRAMES, s->output_dt);
+    }
     RANGE(s->steady_tol > 0.0, "run", "steady_tol", "a rate > 0 [1/s]", s->steady_tol);
-    if (s->steady_window == 0.0)
+    if (!given(c, "run", "steady_window"))
         s->steady_window = 10.0 * s->output_dt;
     RANGE(s->steady_window > 0.0, "run", "steady_window", "a time > 0 [s]", s->steady_window);
     const ekm_numerics *n = &s->numerics;
     RANGE(n->cfl > 0.0 && n->cfl <= 1.0, "numerics", "cfl", "a number in (0, 1]", n->cfl);
     RANGE(n->dt_max > 0.0, "numerics", "dt_max", "a time > 0 [s]", n->dt_max);
-    RANGE(n->dt_min > 0.0 && n->dt_min < n->dt_max, "numerics", "dt_min", "a time in (0, dt_max) [s]",
-          n->dt_min);
+    RANGE(n->dt_min > 0.0, "numerics", "dt_min", "a time > 0 [s]", n->dt_min);
+    if (!(n->dt_min < n->dt_max)) {
+        /* blame the one given (dt_min's default is 1e-12 s, dt_max's none) */
+        char w_[600];
+        if (given(c, "numerics", "dt_min"))
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: [numerics] dt_min: expected a time in (0, dt_max = %g) [s], got %g",
+                            where(c, "numerics", "dt_min", w_, sizeof w_), n->dt_max, n->dt_min);
+        return EKM_FAIL(err, EKM_EINPUT, "%s: [numerics] dt_max: expected a time > dt_min = %g s, got %g",
+                        where(c, "numerics", "dt_max", w_, sizeof w_), n->dt_min, n->dt_max);
+    }
     RANGE(n->phi_dry > 0.0 && n->phi_dry < 1e-3, "numerics", "phi_dry", "a number in (0, 1e-3)", n->phi_dry);
     RANGE(n->phi_vacuum >= 0.0 && n->phi_vacuum < 0.1, "numerics", "phi_vacuum", "a number in [0, 0.1)",
           n->phi_vacuum);
@@ -533,6 +770,14 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(h->T_ratio > 0.0, "hypo", "T_ratio", "a number > 0", h->T_ratio);
     RANGE(h->phi_margin >= 0.0 && h->phi_margin < s->material.phi_cp - s->material.phi_co, "hypo",
           "phi_margin", "a number in [0, phi_cp - phi_co)", h->phi_margin);
+    if (!given(c, "hypo", "phi_loose") && !(h->phi_loose <= s->material.phi_co)) {
+        /* the default against a given phi_co: blame phi_co */
+        char w_[600];
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [material] phi_co: expected a number >= [hypo] phi_loose = %g (its default; "
+                        "give a smaller [hypo] phi_loose), got %g",
+                        where(c, "material", "phi_co", w_, sizeof w_), h->phi_loose, s->material.phi_co);
+    }
     RANGE(h->phi_loose > 0.0 && h->phi_loose <= s->material.phi_co, "hypo", "phi_loose",
           "a number in (0, phi_co]", h->phi_loose);
     RANGE(h->rest_rate >= 0.0, "hypo", "rest_rate", "a rate >= 0 [1/s]", h->rest_rate);
@@ -559,33 +804,86 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     return st;
 }
 
-/* Parse one INI file into c (c->file names it). */
-static ekm_status parse_file(parse_ctx *c, const char *path, const char *what, ekm_error *err)
+/* Parse one text into c (t->name names it in the messages). */
+static ekm_status parse_text(parse_ctx *c, const ekm_scenario_text *t, ekm_error *err)
 {
-    c->file = path;
+    c->file = t->name;
+    c->text = t->text;
+    c->size = t->size;
+    c->pos = 0;
     c->line = 0;
-    c->long_line = 0;
-    c->fp = fopen(path, "r");
-    if (!c->fp)
+    c->n_sections = 0;
+    const size_t bad = first_control((const unsigned char *)t->text, t->size, 1);
+    if (bad < t->size) {
+        int line = 1;
+        size_t line_start = 0;
+        for (size_t i = 0; i < bad; i++)
+            if (t->text[i] == '\n')
+                line++, line_start = i + 1;
+        char what[64];
+        describe_byte((unsigned char)t->text[bad], what, sizeof what);
+        return EKM_FAIL(err, EKM_EINPUT, "%s:%d:%zu: %s: expected text (no control characters but tab)",
+                        t->name, line, bad - line_start + 1, what);
+    }
+    const int rc = ini_parse_stream(reader, c, handler, c);
+    if (c->failed)
+        return c->failed_status;
+    if (rc > 0) /* not reached: check_line refuses what inih would */
+        return EKM_FAIL(err, EKM_EINPUT, "%s:%d: expected '[section]' or 'key = value'", t->name, rc);
+    if (rc < 0)
+        return EKM_FAIL(err, EKM_EINTERNAL, "%s: inih failed (%d)", t->name, rc);
+    return EKM_OK;
+}
+
+/* Read a whole file into *buf (malloc'd, *size bytes): a regular file
+ * (opened without blocking, so that a FIFO is refused, not waited on) of
+ * at most EKM_SCENARIO_MAX_BYTES. */
+static ekm_status read_file(const char *path, const char *what, char **buf, size_t *size, ekm_error *err)
+{
+    *buf = NULL;
+    *size = 0;
+    const int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0)
         return EKM_FAIL(err, EKM_EIO, "%s: cannot open %s: %s", path, what, strerror(errno));
     struct stat fst;
-    if (fstat(fileno(c->fp), &fst) != 0 || !S_ISREG(fst.st_mode)) {
-        fclose(c->fp);
-        c->fp = NULL;
+    if (fstat(fd, &fst) != 0 || !S_ISREG(fst.st_mode)) {
+        close(fd);
         return EKM_FAIL(err, EKM_EIO, "%s: cannot read %s: not a regular file", path, what);
     }
-    int rc = ini_parse_stream(reader, c, handler, c);
-    fclose(c->fp);
-    c->fp = NULL;
-    if (c->failed)
-        return EKM_EINPUT;
-    if (c->long_line)
-        return EKM_FAIL(err, EKM_EINPUT, "%s:%d: line longer than %d characters", path, c->long_line,
-                        INI_MAX_LINE - 2);
-    if (rc > 0)
-        return EKM_FAIL(err, EKM_EINPUT, "%s:%d: expected '[section]' or 'key = value'", path, rc);
-    if (rc < 0)
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot read %s", path, what);
+    if (fst.st_size > EKM_SCENARIO_MAX_BYTES) {
+        close(fd);
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot read %s: %lld bytes, more than the %d a scenario may have",
+                        path, what, (long long)fst.st_size, EKM_SCENARIO_MAX_BYTES);
+    }
+    /* room for one byte more than the limit: a file that grew meanwhile */
+    char *b = malloc((size_t)EKM_SCENARIO_MAX_BYTES + 1);
+    if (!b) {
+        close(fd);
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory reading %s", path);
+    }
+    size_t got = 0;
+    while (got <= (size_t)EKM_SCENARIO_MAX_BYTES) {
+        const ssize_t n = read(fd, b + got, (size_t)EKM_SCENARIO_MAX_BYTES + 1 - got);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            const int e = errno;
+            close(fd);
+            free(b);
+            return EKM_FAIL(err, EKM_EIO, "%s: cannot read %s: %s", path, what, strerror(e));
+        }
+        if (n == 0)
+            break;
+        got += (size_t)n;
+    }
+    close(fd);
+    if (got > (size_t)EKM_SCENARIO_MAX_BYTES) {
+        free(b);
+        return EKM_FAIL(err, EKM_EIO, "%s: cannot read %s: more than the %d bytes a scenario may have", path,
+                        what, EKM_SCENARIO_MAX_BYTES);
+    }
+    *buf = b;
+    *size = got;
     return EKM_OK;
 }
 
@@ -599,43 +897,84 @@ ekm_status ekm_scenario_load_material(ekm_scenario *s, const char *path, const c
                                       const char *const *overrides, size_t n_overrides, ekm_error *err)
 {
     ekm_scenario_init_defaults(s);
-    snprintf(s->source, sizeof s->source, "%s", path);
-    parse_ctx c = {.s = s, .file = path, .err = err, .skip_material = material_path != NULL};
-    ekm_status pst = parse_file(&c, path, "scenario file", err);
-    if (pst != EKM_OK)
-        return pst;
-    if (material_path) {
-        snprintf(s->material_source, sizeof s->material_source, "%s", material_path);
-        c.skip_material = 0;
-        c.material_only = 1;
-        c.origin = EKM_FROM_MATERIAL;
-        if ((pst = parse_file(&c, material_path, "material file", err)) != EKM_OK)
-            return pst;
-        c.material_only = 0;
+    char *text = NULL, *material_text = NULL;
+    ekm_scenario_text file = {.name = path}, material = {.name = material_path};
+    ekm_status st = read_file(path, "scenario file", &text, &file.size, err);
+    if (st == EKM_OK && material_path)
+        st = read_file(material_path, "material file", &material_text, &material.size, err);
+    if (st == EKM_OK) {
+        file.text = text;
+        material.text = material_text;
+        st = ekm_scenario_load_texts(s, &file, material_path ? &material : NULL, overrides, n_overrides, err);
+    } else
+        snprintf(s->source, sizeof s->source, "%s", path);
+    free(text);
+    free(material_text);
+    return st;
+}
+
+/* One --set "section.key=value" (the i-th, from 1) into c. */
+static ekm_status apply_override(parse_ctx *c, const char *o, size_t i, ekm_error *err)
+{
+    const size_t len = strlen(o), bad = first_control((const unsigned char *)o, len, 0);
+    if (bad < len) {
+        char what[64];
+        describe_byte((unsigned char)o[bad], what, sizeof what);
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "--set number %zu: %s at character %zu: expected section.key=value (one line of "
+                        "text)",
+                        i, what, bad + 1);
     }
-    for (size_t i = 0; i < n_overrides; i++) {
-        const char *o = overrides[i];
-        const char *dot = strchr(o, '.');
-        const char *eq = strchr(o, '=');
-        if (!dot || !eq || dot > eq || dot == o || eq == dot + 1)
-            return EKM_FAIL(err, EKM_EINPUT, "--set %s: expected section.key=value", o);
-        char section[64], key[64];
-        snprintf(section, sizeof section, "%.*s", (int)(dot - o), o);
-        snprintf(key, sizeof key, "%.*s", (int)(eq - dot - 1), dot + 1);
-        c.file = "--set";
-        c.line = (int)i + 1;
-        c.origin = EKM_FROM_SET;
-        snprintf(c.set_name, sizeof c.set_name, "%s.%s", section, key);
-        if (!handler(&c, section, key, eq + 1))
-            return EKM_EINPUT;
-        /* --set entries are marked with line 0 so messages say "--set". */
-        for (size_t k = 0; k < N_KEYS; k++)
-            if (strcmp(KEYS[k].section, section) == 0 && strcmp(KEYS[k].key, key) == 0)
-                c.seen_line[k] = 0;
+    const char *dot = strchr(o, '.');
+    const char *eq = strchr(o, '=');
+    if (!dot || !eq || dot > eq || dot == o || eq == dot + 1)
+        return EKM_FAIL(err, EKM_EINPUT, "--set %s: expected section.key=value", o);
+    char section[64], key[64];
+    if ((size_t)(dot - o) >= sizeof section || (size_t)(eq - dot - 1) >= sizeof key)
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "--set %.*s: expected section.key=value (a key of at most %zu characters)",
+                        (int)(eq - o), o, sizeof key - 1);
+    snprintf(section, sizeof section, "%.*s", (int)(dot - o), o);
+    snprintf(key, sizeof key, "%.*s", (int)(eq - dot - 1), dot + 1);
+    c->file = "--set";
+    c->line = (int)i;
+    c->origin = EKM_FROM_SET;
+    snprintf(c->set_name, sizeof c->set_name, "%s.%s", section, key);
+    if (!handler(c, section, key, eq + 1))
+        return c->failed_status;
+    /* --set entries are marked with line 0 so messages say "--set". */
+    for (size_t k = 0; k < N_KEYS; k++)
+        if (strcmp(KEYS[k].section, section) == 0 && strcmp(KEYS[k].key, key) == 0)
+            c->seen_line[k] = 0;
+    return EKM_OK;
+}
+
+ekm_status ekm_scenario_load_texts(ekm_scenario *s, const ekm_scenario_text *file,
+                                   const ekm_scenario_text *material, const char *const *overrides,
+                                   size_t n_overrides, ekm_error *err)
+{
+    ekm_scenario_init_defaults(s);
+    snprintf(s->source, sizeof s->source, "%s", file->name);
+    parse_ctx *c = calloc(1, sizeof *c);
+    if (!c)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory reading %s", file->name);
+    *c = (parse_ctx){.s = s, .file = file->name, .err = err, .skip_material = material != NULL};
+    ekm_status st = parse_text(c, file, err);
+    if (st == EKM_OK && material) {
+        snprintf(s->material_source, sizeof s->material_source, "%s", material->name);
+        c->skip_material = 0;
+        c->material_only = 1;
+        c->origin = EKM_FROM_MATERIAL;
+        st = parse_text(c, material, err);
+        c->material_only = 0;
     }
-    c.file = path;
+    for (size_t i = 0; i < n_overrides && st == EKM_OK; i++)
+        st = apply_override(c, overrides[i], i + 1, err);
+    c->file = file->name;
     /* Messages about --set keys say where they came from. */
-    ekm_status st = check_scenario(&c, s, err);
+    if (st == EKM_OK)
+        st = check_scenario(c, s, err);
+    free(c);
     return st;
 }
 

@@ -146,6 +146,21 @@ typedef struct {
     size_t n_tool_entries;
 } ekm_scenario;
 
+/* Limits of a scenario (docs/scenario-format.md "Limits"): a scenario or
+ * material file is a regular file of at most EKM_SCENARIO_MAX_BYTES bytes
+ * of text (UTF-8, no control characters but tab, and CR before LF); a run
+ * writes at most EKM_SCENARIO_MAX_FRAMES output frames (the initial state
+ * and one every output_dt up to t_end). */
+#define EKM_SCENARIO_MAX_BYTES  (1024 * 1024)
+#define EKM_SCENARIO_MAX_FRAMES 100000
+
+/* A scenario (or material) file's contents in memory. */
+typedef struct {
+    const char *name; /* the file name of the messages and of ekm_scenario.source */
+    const char *text; /* its bytes (need not end in a NUL; a NUL in them is an error) */
+    size_t size;      /* bytes in text [B] */
+} ekm_scenario_text;
+
 /* Defaults for everything that has one (docs/scenario-format.md). */
 void ekm_scenario_init_defaults(ekm_scenario *s);
 
@@ -162,6 +177,12 @@ ekm_status ekm_scenario_load(ekm_scenario *s, const char *path, const char *cons
  * overrides still apply last.  material_path NULL: ekm_scenario_load. */
 ekm_status ekm_scenario_load_material(ekm_scenario *s, const char *path, const char *material_path,
                                       const char *const *overrides, size_t n_overrides, ekm_error *err);
+
+/* The same reading texts already in memory (what a file holds): file, and
+ * material (NULL: none) as --material's file; no file is opened. */
+ekm_status ekm_scenario_load_texts(ekm_scenario *s, const ekm_scenario_text *file,
+                                   const ekm_scenario_text *material, const char *const *overrides,
+                                   size_t n_overrides, ekm_error *err);
 
 void ekm_scenario_free(ekm_scenario *s);
 

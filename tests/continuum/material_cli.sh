@@ -80,7 +80,8 @@ error "another section" 2 "^ekm: section.ini:17: \[run\] t_end: a material file 
 grep -v '^T0' FIT.ini > missing.ini
 error "missing key" 2 "^ekm: missing.ini: \[material\] T0: missing" missing.ini
 sed 's/^phi_cp .*/phi_cp  = 0.5/' FIT.ini > range.ini
-error "out of range" 2 "^ekm: range.ini: .*phi_cp" range.ini
+# phi_co is checked against phi_cp: the message blames phi_co, at its line
+error "out of range" 2 "^ekm: range.ini:$(grep -n '^phi_co' range.ini | cut -d: -f1): \[material\] phi_co: expected a number in \(0, phi_cp = 0.5\)" range.ini
 error "unreadable" 3 "^ekm: nonexistent.ini: cannot open material file" nonexistent.ini
 
 echo "$passed passed, $failures failed"

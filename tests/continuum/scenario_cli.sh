@@ -139,8 +139,8 @@ sed '/^pressures *=/a phis = 0.5' "$shear_p" > both.ini
 error "phis and pressures" 2 "both.ini:$(line both.ini phis): \[dem\] phis: a list of the phi x rate sweep, but \[dem\] pressures is one of the pressure x rate sweep" \
     scenario both.ini --json
 
-{ cat "$src/scenarios/cooling.ini"; printf '[scenario]\ndescription = caf\xe9\n'; } > latin1.ini
-n=$(wc -l < latin1.ini)
+sed "s/^description .*/description = caf$(printf '\xe9')/" "$src/scenarios/cooling.ini" > latin1.ini
+n=$(line "$src/scenarios/cooling.ini" description)
 error "not UTF-8" 2 "latin1.ini:$n: \[scenario\] description: expected UTF-8 text" scenario latin1.ini --json
 
 if "$ekm" --help | grep -q "ekm scenario FILE.ini"; then ok "ekm --help documents ekm scenario"; else bad "ekm --help"; fi

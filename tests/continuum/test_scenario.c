@@ -57,7 +57,9 @@ static void write_file(const char *text)
 }
 
 /* BASE with `edit`: a line "-key" removes the first line starting with
- * "key " from BASE; the other lines are appended. */
+ * "key " from BASE, "=key:TEXT" replaces it by TEXT, "+key:TEXT" inserts
+ * TEXT after it (a section of BASE is given once); the other lines are
+ * appended. */
 static void write_scenario(const char *edit)
 {
     char text[8192];
@@ -67,13 +69,22 @@ static void write_scenario(const char *edit)
     while (p && *p) {
         const char *nl = strchr(p, '\n');
         size_t len = nl ? (size_t)(nl - p) : strlen(p);
-        if (p[0] == '-') {
+        if (p[0] == '-' || p[0] == '=' || p[0] == '+') {
+            const char *colon = memchr(p, ':', len);
+            const size_t key_len = p[0] == '-' ? len - 1 : (size_t)(colon - p - 1);
+            assert_true(p[0] == '-' || colon);
             char key[64];
-            snprintf(key, sizeof key, "\n%.*s ", (int)len - 1, p + 1);
+            snprintf(key, sizeof key, "\n%.*s ", (int)key_len, p + 1);
             char *at = strstr(text, key);
             assert_non_null(at);
             char *end = strchr(at + 1, '\n');
-            memmove(at, end, strlen(end) + 1);
+            char rest[8192];
+            snprintf(rest, sizeof rest, "%s", end + 1);
+            if (p[0] == '-')
+                memmove(at, end, strlen(end) + 1);
+            else
+                snprintf(p[0] == '+' ? end : at, sizeof text - (size_t)((p[0] == '+' ? end : at) - text),
+                         "\n%.*s\n%s", (int)(len - key_len - 2), colon + 1, rest);
         } else {
             strncat(append, p, len);
             strcat(append, "\n");
@@ -109,31 +120,31 @@ static const error_case EKM_ERRORS[] = {
      {NULL},
      EKM_EINPUT,
      FILE_NAME ":31: [numerics] newton_max: expected an integer, got '3.5'"},
-    {"unknown key", "[material]\nfoo = 1", {NULL}, EKM_EINPUT, FILE_NAME ":31: [material] foo: unknown key"},
+    {"unknown key", "+alpha:foo = 1", {NULL}, EKM_EINPUT, FILE_NAME ":16: [material] foo: unknown key"},
     {"prefixed key of ekm",
-     "[domain]\nref.cells = 1",
+     "+cells:ref.cells = 1",
      {NULL},
      EKM_EINPUT,
-     FILE_NAME ":31: [domain] ref.cells: unknown key"},
+     FILE_NAME ":19: [domain] ref.cells: unknown key"},
     {"unknown section",
      "[materal]\nrho_p = 1",
      {NULL},
      EKM_EINPUT,
      FILE_NAME
-     ":31: [materal]: unknown section (the sections are scenario material model domain gravity initial "
+     ":30: [materal]: unknown section (the sections are scenario material model domain gravity initial "
      "bottom top run numerics hypo dem compare campaign figures)"},
     {"section in capitals",
      "[DEM]\nlx = 1",
      {NULL},
      EKM_EINPUT,
-     FILE_NAME ":31: [DEM]: unknown section (the sections are scenario material model domain gravity initial "
+     FILE_NAME ":30: [DEM]: unknown section (the sections are scenario material model domain gravity initial "
                "bottom top run numerics hypo dem compare campaign figures)"},
     {"missing key", "-eps0", {NULL}, EKM_EINPUT, FILE_NAME ": [material] eps0: missing (a required key)"},
     {"value longer than allowed",
-     "[scenario]\nname = " NAME_65,
+     "=name:name = " NAME_65,
      {NULL},
      EKM_EINPUT,
-     FILE_NAME ":31: [scenario] name: value longer than allowed: '" NAME_65 "'"},
+     FILE_NAME ":2: [scenario] name: value longer than allowed: '" NAME_65 "'"},
     {"syntax", "this is not ini", {NULL}, EKM_EINPUT, FILE_NAME ":30: expected '[section]' or 'key = value'"},
     {"variant",
      "[model]\nvariant = half",
@@ -151,10 +162,10 @@ static const error_case EKM_ERRORS[] = {
      EKM_EINPUT,
      "--set bottom.type: [bottom] type: expected one of wall inflow outflow free piston, got 'moving'"},
     {"material check",
-     "-phi_cp\n[material]\nphi_cp = -0.64",
+     "=phi_cp:phi_cp = -0.64",
      {NULL},
      EKM_EINPUT,
-     FILE_NAME ":30: [material] phi_cp: expected a positive number, got -0.64"},
+     FILE_NAME ":6: [material] phi_cp: expected a positive number, got -0.64"},
     {"range in the file",
      "[numerics]\ncfl = 2",
      {NULL},
@@ -171,10 +182,10 @@ static const error_case EKM_ERRORS[] = {
      EKM_EINPUT,
      "--set domain.cells: [domain] cells: expected an integer in [1, 1e7], got 0"},
     {"key of another boundary type",
-     "[bottom]\nphi = 0.3",
+     "+type:phi = 0.3",
      {NULL},
      EKM_EINPUT,
-     FILE_NAME ":31: [bottom] phi: only allowed with type = inflow (this side is wall)"},
+     FILE_NAME ":26: [bottom] phi: only allowed with type = inflow (this side is wall)"},
     {"limiter",
      NULL,
      {"numerics.limiter=foo", NULL},
@@ -216,6 +227,137 @@ static const error_case EKM_ERRORS[] = {
      {"domain.cells=10", "gravity.angle=x", NULL},
      EKM_EINPUT,
      "--set gravity.angle: [gravity] angle: expected a number, got 'x'"},
+    /* the number literal: the whole value, decimal, finite */
+    {"nan",
+     "[numerics]\ncfl = nan",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [numerics] cfl: expected a number, got 'nan'"},
+    {"exponent without digits",
+     "[numerics]\ncfl = 1e",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [numerics] cfl: expected a number, got '1e'"},
+    {"two numbers",
+     "=rho_p:rho_p = 16 00",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":4: [material] rho_p: expected a number, got '16 00'"},
+    {"hex",
+     "=rho_p:rho_p = 0x640",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":4: [material] rho_p: expected a number, got '0x640'"},
+    {"hex integer",
+     "=cells:cells = 0x3c",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":18: [domain] cells: expected an integer, got '0x3c'"},
+    {"trailing garbage",
+     "=rho_p:rho_p = 2500kg",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":4: [material] rho_p: expected a number, got '2500kg'"},
+    {"underflow",
+     "[numerics]\ncfl = 1e-400",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [numerics] cfl: expected a number, got '1e-400'"},
+    {"--set infinity",
+     NULL,
+     {"material.rho_p=infinity", NULL},
+     EKM_EINPUT,
+     "--set material.rho_p: [material] rho_p: expected a number, got 'infinity'"},
+    {"--set trailing blank",
+     NULL,
+     {"domain.cells=60 ", NULL},
+     EKM_EINPUT,
+     "--set domain.cells: [domain] cells: expected an integer, got '60 '"},
+    /* one line, one meaning */
+    {"duplicate key",
+     "+rho_p:rho_p = 2600",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":5: [material] rho_p: duplicate key (first at line 4)"},
+    {"duplicate section",
+     "[domain]",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":30: [domain]: duplicate section (first at line 16)"},
+    {"text after a header",
+     "[numerics] cfl = 0.3",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":30: text after the section header \"[numerics] cfl = 0.3\" (expected [name] alone, or a ';' "
+               "comment)"},
+    {"malformed header",
+     "[numerics ; a comment]\ncfl = 0.3",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":30: malformed section header \"[numerics ; a comment]\" (expected [name])"},
+    {"empty key",
+     "[numerics]\n: 0.3",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: expected '[section]' or 'key = value'"},
+    {"control character",
+     "[numerics]\ncfl = 0.3\x1b[0m",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31:10: control character 0x1b: expected text (no control characters but tab)"},
+    {"CR inside a line",
+     "[numerics]\ncfl = 0.3\rx",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31:10: control character 0x0d: expected text (no control characters but tab)"},
+    {"value longer than an entry",
+     "+name:description = " NAME_65 NAME_65 "abcdefghijklmnopqrstuvwxyz0123",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":3: [scenario] description: value longer than 159 characters"},
+    {"output_dt 0 in [run]",
+     "+t_end:output_dt = 0",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":30: [run] output_dt: expected a time > 0 [s], got 0"},
+    {"steady_window 0",
+     "+t_end:steady_window = 0",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":30: [run] steady_window: expected a time > 0 [s], got 0"},
+    {"too many frames",
+     "+t_end:output_dt = 4.99e-5",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME
+     ":30: [run] output_dt: expected a time >= t_end / 99999 = 5.00005e-05 s (at most 100000 output "
+     "frames), got 4.99e-05"},
+    {"piston without w",
+     NULL,
+     {"top.type=piston", "top.period=1", NULL},
+     EKM_EINPUT,
+     "--set top.type: [top] w: missing (required with type = piston)"},
+    {"inflow without w",
+     "=type:type = inflow\n+type:phi = 0.3",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":25: [bottom] w: missing (required with type = inflow)"},
+    {"--set key too long",
+     NULL,
+     {"dem.abcdefghijklmnopqrstuvwxyzabcdefghijklmnopqrstuvwxyzabcdefghijklmnopq=1", NULL},
+     EKM_EINPUT,
+     "--set dem.abcdefghijklmnopqrstuvwxyzabcdefghijklmnopqrstuvwxyzabcdefghijklmnopq: expected "
+     "section.key=value (a key of at most 63 characters)"},
+    {"--set with a newline",
+     NULL,
+     {"scenario.name=a\nb", NULL},
+     EKM_EINPUT,
+     "--set number 1: control character 0x0a at character 16: expected section.key=value (one line of text)"},
+    {"--set not UTF-8",
+     NULL,
+     {"scenario.name=caf\xe9", NULL},
+     EKM_EINPUT,
+     "--set scenario.name: [scenario] name: expected UTF-8 text"},
 };
 
 /* Reading errors of the other tools' sections. */
@@ -418,11 +560,104 @@ static void test_unreadable_and_long_line(void **state)
     char line[400];
     memset(line, 'x', sizeof line - 1);
     line[sizeof line - 1] = '\0';
-    memcpy(line, "[scenario]\ndescription = ", 25);
+    memcpy(line, "+name:description = ", 20);
     write_scenario(line);
     assert_int_equal(ekm_scenario_load(&sc, FILE_NAME, NULL, 0, &err), EKM_EINPUT);
     ekm_scenario_free(&sc);
-    assert_string_equal(err.message, FILE_NAME ":31: line longer than 198 characters");
+    assert_string_equal(err.message, FILE_NAME ":3: line longer than 198 characters");
+}
+
+/* The syntax that stays allowed: --set overrides a file key (the last of
+ * two --set wins), indentation, CRLF, a byte-order mark, UTF-8 values,
+ * exactly the largest number of frames; and what the text API reads. */
+static void test_syntax_allowed(void **state)
+{
+    (void)state;
+    ekm_scenario sc;
+    ekm_error err = {0};
+    write_scenario("");
+    const char *sets[] = {"material.rho_p=2600", "domain.cells=+40", "domain.cells=50"};
+    assert_int_equal(ekm_scenario_load(&sc, FILE_NAME, sets, 3, &err), EKM_OK);
+    assert_true(sc.material.rho_p == 2600.0);
+    assert_int_equal(sc.cells, 50);
+    const ekm_entry *e = ekm_scenario_entry_find(sc.entries, sc.n_entries, "material.rho_p");
+    assert_non_null(e);
+    assert_int_equal(e->origin, EKM_FROM_SET);
+    assert_string_equal(e->value, "2600");
+    ekm_scenario_free(&sc);
+
+    /* indented keys and headers, CRLF line ends, a BOM, a UTF-8 value */
+    char text[8192] = "\xEF\xBB\xBF";
+    size_t used = 3;
+    for (const char *p = BASE, *nl; (nl = strchr(p, '\n')) != NULL; p = nl + 1)
+        used += (size_t)snprintf(text + used, sizeof text - used, "  %.*s\r\n", (int)(nl - p), p);
+    strcat(text, "  [numerics] ; a comment\r\n\tcfl = 0.3 ; a comment\r\n[scenario2]");
+    /* the last line: an unknown section, to see that the rest was read */
+    ekm_scenario_text t = {.name = "mem.ini", .text = text, .size = strlen(text)};
+    assert_int_equal(ekm_scenario_load_texts(&sc, &t, NULL, NULL, 0, &err), EKM_EINPUT);
+    assert_string_equal(err.message,
+                        "mem.ini:32: [scenario2]: unknown section (the sections are scenario material "
+                        "model domain gravity initial bottom top run numerics hypo dem compare "
+                        "campaign figures)");
+    ekm_scenario_free(&sc);
+    t.size = strlen(text) - strlen("[scenario2]");
+    assert_int_equal(ekm_scenario_load_texts(&sc, &t, NULL, NULL, 0, &err), EKM_OK);
+    assert_true(sc.numerics.cfl == 0.3);
+    assert_int_equal(sc.cells, 60);
+    assert_string_equal(sc.source, "mem.ini");
+    ekm_scenario_free(&sc);
+
+    /* a key before the first section; a NUL in the text */
+    ekm_scenario_text k = {.name = "k.ini", .text = "rho_p = 1\n[material]\n", .size = 21};
+    assert_int_equal(ekm_scenario_load_texts(&sc, &k, NULL, NULL, 0, &err), EKM_EINPUT);
+    assert_string_equal(err.message, "k.ini:1: 'rho_p = 1': a key before the first [section]");
+    ekm_scenario_free(&sc);
+    ekm_scenario_text z = {.name = "z.ini",
+                           .text = "[material]\nrho_p = 16\0"
+                                   "00\n",
+                           .size = 23};
+    assert_int_equal(ekm_scenario_load_texts(&sc, &z, NULL, NULL, 0, &err), EKM_EINPUT);
+    assert_string_equal(err.message, "z.ini:2:11: a NUL byte: expected text (no control characters but tab)");
+    ekm_scenario_free(&sc);
+
+    /* a name in UTF-8; 99999 frames */
+    write_scenario("=name:name = caf\xc3\xa9\n+t_end:output_dt = 5.0001e-5");
+    assert_int_equal(ekm_scenario_load(&sc, FILE_NAME, NULL, 0, &err), EKM_OK);
+    assert_string_equal(sc.name, "caf\xc3\xa9");
+    assert_true(sc.t_end / sc.output_dt <= EKM_SCENARIO_MAX_FRAMES - 1);
+    ekm_scenario_free(&sc);
+    /* not given: output_dt = t_end / 100, steady_window = 10 output_dt */
+    write_scenario("");
+    assert_int_equal(ekm_scenario_load(&sc, FILE_NAME, NULL, 0, &err), EKM_OK);
+    assert_true(sc.output_dt == 0.05 && sc.steady_window == 0.5);
+    ekm_scenario_free(&sc);
+}
+
+/* --material's text: its own lines, its own duplicates. */
+static void test_material_text(void **state)
+{
+    (void)state;
+    char scen[4096];
+    const char *m0 = strstr(BASE, "[material]"), *m1 = strstr(BASE, "[domain]");
+    snprintf(scen, sizeof scen, "%.*s%s", (int)(m0 - BASE), BASE, m1);
+    char mat[1024];
+    snprintf(mat, sizeof mat, "; fitted\n%.*s", (int)(m1 - m0), m0);
+    ekm_scenario_text t = {.name = "s.ini", .text = scen, .size = strlen(scen)};
+    ekm_scenario_text m = {.name = "fit.ini", .text = mat, .size = strlen(mat)};
+    ekm_scenario sc;
+    ekm_error err = {0};
+    assert_int_equal(ekm_scenario_load_texts(&sc, &t, &m, NULL, 0, &err), EKM_OK);
+    const ekm_entry *e = ekm_scenario_entry_find(sc.entries, sc.n_entries, "material.rho_p");
+    assert_non_null(e);
+    assert_int_equal(e->origin, EKM_FROM_MATERIAL);
+    assert_int_equal(e->line, 3);
+    assert_string_equal(sc.material_source, "fit.ini");
+    ekm_scenario_free(&sc);
+    strcat(mat, "nu = 2\n");
+    m.size = strlen(mat);
+    assert_int_equal(ekm_scenario_load_texts(&sc, &t, &m, NULL, 0, &err), EKM_EINPUT);
+    assert_string_equal(err.message, "fit.ini:15: [material] nu: duplicate key (first at line 11)");
+    ekm_scenario_free(&sc);
 }
 
 /* A scenario with a valid [dem] key loads for ekm run (the values are not ekm's). */
@@ -915,6 +1150,8 @@ int main(void)
         cmocka_unit_test(test_ekm_errors),
         cmocka_unit_test(test_tool_errors),
         cmocka_unit_test(test_unreadable_and_long_line),
+        cmocka_unit_test(test_syntax_allowed),
+        cmocka_unit_test(test_material_text),
         cmocka_unit_test(test_ekm_run_reads_tool_sections),
         cmocka_unit_test(test_lookup_rule),
         cmocka_unit_test(test_ekm_keys),
