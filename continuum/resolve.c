@@ -287,6 +287,18 @@ static const char *dem_range(const char *base, const char *value)
         {"thermo_every", "an interval >= 1 [steps]", 1, HUGE_VAL, 0, 1},
         {"steady_tol", "a tolerance > 0", 0, HUGE_VAL, 1, 1},
         {"spread", "a size spread in [0, 1)", 0, 1, 0, 1},
+        {"lx", "a length > 0 [d]", 0, HUGE_VAL, 1, 1},
+        {"ly", "a length > 0 [d]", 0, HUGE_VAL, 1, 1},
+        {"t_end", "a time > 0 [s]", 0, HUGE_VAL, 1, 1},
+        {"t_settle", "a time >= 0 [s]", 0, HUGE_VAL, 0, 1},
+        {"t_flow", "a time > 0 [s]", 0, HUGE_VAL, 1, 1},
+        {"t_run", "a time > 0 [s]", 0, HUGE_VAL, 1, 1},
+        {"t_compress", "a time >= 0 [s]", 0, HUGE_VAL, 0, 1},
+        {"rest_ke", "a kinetic energy per mass > 0 [J/kg]", 0, HUGE_VAL, 1, 1},
+        {"pressure", "a normal stress > 0 [Pa]", 0, HUGE_VAL, 1, 1},
+        {"wall_damping", "a damping rate >= 0 [1/s]", 0, HUGE_VAL, 0, 1},
+        {"strain", "a strain > 0", 0, HUGE_VAL, 1, 1},
+        {"p_gain", "a gain > 0", 0, HUGE_VAL, 1, 1},
     };
     for (size_t i = 0; i < sizeof R / sizeof R[0]; i++)
         if (strcmp(R[i].key, base) == 0) {

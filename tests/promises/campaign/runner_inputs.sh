@@ -54,6 +54,7 @@ case $case in
       [ -e "$work/runs" ] && fail "-s '$s': an output folder was made"
     done <<'LIST'
 smoke.t_flow=nan|--set dem.smoke.t_flow: [dem] smoke.t_flow: expected a number, got 'nan'
+t_flow=-1|--set dem.t_flow: [dem] t_flow: expected a time > 0 [s], got '-1'
 nosuchkey=1|--set dem.nosuchkey: [dem] nosuchkey: unknown key
 foo|--set dem.foo: expected section.key=value
 =1|--set dem.=1: expected section.key=value
