@@ -17,6 +17,7 @@
 #include "fit_data.h"
 #include "fit_out.h"
 #include "fit_scen.h"
+#include "h5kind.h"
 #include "scenario.h"
 #include "status.h"
 
@@ -220,8 +221,11 @@ static ekm_status run_fit(const fit_args *a, ekm_error *err)
     cg_fit_point *pts = calloc(a->ninputs, sizeof *pts);
     if (!pts)
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    for (size_t k = 0; k < a->ninputs && st == EKM_OK; k++)
-        st = cg_fit_point_read(a->inputs[k], pb.fields, &pts[k], err);
+    for (size_t k = 0; k < a->ninputs && st == EKM_OK; k++) {
+        st = cg_h5kind_check_path(a->inputs[k], "fit", "--rheology", CG_H5KIND_CG, err);
+        if (st == EKM_OK)
+            st = cg_fit_point_read(a->inputs[k], pb.fields, &pts[k], err);
+    }
     pb.pts = pts;
     pb.npts = a->ninputs;
     cg_fit_result res;
