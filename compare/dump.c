@@ -42,6 +42,7 @@ struct cg_dump {
     size_t cap, pos, end;      /* buffer size, read position, fill */
     int eof;                   /* no more bytes from gz */
     int gz_short;              /* compressed stream ended early */
+    long long gz_short_at;     /* at this compressed byte offset */
     int last_no_newline;       /* last line returned had no '\n' */
     long long lineno;          /* line number of the last line */
     unsigned long long offset; /* binary: bytes consumed */
@@ -239,7 +240,12 @@ static int parse_int64(const char *s, int64_t *out)
 static int mark_truncated(cg_dump *d, const char *what)
 {
     d->truncated = 1;
-    if (d->binary)
+    if (d->gz_short)
+        snprintf(d->warning, sizeof d->warning,
+                 "%s: truncated gzip stream at byte %lld (unexpected end of file): snapshot cut short "
+                 "(%s) skipped, earlier snapshots kept",
+                 d->path, d->gz_short_at, what);
+    else if (d->binary)
         snprintf(d->warning, sizeof d->warning,
                  "%s:@%llu: truncated snapshot (%s): skipped, earlier snapshots kept", d->path, d->offset,
                  what);
@@ -250,7 +256,21 @@ static int mark_truncated(cg_dump *d, const char *what)
     return EKM_EOF;
 }
 
-/* Read up to n more bytes into the buffer end; sets eof. */
+/* zlib's message without the "path: " it puts in front. */
+static const char *zlib_message(cg_dump *d, int *zerr)
+{
+    const char *msg = gzerror(d->gz, zerr);
+    size_t n = strlen(d->path);
+    if (!strncmp(msg, d->path, n) && !strncmp(msg + n, ": ", 2))
+        msg += n + 2;
+    return msg;
+}
+
+/* Read up to n more bytes into the buffer end; sets eof. A gzip stream
+ * that ends early (a file cut off: zlib's Z_BUF_ERROR) is the end of the
+ * data, the snapshot it cuts short skipped with a warning (gz_short); one
+ * that is corrupt (Z_DATA_ERROR: a flipped byte, a bad check value) is an
+ * error naming the compressed byte offset and zlib's message. */
 static ekm_status fill(cg_dump *d, size_t want, ekm_error *err)
 {
     if (d->eof)
@@ -258,21 +278,25 @@ static ekm_status fill(cg_dump *d, size_t want, ekm_error *err)
     if (want > d->cap - d->end)
         want = d->cap - d->end;
     int n = gzread(d->gz, d->buf + d->end, (unsigned)want);
-    if (n < 0) {
-        int zerr;
-        const char *msg = gzerror(d->gz, &zerr);
-        if (zerr == Z_BUF_ERROR || zerr == Z_DATA_ERROR) {
-            /* compressed stream cut short: keep what we have */
-            d->gz_short = 1;
-            d->eof = 1;
-            return EKM_OK;
-        }
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot read: %s", d->path,
+    int zerr = Z_OK;
+    const char *msg = zlib_message(d, &zerr);
+    if (zerr == Z_DATA_ERROR)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: corrupt gzip stream at byte %lld: %s", d->path,
+                        (long long)gzoffset(d->gz), msg);
+    if (zerr == Z_BUF_ERROR && n <= 0) {
+        /* zlib reports it as soon as it has read the last input byte: the
+         * data already decompressed come first */
+        d->gz_short = 1;
+        d->gz_short_at = (long long)gzoffset(d->gz);
+        d->eof = 1;
+    } else if (n < 0) {
+        return EKM_FAIL(err, zerr == Z_MEM_ERROR ? EKM_ENOMEM : EKM_EIO, "%s: cannot read: %s", d->path,
                         zerr == Z_ERRNO ? strerror(errno) : msg);
     }
-    if (n == 0)
+    if (n <= 0)
         d->eof = 1;
-    d->end += (size_t)n;
+    else
+        d->end += (size_t)n;
     return EKM_OK;
 }
 
