@@ -257,6 +257,13 @@ ekm_status cg_input_next(cg_input *src, ekm_error *err)
             ekm_status rc = cg_dump_open(&src->d, o->inputs[src->ifile++], src->cols, src->ncols, err);
             if (rc)
                 return rc;
+            /* sizes and masses that make no sense are the dump's error, at
+             * their line and column (not a kernel width computed from them) */
+            const int checked[3] = {CG_IN_MASS, CG_IN_RADIUS, CG_IN_DIAMETER};
+            const cg_dump_check how[3] = {CG_DUMP_POSITIVE, CG_DUMP_RADIUS, CG_DUMP_DIAMETER};
+            for (int c = 0; c < 3; c++)
+                if (src->col[checked[c]] >= 0)
+                    cg_dump_expect(src->d, (size_t)src->col[checked[c]], how[c]);
         }
         ekm_status rc = cg_dump_next(src->d, &src->snap, err);
         if (rc == EKM_EOF) {

@@ -35,21 +35,22 @@
 struct cg_dump {
     char *path; /* input name, for messages */
     gzFile gz;
-    int binary;                /* 1: LAMMPS binary dump */
-    size_t nsel;               /* selected columns */
-    char *sel[CG_DUMP_MAXCOL]; /* their names */
-    char *buf;                 /* text buffer (cap + 1 bytes) */
-    size_t cap, pos, end;      /* buffer size, read position, fill */
-    int eof;                   /* no more bytes from gz */
-    int gz_short;              /* compressed stream ended early */
-    long long gz_short_at;     /* at this compressed byte offset */
-    int last_no_newline;       /* last line returned had no '\n' */
-    long long lineno;          /* line number of the last line */
-    unsigned long long offset; /* binary: bytes consumed */
-    int *colmap;               /* file column -> selection index or -1 */
-    size_t ncols, colmap_cap;  /* columns in the current header */
-    double *chunk;             /* binary read buffer (BIN_BUF doubles) */
-    int truncated;             /* last snapshot incomplete (skipped) */
+    int binary;                          /* 1: LAMMPS binary dump */
+    size_t nsel;                         /* selected columns */
+    char *sel[CG_DUMP_MAXCOL];           /* their names */
+    cg_dump_check check[CG_DUMP_MAXCOL]; /* what their values must be */
+    char *buf;                           /* text buffer (cap + 1 bytes) */
+    size_t cap, pos, end;                /* buffer size, read position, fill */
+    int eof;                             /* no more bytes from gz */
+    int gz_short;                        /* compressed stream ended early */
+    long long gz_short_at;               /* at this compressed byte offset */
+    int last_no_newline;                 /* last line returned had no '\n' */
+    long long lineno;                    /* line number of the last line */
+    unsigned long long offset;           /* binary: bytes consumed */
+    int *colmap;                         /* file column -> selection index or -1 */
+    size_t ncols, colmap_cap;            /* columns in the current header */
+    double *chunk;                       /* binary read buffer (BIN_BUF doubles) */
+    int truncated;                       /* last snapshot incomplete (skipped) */
     char warning[800];
 };
 
@@ -448,6 +449,57 @@ static ekm_status set_columns(cg_dump *d, cg_snapshot *s, const char *names, ekm
     return EKM_OK;
 }
 
+void cg_dump_expect(cg_dump *d, size_t j, cg_dump_check c)
+{
+    if (j < d->nsel)
+        d->check[j] = c;
+}
+
+/* The box's longest edge [m]. */
+static double box_longest(const cg_snapshot *s)
+{
+    double m = 0.0;
+    for (int k = 0; k < 3; k++)
+        m = fmax(m, s->hi[k] - s->lo[k]);
+    return m;
+}
+
+/* A value of column j against its check: NULL if good, else what was
+ * expected. */
+static const char *check_value(const cg_dump *d, const cg_snapshot *s, size_t j, double v, char *buf,
+                               size_t len)
+{
+    const cg_dump_check c = d->check[j];
+    if (c == CG_DUMP_ANY)
+        return NULL;
+    if (!(v > 0.0))
+        return "expected a positive finite number";
+    const double size = c == CG_DUMP_RADIUS ? 2.0 * v : v, edge = box_longest(s);
+    if ((c == CG_DUMP_RADIUS || c == CG_DUMP_DIAMETER) && !(size <= edge)) {
+        snprintf(buf, len, "expected a particle no larger than the box (longest edge %.6g m)", edge);
+        return buf;
+    }
+    return NULL;
+}
+
+/* The box after the tilts are taken off: finite, lo < hi, and an edge
+ * that is a finite number (a box of -1e308 .. 1e308 is not). */
+static ekm_status box_check(const cg_dump *d, const cg_snapshot *s, ekm_error *err)
+{
+    static const char axis[3] = {'x', 'y', 'z'};
+    for (int k = 0; k < 3; k++) {
+        const double L = s->hi[k] - s->lo[k];
+        if (!isfinite(s->lo[k]) || !isfinite(s->hi[k]) || !(L > 0.0) || !isfinite(L))
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: ITEM: BOX BOUNDS: %c: expected finite bounds lo < hi with a finite length, "
+                            "got %.6g .. %.6g%s",
+                            s->box_where[k], axis[k], s->lo[k], s->hi[k],
+                            s->triclinic ? " (the box inside the bounding box, tilts taken off)" : "");
+    }
+    (void)d;
+    return EKM_OK;
+}
+
 static void box_from_bounds(cg_snapshot *s, double b[3][2])
 {
     double xy = s->tilt[0], xz = s->tilt[1], yz = s->tilt[2];
@@ -599,11 +651,12 @@ static ekm_status parse_box(cg_dump *d, cg_snapshot *s, const char *flags, ekm_e
         double v[3] = {0, 0, 0};
         for (int j = 0; j < nv; j++) {
             q = skip_blank(q);
+            const char *tok = q;
             int pr = parse_number(&q, &v[j]);
             if (pr)
                 return EKM_FAIL(err, EKM_EINPUT,
-                                "%s:%lld: ITEM: BOX BOUNDS: expected %d numbers, got '%.60s'", d->path,
-                                d->lineno, nv, line);
+                                "%s:%lld:%d: ITEM: BOX BOUNDS: expected %d %snumbers, got '%.60s'", d->path,
+                                d->lineno, (int)(tok - line) + 1, nv, pr == 2 ? "finite " : "", line);
         }
         q = skip_blank(q);
         if (*q)
@@ -615,9 +668,10 @@ static ekm_status parse_box(cg_dump *d, cg_snapshot *s, const char *flags, ekm_e
         b[k][0] = v[0];
         b[k][1] = v[1];
         s->tilt[k] = v[2];
+        snprintf(s->box_where[k], sizeof s->box_where[k], "%s:%lld", d->path, d->lineno);
     }
     box_from_bounds(s, b);
-    return EKM_OK;
+    return box_check(d, s, err);
 }
 
 static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
@@ -664,11 +718,19 @@ static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
                         q++;
                     if (pr == 2)
                         return EKM_FAIL(err, EKM_EINPUT,
-                                        "%s:%lld: column '%s': expected a finite number, got '%.*s'", d->path,
-                                        d->lineno, d->sel[j], (int)(q - tok), tok);
-                    return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: column '%s': expected a number, got '%.*s'",
-                                    d->path, d->lineno, d->sel[j], (int)(q - tok > 40 ? 40 : q - tok), tok);
+                                        "%s:%lld:%d: column '%s': expected a finite number, got '%.*s'",
+                                        d->path, d->lineno, (int)(tok - line) + 1, d->sel[j],
+                                        (int)(q - tok > 40 ? 40 : q - tok), tok);
+                    return EKM_FAIL(err, EKM_EINPUT, "%s:%lld:%d: column '%s': expected a number, got '%.*s'",
+                                    d->path, d->lineno, (int)(tok - line) + 1, d->sel[j],
+                                    (int)(q - tok > 40 ? 40 : q - tok), tok);
                 }
+                char why[128];
+                const char *bad = check_value(d, s, (size_t)j, row[j], why, sizeof why);
+                if (bad)
+                    return EKM_FAIL(err, EKM_EINPUT, "%s:%lld:%d: %s: %s, got %.*s", d->path, d->lineno,
+                                    (int)(tok - line) + 1, d->sel[j], bad, (int)(p - tok > 40 ? 40 : p - tok),
+                                    tok);
             } else {
                 while (*p && *p != ' ' && *p != '\t')
                     p++;
@@ -853,7 +915,11 @@ static ekm_status bin_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
             return bin_fail(d, err, "expected finite box bounds with lo < hi");
         s->tilt[k] = tilt[k];
     }
+    for (int k = 0; k < 3; k++)
+        snprintf(s->box_where[k], sizeof s->box_where[k], "%s:@%llu", d->path, d->offset);
     box_from_bounds(s, b);
+    if ((rc = box_check(d, s, err)))
+        return rc;
     int32_t size_one, len;
     BREAD(&size_one, 4, "end of file inside the header");
     if (size_one < 1 || size_one > 100000)
@@ -929,6 +995,14 @@ static ekm_status bin_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
                         char what[160];
                         snprintf(what, sizeof what, "column '%s' of atom %lld: expected a finite number",
                                  d->sel[j], (long long)(atom + (int64_t)i + 1));
+                        return bin_fail(d, err, what);
+                    }
+                    char why[128];
+                    const char *bad = check_value(d, s, (size_t)j, in[col], why, sizeof why);
+                    if (bad) {
+                        char what[320];
+                        snprintf(what, sizeof what, "column '%s' of atom %lld: %s, got %.6g", d->sel[j],
+                                 (long long)(atom + (int64_t)i + 1), bad, in[col]);
                         return bin_fail(d, err, what);
                     }
                     row[j] = in[col];
