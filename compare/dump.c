@@ -51,7 +51,8 @@ struct cg_dump {
     size_t ncols, colmap_cap;            /* columns in the current header */
     double *chunk;                       /* binary read buffer (BIN_BUF doubles) */
     int truncated;                       /* last snapshot incomplete (skipped) */
-    char warning[800];
+    char truncation[800];                /* where and how the last snapshot was cut short */
+    char warning[900];                   /* the same, and what was done */
 };
 
 /* ---------- numbers ---------- */
@@ -242,18 +243,16 @@ static int mark_truncated(cg_dump *d, const char *what)
 {
     d->truncated = 1;
     if (d->gz_short)
-        snprintf(d->warning, sizeof d->warning,
-                 "%s: truncated gzip stream at byte %lld (unexpected end of file): snapshot cut short "
-                 "(%s) skipped, earlier snapshots kept",
+        snprintf(d->truncation, sizeof d->truncation,
+                 "%s: truncated gzip stream at byte %lld (unexpected end of file): snapshot cut short (%s)",
                  d->path, d->gz_short_at, what);
     else if (d->binary)
-        snprintf(d->warning, sizeof d->warning,
-                 "%s:@%llu: truncated snapshot (%s): skipped, earlier snapshots kept", d->path, d->offset,
+        snprintf(d->truncation, sizeof d->truncation, "%s:@%llu: truncated snapshot (%s)", d->path, d->offset,
                  what);
     else
-        snprintf(d->warning, sizeof d->warning,
-                 "%s:%lld: truncated snapshot (%s): skipped, earlier snapshots kept", d->path, d->lineno,
+        snprintf(d->truncation, sizeof d->truncation, "%s:%lld: truncated snapshot (%s)", d->path, d->lineno,
                  what);
+    snprintf(d->warning, sizeof d->warning, "%s: skipped, earlier snapshots kept", d->truncation);
     return EKM_EOF;
 }
 
@@ -385,6 +384,11 @@ int cg_dump_truncated(const cg_dump *d)
 {
     return d->truncated;
 }
+const char *cg_dump_truncation(const cg_dump *d)
+{
+    return d->truncation;
+}
+
 const char *cg_dump_warning(const cg_dump *d)
 {
     return d->warning;

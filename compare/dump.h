@@ -84,6 +84,9 @@ ekm_status cg_dump_next(cg_dump *d, cg_snapshot *s, ekm_error *err);
  * the warning text ("file:line: truncated snapshot ... skipped"). */
 int cg_dump_truncated(const cg_dump *d);
 const char *cg_dump_warning(const cg_dump *d);
+/* The same without what was done ("file:line: truncated snapshot (...)"),
+ * for an error when a cut-off dump is not acceptable. */
+const char *cg_dump_truncation(const cg_dump *d);
 
 /* Close the dump; cg_dump_close(NULL) is harmless. */
 void cg_dump_close(cg_dump *d);

@@ -55,6 +55,9 @@ static const char usage_text[] =
     "                       f is the force on atom 1 by atom 2\n"
     "  --types L            only atoms of these types count (e.g. 1, or 1,3; column `type`):\n"
     "                       frozen wall grains are left out of every field\n"
+    "  --expect-snapshots N the dumps hold exactly N complete snapshots (e.g. the frame count\n"
+    "                       the DEM run recorded): fewer, more or one cut short is an error\n"
+    "                       (exit 2) instead of a warning\n"
     "  --quiet              no notes on stderr\n"
     "\n"
     "score: interpolate ekm's output onto the DEM grid and times; per field the relative L2\n"
@@ -327,6 +330,9 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
         } else if (!strcmp(a, "--types")) {
             ARG();
             rc = get_types(v, &o, err);
+        } else if (!strcmp(a, "--expect-snapshots")) {
+            ARG();
+            rc = get_size(a, v, &o.expect_snapshots, err);
         } else if (!strcmp(a, "--quiet"))
             o.log = NULL;
         else
