@@ -79,9 +79,10 @@ static const char usage_text[] =
     "(null below 8 samples).\n"
     "\n"
     "Exit status (docs/exit-codes.md): 0 success; 1 bad command line; 2 bad input file or\n"
-    "data; 3 a file could not be opened, read or written (or an output would overwrite an\n"
-    "input); 5 internal error or out of memory; 128+N stopped by signal N (temporary files\n"
-    "removed). Errors are one line: ekmcompare: file:line: message.\n";
+    "data (score: also no point in common, a file of the wrong kind); 3 a file could not be\n"
+    "opened, read or written (or an output would overwrite an input); 4 score: a number that\n"
+    "cannot be computed; 5 internal error or out of memory; 128+N stopped by signal N\n"
+    "(temporary files removed). Errors are one line: ekmcompare: file:line: message.\n";
 
 static ekm_status usage_error(ekm_error *err, const char *fmt, const char *arg)
 {
