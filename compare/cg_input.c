@@ -252,14 +252,29 @@ ekm_status cg_input_next(cg_input *src, ekm_error *err)
     const cg_run_opts *o = src->o;
     for (;;) {
         if (!src->d) {
-            if (src->ifile >= o->ninputs)
+            if (src->ifile >= o->ninputs) {
+                if (o->expect_snapshots && src->nread != o->expect_snapshots)
+                    return EKM_FAIL(
+                        err, EKM_EINPUT, "%s%s: expected %zu snapshots (--expect-snapshots), got %zu",
+                        o->inputs[0], o->ninputs > 1 ? " ..." : "", o->expect_snapshots, src->nread);
                 return EKM_EOF;
+            }
             ekm_status rc = cg_dump_open(&src->d, o->inputs[src->ifile++], src->cols, src->ncols, err);
             if (rc)
                 return rc;
+            /* sizes and masses that make no sense are the dump's error, at
+             * their line and column (not a kernel width computed from them) */
+            const int checked[3] = {CG_IN_MASS, CG_IN_RADIUS, CG_IN_DIAMETER};
+            const cg_dump_check how[3] = {CG_DUMP_POSITIVE, CG_DUMP_RADIUS, CG_DUMP_DIAMETER};
+            for (int c = 0; c < 3; c++)
+                if (src->col[checked[c]] >= 0)
+                    cg_dump_expect(src->d, (size_t)src->col[checked[c]], how[c]);
         }
         ekm_status rc = cg_dump_next(src->d, &src->snap, err);
         if (rc == EKM_EOF) {
+            if (cg_dump_truncated(src->d) && o->expect_snapshots)
+                return EKM_FAIL(err, EKM_EINPUT, "%s: expected %zu complete snapshots (--expect-snapshots)",
+                                cg_dump_truncation(src->d), o->expect_snapshots);
             if (cg_dump_truncated(src->d) && o->log)
                 fprintf(o->log, "warning: %s\n", cg_dump_warning(src->d));
             cg_dump_close(src->d);

@@ -26,6 +26,8 @@ cg_run_opts cg_run_opts_default(void)
     return o;
 }
 
+#define CG_MAX_BINS 1e7 /* most bins of a grid sized by dz */
+
 static ekm_status make_grid(const cg_run_opts *o, const cg_input *src, double width, cg_grid *g,
                             ekm_error *err)
 {
@@ -47,8 +49,20 @@ static ekm_status make_grid(const cg_run_opts *o, const cg_input *src, double wi
         double nb = ceil(L / dz - 1e-9);
         if (nb < 1)
             nb = 1;
-        if (nb > 1e7)
+        if (nb > CG_MAX_BINS && o->dz > 0)
             return EKM_FAIL(err, EKM_EUSAGE, "--dz: expected at most 1e7 bins, got %.3g", nb);
+        if (nb > CG_MAX_BINS && o->have_range)
+            return EKM_FAIL(err, EKM_EUSAGE,
+                            "--range: expected at most 1e7 bins of dz = %.4g m (half the kernel width), got "
+                            "%.3g: give --bins or --dz",
+                            dz, nb);
+        if (nb > CG_MAX_BINS) /* the grid is the dump's box, sized by the dump's particles */
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: ITEM: BOX BOUNDS: %c: expected a box the grid can hold (at most 1e7 bins of "
+                            "dz = %.4g m, half the %s), got %.6g .. %.6g m (%.3g bins): give --range, --bins "
+                            "or --dz",
+                            src->snap.box_where[o->axis], "xyz"[o->axis], dz,
+                            o -> width > 0 ? "kernel width" : "mean particle diameter", g->lo, g->hi, nb);
         g->n = (size_t)nb;
     }
     g->dz = L / (double)g->n;
@@ -153,6 +167,17 @@ ekm_status cg_run(const cg_run_opts *o, ekm_error *err)
                 break;
             if ((rc = cg_kernel_alloc(&k, o->kernel, width, err)))
                 break;
+            /* a width from the particles (not --width) too wide for the box
+             * is the dump's error */
+            if (!(o->width > 0) && (g.periodic || g.reflect) && k->type != CG_KERNEL_BINS &&
+                k->cutoff > g.hi - g.lo) {
+                rc = EKM_FAIL(err, EKM_EINPUT,
+                              "%s: the mean particle diameter %.6g m (the kernel width: --width not given) "
+                              "gives a kernel support of %.6g m, longer than the box along %c (%.6g m): "
+                              "expected particles much smaller than the box, or give --width",
+                              src.snap.where, width, k->cutoff, "xyz"[o->axis], g.hi - g.lo);
+                break;
+            }
             if ((rc = cg_profile_alloc(&prof, k, &g, o->tmode, o->exact, err)))
                 break;
             if ((rc = cg_window_alloc(&fz, &g, err)))

@@ -56,6 +56,9 @@ typedef struct {
     const char *paircols[9]; /* their column names (force on 1 by 2) */
     size_t ntypes;           /* > 0: only atoms of these types count */
     int types[CG_MAXTYPES];  /* atom types kept (dump column `type`) */
+    size_t expect_snapshots; /* > 0: the dumps must hold exactly this many
+                                complete snapshots (--expect-snapshots): fewer,
+                                more, or one cut short is an error */
     FILE *log;               /* notes and warnings, or NULL */
 } cg_run_opts;
 

@@ -35,21 +35,24 @@
 struct cg_dump {
     char *path; /* input name, for messages */
     gzFile gz;
-    int binary;                /* 1: LAMMPS binary dump */
-    size_t nsel;               /* selected columns */
-    char *sel[CG_DUMP_MAXCOL]; /* their names */
-    char *buf;                 /* text buffer (cap + 1 bytes) */
-    size_t cap, pos, end;      /* buffer size, read position, fill */
-    int eof;                   /* no more bytes from gz */
-    int gz_short;              /* compressed stream ended early */
-    int last_no_newline;       /* last line returned had no '\n' */
-    long long lineno;          /* line number of the last line */
-    unsigned long long offset; /* binary: bytes consumed */
-    int *colmap;               /* file column -> selection index or -1 */
-    size_t ncols, colmap_cap;  /* columns in the current header */
-    double *chunk;             /* binary read buffer (BIN_BUF doubles) */
-    int truncated;             /* last snapshot incomplete (skipped) */
-    char warning[800];
+    int binary;                          /* 1: LAMMPS binary dump */
+    size_t nsel;                         /* selected columns */
+    char *sel[CG_DUMP_MAXCOL];           /* their names */
+    cg_dump_check check[CG_DUMP_MAXCOL]; /* what their values must be */
+    char *buf;                           /* text buffer (cap + 1 bytes) */
+    size_t cap, pos, end;                /* buffer size, read position, fill */
+    int eof;                             /* no more bytes from gz */
+    int gz_short;                        /* compressed stream ended early */
+    long long gz_short_at;               /* at this compressed byte offset */
+    int last_no_newline;                 /* last line returned had no '\n' */
+    long long lineno;                    /* line number of the last line */
+    unsigned long long offset;           /* binary: bytes consumed */
+    int *colmap;                         /* file column -> selection index or -1 */
+    size_t ncols, colmap_cap;            /* columns in the current header */
+    double *chunk;                       /* binary read buffer (BIN_BUF doubles) */
+    int truncated;                       /* last snapshot incomplete (skipped) */
+    char truncation[800];                /* where and how the last snapshot was cut short */
+    char warning[900];                   /* the same, and what was done */
 };
 
 /* ---------- numbers ---------- */
@@ -239,18 +242,35 @@ static int parse_int64(const char *s, int64_t *out)
 static int mark_truncated(cg_dump *d, const char *what)
 {
     d->truncated = 1;
-    if (d->binary)
-        snprintf(d->warning, sizeof d->warning,
-                 "%s:@%llu: truncated snapshot (%s): skipped, earlier snapshots kept", d->path, d->offset,
+    if (d->gz_short)
+        snprintf(d->truncation, sizeof d->truncation,
+                 "%s: truncated gzip stream at byte %lld (unexpected end of file): snapshot cut short (%s)",
+                 d->path, d->gz_short_at, what);
+    else if (d->binary)
+        snprintf(d->truncation, sizeof d->truncation, "%s:@%llu: truncated snapshot (%s)", d->path, d->offset,
                  what);
     else
-        snprintf(d->warning, sizeof d->warning,
-                 "%s:%lld: truncated snapshot (%s): skipped, earlier snapshots kept", d->path, d->lineno,
+        snprintf(d->truncation, sizeof d->truncation, "%s:%lld: truncated snapshot (%s)", d->path, d->lineno,
                  what);
+    snprintf(d->warning, sizeof d->warning, "%s: skipped, earlier snapshots kept", d->truncation);
     return EKM_EOF;
 }
 
-/* Read up to n more bytes into the buffer end; sets eof. */
+/* zlib's message without the "path: " it puts in front. */
+static const char *zlib_message(cg_dump *d, int *zerr)
+{
+    const char *msg = gzerror(d->gz, zerr);
+    size_t n = strlen(d->path);
+    if (!strncmp(msg, d->path, n) && !strncmp(msg + n, ": ", 2))
+        msg += n + 2;
+    return msg;
+}
+
+/* Read up to n more bytes into the buffer end; sets eof. A gzip stream
+ * that ends early (a file cut off: zlib's Z_BUF_ERROR) is the end of the
+ * data, the snapshot it cuts short skipped with a warning (gz_short); one
+ * that is corrupt (Z_DATA_ERROR: a flipped byte, a bad check value) is an
+ * error naming the compressed byte offset and zlib's message. */
 static ekm_status fill(cg_dump *d, size_t want, ekm_error *err)
 {
     if (d->eof)
@@ -258,21 +278,25 @@ static ekm_status fill(cg_dump *d, size_t want, ekm_error *err)
     if (want > d->cap - d->end)
         want = d->cap - d->end;
     int n = gzread(d->gz, d->buf + d->end, (unsigned)want);
-    if (n < 0) {
-        int zerr;
-        const char *msg = gzerror(d->gz, &zerr);
-        if (zerr == Z_BUF_ERROR || zerr == Z_DATA_ERROR) {
-            /* compressed stream cut short: keep what we have */
-            d->gz_short = 1;
-            d->eof = 1;
-            return EKM_OK;
-        }
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot read: %s", d->path,
+    int zerr = Z_OK;
+    const char *msg = zlib_message(d, &zerr);
+    if (zerr == Z_DATA_ERROR)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: corrupt gzip stream at byte %lld: %s", d->path,
+                        (long long)gzoffset(d->gz), msg);
+    if (zerr == Z_BUF_ERROR && n <= 0) {
+        /* zlib reports it as soon as it has read the last input byte: the
+         * data already decompressed come first */
+        d->gz_short = 1;
+        d->gz_short_at = (long long)gzoffset(d->gz);
+        d->eof = 1;
+    } else if (n < 0) {
+        return EKM_FAIL(err, zerr == Z_MEM_ERROR ? EKM_ENOMEM : EKM_EIO, "%s: cannot read: %s", d->path,
                         zerr == Z_ERRNO ? strerror(errno) : msg);
     }
-    if (n == 0)
+    if (n <= 0)
         d->eof = 1;
-    d->end += (size_t)n;
+    else
+        d->end += (size_t)n;
     return EKM_OK;
 }
 
@@ -360,6 +384,11 @@ int cg_dump_truncated(const cg_dump *d)
 {
     return d->truncated;
 }
+const char *cg_dump_truncation(const cg_dump *d)
+{
+    return d->truncation;
+}
+
 const char *cg_dump_warning(const cg_dump *d)
 {
     return d->warning;
@@ -421,6 +450,57 @@ static ekm_status set_columns(cg_dump *d, cg_snapshot *s, const char *names, ekm
     }
     if (d->ncols == 0)
         return EKM_FAIL(err, EKM_EINPUT, "%s: ITEM: ATOMS names no columns", where);
+    return EKM_OK;
+}
+
+void cg_dump_expect(cg_dump *d, size_t j, cg_dump_check c)
+{
+    if (j < d->nsel)
+        d->check[j] = c;
+}
+
+/* The box's longest edge [m]. */
+static double box_longest(const cg_snapshot *s)
+{
+    double m = 0.0;
+    for (int k = 0; k < 3; k++)
+        m = fmax(m, s->hi[k] - s->lo[k]);
+    return m;
+}
+
+/* A value of column j against its check: NULL if good, else what was
+ * expected. */
+static const char *check_value(const cg_dump *d, const cg_snapshot *s, size_t j, double v, char *buf,
+                               size_t len)
+{
+    const cg_dump_check c = d->check[j];
+    if (c == CG_DUMP_ANY)
+        return NULL;
+    if (!(v > 0.0))
+        return "expected a positive finite number";
+    const double size = c == CG_DUMP_RADIUS ? 2.0 * v : v, edge = box_longest(s);
+    if ((c == CG_DUMP_RADIUS || c == CG_DUMP_DIAMETER) && !(size <= edge)) {
+        snprintf(buf, len, "expected a particle no larger than the box (longest edge %.6g m)", edge);
+        return buf;
+    }
+    return NULL;
+}
+
+/* The box after the tilts are taken off: finite, lo < hi, and an edge
+ * that is a finite number (a box of -1e308 .. 1e308 is not). */
+static ekm_status box_check(const cg_dump *d, const cg_snapshot *s, ekm_error *err)
+{
+    static const char axis[3] = {'x', 'y', 'z'};
+    for (int k = 0; k < 3; k++) {
+        const double L = s->hi[k] - s->lo[k];
+        if (!isfinite(s->lo[k]) || !isfinite(s->hi[k]) || !(L > 0.0) || !isfinite(L))
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: ITEM: BOX BOUNDS: %c: expected finite bounds lo < hi with a finite length, "
+                            "got %.6g .. %.6g%s",
+                            s->box_where[k], axis[k], s->lo[k], s->hi[k],
+                            s->triclinic ? " (the box inside the bounding box, tilts taken off)" : "");
+    }
+    (void)d;
     return EKM_OK;
 }
 
@@ -575,11 +655,12 @@ static ekm_status parse_box(cg_dump *d, cg_snapshot *s, const char *flags, ekm_e
         double v[3] = {0, 0, 0};
         for (int j = 0; j < nv; j++) {
             q = skip_blank(q);
+            const char *tok = q;
             int pr = parse_number(&q, &v[j]);
             if (pr)
                 return EKM_FAIL(err, EKM_EINPUT,
-                                "%s:%lld: ITEM: BOX BOUNDS: expected %d numbers, got '%.60s'", d->path,
-                                d->lineno, nv, line);
+                                "%s:%lld:%d: ITEM: BOX BOUNDS: expected %d %snumbers, got '%.60s'", d->path,
+                                d->lineno, (int)(tok - line) + 1, nv, pr == 2 ? "finite " : "", line);
         }
         q = skip_blank(q);
         if (*q)
@@ -591,9 +672,10 @@ static ekm_status parse_box(cg_dump *d, cg_snapshot *s, const char *flags, ekm_e
         b[k][0] = v[0];
         b[k][1] = v[1];
         s->tilt[k] = v[2];
+        snprintf(s->box_where[k], sizeof s->box_where[k], "%s:%lld", d->path, d->lineno);
     }
     box_from_bounds(s, b);
-    return EKM_OK;
+    return box_check(d, s, err);
 }
 
 static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
@@ -640,11 +722,19 @@ static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
                         q++;
                     if (pr == 2)
                         return EKM_FAIL(err, EKM_EINPUT,
-                                        "%s:%lld: column '%s': expected a finite number, got '%.*s'", d->path,
-                                        d->lineno, d->sel[j], (int)(q - tok), tok);
-                    return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: column '%s': expected a number, got '%.*s'",
-                                    d->path, d->lineno, d->sel[j], (int)(q - tok > 40 ? 40 : q - tok), tok);
+                                        "%s:%lld:%d: column '%s': expected a finite number, got '%.*s'",
+                                        d->path, d->lineno, (int)(tok - line) + 1, d->sel[j],
+                                        (int)(q - tok > 40 ? 40 : q - tok), tok);
+                    return EKM_FAIL(err, EKM_EINPUT, "%s:%lld:%d: column '%s': expected a number, got '%.*s'",
+                                    d->path, d->lineno, (int)(tok - line) + 1, d->sel[j],
+                                    (int)(q - tok > 40 ? 40 : q - tok), tok);
                 }
+                char why[128];
+                const char *bad = check_value(d, s, (size_t)j, row[j], why, sizeof why);
+                if (bad)
+                    return EKM_FAIL(err, EKM_EINPUT, "%s:%lld:%d: %s: %s, got %.*s", d->path, d->lineno,
+                                    (int)(tok - line) + 1, d->sel[j], bad, (int)(p - tok > 40 ? 40 : p - tok),
+                                    tok);
             } else {
                 while (*p && *p != ' ' && *p != '\t')
                     p++;
@@ -829,7 +919,11 @@ static ekm_status bin_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
             return bin_fail(d, err, "expected finite box bounds with lo < hi");
         s->tilt[k] = tilt[k];
     }
+    for (int k = 0; k < 3; k++)
+        snprintf(s->box_where[k], sizeof s->box_where[k], "%s:@%llu", d->path, d->offset);
     box_from_bounds(s, b);
+    if ((rc = box_check(d, s, err)))
+        return rc;
     int32_t size_one, len;
     BREAD(&size_one, 4, "end of file inside the header");
     if (size_one < 1 || size_one > 100000)
@@ -905,6 +999,14 @@ static ekm_status bin_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
                         char what[160];
                         snprintf(what, sizeof what, "column '%s' of atom %lld: expected a finite number",
                                  d->sel[j], (long long)(atom + (int64_t)i + 1));
+                        return bin_fail(d, err, what);
+                    }
+                    char why[128];
+                    const char *bad = check_value(d, s, (size_t)j, in[col], why, sizeof why);
+                    if (bad) {
+                        char what[320];
+                        snprintf(what, sizeof what, "column '%s' of atom %lld: %s, got %.6g", d->sel[j],
+                                 (long long)(atom + (int64_t)i + 1), bad, in[col]);
                         return bin_fail(d, err, what);
                     }
                     row[j] = in[col];

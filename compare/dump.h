@@ -49,12 +49,30 @@ typedef struct {
                                     absent columns are unspecified */
     size_t cap;                  /* allocated rows of data */
     char where[600];             /* "file:line" of this snapshot's ITEM: ATOMS */
+    char box_where[3][620];      /* "file:line" of its box bounds along x, y, z
+                                    (binary: "file:@offset" of the header) */
 } cg_snapshot;
+
+/* What a selected column's values must be, besides finite numbers (every
+ * selected value is): checked per atom by the reader, so that a value that
+ * makes no sense is reported at its file, line and column
+ * ("a.dump:12:87: radius: expected a positive finite number, got -0.001"). */
+typedef enum {
+    CG_DUMP_ANY = 0,  /* any finite number */
+    CG_DUMP_POSITIVE, /* > 0 (mass) */
+    CG_DUMP_RADIUS,   /* > 0, and the particle (2 x value) no larger than the
+                         box's longest edge */
+    CG_DUMP_DIAMETER, /* > 0, and no larger than the box's longest edge */
+} cg_dump_check;
 
 typedef struct cg_dump cg_dump;
 
 /* Open a dump (text, gzip or binary) and select columns by name. */
 ekm_status cg_dump_open(cg_dump **d, const char *path, const char *const *cols, size_t ncols, ekm_error *err);
+
+/* Check the values of selected column j (0 <= j < ncols of cg_dump_open)
+ * with c from the next snapshot on. */
+void cg_dump_expect(cg_dump *d, size_t j, cg_dump_check c);
 
 /* Read the next snapshot into s (its buffers are reused and grown). At a
  * clean end of data s is left as it was; after an error or a truncated
@@ -66,6 +84,9 @@ ekm_status cg_dump_next(cg_dump *d, cg_snapshot *s, ekm_error *err);
  * the warning text ("file:line: truncated snapshot ... skipped"). */
 int cg_dump_truncated(const cg_dump *d);
 const char *cg_dump_warning(const cg_dump *d);
+/* The same without what was done ("file:line: truncated snapshot (...)"),
+ * for an error when a cut-off dump is not acceptable. */
+const char *cg_dump_truncation(const cg_dump *d);
 
 /* Close the dump; cg_dump_close(NULL) is harmless. */
 void cg_dump_close(cg_dump *d);

@@ -17,6 +17,7 @@
 #include "fit_data.h"
 #include "fit_out.h"
 #include "fit_scen.h"
+#include "h5kind.h"
 #include "scenario.h"
 #include "status.h"
 
@@ -178,6 +179,18 @@ static ekm_status check_not_input(const char *out, const fit_args *a, ekm_error 
     return st;
 }
 
+/* -o and --ini must be two files (the second would replace the first). */
+static ekm_status check_outputs_apart(const fit_args *a, ekm_error *err)
+{
+    if (!a->json || !a->ini)
+        return EKM_OK;
+    const char *json = a->json;
+    if (ekm_atomic_refuse_input(a->ini, &json, 1, err) != EKM_OK)
+        return EKM_FAIL(err, EKM_EIO, "--ini %s: the same file as -o %s: expected two outputs", a->ini,
+                        a->json);
+    return EKM_OK;
+}
+
 static void print_summary(const cg_fit_problem *pb, const cg_fit_result *res)
 {
     printf("ekmcompare fit --rheology: %zu points, %zu residuals, %zu fitted, chi2/dof = %.4g (dof %ld), "
@@ -215,13 +228,18 @@ static ekm_status run_fit(const fit_args *a, ekm_error *err)
     st = check_not_input(a->json, a, err);
     if (st == EKM_OK)
         st = check_not_input(a->ini, a, err);
+    if (st == EKM_OK)
+        st = check_outputs_apart(a, err);
     if (st != EKM_OK)
         return st;
     cg_fit_point *pts = calloc(a->ninputs, sizeof *pts);
     if (!pts)
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    for (size_t k = 0; k < a->ninputs && st == EKM_OK; k++)
-        st = cg_fit_point_read(a->inputs[k], pb.fields, &pts[k], err);
+    for (size_t k = 0; k < a->ninputs && st == EKM_OK; k++) {
+        st = cg_h5kind_check_path(a->inputs[k], "fit", "--rheology", CG_H5KIND_CG, err);
+        if (st == EKM_OK)
+            st = cg_fit_point_read(a->inputs[k], pb.fields, &pts[k], err);
+    }
     pb.pts = pts;
     pb.npts = a->ninputs;
     cg_fit_result res;
@@ -291,13 +309,16 @@ static ekm_status run_scenario_fit(const fit_args *a, ekm_error *err)
     if (st == EKM_OK && a->ini)
         st = ekm_atomic_refuse_input(a->ini, ins, nins, err);
     if (st == EKM_OK)
+        st = check_outputs_apart(a, err);
+    if (st == EKM_OK)
         st = cg_fitsc_load(&sc, a->scenario, err);
+    /* every case's files are inputs too: its DEM file and its scenario */
     for (size_t i = 0; i < sc.ncases && st == EKM_OK; i++) {
-        const char *dem = sc.cases[i].dem;
+        const char *case_inputs[2] = {sc.cases[i].dem, sc.cases[i].scenario};
         if (a->json)
-            st = ekm_atomic_refuse_input(a->json, &dem, 1, err);
+            st = ekm_atomic_refuse_input(a->json, case_inputs, 2, err);
         if (st == EKM_OK && a->ini)
-            st = ekm_atomic_refuse_input(a->ini, &dem, 1, err);
+            st = ekm_atomic_refuse_input(a->ini, case_inputs, 2, err);
     }
     ekm_material start;
     ekm_variant variant = EKM_VARIANT_FULL;

@@ -55,6 +55,9 @@ static const char usage_text[] =
     "                       f is the force on atom 1 by atom 2\n"
     "  --types L            only atoms of these types count (e.g. 1, or 1,3; column `type`):\n"
     "                       frozen wall grains are left out of every field\n"
+    "  --expect-snapshots N the dumps hold exactly N complete snapshots (e.g. the frame count\n"
+    "                       the DEM run recorded): fewer, more or one cut short is an error\n"
+    "                       (exit 2) instead of a warning\n"
     "  --quiet              no notes on stderr\n"
     "\n"
     "score: interpolate ekm's output onto the DEM grid and times; per field the relative L2\n"
@@ -76,9 +79,10 @@ static const char usage_text[] =
     "(null below 8 samples).\n"
     "\n"
     "Exit status (docs/exit-codes.md): 0 success; 1 bad command line; 2 bad input file or\n"
-    "data; 3 a file could not be opened, read or written (or an output would overwrite an\n"
-    "input); 5 internal error or out of memory; 128+N stopped by signal N (temporary files\n"
-    "removed). Errors are one line: ekmcompare: file:line: message.\n";
+    "data (score: also no point in common, a file of the wrong kind); 3 a file could not be\n"
+    "opened, read or written (or an output would overwrite an input); 4 score: a number that\n"
+    "cannot be computed; 5 internal error or out of memory; 128+N stopped by signal N\n"
+    "(temporary files removed). Errors are one line: ekmcompare: file:line: message.\n";
 
 static ekm_status usage_error(ekm_error *err, const char *fmt, const char *arg)
 {
@@ -327,6 +331,9 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
         } else if (!strcmp(a, "--types")) {
             ARG();
             rc = get_types(v, &o, err);
+        } else if (!strcmp(a, "--expect-snapshots")) {
+            ARG();
+            rc = get_size(a, v, &o.expect_snapshots, err);
         } else if (!strcmp(a, "--quiet"))
             o.log = NULL;
         else

@@ -8,6 +8,7 @@
 
 #include "atomic.h"
 #include "h5.h"
+#include "h5kind.h"
 #include "metric.h"
 #include "scalars.h"
 #include "schema.h"
@@ -631,6 +632,36 @@ static ekm_status check_units(ekm_h5_file *f, const char *path, const char *name
     return EKM_OK;
 }
 
+/* A field's numbers must exist: no point in common (the files, or --shift,
+ * put the DEM grid or times outside the model's) is a bad input (exit 2);
+ * an undefined number over the points compared (the DEM field zero at
+ * every point, no standard error above the floor) a failed computation
+ * (exit 4). Never a NaN (null) in the JSON. */
+static ekm_status check_result(const cg_score_opts *o, const axes *ax, const char *name, const cg_metric *m,
+                               size_t left_out, ekm_error *err)
+{
+    if (m->points == 0)
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "score: --dem %s --ekm %s: field %s: no point in common (DEM coordinate %.6g..%.6g m "
+                        "with --shift %.6g m and times %.6g..%.6g s; model cell centres %.6g..%.6g m and "
+                        "times %.6g..%.6g s; %zu points off the common support)",
+                        o->dem, o->ekm, name, ax->zd[0], ax->zd[ax->nzd - 1], o->shift, ax->td[0],
+                        ax->td[ax->ntd - 1], ax->ze[0], ax->ze[ax->nze - 1], ax->te[0], ax->te[ax->nte - 1],
+                        left_out);
+    if (!isfinite(m->rel_l2))
+        return EKM_FAIL(err, EKM_ENUMERIC,
+                        "score: --dem %s: field %s: rel_l2 undefined: the DEM field is zero at all %zu "
+                        "points compared",
+                        o->dem, name, m->points);
+    if (!isfinite(m->noise))
+        return EKM_FAIL(err, EKM_ENUMERIC,
+                        "score: --dem %s: field %s: noise_normalised undefined: none of the %zu points "
+                        "compared has a standard error above %g x the field's RMS (%s_se; a window of "
+                        "fewer than two snapshots?)",
+                        o->dem, name, m->points, CG_SCORE_SE_FLOOR, name);
+    return EKM_OK;
+}
+
 ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err)
 {
     cg_score_field loc[MAXF];
@@ -678,6 +709,12 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
     ekm_status rc = ekm_h5_open(&dem, o->dem, err);
     if (!rc)
         rc = ekm_h5_open(&ekm, o->ekm, err);
+    /* each file the kind its option names: --dem a cg output, --ekm an ekm
+     * run or a second engine's cg output (engine against engine) */
+    if (!rc)
+        rc = cg_h5kind_check(dem, "score", "--dem", CG_H5KIND_CG, err);
+    if (!rc)
+        rc = cg_h5kind_check(ekm, "score", "--ekm", CG_H5KIND_EKM | CG_H5KIND_CG, err);
     axes ax;
     memset(&ax, 0, sizeof ax);
     if (!rc)
@@ -839,6 +876,7 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
                 }
             }
             cg_metric m = cg_metric_compute(pm, pdem, ps, np, CG_SCORE_SE_FLOOR);
+            rc = check_result(o, &ax, names[f], &m, left_out, err);
             cg_score_field *r = &res[*nres];
             snprintf(r->name, sizeof r->name, "%s", names[f]);
             r->points = m.points;

@@ -30,6 +30,10 @@ static void read_dump(const char *path)
     ekm_error err;
     if (cg_dump_open(&d, path, cols, sizeof cols / sizeof *cols, &err))
         return;
+    /* the value checks cg_input.c asks for: mass, radius, diameter */
+    cg_dump_expect(d, 12, CG_DUMP_POSITIVE);
+    cg_dump_expect(d, 13, CG_DUMP_RADIUS);
+    cg_dump_expect(d, 14, CG_DUMP_DIAMETER);
     cg_snapshot s;
     memset(&s, 0, sizeof s);
     double sum = 0;

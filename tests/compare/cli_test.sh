@@ -111,8 +111,8 @@ mk bad_num.dump '15s/^\([0-9]* 1\) [^ ]*/\1 1.2.3/'
 mk bad_nan.dump '16s/^\([0-9]* 1 [^ ]* [^ ]*\) [^ ]*/\1 nan/'
 mk bad_col.dump 's/ITEM: ATOMS id type mass radius vx vy vz z y x/ITEM: ATOMS id type mass radius vx vy vq z y x/'
 mk bad_count.dump '0,/^8$/s/^8$/9/'
-expect 2 "bad_num.dump:15: column 'mass': expected a number, got '1.2.3'" -- "$ekmc" cg bad_num.dump -o bad.h5
-expect 2 "bad_nan.dump:16: column 'vx': expected a finite number, got 'nan'" -- "$ekmc" cg bad_nan.dump -o bad.h5
+expect 2 "bad_num.dump:15:5: column 'mass': expected a number, got '1.2.3'" -- "$ekmc" cg bad_num.dump -o bad.h5
+expect 2 "bad_nan.dump:16:35: column 'vx': expected a finite number, got 'nan'" -- "$ekmc" cg bad_nan.dump -o bad.h5
 expect 2 "bad_col.dump:13: ITEM: ATOMS has no column 'vz'" -- "$ekmc" cg bad_col.dump -o bad.h5
 expect 2 "bad_count.dump:22: expected 9 atoms \(ITEM: NUMBER OF ATOMS\), got 8" -- "$ekmc" cg bad_count.dump -o bad.h5
 expect 3 "nonexistent.dump: cannot open" -- "$ekmc" cg nonexistent.dump -o bad.h5

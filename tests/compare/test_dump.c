@@ -205,21 +205,71 @@ static void expect_error(const char *name, const char *text, const char *needle)
 
 #define HDR "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp ff\n0 1\n0 1\n0 1\n"
 
+/* Values that make no sense for what their column is (cg_dump_expect:
+ * radius and mass positive, a particle no larger than the box) and boxes
+ * without a finite length: errors at the dump's line and column. */
+static void expect_value_error(const char *name, const char *text, const char *needle)
+{
+    char path[512];
+    tmp_path(path, sizeof path, name);
+    assert_int_equal(write_text(path, text), 0);
+    cg_dump *d;
+    ekm_error err;
+    assert_int_equal(cg_dump_open(&d, path, cols, NCOLS, &err), EKM_OK);
+    cg_dump_expect(d, 6, CG_DUMP_RADIUS);
+    cg_dump_expect(d, 7, CG_DUMP_POSITIVE);
+    cg_snapshot s = {0};
+    ekm_status rc;
+    while ((rc = cg_dump_next(d, &s, &err)) == EKM_OK)
+        ;
+    cg_dump_close(d);
+    cg_snapshot_free(&s);
+    if (rc != EKM_EINPUT || !strstr(err.message, needle) || !strstr(err.message, path))
+        fail_msg("%s: rc %d, message '%s', expected '%s'", name, rc, err.message, needle);
+}
+
+static void test_value_checks(void **state)
+{
+    (void)state;
+    expect_value_error("neg_radius.dump",
+                       HDR "ITEM: ATOMS x y z vx vy vz radius mass\n"
+                           "0.1 0.2 0.3 0 0 0 0.01 1\n0.1 0.2 0.3 0 0 0 -0.001 1\n",
+                       ":11:19: radius: expected a positive finite number, got -0.001");
+    expect_value_error(
+        "big_radius.dump",
+        HDR "ITEM: ATOMS x y z vx vy vz radius mass\n"
+            "0.1 0.2 0.3 0 0 0 1e30 1\n0.1 0.2 0.3 0 0 0 0.01 1\n",
+        ":10:19: radius: expected a particle no larger than the box (longest edge 1 m), got 1e30");
+    expect_value_error("zero_mass.dump",
+                       HDR "ITEM: ATOMS x y z vx vy vz radius mass\n"
+                           "0.1 0.2 0.3 0 0 0 0.01 0\n0.1 0.2 0.3 0 0 0 0.01 1\n",
+                       ":10:24: mass: expected a positive finite number, got 0");
+    expect_value_error("huge_box.dump",
+                       "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 1\n"
+                       "-1e308 1e308\n0 1\nITEM: ATOMS x y z vx vy vz radius mass\n0 0 0 0 0 0 0.1 1\n",
+                       ":7: ITEM: BOX BOUNDS: y: expected finite bounds lo < hi with a finite length, got "
+                       "-1e+308 .. 1e+308");
+    expect_value_error("inf_box.dump",
+                       "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 1\n"
+                       "0 1\n0 1e999\nITEM: ATOMS x y z vx vy vz radius mass\n0 0 0 0 0 0 0.1 1\n",
+                       ":8:3: ITEM: BOX BOUNDS: expected 2 finite numbers");
+}
+
 static void test_bad_inputs(void **state)
 {
     (void)state;
     expect_error("malformed.dump",
                  HDR "ITEM: ATOMS x y z vx vy vz mass\n"
                      "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3x 0 0 0 1\n",
-                 ":11: column 'z': expected a number, got '0.3x'");
+                 ":11:9: column 'z': expected a number, got '0.3x'");
     expect_error("nan.dump",
                  HDR "ITEM: ATOMS x y z vx vy vz mass\n"
                      "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 nan 0 0 1\n",
-                 ":11: column 'vx': expected a finite number, got 'nan'");
+                 ":11:13: column 'vx': expected a finite number, got 'nan'");
     expect_error("inf.dump",
                  HDR "ITEM: ATOMS x y z vx vy vz mass\n"
                      "0.1 0.2 0.3 0 0 -inf 1\n0.1 0.2 0.3 0 0 0 1\n",
-                 ":10: column 'vz': expected a finite number");
+                 ":10:17: column 'vz': expected a finite number");
     expect_error("fewcols.dump",
                  HDR "ITEM: ATOMS x y z vx vy vz mass\n"
                      "0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 0 0\n",
@@ -294,6 +344,7 @@ int main(void)
         cmocka_unit_test(test_truncated),
         cmocka_unit_test(test_formats_agree),
         cmocka_unit_test(test_bad_inputs),
+        cmocka_unit_test(test_value_checks),
         cmocka_unit_test(test_bad_binary),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -400,6 +400,8 @@ static void write_cg_windows(const char *path, const profiles *p, int time_serie
         assert_int_equal(write_ds(w, se_name, p->se[f], 1, NB, units[f], &ce), EKM_OK);
     }
     assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &ce), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "kernel", "gauss", &ce), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_double(w, NULL, "snapshots_used", 1.0, &ce), EKM_OK);
     assert_int_equal(ekm_h5_commit(w, &ce), EKM_OK);
 }
 

@@ -111,6 +111,7 @@ static void write_synthetic_dem(const char *ini, int which, const char *extra, c
     }
     assert_int_equal(ekm_h5_attr_set_string(w, NULL, "axis", "z", &err), EKM_OK);
     assert_int_equal(ekm_h5_attr_set_string(w, NULL, "kernel", "gauss", &err), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_double(w, NULL, "snapshots_used", 8.0, &err), EKM_OK);
     assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
     ekm_step_free(st);
     ekm_state_free(s);
