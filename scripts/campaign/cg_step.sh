@@ -6,8 +6,9 @@
 # (frames, bytes, sha256: scripts/dem/dump_record.sh) before using it: a
 # dump that changed after the run (truncated, edited) is a failed input,
 # one line naming the file and what differs, exit 4, and nothing is
-# written. Then `ekmcompare cg RUN_DIR/atoms.dump --dt DT CG_OPTION... -o
-# H5` and RUN_DIR/run.json copied (atomically) to MANIFEST. Temporaries of
+# written. Then `ekmcompare cg RUN_DIR/atoms.dump --dt DT
+# [--expect-snapshots FRAMES] CG_OPTION... -o H5` and RUN_DIR/run.json
+# copied (atomically) to MANIFEST. Temporaries of
 # H5 and MANIFEST left by an interrupted step are removed first.
 # Exit status (docs/exit-codes.md): 1 usage, 3 no dump or run.json,
 # 4 the dump is not what the run produced, else ekmcompare's.
@@ -29,6 +30,9 @@ if [ $rc -ne 0 ]; then
   exit $rc
 fi
 [ -z "$chk" ] || echo "campaign: CG $words: ${chk#dump_record.sh: }" >&2
-"$ekmc" cg "$run/atoms.dump" --dt "$dt" "$@" -o "$h5" || exit
+# the recorded frame count: a snapshot cut short is then ekmcompare's error
+frames=$(jq -r '.dumps["atoms.dump"].frames // empty' "$run/run.json" 2> /dev/null)
+expect=(); [ -n "$frames" ] && expect=(--expect-snapshots "$frames")
+"$ekmc" cg "$run/atoms.dump" --dt "$dt" "${expect[@]}" "$@" -o "$h5" || exit
 cp "$run/run.json" "$manifest.tmp.$$" && mv "$manifest.tmp.$$" "$manifest" ||
   { rm -f "$manifest.tmp.$$"; echo "campaign: $manifest: cannot write the run manifest" >&2; exit 3; }
