@@ -67,45 +67,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 }
 
 #ifdef CG_FUZZ_MAIN
-#include <dirent.h>
-#include <sys/stat.h>
+#include "replay.h"
 
-static int replay(const char *path, int top)
+static int replay_one(const char *path)
 {
-    struct stat st;
-    if (stat(path, &st)) {
-        /* removed meanwhile (a fuzzer reducing the corpus), or a corpus that
-         * was never made (fuzz/corpus is not in git) */
-        if (top)
-            fprintf(stderr, "fuzz_dump: %s: not found, skipped\n", path);
-        return 0;
-    }
-    if (S_ISDIR(st.st_mode)) {
-        DIR *dir = opendir(path);
-        if (!dir)
-            return 1;
-        struct dirent *e;
-        int rc = 0;
-        while ((e = readdir(dir))) {
-            if (e->d_name[0] == '.')
-                continue;
-            char sub[4096];
-            snprintf(sub, sizeof sub, "%s/%s", path, e->d_name);
-            rc |= replay(sub, 0);
-        }
-        closedir(dir);
-        return rc;
-    }
     read_dump(path);
     return 0;
 }
 
 int main(int argc, char **argv)
 {
-    int rc = 0;
-    for (int i = 1; i < argc; i++)
-        rc |= replay(argv[i], 1);
-    printf("fuzz_dump: replayed %d path(s)\n", argc - 1);
-    return rc;
+    return fuzz_replay("fuzz_dump", argv + 1, argc - 1, replay_one);
 }
 #endif

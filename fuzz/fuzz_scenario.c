@@ -97,8 +97,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 }
 
 #ifdef EKM_FUZZ_MAIN
-#include <dirent.h>
-#include <sys/stat.h>
+#include "replay.h"
 
 static int replay_file(const char *path)
 {
@@ -134,42 +133,8 @@ static int replay_file(const char *path)
     return 0;
 }
 
-static int replay(const char *path, int top, int *count)
-{
-    struct stat st;
-    if (stat(path, &st)) {
-        /* removed meanwhile (a fuzzer reducing the corpus), or a corpus that
-         * was never made (fuzz/corpus_scenario is not in git) */
-        if (top)
-            fprintf(stderr, "fuzz_scenario: %s: not found, skipped\n", path);
-        return 0;
-    }
-    if (S_ISDIR(st.st_mode)) {
-        DIR *dir = opendir(path);
-        if (!dir)
-            return 1;
-        struct dirent *e;
-        int rc = 0;
-        while ((e = readdir(dir))) {
-            if (e->d_name[0] == '.')
-                continue;
-            char sub[4096];
-            snprintf(sub, sizeof sub, "%s/%s", path, e->d_name);
-            rc |= replay(sub, 0, count);
-        }
-        closedir(dir);
-        return rc;
-    }
-    ++*count;
-    return replay_file(path);
-}
-
 int main(int argc, char **argv)
 {
-    int rc = 0, count = 0;
-    for (int i = 1; i < argc; i++)
-        rc |= replay(argv[i], 1, &count);
-    printf("fuzz_scenario: replayed %d file(s)\n", count);
-    return rc;
+    return fuzz_replay("fuzz_scenario", argv + 1, argc - 1, replay_file);
 }
 #endif

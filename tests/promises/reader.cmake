@@ -27,7 +27,7 @@ endforeach()
 # kills it (SIGXFSZ); and fuzzed for 20 s with clang's libFuzzer when clang
 # is installed (skipped otherwise). Long runs:
 # fuzz/run.sh --target scenario SECONDS.
-add_executable(fuzz_scenario_replay ${CMAKE_SOURCE_DIR}/fuzz/fuzz_scenario.c)
+add_executable(fuzz_scenario_replay ${CMAKE_SOURCE_DIR}/fuzz/fuzz_scenario.c ${CMAKE_SOURCE_DIR}/fuzz/replay.c)
 target_compile_definitions(fuzz_scenario_replay PRIVATE EKM_FUZZ_MAIN)
 target_link_libraries(fuzz_scenario_replay PRIVATE ekm_lib)
 ekm_promise_test(fuzz scenario_replay
