@@ -111,10 +111,33 @@ static ekm_status write_layout(ekm_h5_writer *w, const ekm_state *s, ekm_error *
     return st;
 }
 
+/* Bytes of HDF5 per frame and field beyond the data: the row's virtual
+ * dataset for the XDMF sidecar (about 700 measured), rounded up. */
+#define ROW_VIEW_BYTES 1024.0
+
+/* EKM_EINPUT when the output of the whole run would not fit in
+ * EKM_H5OUT_MAX_BYTES: the frames at every output_dt up to t_end, each
+ * with every field's row and its view. */
+static ekm_status check_output_size(const ekm_scenario *sc, size_t nz, ekm_error *err)
+{
+    const double frames = floor(sc->t_end / sc->output_dt) + 2.0;
+    const double bytes = frames * N_FIELDS * (8.0 * (double)nz + ROW_VIEW_BYTES);
+    if (bytes <= EKM_H5OUT_MAX_BYTES)
+        return EKM_OK;
+    return EKM_FAIL(err, EKM_EINPUT,
+                    "%s: [run] output_dt: the output would hold about %.3g GB (%.0f frames x %zu cells x %d "
+                    "fields), more than the %.3g GB an output may (it is built in memory): expected a larger "
+                    "output_dt or fewer [domain] cells",
+                    sc->source, bytes / 1e9, frames, nz, N_FIELDS, EKM_H5OUT_MAX_BYTES / 1e9);
+}
+
 ekm_status ekm_h5_writer_open(ekm_h5_writer **out, const char *path, const ekm_scenario *sc,
                               const ekm_state *s, ekm_error *err)
 {
     *out = NULL;
+    ekm_status size_ok = check_output_size(sc, (size_t)s->n, err);
+    if (size_ok != EKM_OK)
+        return size_ok;
     ekm_h5_writer *w = calloc(1, sizeof *w);
     if (!w)
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory opening %s", path);

@@ -14,7 +14,9 @@
  *   [deg], hypo.fail_fY (first solid -> flow switch; fail_time -1: none).
  *   /xdmf/FIELD/I: row I of FIELD as a virtual dataset (no copy), for the
  *   XDMF sidecar (common/xdmf.h).
- * The file is built in memory, written under a temporary (common/atomic.h)
+ * The file is built in memory (at most EKM_H5OUT_MAX_BYTES, estimated when
+ * it is opened from the frames the run will write: more is EKM_EINPUT
+ * before the run), written under a temporary (common/atomic.h)
  * and renamed to PATH on commit together with its sidecar
  * PATH-without-.h5 + ".xdmf", which lets ParaView open the time series
  * (any of its three XDMF readers; the profile along ParaView's Z axis).
@@ -25,6 +27,10 @@
 #include "scenario.h"
 #include "state.h"
 #include "status.h"
+
+/* The largest output an ekm run may build in memory [bytes] (its image is
+ * copied once more when written out at the end). */
+#define EKM_H5OUT_MAX_BYTES (4.0 * 1024 * 1024 * 1024)
 
 typedef struct ekm_h5_writer ekm_h5_writer;
 
