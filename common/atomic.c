@@ -220,7 +220,9 @@ ekm_status ekm_atomic_finish(ekm_atomic *a, ekm_error *err)
         FILE *fp = a->fp;
         a->fp = NULL;
         errno = 0;
-        int bad = ferror(fp) || fflush(fp) != 0 || fsync(fileno(fp)) != 0;
+        /* fflush first: after a failed write it fails again with the
+         * reason (ENOSPC), which ferror alone would not tell */
+        int bad = fflush(fp) != 0 || ferror(fp) || fsync(fileno(fp)) != 0;
         int e = errno ? errno : EIO;
         if (fclose(fp) != 0 && !bad) {
             bad = 1;
@@ -253,6 +255,7 @@ ekm_status ekm_atomic_commit(ekm_atomic *a, ekm_error *err)
     ekm_atomic_unregister(a->slot);
     a->slot = -1;
     a->active = 0;
+    a->renamed = 1;
     char dir[EKM_ATOMIC_PATH_MAX];
     directory_of(a->path, dir, sizeof dir);
     if (fsync_path(dir, O_DIRECTORY) != 0)

@@ -37,6 +37,7 @@ typedef struct {
     int slot;                                /* registry slot, -1 when none */
     int active;                              /* 1 between open/begin and commit/abort */
     int synced;                              /* 1 after ekm_atomic_finish: only the rename left */
+    int renamed;                             /* 1 once the temporary is renamed onto the target */
 } ekm_atomic;
 
 /* Create the temporary for PATH and open it for writing (a->fp). */

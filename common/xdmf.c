@@ -158,17 +158,19 @@ ekm_status ekm_xdmf_commit_with(ekm_h5_file *h5, const ekm_xdmf_series *s, ekm_e
         ekm_atomic_abort(&data);
         return st;
     }
-    /* both complete on disk: rename the data, then the sidecar (if that
-     * rename fails, the new data file goes too) */
+    /* both complete on disk: rename the data, then the sidecar.  A data
+     * rename that failed leaves the old pair as it was.  Once the data are
+     * renamed (also when only the directory's fsync failed after it) the
+     * old sidecar no longer describes them: the new one is renamed too, or,
+     * if that fails, the old one removed; the first error is returned. */
     st = ekm_atomic_commit(&data, err);
-    if (st != EKM_OK) {
+    if (st != EKM_OK && !data.renamed) {
         ekm_atomic_abort(&sidecar);
         return st;
     }
-    st = ekm_atomic_commit(&sidecar, err);
-    if (st != EKM_OK) { /* no output without its sidecar (nor a half-synced pair) */
-        unlink(s->h5_path);
-        unlink(xdmf);
-    }
-    return st;
+    ekm_error sidecar_err;
+    const ekm_status sidecar_st = ekm_atomic_commit(&sidecar, st == EKM_OK ? err : &sidecar_err);
+    if (sidecar_st != EKM_OK && !sidecar.renamed)
+        unlink(xdmf); /* the old sidecar, of the old data */
+    return st != EKM_OK ? st : sidecar_st;
 }

@@ -26,18 +26,6 @@ static ekm_status dataset(ekm_h5_file *w, const char *name, const double *data, 
     return ekm_h5_write_double(w, name, 2, dims, data, units, NULL, err);
 }
 
-/* The sidecar may not replace a dump (the HDF5 output is checked by
- * cgrun.c before any work). */
-static ekm_status refuse_sidecar_input(const cg_run_opts *o, const char *xdmf, ekm_error *err)
-{
-    ekm_status rc = ekm_atomic_refuse_input(xdmf, o->inputs, o->ninputs, err);
-    if (!rc)
-        rc = ekm_atomic_refuse_input(xdmf, o->pairs, o->npairs, err);
-    if (!rc && o->csv)
-        rc = ekm_atomic_refuse_input(xdmf, &o->csv, 1, err);
-    return rc;
-}
-
 /* The sidecar's series: every [nt][n] field and its standard error, the
  * bins as cells along ParaView's Z (common/xdmf.h). */
 static ekm_status commit_with_sidecar(ekm_h5_file *w, const cg_run_opts *o, const cg_grid *g,
@@ -80,13 +68,8 @@ static ekm_status commit_with_sidecar(ekm_h5_file *w, const cg_run_opts *o, cons
 ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
                         const cg_kernel *k, const cg_run_info *info, ekm_error *err)
 {
-    char xdmf[EKM_ATOMIC_PATH_MAX + 8];
-    ekm_xdmf_path(o->out, xdmf, sizeof xdmf);
-    ekm_status rc = refuse_sidecar_input(o, xdmf, err);
-    if (rc)
-        return rc;
-    ekm_h5_file *w;
-    rc = ekm_h5_create(&w, o->out, err);
+    ekm_h5_file *w; /* (its path and its sidecar's checked against the inputs by cgrun.c) */
+    ekm_status rc = ekm_h5_create(&w, o->out, err);
     if (rc)
         return rc;
     size_t n = g->n;

@@ -4,6 +4,8 @@
  * (--steady), window.c (averaging windows) and cg_output.c (writers). */
 #include "cgrun.h"
 
+#include "xdmf.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -70,7 +72,8 @@ static ekm_status make_grid(const cg_run_opts *o, const cg_input *src, double wi
 }
 
 /* Every output must be writable, and none may replace an input (dumps and
- * pair dumps), nor the HDF5 output the CSV: refused before any work. */
+ * pair dumps), nor the HDF5 output's sidecar or the HDF5 output the CSV:
+ * refused before any work. */
 static ekm_status refuse_inputs(const cg_run_opts *o, ekm_error *err)
 {
     size_t n = o->ninputs + o->npairs;
@@ -88,6 +91,13 @@ static ekm_status refuse_inputs(const cg_run_opts *o, ekm_error *err)
         rc = ekm_atomic_check_target(o->csv, err);
     if (!rc && o->out)
         rc = ekm_atomic_refuse_input(o->out, in, n, err);
+    if (!rc && o->out) { /* nor may its XDMF sidecar (written beside it) */
+        char xdmf[EKM_ATOMIC_PATH_MAX + 8];
+        ekm_xdmf_path(o->out, xdmf, sizeof xdmf);
+        rc = ekm_atomic_refuse_input(xdmf, in, n, err);
+        if (!rc && o->csv)
+            rc = ekm_atomic_refuse_input(xdmf, &o->csv, 1, err);
+    }
     if (!rc && o->csv) {
         if (o->out)
             in[n++] = o->out;

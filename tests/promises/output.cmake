@@ -3,16 +3,22 @@ set(EKM_PROMISE_OUT ${CMAKE_CURRENT_SOURCE_DIR}/output)
 set(EKM_PROMISE_OUT_WORK ${CMAKE_CURRENT_BINARY_DIR}/output_work)
 
 # A full disk: one error line naming the file and "No space left on
-# device", exit 3, nothing left (a 16 kB tmpfs as root, else ulimit -f);
-# file_size_limit: ulimit -f always (SIGXFSZ: exit 153, nothing left).
+# device", exit 3, nothing left (a 16 kB tmpfs as root, else ulimit -f with
+# SIGXFSZ ignored: "File too large"); write_fails_efbig: that failed-write
+# path always, also as root; file_size_limit: ulimit -f with SIGXFSZ at its
+# default (exit 153, nothing left).
 foreach(tool ekm cg)
   ekm_promise_test(no_crash disk_full_${tool}
     COMMAND bash ${EKM_PROMISE_OUT}/disk_full.sh ${tool} $<TARGET_FILE:ekm> $<TARGET_FILE:ekmcompare>
             ${CMAKE_SOURCE_DIR} ${EKM_PROMISE_OUT_WORK}/disk_full_${tool} TIMEOUT 60)
+  ekm_promise_test(no_crash write_fails_efbig_${tool}
+    COMMAND bash ${EKM_PROMISE_OUT}/disk_full.sh ${tool} $<TARGET_FILE:ekm> $<TARGET_FILE:ekmcompare>
+            ${CMAKE_SOURCE_DIR} ${EKM_PROMISE_OUT_WORK}/write_fails_efbig_${tool}
+    ENVIRONMENT EKM_TEST_NO_MOUNT=1 TIMEOUT 60)
   ekm_promise_test(no_partial_output file_size_limit_${tool}
     COMMAND bash ${EKM_PROMISE_OUT}/disk_full.sh ${tool} $<TARGET_FILE:ekm> $<TARGET_FILE:ekmcompare>
             ${CMAKE_SOURCE_DIR} ${EKM_PROMISE_OUT_WORK}/file_size_limit_${tool}
-    ENVIRONMENT EKM_TEST_NO_MOUNT=1 TIMEOUT 60)
+    ENVIRONMENT EKM_TEST_XFSZ=1 TIMEOUT 60)
 endforeach()
 
 # Signals: no output, no temporary, status 128+N.
