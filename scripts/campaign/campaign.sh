@@ -55,8 +55,14 @@ stale() { # stale DIR DEPTH NAME: remove DIR's files named NAME, saying so
     rm -f -- "$f" && echo "campaign: removed stale temporary $f (left by an interrupted step)" >&2
   done
 }
-stale "$res" 4 '*.tmp'
-stale "$runs" 3 'campaign.stamp.tmp'
+# (not while another campaign holds Snakemake's lock on this folder: those
+# may be its files being written; Snakemake then refuses to start anyway)
+if [ -n "$(ls -A "$root/.snakemake/locks" 2> /dev/null)" ]; then
+  echo "campaign: another campaign holds the lock ($root/.snakemake/locks): temporaries left alone" >&2
+else
+  stale "$res" 4 '*.tmp'
+  stale "$runs" 3 'campaign.stamp.tmp'
+fi
 if out=$("${smk[@]}" -n scores table calibration figures 2>&1); then
   case $out in
     *"Nothing to be done"*)

@@ -93,9 +93,11 @@ ekmcompare=${EKMCOMPARE:-$(dirname "$(dirname "$ekm")")/compare/ekmcompare}
 [ -x "$ekmcompare" ] || { echo "$prog: ekmcompare not built: run make build (no executable $ekmcompare)" >&2; exit 7; }
 command -v jq > /dev/null || { echo "$prog: jq not installed (scripts/deps.sh base)" >&2; exit 7; }
 setargs=()
-# every -s goes to the reader as it is written (also one without '='): its
-# rules, its error line naming the key, its exit status 2
+# every -s KEY=VALUE goes to the reader as it is written: its rules, its
+# error line naming the key, its exit status 2 (one without a key and '='
+# is refused here, naming -s, the option the user wrote)
 for s in "${sets[@]+"${sets[@]}"}"; do
+  [[ $s == [A-Za-z]*=* ]] || { echo "$prog: -s '$s': expected KEY=VALUE (a [dem] key, e.g. -s t_flow=2)" >&2; exit 2; }
   setargs+=(--set "dem.$s")
 done
 resolved=$("$ekm" scenario "$ini" --engine "$engine" --size "$size" "${setargs[@]+"${setargs[@]}"}" --json)

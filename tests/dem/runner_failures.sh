@@ -16,8 +16,8 @@ expect() { # expect STATUS DESCRIPTION CMD...
 # usage errors: exit 1; scenario errors (the reader's): exit 2
 expect 1 "unknown engine" "$run" -o "$out" chute nosuchengine smoke
 expect 1 "unknown size" "$run" -o "$out" chute lammps huge
-expect 2 "-s without = (the reader's error)" "$run" -o "$out" -s dt chute lammps smoke
-grep -q "dem.dt: expected section.key=value" "$out/last.txt" || { echo "FAIL: message does not name the -s"; fail=1; }
+expect 2 "-s without =" "$run" -o "$out" -s dt chute lammps smoke
+grep -q "run.sh: -s 'dt': expected KEY=VALUE" "$out/last.txt" || { echo "FAIL: message does not name the -s"; fail=1; }
 expect 2 "malformed number" "$run" -o "$out" -s dt=1e-5x chute lammps smoke
 grep -q "dt.*1e-5x" "$out/last.txt" || { echo "FAIL: message does not name the key and value"; fail=1; }
 expect 2 "unknown [dem] key" "$run" -o "$out" -s no_such_key=1 chute lammps smoke

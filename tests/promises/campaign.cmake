@@ -39,3 +39,9 @@ ekm_promise_test(no_silent_values dem_run_set_values
   COMMAND bash ${EKM_PROMISE_CAMPAIGN}/runner_inputs.sh set_values ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}
           ${EKM_PROMISE_CAMPAIGN_WORK}
   TIMEOUT 60 LABELS campaign)
+
+# campaign_smoke touches scenarios/chute.ini for a while (tests/campaign):
+# these workflows use chute too, and must not run meanwhile.
+set_tests_properties(promise.campaign_inputs.run_json_records_dumps promise.campaign_inputs.dump_truncated_after_run
+  promise.campaign_inputs.table_score_input_changed promise.campaign_inputs.table_score_input_gone
+  promise.campaign_inputs.stale_step_temporaries PROPERTIES RESOURCE_LOCK source_scenario_mtimes)

@@ -56,8 +56,8 @@ case $case in
 smoke.t_flow=nan|--set dem.smoke.t_flow: [dem] smoke.t_flow: expected a number, got 'nan'
 t_flow=-1|--set dem.t_flow: [dem] t_flow: expected a time > 0 [s], got '-1'
 nosuchkey=1|--set dem.nosuchkey: [dem] nosuchkey: unknown key
-foo|--set dem.foo: expected section.key=value
-=1|--set dem.=1: expected section.key=value
+foo|-s 'foo': expected KEY=VALUE
+=1|-s '=1': expected KEY=VALUE
 t_flow=1e400|[dem] t_flow: expected a number, got '1e400'
 LIST
     ;;

@@ -77,14 +77,14 @@ gzip_corrupt_byte)
     # one byte changed inside the deflate data: was "a.dump.gz:0: truncated snapshot"
     cp "$fix/chute_liggghts_atoms.dump.gz" a.dump.gz
     printf '\x5a' | dd of=a.dump.gz bs=1 seek=100 conv=notrunc 2>/dev/null
-    run 2 "a.dump.gz: corrupt gzip stream at byte 102: invalid distances set" -- \
+    run 2 "a.dump.gz: corrupt gzip stream, detected at byte 102: invalid distances set" -- \
         "$ekmc" cg a.dump.gz -o a.h5 "${cgopts[@]}"
     absent a.h5 ;;
 gzip_corrupt_check)
     # a byte changed that inflate takes: the CRC at the end tells
     cp "$fix/chute_liggghts_atoms.dump.gz" a.dump.gz
     printf '\x5a' | dd of=a.dump.gz bs=1 seek=60000 conv=notrunc 2>/dev/null
-    run 2 "a.dump.gz: corrupt gzip stream at byte 148222: incorrect data check" -- \
+    run 2 "a.dump.gz: corrupt gzip stream, detected at byte 148222: incorrect data check" -- \
         "$ekmc" cg a.dump.gz -o a.h5 "${cgopts[@]}"
     absent a.h5 ;;
 gzip_truncated_offset)
