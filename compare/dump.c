@@ -281,7 +281,7 @@ static ekm_status fill(cg_dump *d, size_t want, ekm_error *err)
     int zerr = Z_OK;
     const char *msg = zlib_message(d, &zerr);
     if (zerr == Z_DATA_ERROR)
-        return EKM_FAIL(err, EKM_EINPUT, "%s: corrupt gzip stream at byte %lld: %s", d->path,
+        return EKM_FAIL(err, EKM_EINPUT, "%s: corrupt gzip stream, detected at byte %lld: %s", d->path,
                         (long long)gzoffset(d->gz), msg);
     if (zerr == Z_BUF_ERROR && n <= 0) {
         /* zlib reports it as soon as it has read the last input byte: the
