@@ -215,11 +215,6 @@ ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error 
     return EKM_OK;
 }
 
-void ekm_h5_xdmf_path(const char *h5_path, char *out, size_t size)
-{
-    ekm_xdmf_path(h5_path, out, size);
-}
-
 ekm_status ekm_h5_writer_set_attr(ekm_h5_writer *w, const char *name, double value, ekm_error *err)
 {
     return ekm_h5_attr_set_double(w->file, NULL, name, value, err);

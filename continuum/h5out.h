@@ -46,7 +46,4 @@ ekm_status ekm_h5_writer_commit(ekm_h5_writer *w, ekm_error *err);
 /* Close and delete the temporary file, free w (NULL is harmless). */
 void ekm_h5_writer_abort(ekm_h5_writer *w);
 
-/* The sidecar's path for an output path (".h5" replaced by ".xdmf"). */
-void ekm_h5_xdmf_path(const char *h5_path, char *out, size_t size);
-
 #endif

@@ -17,6 +17,7 @@
 #include "scenario_json.h"
 #include "state.h"
 #include "step.h"
+#include "xdmf.h"
 
 static void usage(FILE *fp)
 {
@@ -129,7 +130,7 @@ static int cmd_run(int argc, char **argv)
     }
     ekm_error err = {0};
     /* neither the output nor its sidecar may replace the scenario file */
-    ekm_h5_xdmf_path(out, xdmf, sizeof xdmf);
+    ekm_xdmf_path(out, xdmf, sizeof xdmf);
     const char *const inputs[] = {ini, material};
     const size_t n_inputs = material ? 2 : 1;
     ekm_status st = ekm_atomic_check_target(out, &err);
