@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "atomic.h"
+#include "utf8.h"
 
 void ekm_xdmf_path(const char *h5_path, char *out, size_t size)
 {
@@ -14,37 +15,6 @@ void ekm_xdmf_path(const char *h5_path, char *out, size_t size)
         snprintf(out, size, "%.*s.xdmf", (int)(len - 3), h5_path);
     else
         snprintf(out, size, "%s.xdmf", h5_path);
-}
-
-/* Length of the valid UTF-8 sequence at s (1-4), 0 when invalid. */
-static size_t utf8_length(const unsigned char *s)
-{
-    size_t len;
-    unsigned int cp;
-    if (s[0] < 0x80)
-        return 1;
-    if ((s[0] & 0xE0) == 0xC0) {
-        len = 2;
-        cp = s[0] & 0x1F;
-    } else if ((s[0] & 0xF0) == 0xE0) {
-        len = 3;
-        cp = s[0] & 0x0F;
-    } else if ((s[0] & 0xF8) == 0xF0) {
-        len = 4;
-        cp = s[0] & 0x07;
-    } else {
-        return 0;
-    }
-    for (size_t i = 1; i < len; i++) {
-        if ((s[i] & 0xC0) != 0x80)
-            return 0;
-        cp = (cp << 6) | (s[i] & 0x3F);
-    }
-    static const unsigned int min_cp[5] = {0, 0, 0x80, 0x800, 0x10000};
-    /* overlong forms, surrogates, beyond U+10FFFF, U+FFFE/U+FFFF: not XML */
-    if (cp < min_cp[len] || (cp >= 0xD800 && cp <= 0xDFFF) || cp > 0x10FFFF || cp == 0xFFFE || cp == 0xFFFF)
-        return 0;
-    return len;
 }
 
 void ekm_xdmf_escape(FILE *fp, const char *text)
@@ -61,8 +31,9 @@ void ekm_xdmf_escape(FILE *fp, const char *text)
             if (*s < 0x20) { /* tab, newline included: not kept in a name */
                 fputc('?', fp);
             } else {
-                const size_t len = utf8_length(s);
-                if (len == 0) {
+                unsigned int cp;
+                const size_t len = ekm_utf8_sequence(s, &cp);
+                if (len == 0 || cp == 0xFFFE || cp == 0xFFFF) { /* not XML characters */
                     fputc('?', fp);
                 } else {
                     fwrite(s, 1, len, fp);

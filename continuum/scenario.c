@@ -4,6 +4,7 @@
 #include "bc.h"
 #include "flux.h"
 #include "resolve.h"
+#include "utf8.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -333,39 +334,6 @@ static size_t first_control(const unsigned char *t, size_t size, int newlines)
     return size;
 }
 
-/* Whether the string is UTF-8 (RFC 3629: no overlong forms, surrogates or
- * code points above U+10FFFF). */
-static int is_utf8(const char *str)
-{
-    const unsigned char *t = (const unsigned char *)str;
-    while (*t) {
-        const unsigned char b = *t;
-        size_t n;
-        unsigned char lo = 0x80, hi = 0xBF; /* the range of the second byte */
-        if (b < 0x80)
-            n = 1;
-        else if (b >= 0xC2 && b <= 0xDF)
-            n = 2;
-        else if (b >= 0xE0 && b <= 0xEF) {
-            n = 3;
-            lo = b == 0xE0 ? 0xA0 : 0x80;
-            hi = b == 0xED ? 0x9F : 0xBF;
-        } else if (b >= 0xF0 && b <= 0xF4) {
-            n = 4;
-            lo = b == 0xF0 ? 0x90 : 0x80;
-            hi = b == 0xF4 ? 0x8F : 0xBF;
-        } else
-            return 0;
-        if (n > 1 && (t[1] < lo || t[1] > hi))
-            return 0;
-        for (size_t k = 2; k < n; k++)
-            if (t[k] < 0x80 || t[k] > 0xBF)
-                return 0;
-        t += n;
-    }
-    return 1;
-}
-
 static void describe_byte(unsigned char b, char *buf, size_t size)
 {
     if (b == 0)
@@ -472,7 +440,7 @@ static int handler(void *user, const char *section, const char *key, const char 
     if (ekm_resolve_is_tool_section(section)) {
         /* the other tools' keys: checked here, resolved by resolve.c */
         char why[700];
-        if (!is_utf8(value))
+        if (!ekm_utf8_valid(value))
             return fail_once(c, EKM_EINPUT, "[%s] %s: expected UTF-8 text%s", section, key, "");
         if (!ekm_resolve_check_key(section, key, value, why, sizeof why))
             return fail_once(c, EKM_EINPUT, "%s%s%s", why, "", "");
@@ -494,7 +462,7 @@ static int handler(void *user, const char *section, const char *key, const char 
         return fail_once(c, EKM_EINPUT, "[%s] %s: unknown key%s", section, key, "");
     if (refuse_duplicate(c, c->s->entries, c->s->n_entries, section, key))
         return 0;
-    if (!is_utf8(value))
+    if (!ekm_utf8_valid(value))
         return fail_once(c, EKM_EINPUT, "[%s] %s: expected UTF-8 text%s", section, key, "");
     if (strlen(value) > VALUE_MAX) {
         char limit[32];

@@ -53,7 +53,7 @@ else
     printf '#define EKMBENCH_VERSION "fuzz"\n' > "$out/ekm_version.h"
     build=(clang "${flags[@]}" -I"$root/continuum" -I"$root/common" -I"$out"
            "$here/fuzz_scenario.c" "$root"/continuum/{scenario,resolve,scenario_json,model,flux,bc}.c
-           "$root"/common/{status,schema}.c -linih -ljansson -lm -o "$exe")
+           "$root"/common/{status,schema,utf8}.c -linih -ljansson -lm -o "$exe")
     # an input is "--set line" + the file: each shipped scenario without and
     # with an override
     for f in "$root"/scenarios/*.ini "$root"/tests/continuum/data/*.ini; do
