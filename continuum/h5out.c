@@ -220,6 +220,12 @@ ekm_status ekm_h5_writer_set_attr(ekm_h5_writer *w, const char *name, double val
     return ekm_h5_attr_set_double(w->file, NULL, name, value, err);
 }
 
+ekm_status ekm_h5_writer_set_attr_array(ekm_h5_writer *w, const char *name, const double *values, size_t n,
+                                        ekm_error *err)
+{
+    return ekm_h5_attr_set_double_array(w->file, NULL, name, values, n, err);
+}
+
 /* The HDF5 file with its row views and the sidecar are completed on disk,
  * then renamed into place (common/xdmf.h): a failure leaves neither. */
 ekm_status ekm_h5_writer_commit(ekm_h5_writer *w, ekm_error *err)

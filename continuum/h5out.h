@@ -41,6 +41,9 @@ ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error 
 /* A number as a root attribute (run statistics, e.g. the solid regime's
  * switch counts and first failure); before commit. */
 ekm_status ekm_h5_writer_set_attr(ekm_h5_writer *w, const char *name, double value, ekm_error *err);
+/* An array of numbers as a root attribute (ekm steady's residual history). */
+ekm_status ekm_h5_writer_set_attr_array(ekm_h5_writer *w, const char *name, const double *values, size_t n,
+                                        ekm_error *err);
 /* Close, write the XDMF sidecar, rename both into place, free w. */
 ekm_status ekm_h5_writer_commit(ekm_h5_writer *w, ekm_error *err);
 /* Close and delete the temporary file, free w (NULL is harmless). */

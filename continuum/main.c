@@ -16,6 +16,7 @@
 #include "scenario.h"
 #include "scenario_json.h"
 #include "state.h"
+#include "steady_cli.h"
 #include "step.h"
 #include "xdmf.h"
 
@@ -28,6 +29,8 @@ static void usage(FILE *fp)
             "                    [--point TAG] [--material FIT.ini] [--set section.key=value ...] --json\n"
             "       ekm homog FILE.ini [--material FIT.ini] [--set section.key=value ...]\n"
             "                 --phi LO:HI:N --rate R[,R,...] --json\n"
+            "       ekm steady FILE.ini [-o OUT.h5] [--from RUN.h5] [--material FIT.ini]\n"
+            "                  [--set section.key=value ...] [--quiet]\n"
             "       ekm --help | --version\n"
             "\n"
             "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
@@ -58,10 +61,17 @@ static void usage(FILE *fp)
             "(inclusive) times each shear rate R [1/s]; a point with phi >= phi_cp has\n"
             "status \"no_steady_state\" and the reason.\n"
             "\n"
+            "ekm steady writes the steady state of FILE.ini (a slab with wall or free ends,\n"
+            "no solid regime, no tilting) as one frame of ekm run's output, found by Newton\n"
+            "on the time stepper's discrete steady equations and verified by time steps\n"
+            "(docs/model.md, \"Steady solver\"); none found: exit 6 \"no steady state\".\n"
+            "  --from RUN.h5    start from the last frame of an output on the same grid\n"
+            "                   (default: the scenario's initial state)\n"
+            "\n"
             "Exit codes (docs/exit-codes.md): 0 success; 1 usage error; 2 bad scenario or\n"
             "command line value; 3 file could not be read or written (also: -o names the\n"
             "scenario file); 4 the solver could not continue (phi would reach phi_cp, no\n"
-            "convergence); 5 internal error or out of memory; 128+N stopped by signal N\n"
+            "convergence); 5 internal error or out of memory; 6 no steady state; 128+N stopped by signal N\n"
             "(its temporary files removed).\n"
             "Formats and units: README.md and docs/ of ekmbench.\n");
 }
@@ -323,6 +333,8 @@ int main(int argc, char **argv)
         return cmd_scenario(argc - 2, argv + 2);
     if (strcmp(argv[1], "homog") == 0)
         return ekm_homog_cli_main(argc - 2, argv + 2);
+    if (strcmp(argv[1], "steady") == 0)
+        return ekm_steady_cli_main(argc - 2, argv + 2);
     fprintf(stderr, "ekm: unknown command '%s' (see ekm --help)\n", argv[1]);
     return ekm_status_exit_code(EKM_EUSAGE);
 }

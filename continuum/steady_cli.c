@@ -1,0 +1,243 @@
+#include "steady_cli.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "atomic.h"
+#include "bc.h"
+#include "h5.h"
+#include "h5out.h"
+#include "scenario.h"
+#include "steady_solve.h"
+#include "xdmf.h"
+
+static int steady_fail(const ekm_error *err, ekm_status st)
+{
+    ekm_error_print("ekm steady", err);
+    return ekm_status_exit_code(st);
+}
+
+/* The last row of a [nt][n] dataset into out (n values). */
+static ekm_status last_row(ekm_h5_file *f, const char *path, const char *name, int n, double *out,
+                           ekm_error *err)
+{
+    int rank;
+    size_t dims[EKM_H5_MAX_RANK];
+    double *data = NULL;
+    ekm_status st = ekm_h5_read_double(f, name, &rank, dims, &data, err);
+    if (st != EKM_OK)
+        return st;
+    if (rank != 2 || dims[0] < 1 || dims[1] != (size_t)n) {
+        free(data);
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: /%s has %s%zu cells, the scenario %d ([domain] cells): --from needs a run "
+                        "on the same grid",
+                        path, name, rank == 2 ? "" : "not [t][z] rows of ", rank == 2 ? dims[1] : 0, n);
+    }
+    memcpy(out, data + (dims[0] - 1) * dims[1], (size_t)n * sizeof *out);
+    free(data);
+    return EKM_OK;
+}
+
+ekm_status ekm_steady_read_guess(const char *path, const ekm_scenario *sc, ekm_state *s, ekm_error *err)
+{
+    ekm_h5_file *f = NULL;
+    ekm_status st = ekm_h5_open(&f, path, err);
+    if (st != EKM_OK)
+        return st;
+    const int n = sc->cells;
+    int rank;
+    size_t dims[EKM_H5_MAX_RANK];
+    double *z = NULL;
+    st = ekm_h5_read_double(f, "z", &rank, dims, &z, err);
+    if (st == EKM_OK && (rank != 1 || dims[0] != (size_t)n))
+        st = EKM_FAIL(err, EKM_EINPUT,
+                      "%s: /z has %zu cells, the scenario %d ([domain] cells): --from needs a run on the "
+                      "same grid",
+                      path, rank == 1 ? dims[0] : 0, n);
+    if (st == EKM_OK && !ekm_bc_pressure_wall(&sc->top)) {
+        /* a fixed grid: the centres of the scenario's cells */
+        const double dz = sc->length / n;
+        for (int j = 0; j < n && st == EKM_OK; j++)
+            if (!(fabs(z[j] - (j + 0.5) * dz) <= 1e-9 * dz))
+                st = EKM_FAIL(err, EKM_EINPUT,
+                              "%s: /z[%d] = %.9g m, the scenario's cell centre is %.9g m ([domain] length = "
+                              "%g m): --from needs a run on the same grid",
+                              path, j, z[j], (j + 0.5) * dz, sc->length);
+    }
+    double gap = NAN;
+    if (st == EKM_OK && ekm_bc_pressure_wall(&sc->top)) {
+        /* the gap of the last frame (a pressure wall stretches the grid) */
+        double *g = NULL;
+        st = ekm_h5_read_double(f, "gap", &rank, dims, &g, err);
+        if (st == EKM_OK && (rank != 1 || dims[0] < 1 || !(g[dims[0] - 1] > 0.0)))
+            st = EKM_FAIL(err, EKM_EINPUT, "%s: /gap: expected the gap of every frame (> 0) [m]", path);
+        if (st == EKM_OK)
+            gap = g[dims[0] - 1];
+        free(g);
+    }
+    free(z);
+    if (st == EKM_OK)
+        st = last_row(f, path, "phi", n, s->phi, err);
+    if (st == EKM_OK)
+        st = last_row(f, path, "vx", n, s->u, err);
+    if (st == EKM_OK)
+        st = last_row(f, path, "T", n, s->T, err);
+    ekm_h5_close(f);
+    if (st != EKM_OK)
+        return st;
+    if (!isnan(gap))
+        s->dz = gap / n;
+    for (int j = 0; j < n; j++) {
+        s->z[j] = (j + 0.5) * s->dz;
+        if (!(s->phi[j] >= 0.0 && s->phi[j] < sc->material.phi_cp) || !isfinite(s->u[j]) || !(s->T[j] >= 0.0))
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: the last frame's cell %d has phi = %g, vx = %g, T = %g: expected phi in [0, "
+                            "%g), finite vx, T >= 0",
+                            path, j, s->phi[j], s->u[j], s->T[j], sc->material.phi_cp);
+    }
+    memset(s->w, 0, ((size_t)n + 1) * sizeof *s->w);
+    return EKM_OK;
+}
+
+static void default_output(const char *ini, char *out, size_t size)
+{
+    const char *base = strrchr(ini, '/');
+    base = base ? base + 1 : ini;
+    size_t len = strlen(base);
+    if (len > 4 && strcmp(base + len - 4, ".ini") == 0)
+        len -= 4;
+    snprintf(out, size, "%.*s.h5", (int)len, base);
+}
+
+/* The output: one frame with the report as root attributes. */
+static ekm_status write_output(const char *out, const ekm_scenario *sc, const ekm_state *s,
+                               const ekm_steady_report *rep, ekm_error *err)
+{
+    ekm_h5_writer *w = NULL;
+    ekm_status st = ekm_h5_writer_open(&w, out, sc, s, err);
+    if (st != EKM_OK)
+        return st;
+    st = ekm_h5_writer_append(w, s, err);
+    const struct {
+        const char *name;
+        double value;
+    } attrs[] = {
+        {"steady", 1.0},
+        {"steady_solver", 1.0},
+        {"steady.iterations", (double)rep->iterations},
+        {"steady.dry_resolves", (double)rep->dry_resolves},
+        {"steady.residual_final", rep->residual_final},
+        {"steady.update_final", rep->update_final},
+        {"steady.verify_change", rep->verify_change},
+        {"steady.verify_time", rep->verify_time},
+        {"stats.wall_time_s", rep->wall_s},
+    };
+    for (size_t i = 0; i < sizeof attrs / sizeof attrs[0] && st == EKM_OK; i++)
+        st = ekm_h5_writer_set_attr(w, attrs[i].name, attrs[i].value, err);
+    if (st == EKM_OK)
+        st = ekm_h5_writer_set_attr_array(w, "steady.residual", rep->residual, (size_t)rep->iterations, err);
+    if (st == EKM_OK)
+        st = ekm_h5_writer_set_attr_array(w, "steady.delta", rep->delta, (size_t)rep->iterations, err);
+    if (st == EKM_OK && ekm_bc_pressure_wall(&sc->top))
+        st = ekm_h5_writer_set_attr(w, "gap_final", rep->gap, err);
+    if (st == EKM_OK)
+        return ekm_h5_writer_commit(w, err);
+    ekm_h5_writer_abort(w);
+    return st;
+}
+
+int ekm_steady_cli_main(int argc, char **argv)
+{
+    const char *ini = NULL, *out = NULL, *material = NULL, *from = NULL;
+    int quiet = 0;
+    const char **sets = calloc((size_t)argc + 1, sizeof *sets);
+    size_t n_sets = 0;
+    if (!sets) {
+        fprintf(stderr, "ekm steady: out of memory\n");
+        return ekm_status_exit_code(EKM_ENOMEM);
+    }
+    for (int i = 0; i < argc; i++) {
+        if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
+            out = argv[++i];
+        else if (strcmp(argv[i], "--from") == 0 && i + 1 < argc)
+            from = argv[++i];
+        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc)
+            material = argv[++i];
+        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc)
+            sets[n_sets++] = argv[++i];
+        else if (strcmp(argv[i], "--quiet") == 0)
+            quiet = 1;
+        else if (argv[i][0] == '-' || ini) {
+            fprintf(stderr, "ekm steady: unexpected argument '%s' (see ekm --help)\n", argv[i]);
+            free(sets);
+            return ekm_status_exit_code(EKM_EUSAGE);
+        } else
+            ini = argv[i];
+    }
+    if (!ini) {
+        fprintf(stderr, "ekm steady: missing scenario file (see ekm --help)\n");
+        free(sets);
+        return ekm_status_exit_code(EKM_EUSAGE);
+    }
+    char out_buf[1024], xdmf[1100];
+    if (!out) {
+        default_output(ini, out_buf, sizeof out_buf);
+        out = out_buf;
+    }
+    ekm_error err = {0};
+    ekm_xdmf_path(out, xdmf, sizeof xdmf);
+    const char *const inputs[] = {ini, material ? material : ini, from ? from : ini};
+    ekm_status st = ekm_atomic_check_target(out, &err);
+    if (st == EKM_OK)
+        st = ekm_atomic_refuse_input(out, inputs, 3, &err);
+    if (st == EKM_OK)
+        st = ekm_atomic_refuse_input(xdmf, inputs, 3, &err);
+    if (st != EKM_OK) {
+        free(sets);
+        return steady_fail(&err, st);
+    }
+    ekm_scenario sc;
+    st = ekm_scenario_load_material(&sc, ini, material, sets, n_sets, &err);
+    free(sets);
+    if (st == EKM_OK)
+        st = ekm_steady_supported(&sc, &err);
+    if (st != EKM_OK) {
+        ekm_scenario_free(&sc);
+        return steady_fail(&err, st);
+    }
+    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
+    if (!s) {
+        ekm_scenario_free(&sc);
+        EKM_FAIL(&err, EKM_ENOMEM, "out of memory (%d cells)", sc.cells);
+        return steady_fail(&err, EKM_ENOMEM);
+    }
+    ekm_state_init(s, &sc);
+    if (from)
+        st = ekm_steady_read_guess(from, &sc, s, &err);
+    ekm_steady_report rep;
+    if (st == EKM_OK)
+        st = ekm_steady_solve(&sc, s, &rep, &err);
+    if (!quiet && (st == EKM_OK || st == EKM_ENOTSTEADY)) {
+        for (int k = 0; k < rep.iterations; k++)
+            fprintf(stderr, "ekm steady: %s: iteration %3d  scaled residual %.3e  delta %.3g\n", sc.name,
+                    k + 1, rep.residual[k], rep.delta[k]);
+    }
+    if (st == EKM_OK)
+        st = write_output(out, &sc, s, &rep, &err);
+    int code = 0;
+    if (st != EKM_OK)
+        code = steady_fail(&err, st);
+    else if (!quiet)
+        printf("%-20s steady  %3d Newton iterations (%d re-solves)  residual %.1e  verified over %d steps "
+               "(change %.1e)  %5d cells%s%.6g%s  %.4f s  -> %s\n",
+               sc.name, rep.iterations, rep.dry_resolves, rep.residual_final, EKM_STEADY_VERIFY_STEPS,
+               rep.verify_change, sc.cells, ekm_bc_pressure_wall(&sc.top) ? "  gap " : "",
+               ekm_bc_pressure_wall(&sc.top) ? rep.gap : 0.0, ekm_bc_pressure_wall(&sc.top) ? " m" : "",
+               rep.wall_s, out);
+    ekm_state_free(s);
+    ekm_scenario_free(&sc);
+    return code;
+}
