@@ -129,6 +129,9 @@ static ekm_status write_output(const char *out, const ekm_scenario *sc, const ek
         {"steady_solver", 1.0},
         {"steady.iterations", (double)rep->iterations},
         {"steady.dry_resolves", (double)rep->dry_resolves},
+        {"steady.attempts", (double)rep->attempts},
+        {"steady.warm_time", rep->warm_time},
+        {"steady.warm_steps", (double)rep->warm_steps},
         {"steady.residual_final", rep->residual_final},
         {"steady.update_final", rep->update_final},
         {"steady.verify_change", rep->verify_change},
@@ -230,13 +233,16 @@ int ekm_steady_cli_main(int argc, char **argv)
     int code = 0;
     if (st != EKM_OK)
         code = steady_fail(&err, st);
-    else if (!quiet)
-        printf("%-20s steady  %3d Newton iterations (%d re-solves)  residual %.1e  verified over %d steps "
-               "(change %.1e)  %5d cells%s%.6g%s  %.4f s  -> %s\n",
-               sc.name, rep.iterations, rep.dry_resolves, rep.residual_final, EKM_STEADY_VERIFY_STEPS,
-               rep.verify_change, sc.cells, ekm_bc_pressure_wall(&sc.top) ? "  gap " : "",
-               ekm_bc_pressure_wall(&sc.top) ? rep.gap : 0.0, ekm_bc_pressure_wall(&sc.top) ? " m" : "",
-               rep.wall_s, out);
+    else if (!quiet) {
+        char gap[64] = "";
+        if (ekm_bc_pressure_wall(&sc.top))
+            snprintf(gap, sizeof gap, "  gap %.9g m", rep.gap);
+        printf(
+            "%-20s steady  %3d Newton iterations in %d attempts (%.3g s of model time stepped, %ld steps)  "
+            "residual %.1e  verified over %d steps (change %.1e)  %5d cells%s  %.4f s  -> %s\n",
+            sc.name, rep.iterations, rep.attempts, rep.warm_time, rep.warm_steps, rep.residual_final,
+            EKM_STEADY_VERIFY_STEPS, rep.verify_change, sc.cells, gap, rep.wall_s, out);
+    }
     ekm_state_free(s);
     ekm_scenario_free(&sc);
     return code;

@@ -601,6 +601,18 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
                                          (j ? p->dU[(size_t)(j - 1) * p->nv + SLOT_C] : 0.0));
             change = fmax(change, fabs(dphi) / PHI_SCALE);
         }
+        if (getenv("EKM_STEADY_DEBUG")) {
+            int wi = 0;
+            double wc = 0.0;
+            for (int i = 0; i < N; i++)
+                if (!p->algebraic[i] && fabs(alpha * p->dU[i]) / fmax(fabs(p->U[i]), p->typ[i]) > wc) {
+                    wc = fabs(alpha * p->dU[i]) / fmax(fabs(p->U[i]), p->typ[i]);
+                    wi = i;
+                }
+            fprintf(stderr,
+                    "   change %g alpha %g: largest unknown change %g at %s of cell %d (U %g dU %g)\n",
+                    change, alpha, wc, row_name(p, wi), wi / p->nv, p->U[wi], alpha * p->dU[wi]);
+        }
         if (change > STEP_CHANGE_MAX && delta > DELTA0 * 1e-6 && delta < DELTA_MAX) {
             delta *= 0.25;
             continue;

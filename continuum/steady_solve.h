@@ -46,13 +46,13 @@
 #include "state.h"
 #include "status.h"
 
-#define EKM_STEADY_MAX_ITER     400 /* Newton (continuation) iterations, all attempts */
-#define EKM_STEADY_ATTEMPT_ITER 60  /* ... of one attempt */
-#define EKM_STEADY_ATTEMPTS     12  /* attempts (the first from the guess) */
+#define EKM_STEADY_MAX_ITER     1000 /* Newton (continuation) iterations, all attempts */
+#define EKM_STEADY_ATTEMPT_ITER 60   /* ... of one attempt */
+#define EKM_STEADY_ATTEMPTS     12   /* attempts (the first from the guess) */
 #define EKM_STEADY_WARM_SPAN0                                                                  \
     0.25                              /* model time stepped before the second attempt, doubled \
                                        * before each further one (at most [run] t_end in all) [s] */
-#define EKM_STEADY_RES_TOL      1e-11 /* scaled residual, max norm [-] */
+#define EKM_STEADY_RES_TOL      1e-9  /* scaled residual, max norm [-] */
 #define EKM_STEADY_UPDATE_TOL   1e-10 /* relative Newton update, max norm [-] */
 #define EKM_STEADY_VERIFY_STEPS 50    /* time steps of the verification */
 #define EKM_STEADY_VERIFY_TOL   1e-9  /* relative change over them [-] */
