@@ -20,8 +20,8 @@
 #define DELTA_MAX       1e20 /* [s]: beyond it the iteration is Newton's */
 #define W_TYP           1e-4 /* velocity scale of a sealed face's w [m/s] */
 #define LNT_STEP_MAX    2.0  /* largest change of ln T per iteration */
-#define STEP_CHANGE_MAX 0.5  /* largest relative change of a pseudo-time step */
-#define PHI_SCALE       0.05 /* phi change that counts as 1 in it [-] */
+#define STEP_CHANGE_MAX 2.0  /* largest relative change of a pseudo-time step */
+#define PHI_SCALE       0.2  /* phi change that counts as 1 in it [-] */
 #define PHI_THIN        1e-6 /* a thinner film joins the material below (merge_thin_cells) [-] */
 
 /* Slots of the unknowns of cell j: U[j nv + slot]. */
@@ -342,6 +342,8 @@ static void classify(ss_problem *p, const ekm_state *s)
         if (!p->dry[j])
             u_scale = fmax(u_scale, fabs(s->u[j]));
     }
+    /* the speed gravity along the slab gives over the height */
+    u_scale = fmax(u_scale, sqrt(fabs(p->g_x) * n * s->dz));
     u_scale = fmax(u_scale, 1e-3);
     p->dry_face[0] = p->dry_face[n] = 0;
     for (int f = 1; f < n; f++) {
