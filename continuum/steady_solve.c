@@ -14,7 +14,7 @@
 #include "run.h"
 #include "step.h"
 
-#define MAX_RESOLVES    20   /* new solves after the empty set changed */
+#define MAX_RESOLVES    60   /* new solves after the empty set changed */
 #define FD_EPS          1e-7 /* relative finite-difference step of the Jacobian */
 #define DELTA0          1e-4 /* first pseudo-time step [s] */
 #define DELTA_MAX       1e20 /* [s]: beyond it the iteration is Newton's */
@@ -22,6 +22,7 @@
 #define LNT_STEP_MAX    2.0  /* largest change of ln T per iteration */
 #define STEP_CHANGE_MAX 2.0  /* largest relative change of a pseudo-time step */
 #define PHI_SCALE       0.2  /* phi change that counts as 1 in it [-] */
+#define PHI_SHRINK      1e-3 /* a run's top cell thinner than this during a solve joins the one below [-] */
 #define PHI_THIN        1e-6 /* a thinner film joins the material below (merge_thin_cells) [-] */
 
 /* Slots of the unknowns of cell j: U[j nv + slot]. */
@@ -513,6 +514,23 @@ static double now_s(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+/* At the accepted iterate p->U (unpacked): a surface face pushed upwards
+ * (w > 0: the layer grows into the empty cell, which joins the run), or
+ * the top cell of a run thinned below PHI_SHRINK (it will be merged into
+ * the cell below).  1: the frozen empty set no longer fits. */
+static int surface_moves(ss_problem *p)
+{
+    int moves = 0;
+    const ekm_state *s = p->s;
+    for (int f = 1; f < p->n; f++) {
+        if (p->sealed[f] && s->w[f] > 0.0)
+            moves = p->joined[f] = 1;
+        if (p->sealed[f] && s->phi[f - 1] < PHI_SHRINK)
+            moves = 1;
+    }
+    return moves;
+}
+
 /* Newton with pseudo-transient continuation on the frozen empty set;
  * p->U holds the guess and on success the solution. */
 static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_error *err)
@@ -603,18 +621,6 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
                                          (j ? p->dU[(size_t)(j - 1) * p->nv + SLOT_C] : 0.0));
             change = fmax(change, fabs(dphi) / PHI_SCALE);
         }
-        if (getenv("EKM_STEADY_DEBUG")) {
-            int wi = 0;
-            double wc = 0.0;
-            for (int i = 0; i < N; i++)
-                if (!p->algebraic[i] && fabs(alpha * p->dU[i]) / fmax(fabs(p->U[i]), p->typ[i]) > wc) {
-                    wc = fabs(alpha * p->dU[i]) / fmax(fabs(p->U[i]), p->typ[i]);
-                    wi = i;
-                }
-            fprintf(stderr,
-                    "   change %g alpha %g: largest unknown change %g at %s of cell %d (U %g dU %g)\n",
-                    change, alpha, wc, row_name(p, wi), wi / p->nv, p->U[wi], alpha * p->dU[wi]);
-        }
         if (change > STEP_CHANGE_MAX && delta > DELTA0 * 1e-6 && delta < DELTA_MAX) {
             delta *= 0.25;
             continue;
@@ -632,6 +638,8 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
         rep->residual_final = norm_max_scaled(p, p->R, p->mag, &where);
         if (rep->residual_final < EKM_STEADY_RES_TOL && update < EKM_STEADY_UPDATE_TOL)
             return EKM_OK;
+        if (surface_moves(p))
+            return EKM_EOF; /* the caller re-freezes the empty set and goes on */
     }
 }
 
@@ -729,18 +737,18 @@ static ekm_status verify(const ekm_scenario *sc, const ekm_state *sol, ekm_stead
  * none): mass kept, the cell empty.  Such a cell has no shear to heat it,
  * and its T would fall to T_floor, a state the steady equations leave
  * out. */
-static void merge_thin_cells(const ekm_scenario *sc, ekm_state *s)
+static void merge_thin_cells(const ekm_scenario *sc, ekm_state *s, double phi_thin)
 {
     const double phi_dry = sc->numerics.phi_dry;
     const int n = s->n;
     for (int j = 0; j < n; j++) {
-        if (!(s->phi[j] >= phi_dry && s->phi[j] < PHI_THIN))
+        if (!(s->phi[j] >= phi_dry && s->phi[j] < phi_thin))
             continue;
         int k = j - 1;
-        while (k >= 0 && s->phi[k] < PHI_THIN)
+        while (k >= 0 && s->phi[k] < phi_thin)
             k--;
         if (k < 0)
-            for (k = j + 1; k < n && s->phi[k] < PHI_THIN; k++)
+            for (k = j + 1; k < n && s->phi[k] < phi_thin; k++)
                 ;
         if (k >= n)
             continue;
@@ -754,11 +762,22 @@ static void merge_thin_cells(const ekm_scenario *sc, ekm_state *s)
 static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep, ekm_error *err)
 {
     memset(p->joined, 0, (size_t)p->n + 1);
-    merge_thin_cells(p->sc, s);
+    merge_thin_cells(p->sc, s, PHI_THIN);
     const int budget = rep->iterations + EKM_STEADY_ATTEMPT_ITER;
     for (int pass = 0;; pass++) {
         classify(p, s);
         ekm_status rc = newton(p, rep, budget, err);
+        if (rc == EKM_EOF && pass < MAX_RESOLVES) {
+            /* the surface moved during the solve: go on from there */
+            store(p, s);
+            merge_thin_cells(p->sc, s, PHI_SHRINK);
+            rep->dry_resolves++;
+            continue;
+        }
+        if (rc == EKM_EOF)
+            return EKM_FAIL(err, EKM_ENOTSTEADY,
+                            "%s: no steady state: the surface still moves after %d solves", p->sc->source,
+                            MAX_RESOLVES + 1);
         if (rc != EKM_OK)
             return rc;
         store(p, s);
