@@ -854,8 +854,9 @@ ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_rep
             break;
         if (warm_up(&sc_warm, st, g, chunk, &werr) != EKM_OK) {
             rc = EKM_FAIL(err, EKM_ENOTSTEADY,
-                          "%s: no steady state: %s (time steps after %.3g s of model time: %s)", sc->source,
-                          err->message, warmed, werr.message);
+                          "%s: no steady state: Newton did not converge and the time steps towards it failed "
+                          "after %.3g s of model time: %.700s",
+                          sc->source, warmed, werr.message);
             break;
         }
         warmed += chunk;
@@ -864,9 +865,9 @@ ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_rep
         g->steps = 0;
         span *= 2.0;
     }
-    if (rc == EKM_ENOTSTEADY && rep->warm_time > 0.0 && !strstr(err->message, "time steps after")) {
+    if (rc == EKM_ENOTSTEADY && rep->warm_time > 0.0 && !strstr(err->message, "time steps towards it")) {
         char msg[sizeof err->message];
-        snprintf(msg, sizeof msg, "%s (after %.3g s of model time stepped, %d attempts)", err->message,
+        snprintf(msg, sizeof msg, "%.900s (after %.3g s of model time stepped, %d attempts)", err->message,
                  rep->warm_time, rep->attempts);
         snprintf(err->message, sizeof err->message, "%s", msg);
     }
