@@ -318,7 +318,7 @@ static int residual(ss_problem *p, const double *U, double *R, double *mag)
         for (int i = 0; i < p->N; i++)
             top[i % nv] = fmax(top[i % nv], mag[i]);
         for (int i = 0; i < p->N; i++)
-            mag[i] = fmax(mag[i], 1e-8 * top[i % nv]);
+            mag[i] = fmax(mag[i], top[i % nv] > 0.0 ? 1e-8 * top[i % nv] : 1.0);
     }
     for (int i = 0; i < p->N; i++)
         if (!isfinite(R[i]) || (mag && !(isfinite(mag[i]) && mag[i] > 0.0)))
