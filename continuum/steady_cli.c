@@ -220,14 +220,9 @@ int ekm_steady_cli_main(int argc, char **argv)
     ekm_state_init(s, &sc);
     if (from)
         st = ekm_steady_read_guess(from, &sc, s, &err);
-    ekm_steady_report rep;
+    ekm_steady_report rep = {.progress = quiet ? NULL : stderr};
     if (st == EKM_OK)
         st = ekm_steady_solve(&sc, s, &rep, &err);
-    if (!quiet && (st == EKM_OK || st == EKM_ENOTSTEADY)) {
-        for (int k = 0; k < rep.iterations; k++)
-            fprintf(stderr, "ekm steady: %s: iteration %3d  scaled residual %.3e  delta %.3g\n", sc.name,
-                    k + 1, rep.residual[k], rep.delta[k]);
-    }
     if (st == EKM_OK)
         st = write_output(out, &sc, s, &rep, &err);
     int code = 0;

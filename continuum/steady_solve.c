@@ -556,6 +556,10 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
         const int it = rep->iterations++;
         rep->residual[it] = res;
         rep->delta[it] = delta;
+        if (rep->progress)
+            fprintf(rep->progress,
+                    "ekm steady: %s: attempt %d iteration %3d  scaled residual %.3e  delta %.3g s\n",
+                    p->sc->name, rep->attempts, it + 1, res, delta);
         ekm_status st = jacobian(p, delta, err);
         if (st != EKM_OK)
             return st;
@@ -814,7 +818,9 @@ ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_rep
     const double t0 = now_s();
     ekm_steady_report rep_local;
     ekm_steady_report *rep = rep_out ? rep_out : &rep_local;
+    FILE *progress = rep_out ? rep_out->progress : NULL;
     memset(rep, 0, sizeof *rep);
+    rep->progress = progress;
     ekm_status rc = ekm_steady_supported(sc, err);
     if (rc != EKM_OK)
         return rc;

@@ -42,6 +42,8 @@
 #ifndef EKM_STEADY_SOLVE_H
 #define EKM_STEADY_SOLVE_H
 
+#include <stdio.h>
+
 #include "scenario.h"
 #include "state.h"
 #include "status.h"
@@ -58,11 +60,12 @@
 #define EKM_STEADY_VERIFY_TOL   1e-9  /* relative change over them [-] */
 
 typedef struct {
-    int iterations;                       /* Newton iterations (all solves) */
-    int dry_resolves;                     /* new solves after the empty set changed */
-    int attempts;                         /* Newton attempts (1: from the guess) */
-    double warm_time;                     /* model time stepped between attempts [s] */
-    long warm_steps;                      /* time steps taken then */
+    FILE *progress;   /* input: NULL, or a stream for one line per Newton iteration (kept by the solve) */
+    int iterations;   /* Newton iterations (all solves) */
+    int dry_resolves; /* new solves after the empty set changed */
+    int attempts;     /* Newton attempts (1: from the guess) */
+    double warm_time; /* model time stepped between attempts [s] */
+    long warm_steps;  /* time steps taken then */
     double residual[EKM_STEADY_MAX_ITER]; /* scaled residual before each iteration [-] */
     double delta[EKM_STEADY_MAX_ITER];    /* pseudo-time step of each iteration [-] */
     double residual_final;                /* scaled residual at the solution [-] */
@@ -83,7 +86,8 @@ ekm_status ekm_steady_supported(const ekm_scenario *sc, ekm_error *err);
  * EKM_ENOTSTEADY with "SOURCE: no steady state: REASON" when Newton does
  * not converge, the Jacobian is singular, phi leaves [0, phi_cp), a value
  * is not finite or the time stepper moves away from the solution; then s
- * holds the last iterate. rep may be NULL. */
+ * holds the last iterate. rep may be NULL; rep->progress is read on entry,
+ * every other field is set. */
 ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_report *rep, ekm_error *err);
 
 #endif

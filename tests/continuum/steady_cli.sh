@@ -44,7 +44,7 @@ rc=$?
 check "simple_shear_p solves" $rc "exit $rc: $(cat err.txt)"
 [ -s ssp.xdmf ]
 check "XDMF sidecar" $? "no ssp.xdmf"
-grep -q "iteration   1  scaled residual" err.txt
+grep -q "attempt 1 iteration   1  scaled residual" err.txt
 check "progress on stderr" $? "$(head -3 err.txt)"
 /usr/bin/python3 - ssp.h5 <<'EOF'
 import sys, h5py
