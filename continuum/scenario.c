@@ -497,8 +497,8 @@ static int handler(void *user, const char *section, const char *key, const char 
         else if (strcmp(value, "explicit") == 0)
             c->s->numerics.normal_coupling = EKM_COUPLING_EXPLICIT;
         else
-            return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'implicit' or 'explicit', got '%s'", section, key,
-                             value);
+            return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'implicit' or 'explicit', got '%s'", section,
+                             key, value);
     } else if (strcmp(key, "stop") == 0) {
         if (strcmp(value, "t_end") == 0)
             c->s->stop = EKM_STOP_T_END;

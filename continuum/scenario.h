@@ -59,17 +59,17 @@ typedef enum { EKM_COUPLING_IMPLICIT = 0, EKM_COUPLING_EXPLICIT = 1 } ekm_coupli
 typedef struct {
     double cfl; /* Courant number on |w| (+ the sound speed with explicit coupling) [-] */
     ekm_convection convection;
-    char limiter[16];        /* TVD limiter name (flux.h registry) */
-    double dt_max;           /* largest time step [s] */
-    double dt_min;           /* smallest step before giving up [s] */
-    double phi_dry;          /* below this phi a cell is empty (vacuum) [-] */
-    double phi_vacuum;       /* below this phi a cell cannot compress its neighbour (step.c) [-] */
-    double T_floor;          /* lowest T of a non-empty cell [m^2/s^2] */
-    double phi_step_max;     /* largest fraction of the gap phi_cp - phi one step may close [-] */
-    double solid_relax_step; /* largest relaxation of the hypoplastic law in one step (dt times
-                              * its relaxation rate, hypo.h) [-] */
-    double newton_tol;       /* relative tolerance of the implicit T solve [-] */
-    int newton_max;          /* iterations of the implicit T solve before a retry */
+    char limiter[16];             /* TVD limiter name (flux.h registry) */
+    double dt_max;                /* largest time step [s] */
+    double dt_min;                /* smallest step before giving up [s] */
+    double phi_dry;               /* below this phi a cell is empty (vacuum) [-] */
+    double phi_vacuum;            /* below this phi a cell cannot compress its neighbour (step.c) [-] */
+    double T_floor;               /* lowest T of a non-empty cell [m^2/s^2] */
+    double phi_step_max;          /* largest fraction of the gap phi_cp - phi one step may close [-] */
+    double solid_relax_step;      /* largest relaxation of the hypoplastic law in one step (dt times
+                                   * its relaxation rate, hypo.h) [-] */
+    double newton_tol;            /* relative tolerance of the implicit T solve [-] */
+    int newton_max;               /* iterations of the implicit T solve before a retry */
     ekm_coupling normal_coupling; /* pressure in the normal momentum solve */
     double thermal_relax_step;    /* implicit coupling: largest relaxation of the kinetic pressure in
                                    * one step (dt times its rate, control.h) [-] */

@@ -27,8 +27,8 @@ typedef struct {
 } step_count;
 
 #define N_LIMITS 6
-static const char *LIMITS[N_LIMITS] = {"convective",  "acoustic", "thermal relaxation", "solid relaxation",
-                                       "compression", "dt_max"};
+static const char *LIMITS[N_LIMITS] = {"convective",       "acoustic",    "thermal relaxation",
+                                       "solid relaxation", "compression", "dt_max"};
 
 static ekm_status count_frame(void *ctx, const ekm_state *s, const ekm_stepper *st, ekm_error *err)
 {
@@ -66,11 +66,13 @@ static void set_counter_scenario(ekm_scenario *sc, void *ctx)
 }
 
 /* Run `scenario` with the overrides; the counts of its steps in *c. */
-static void count_run(test_run *r, const char *scenario, const char *const *sets, size_t n_sets, step_count *c)
+static void count_run(test_run *r, const char *scenario, const char *const *sets, size_t n_sets,
+                      step_count *c)
 {
     memset(c, 0, sizeof *c);
     const ekm_run_hooks hooks = {.frame = count_frame, .step = count_step, .ctx = c};
-    assert_int_equal(test_run_scenario_hooks(r, scenario, sets, n_sets, &hooks, set_counter_scenario, c), EKM_OK);
+    assert_int_equal(test_run_scenario_hooks(r, scenario, sets, n_sets, &hooks, set_counter_scenario, c),
+                     EKM_OK);
     printf("%s:", scenario);
     for (size_t i = 0; i < n_sets; i++)
         printf(" %s", sets[i]);
@@ -230,11 +232,12 @@ static void filling_case(const char *const *sets, size_t n_sets)
     coupling_run(&e, "scenarios/thesis_filling.ini", sets, n_sets, "explicit");
     coupling_run(&i, "scenarios/thesis_filling.ini", sets, n_sets, "implicit");
     const bed be = bed_of(&e), bi = bed_of(&i);
-    const double m_e = ekm_state_mass(e.s, e.sc.material.rho_p), m_i = ekm_state_mass(i.s, i.sc.material.rho_p);
+    const double m_e = ekm_state_mass(e.s, e.sc.material.rho_p),
+                 m_i = ekm_state_mass(i.s, i.sc.material.rho_p);
     printf("filling %s: mass %.9g / %.9g kg/m^2 (explicit/implicit), bed top cell %d / %d, bed mass %.4g / "
            "%.4g, bed phi [%.3f, %.3f] / [%.3f, %.3f], steps %ld / %ld\n",
-           sets[0], m_e, m_i, be.top, bi.top, be.mass, bi.mass, be.phi_min, be.phi_max, bi.phi_min, bi.phi_max,
-           e.stats.steps, i.stats.steps);
+           sets[0], m_e, m_i, be.top, bi.top, be.mass, bi.mass, be.phi_min, be.phi_max, bi.phi_min,
+           bi.phi_max, e.stats.steps, i.stats.steps);
     assert_true(fabs(m_i - m_e) <= 1e-12 * m_e);
     assert_true(be.top >= 0 && bi.top >= 0);
     assert_true(abs(bi.top - be.top) <= 2);
@@ -295,10 +298,10 @@ static void test_filling_slow(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_steps_shear_cell), cmocka_unit_test(test_steps_chute),
+        cmocka_unit_test(test_steps_shear_cell),     cmocka_unit_test(test_steps_chute),
         cmocka_unit_test(test_explicit_is_acoustic), cmocka_unit_test(test_steady_shear_cell),
-        cmocka_unit_test(test_steady_chute),     cmocka_unit_test(test_filling_1x),
-        cmocka_unit_test(test_filling_10x),      cmocka_unit_test(test_filling_slow),
+        cmocka_unit_test(test_steady_chute),         cmocka_unit_test(test_filling_1x),
+        cmocka_unit_test(test_filling_10x),          cmocka_unit_test(test_filling_slow),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
