@@ -51,17 +51,27 @@ static double solid_relaxation_max(const ekm_scenario *sc, const ekm_state *s)
  * and the cells that have them (-1 when none). */
 typedef struct {
     double speed, c2_flow, c2_solid;
-    int cell_flow, cell_solid;
+    int cell_speed, cell_flow, cell_solid; /* cell_speed: next to the fastest face */
 } wave_speed_max;
 
 static wave_speed_max wave_speeds(const ekm_scenario *sc, const ekm_state *s)
 {
     double v = 0.0;
+    int cell_speed = -1;
     for (int f = 0; f <= s->n; f++)
-        v = max2(v, fabs(s->w[f]));
-    v = max2(v, sc->bottom.kind == EKM_BC_INFLOW ? fabs(sc->bottom.w) : 0.0);
-    v = max2(v, sc->top.kind == EKM_BC_INFLOW ? fabs(sc->top.w) : 0.0);
-    wave_speed_max m = {.speed = v, .cell_flow = -1, .cell_solid = -1};
+        if (fabs(s->w[f]) > v) {
+            v = fabs(s->w[f]);
+            cell_speed = f < s->n ? f : f - 1;
+        }
+    if (sc->bottom.kind == EKM_BC_INFLOW && fabs(sc->bottom.w) > v) {
+        v = fabs(sc->bottom.w);
+        cell_speed = 0;
+    }
+    if (sc->top.kind == EKM_BC_INFLOW && fabs(sc->top.w) > v) {
+        v = fabs(sc->top.w);
+        cell_speed = s->n - 1;
+    }
+    wave_speed_max m = {.speed = v, .cell_speed = cell_speed, .cell_flow = -1, .cell_solid = -1};
     for (int j = 0; j < s->n; j++)
         if (s->phi[j] >= sc->numerics.phi_dry) {
             const double c2 = ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]);
@@ -72,6 +82,31 @@ static wave_speed_max wave_speeds(const ekm_scenario *sc, const ekm_state *s)
             }
         }
     return m;
+}
+
+/* The largest relaxation rate of the kinetic pressure [1/s] over the
+ * flowing cells, eps P_K / (P_K + P_Y), and the cell that has it (-1: none). */
+typedef struct {
+    double rate;
+    int cell;
+} thermal_rate_max;
+
+static thermal_rate_max thermal_rate(const ekm_scenario *sc, const ekm_state *s)
+{
+    const ekm_material *m = &sc->material;
+    thermal_rate_max th = {0.0, -1};
+    for (int j = 0; j < s->n; j++) {
+        if (s->phi[j] < sc->numerics.phi_dry || s->solid[j] || !(s->T[j] > 0.0))
+            continue;
+        const double eps = ekm_transport_coefficients(m, sc->variant, s->phi[j], s->T[j]).eps;
+        const double pk = ekm_pressure_kinetic(m, s->phi[j], s->T[j]);
+        const double rate = eps * pk / (pk + ekm_pressure_yield(m, s->phi[j]));
+        if (rate > th.rate) {
+            th.rate = rate;
+            th.cell = j;
+        }
+    }
+    return th;
 }
 
 /* cfl dz / (speed + sqrt(c2)), INFINITY when nothing moves. */
@@ -97,7 +132,13 @@ double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_lim
                 cell_rate = j;
             }
         }
-    ekm_dt_limit lim = {"acoustic", w.cell_flow, acoustic_dt(sc, s, w.speed, w.c2_flow)};
+    /* Flowing cells: with the implicit pressure coupling (step.h) the sound
+     * does not limit them, the convection (explicit upwind transport of
+     * phi, u, T and the face momentum) does: cfl dz / max |w|.  With the
+     * explicit coupling the acoustic CFL, cfl dz / max(|w| + c). */
+    ekm_dt_limit lim = sc->numerics.normal_coupling == EKM_COUPLING_IMPLICIT
+                           ? (ekm_dt_limit){"convective", w.cell_speed, acoustic_dt(sc, s, w.speed, 0.0)}
+                           : (ekm_dt_limit){"acoustic", w.cell_flow, acoustic_dt(sc, s, w.speed, w.c2_flow)};
     /* Solid cells: their stress is implicit in the momentum solves (hypo.h),
      * so the EKM's sound speed does not limit them; the accuracy of the law's
      * lagged norm does (solid_relax_step, solid_relaxation_max).  Never
@@ -113,11 +154,31 @@ double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_lim
     }
     if (rate_max > 0.0 && 0.5 * sc->numerics.phi_step_max / rate_max < lim.dt_s)
         lim = (ekm_dt_limit){"compression", cell_rate, 0.5 * sc->numerics.phi_step_max / rate_max};
+    /* Implicit coupling: the pressure takes T* of the step (before the
+     * temperature solve), so the kinetic pressure P_K lags T by one step;
+     * where T relaxes faster than dt and P_K is a sizable part of P that
+     * lag feeds back through w and phi into the heating (simple shear at
+     * phi 0.55 oscillated by 1 % in phi, never settling, at dt 10x its
+     * relaxation time).  dt times the relaxation rate of P_K (eps of the
+     * cell times P_K/(P_K + P_Y): the kinetic dissipation rate eps0 sqrt(T)
+     * g at nu = 1) at most thermal_relax_step.  A cold dense bed (P_Y >>
+     * P_K) is not limited: its pressure does not depend on T. */
+    if (sc->numerics.normal_coupling == EKM_COUPLING_IMPLICIT) {
+        const thermal_rate_max th = thermal_rate(sc, s);
+        if (th.rate > 0.0 && sc->numerics.thermal_relax_step / th.rate < lim.dt_s)
+            lim = (ekm_dt_limit){"thermal relaxation", th.cell, sc->numerics.thermal_relax_step / th.rate};
+    }
     if (!(lim.dt_s < sc->numerics.dt_max)) /* also when nothing limits it (INFINITY) */
         lim = (ekm_dt_limit){"dt_max", -1, sc->numerics.dt_max};
     if (why)
         *why = lim;
     return lim.dt_s;
+}
+
+double ekm_control_acoustic_dt(const ekm_scenario *sc, const ekm_state *s)
+{
+    const wave_speed_max w = wave_speeds(sc, s);
+    return acoustic_dt(sc, s, w.speed, w.c2_flow);
 }
 
 double ekm_control_restart_dt(const ekm_scenario *sc, const ekm_state *s)

@@ -2,7 +2,14 @@
  * evolve split: step.h advances the state by a given dt, this module
  * chooses dt and where a step must end, run.h drives the loop).
  *
- *   dt limit     cfl dz / max(|w| + c) over the flowing cells; solid cells
+ *   dt limit     flowing cells: [numerics] normal_coupling = implicit (the
+ *                default) cfl dz / max |w| (the convective CFL: the
+ *                pressure coupling is implicit, step.h), = explicit
+ *                cfl dz / max(|w| + c) (the acoustic CFL); implicit
+ *                coupling also: dt times the relaxation rate of the
+ *                kinetic pressure, eps P_K/(P_K + P_Y), at most
+ *                [numerics] thermal_relax_step (the pressure of a step
+ *                lags its temperature solve); solid cells
  *                by the accuracy of the rate law's lagged norm
  *                ([numerics] solid_relax_step, never below their own
  *                acoustic step); the compression limit (half of
@@ -22,16 +29,25 @@
 /* Which limit set the step, and where: for the diagnostic of a run whose
  * step limit fell below dt_min (run.c). */
 typedef struct {
-    const char *limit; /* "acoustic", "solid relaxation", "compression" or "dt_max" */
+    const char *limit; /* "convective", "acoustic", "thermal relaxation", "solid relaxation",
+                        * "compression" or "dt_max" */
     int cell;          /* the cell that set it, -1 for dt_max */
     double dt_s;       /* the limit [s] */
 } ekm_dt_limit;
 
-/* Largest step for the state: cfl dz / max(|w| + c) over the flowing
- * cells, the solid cells' accuracy limit ([numerics] solid_relax_step,
- * never below their own acoustic step), the compression limit and dt_max.
+/* Largest step for the state: cfl dz / max |w| and the thermal relaxation
+ * limit (implicit coupling) or cfl dz / max(|w| + c) over the flowing
+ * cells (explicit coupling; |w| over every face and the inflows), the
+ * solid cells' accuracy limit ([numerics] solid_relax_step, never below
+ * their own acoustic step), the compression limit and dt_max.
  * *why (may be NULL) says which limit it was and which cell set it. */
 double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_limit *why);
+
+/* The acoustic step cfl dz / max(|w| + c) over the flowing cells (c the
+ * EKM sound speed, model.h): the limit of the explicit coupling, whatever
+ * [numerics] normal_coupling says (for the diagnostics and the step-count
+ * test of the implicit coupling).  INFINITY when nothing moves. */
+double ekm_control_acoustic_dt(const ekm_scenario *sc, const ekm_state *s);
 
 /* The step to restart from after a change of the driving (an inflow
  * closes, the base starts tilting, a piston reverses): the acoustic step

@@ -1,7 +1,8 @@
 /* implicit.h: the implicit (backward Euler) parts of a time step, each a
  * tridiagonal solve with GSL (gsl_linalg_solve_tridiag):
  *
- *   normal momentum   rho_f w_f - dt d/dz(mu_n dw/dz)      = rho_f w**_f  (faces)
+ *   normal momentum   rho_f w_f - dt d/dz(mu_n dw/dz)
+ *                     - dt^2 d/dz(K d/dz(phi w))          = rho_f w**_f  (faces)
  *   shear momentum    rho_j u_j - dt d/dz(eta du/dz)       = (rho u)*_j   (cells)
  *   temperature       rho_j T_j - dt 2/3 d/dz(lambda dT/dz) - dt S_j(T_j)
  *                                                          = (rho T)*_j   (cells)
@@ -35,13 +36,35 @@ typedef struct {
     double conductance; /* shear solve: 1/(dz/2 + slip length), 0: stress-free [1/m] */
 } ekm_implicit_end;
 
+/* The implicit pressure coupling of the normal solve (docs/model.md,
+ * "Implicit pressure coupling"): the pressure of cell j at the end of the
+ * step, linearised in the next mass update,
+ *   P**_j = P*_j + K_j (phi**_j - phi*_j),  phi**_j - phi*_j = -dt/dz (F_{j+1} - F_j),
+ *   F_f = phi_face_f w_f (interior faces, and an end whose w follows),
+ *   F_end = flux (an end with prescribed w),
+ * adds dt/dz (P**_f - P**_{f-1}) - dt/dz (P*_f - P*_{f-1}) to face f's row:
+ * the tridiagonal terms c (K_f + K_{f-1}) phi_face_f w_f - c K_f phi_face_{f+1}
+ * w_{f+1} - c K_{f-1} phi_face_{f-1} w_{f-1}, c = dt^2/dz^2.  Every column
+ * then has the sum rho_face > 0 (diagonal minus off-diagonals), so the
+ * system stays non-singular and the coupling is stable at any dt. */
+typedef struct {
+    const double *K;        /* dP/dphi at cells [Pa], n; 0 where P is not a function of phi (solid, empty) */
+    const double *phi_face; /* volume fraction the next mass update carries through each face [-], n+1 */
+    double flux_bottom;     /* F_0 of a prescribed bottom face [m/s] (along +z, as F) */
+    double flux_top;        /* F_n of a prescribed top face [m/s] (along +z) */
+} ekm_implicit_coupling;
+
 /* Normal velocity at the interior faces 1..n-1 (w[0], w[n] are set from
  * the ends).  rho_face [kg/m^3] and rhs = rho_face w** [kg/(m^2 s)] at
- * faces, mu_n [Pa s] at cells; faces with dry[f] != 0 get w = 0. */
+ * faces (w** with the explicit pressure gradient of P*), mu_n [Pa s] at
+ * cells; faces with dry[f] != 0 get w = 0.  coupling NULL: the pressure
+ * stays explicit (the explicit scheme, [numerics] normal_coupling =
+ * explicit). */
 ekm_status ekm_implicit_normal_velocity(ekm_implicit_work *wk, int n, double dt, double dz,
                                         const double *rho_face, const double *rhs, const double *mu_n,
                                         const unsigned char *dry_face, ekm_implicit_end bottom,
-                                        ekm_implicit_end top, double *w, ekm_error *err);
+                                        ekm_implicit_end top, const ekm_implicit_coupling *coupling,
+                                        double *w, ekm_error *err);
 
 /* Tangential velocity at the cells; rho [kg/m^3], rhs = (rho u)* + dt rho g_x
  * [kg/(m^2 s)], eta [Pa s]; dry cells get u = 0. */

@@ -170,6 +170,16 @@ double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v, doubl
     return (-B + disc) / (2.0 * A);
 }
 
+double ekm_pressure_dphi(const ekm_material *m, double phi, double T)
+{
+    const double g = ekm_g(m, phi);
+    const double dg = g * g / m->phi_cp; /* dg/dphi */
+    double K = T * (g + phi * dg);
+    if (phi > m->phi_co)
+        K += m->T0 * (g + (phi - m->phi_co) * dg);
+    return m->rho_p * K;
+}
+
 double ekm_sound_speed(const ekm_material *m, double phi, double T)
 {
     return sqrt(ekm_sound_speed_squared(m, phi, T));

@@ -136,6 +136,12 @@ static inline double ekm_source_balance(const ekm_source_coeffs *c)
  * simple shear this is T = 2 eta0 gdot^2/(3 phi eps0) (MODEL.md 7). */
 double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v, double phi, double u2, double w2);
 
+/* d(P_K + P_Y)/dphi at constant T [Pa]: how the equilibrium pressure
+ * follows a change of phi in one step (T is carried with the mass, rho T
+ * conserved, and this model has no P div v work in the T equation): the
+ * stiffness of the implicit pressure coupling (implicit.h). */
+double ekm_pressure_dphi(const ekm_material *m, double phi, double T);
+
 /* Sound speed bound sqrt(dP/drho + 2/3 T g^2) [m/s] for the CFL limit,
  * and its square [m^2/s^2]. */
 double ekm_sound_speed(const ekm_material *m, double phi, double T);

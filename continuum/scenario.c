@@ -105,6 +105,8 @@ static const key_spec KEYS[] = {
     {"numerics", "solid_relax_step", KEY_DOUBLE, SC(numerics.solid_relax_step), 0, 0, NULL},
     {"numerics", "newton_tol", KEY_DOUBLE, SC(numerics.newton_tol), 0, 0, NULL},
     {"numerics", "newton_max", KEY_INT, SC(numerics.newton_max), 0, 0, NULL},
+    {"numerics", "normal_coupling", KEY_STRING, 0, 0, 0, NULL},
+    {"numerics", "thermal_relax_step", KEY_DOUBLE, SC(numerics.thermal_relax_step), 0, 0, NULL},
     {"hypo", "enabled", KEY_INT, SC(hypo.enabled), 0, 0, NULL},
     {"hypo", "T_ratio", KEY_DOUBLE, SC(hypo.T_ratio), 0, 0, NULL},
     {"hypo", "phi_margin", KEY_DOUBLE, SC(hypo.phi_margin), 0, 0, NULL},
@@ -151,6 +153,8 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
         .solid_relax_step = 1e-4,
         .newton_tol = 1e-9,
         .newton_max = 30,
+        .normal_coupling = EKM_COUPLING_IMPLICIT,
+        .thermal_relax_step = 0.1,
     };
     s->hypo = (ekm_hypo_params){
         .enabled = 0,
@@ -487,6 +491,14 @@ static int handler(void *user, const char *section, const char *key, const char 
         else
             return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'upwind' or 'tvd', got '%s'", section, key,
                              value);
+    } else if (strcmp(key, "normal_coupling") == 0) {
+        if (strcmp(value, "implicit") == 0)
+            c->s->numerics.normal_coupling = EKM_COUPLING_IMPLICIT;
+        else if (strcmp(value, "explicit") == 0)
+            c->s->numerics.normal_coupling = EKM_COUPLING_EXPLICIT;
+        else
+            return fail_once(c, EKM_EINPUT, "[%s] %s: expected 'implicit' or 'explicit', got '%s'", section,
+                             key, value);
     } else if (strcmp(key, "stop") == 0) {
         if (strcmp(value, "t_end") == 0)
             c->s->stop = EKM_STOP_T_END;
@@ -722,6 +734,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
           n->phi_step_max);
     RANGE(n->solid_relax_step > 0.0 && n->solid_relax_step <= 1.0, "numerics", "solid_relax_step",
           "a number in (0, 1]", n->solid_relax_step);
+    RANGE(n->thermal_relax_step > 0.0 && n->thermal_relax_step <= 10.0, "numerics", "thermal_relax_step",
+          "a number in (0, 10]", n->thermal_relax_step);
     RANGE(n->newton_tol > 0.0 && n->newton_tol < 1e-2, "numerics", "newton_tol", "a number in (0, 1e-2)",
           n->newton_tol);
     RANGE(n->newton_max >= 1, "numerics", "newton_max", "an integer >= 1", n->newton_max);
@@ -994,6 +1008,9 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
         snprintf(value, size, "%s", s->variant == EKM_VARIANT_THESIS ? "thesis" : "full");
     else if (strcmp(ks->key, "convection") == 0)
         snprintf(value, size, "%s", s->numerics.convection == EKM_CONVECTION_TVD ? "tvd" : "upwind");
+    else if (strcmp(ks->key, "normal_coupling") == 0)
+        snprintf(value, size, "%s",
+                 s->numerics.normal_coupling == EKM_COUPLING_EXPLICIT ? "explicit" : "implicit");
     else if (strcmp(ks->key, "stop") == 0)
         snprintf(value, size, "%s", s->stop == EKM_STOP_STEADY ? "steady" : "t_end");
     else if (bc && strcmp(ks->key, "type") == 0)

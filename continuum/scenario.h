@@ -51,20 +51,28 @@ typedef enum { EKM_STOP_T_END = 0, EKM_STOP_STEADY = 1 } ekm_stop;
 
 typedef enum { EKM_CONVECTION_UPWIND = 0, EKM_CONVECTION_TVD = 1 } ekm_convection;
 
+/* How the normal momentum solve takes the pressure gradient (step.h): implicit,
+ * linearised in the next mass update (the step is not bound by the sound
+ * speed), or explicit at (phi*, T*) (the acoustic CFL, control.h). */
+typedef enum { EKM_COUPLING_IMPLICIT = 0, EKM_COUPLING_EXPLICIT = 1 } ekm_coupling;
+
 typedef struct {
-    double cfl; /* Courant number on |w| + sound speed [-] */
+    double cfl; /* Courant number on |w| (+ the sound speed with explicit coupling) [-] */
     ekm_convection convection;
-    char limiter[16];        /* TVD limiter name (flux.h registry) */
-    double dt_max;           /* largest time step [s] */
-    double dt_min;           /* smallest step before giving up [s] */
-    double phi_dry;          /* below this phi a cell is empty (vacuum) [-] */
-    double phi_vacuum;       /* below this phi a cell cannot compress its neighbour (step.c) [-] */
-    double T_floor;          /* lowest T of a non-empty cell [m^2/s^2] */
-    double phi_step_max;     /* largest fraction of the gap phi_cp - phi one step may close [-] */
-    double solid_relax_step; /* largest relaxation of the hypoplastic law in one step (dt times
-                              * its relaxation rate, hypo.h) [-] */
-    double newton_tol;       /* relative tolerance of the implicit T solve [-] */
-    int newton_max;          /* iterations of the implicit T solve before a retry */
+    char limiter[16];             /* TVD limiter name (flux.h registry) */
+    double dt_max;                /* largest time step [s] */
+    double dt_min;                /* smallest step before giving up [s] */
+    double phi_dry;               /* below this phi a cell is empty (vacuum) [-] */
+    double phi_vacuum;            /* below this phi a cell cannot compress its neighbour (step.c) [-] */
+    double T_floor;               /* lowest T of a non-empty cell [m^2/s^2] */
+    double phi_step_max;          /* largest fraction of the gap phi_cp - phi one step may close [-] */
+    double solid_relax_step;      /* largest relaxation of the hypoplastic law in one step (dt times
+                                   * its relaxation rate, hypo.h) [-] */
+    double newton_tol;            /* relative tolerance of the implicit T solve [-] */
+    int newton_max;               /* iterations of the implicit T solve before a retry */
+    ekm_coupling normal_coupling; /* pressure in the normal momentum solve */
+    double thermal_relax_step;    /* implicit coupling: largest relaxation of the kinetic pressure in
+                                   * one step (dt times its rate, control.h) [-] */
 } ekm_numerics;
 
 /* Solid (hypoplastic) regime and its switching thresholds ([hypo]). */

@@ -52,6 +52,8 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->dry_T = calloc(c, 1);
     st->T_keep = calloc(c, sizeof(double));
     st->rhs_face0 = calloc(f, sizeof(double));
+    st->dP_dphi = calloc(c, sizeof(double));
+    st->phi_coupled = calloc(f, sizeof(double));
     st->fail_time = -1.0;
     st->fail_cell = -1;
     st->moving = ekm_bc_pressure_wall(&sc->top);
@@ -59,7 +61,7 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
         !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src || !st->rho_face ||
         !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face || !st->wk || !st->backup || !st->hyp ||
         !st->u2_old || !st->dw_old || !st->du_face_old || !st->kface || !st->t0face || !st->solid_face ||
-        !st->dry_T || !st->T_keep || !st->rhs_face0) {
+        !st->dry_T || !st->T_keep || !st->rhs_face0 || !st->dP_dphi || !st->phi_coupled) {
         ekm_step_free(st);
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
         return NULL;
@@ -110,6 +112,8 @@ void ekm_step_free(ekm_stepper *st)
     free(st->dry_T);
     free(st->T_keep);
     free(st->rhs_face0);
+    free(st->dP_dphi);
+    free(st->phi_coupled);
     free(st);
 }
 
@@ -291,6 +295,39 @@ static void boundaries(ekm_stepper *st, ekm_state *s, double dt, ekm_bc_face *bb
     st->g_z = -sc->gravity * cos(angle);
 }
 
+/* Phase 5, implicit coupling: what the next step's mass update (phase 2)
+ * will do with the new w, linearised (implicit.h): the stiffness dP/dphi of
+ * each flowing cell at (phi*, T*) (none in empty and solid cells: their
+ * pressure is not the equilibrium P(phi) and solid cells are implicit
+ * already), the upwind phi* of each face by the direction of the current
+ * w (the mean of the two cells where w = 0), the known fluxes of
+ * prescribed ends.  On a stretching grid the fluxes relative to the faces
+ * are linear in w with the same phi; the grid's own part is left out
+ * (known, and zero once the gap holds). */
+static ekm_implicit_coupling coupling_terms(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
+                                            const ekm_bc_face *bt)
+{
+    const ekm_scenario *sc = st->sc;
+    const int n = s->n;
+    const double *phi = st->phi_new;
+    for (int j = 0; j < n; j++)
+        st->dP_dphi[j] = st->dry[j] || (sc->hypo.enabled && s->solid[j])
+                             ? 0.0
+                             : ekm_pressure_dphi(&sc->material, phi[j], st->T_star[j]);
+    for (int f = 1; f < n; f++)
+        st->phi_coupled[f] = s->w[f] > 0.0   ? phi[f - 1]
+                             : s->w[f] < 0.0 ? phi[f]
+                                             : 0.5 * (phi[f - 1] + phi[f]);
+    st->phi_coupled[0] = s->w[0] > 0.0 ? bb->phi_in : phi[0];
+    st->phi_coupled[n] = s->w[n] < 0.0 ? bt->phi_in : phi[n - 1];
+    ekm_implicit_coupling cp = {.K = st->dP_dphi, .phi_face = st->phi_coupled};
+    if (!st->moving) {
+        cp.flux_bottom = s->w[0] * st->phi_coupled[0];
+        cp.flux_top = s->w[n] * st->phi_coupled[n];
+    }
+    return cp;
+}
+
 /* Phase 5: the normal momentum solve, then the vacuum rule; 0 = reject. */
 static int normal_momentum(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
                            double dt)
@@ -302,8 +339,12 @@ static int normal_momentum(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb,
         st->rhs_face[f] += dt * (st->rho_face[f] * st->g_z - (st->P[f] - st->P[f - 1]) / s->dz);
     ekm_implicit_end nb = {.follows = bb->w_follows, .value = bb->w};
     ekm_implicit_end nt = {.follows = bt->w_follows, .value = bt->w};
+    ekm_implicit_coupling cp;
+    const int implicit = sc->numerics.normal_coupling == EKM_COUPLING_IMPLICIT;
+    if (implicit)
+        cp = coupling_terms(st, s, bb, bt);
     if (ekm_implicit_normal_velocity(st->wk, n, dt, s->dz, st->rho_face, st->rhs_face, st->mu_n, st->dry_face,
-                                     nb, nt, s->w, &serr) != EKM_OK) {
+                                     nb, nt, implicit ? &cp : NULL, s->w, &serr) != EKM_OK) {
         snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s: %.400s", s->t, serr.message);
         return 0;
     }

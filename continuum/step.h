@@ -10,7 +10,10 @@
  *   3. convection    (rho u)*, (rho T)* with the same fluxes; face momentum
  *                    with the cell-centre fluxes (flux.h)
  *   4. properties    T* = (rho T)* / rho, eta, mu_n, lambda, P at (phi*, T*)
- *   5. normal mom.   pressure gradient and gravity explicit, viscous implicit
+ *   5. normal mom.   gravity explicit, viscous implicit; the pressure
+ *                    gradient implicit, linearised in the next mass update
+ *                    ([numerics] normal_coupling = implicit, implicit.h),
+ *                    or explicit at (phi*, T*) (= explicit)
  *   6. shear mom.    gravity explicit, viscous implicit
  *   7. temperature   heating from the new gradients, conduction and
  *                    dissipation implicit (Newton)
@@ -85,6 +88,9 @@ typedef struct {
     double dz_new;           /* cell height at the end of this step [m] (moving) */
     int newton_iterations;   /* of the last accepted step */
     char reject_reason[512]; /* why the last step was rejected */
+    /* implicit pressure coupling of the normal solve ([numerics] normal_coupling, implicit.h) */
+    double *dP_dphi;     /* dP/dphi at (phi*, T*) [Pa], n */
+    double *phi_coupled; /* phi the next mass update carries through each face [-], n+1 */
 } ekm_stepper;
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err);

@@ -116,6 +116,12 @@ check "hypo phi_fixed out of range" 2 "--set hypo.phi_fixed.*\[hypo\] phi_fixed:
 check "solid_relax_step out of range" 2 "--set numerics.solid_relax_step.*\[numerics\] solid_relax_step: expected a number in \(0, 1\]" \
     run "$base" -o out.h5 --set numerics.solid_relax_step=0
 
+check "thermal_relax_step out of range" 2 "--set numerics.thermal_relax_step.*\[numerics\] thermal_relax_step: expected a number in \(0, 10\]" \
+    run "$base" -o out.h5 --set numerics.thermal_relax_step=-1
+
+check "normal_coupling unknown" 2 "--set numerics.normal_coupling.*\[numerics\] normal_coupling: expected 'implicit' or 'explicit', got 'semi'" \
+    run "$base" -o out.h5 --set numerics.normal_coupling=semi
+
 check "piston key on a wall" 2 "\[bottom\] w_return: only allowed with type = piston" \
     run "$base" -o out.h5 --set bottom.w_return=1e-6
 

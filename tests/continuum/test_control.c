@@ -28,6 +28,9 @@ static ekm_state *uniform_state(ekm_scenario *sc)
     sc->top = (ekm_bc){.kind = EKM_BC_WALL};
     sc->angle_rate = 0.0;
     sc->numerics.dt_max = 0.5;
+    /* the acoustic limits below are the explicit coupling's (the implicit
+     * coupling's limits: test_coupling.c) */
+    sc->numerics.normal_coupling = EKM_COUPLING_EXPLICIT;
     ekm_state *s = ekm_state_alloc(sc->cells, sc->length);
     assert_non_null(s);
     ekm_state_init(s, sc);

@@ -78,7 +78,8 @@ static void test_normal_velocity_known_solution(void **state)
     assert_non_null(wk);
     ekm_error err = {0};
     assert_int_equal(
-        ekm_implicit_normal_velocity(wk, N, dt, dz, rho, rhs, mu, dry_face, bottom, top, w, &err), EKM_OK);
+        ekm_implicit_normal_velocity(wk, N, dt, dz, rho, rhs, mu, dry_face, bottom, top, NULL, w, &err),
+        EKM_OK);
     assert_solution(w, w_exact, 0, N, "normal velocity");
     ekm_implicit_free(wk);
 }

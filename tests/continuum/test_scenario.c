@@ -156,6 +156,11 @@ static const error_case EKM_ERRORS[] = {
      {NULL},
      EKM_EINPUT,
      FILE_NAME ":31: [numerics] convection: expected 'upwind' or 'tvd', got 'weno'"},
+    {"normal coupling",
+     "[numerics]\nnormal_coupling = semi",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [numerics] normal_coupling: expected 'implicit' or 'explicit', got 'semi'"},
     {"boundary type",
      NULL,
      {"bottom.type=moving", NULL},
@@ -791,6 +796,7 @@ static void test_ekm_keys(void **state)
     assert_key(&x, "run.output_dt", "0.05", "default", "");
     assert_key(&x, "model.variant", "full", "default", "");
     assert_key(&x, "numerics.convection", "upwind", "default", "");
+    assert_key(&x, "numerics.normal_coupling", "implicit", "default", "");
     assert_key(&x, "bottom.velocity", "0", "default", "");
     /* no number to show, or a key of another boundary type: absent */
     assert_null(ekm_resolve_find(&x.r, "numerics.dt_max"));
