@@ -95,14 +95,22 @@ static json_t *fit_json(const cg_fit_outputs *o)
                                               "points_used", (json_int_t)c->used[f], "chi2",
                                               num(c->chi2_field[f])));
             }
-            json_array_append_new(
-                cases,
-                json_pack("{s:s, s:s, s:o, s:s, s:o, s:o, s:o, s:I, s:o, s:o, s:o, s:o, s:I}", "scenario",
-                          c->scenario, "dem", c->dem, "set", set, "support", "phi > threshold on both sides",
-                          "phi_threshold", num(c->phi_threshold), "shift_m", num(c->shift_m), "weight",
-                          num(c->weight), "points_used", (json_int_t)used, "chi2", num(c->chi2), "fields",
-                          per, "ekm_wall_s_last", num(c->wall_last_s), "ekm_wall_s_total",
-                          num(c->wall_total_s), "ekm_runs", (json_int_t)c->runs));
+            json_t *jc = json_pack(
+                "{s:s, s:s, s:o, s:s, s:o, s:o, s:o, s:I, s:o, s:o, s:o, s:o, s:I}", "scenario", c->scenario,
+                "dem", c->dem, "set", set, "support", "phi > threshold on both sides", "phi_threshold",
+                num(c->phi_threshold), "shift_m", num(c->shift_m), "weight", num(c->weight), "points_used",
+                (json_int_t)used, "chi2", num(c->chi2), "fields", per, "ekm_wall_s_last", num(c->wall_last_s),
+                "ekm_wall_s_total", num(c->wall_total_s), "ekm_runs", (json_int_t)c->runs);
+            if (jc) {
+                /* how the runs were made (fit_scen.c solve_case) */
+                json_object_set_new(jc, "ekm_steady_solves", json_integer((json_int_t)c->steady_solves));
+                json_object_set_new(jc, "ekm_stepped_runs", json_integer((json_int_t)c->stepped_runs));
+                json_object_set_new(jc, "ekm_solver_last",
+                                    json_string(c->last_solver == CG_FITSC_SOLVER_STEADY ? "ekm steady"
+                                                : c->last_solver == CG_FITSC_SOLVER_RUN  ? "ekm run"
+                                                                                         : "none"));
+            }
+            json_array_append_new(cases, jc);
         }
         json_object_set_new(root, "cases", cases);
         json_object_set_new(

@@ -19,6 +19,7 @@
 #include "score.h"
 #include "state.h"
 #include "step.h"
+#include "steady_solve.h"
 
 static const char *const field_names[CG_FITSC_NFIELD] = {"phi", "vx", "T", "P", "sxz"};
 
@@ -399,6 +400,35 @@ ekm_status cg_fitsc_start_material(const cg_fitsc_problem *pb, ekm_material *m, 
  * state's own grid, which a pressure-held wall stretches with its current
  * gap at every step (step.c stretch_grid), the centres `score` gets from
  * /z and /gap with cg_score_centres. */
+/* The EKM state a case is scored at, as the campaign makes it (workflow
+ * rule ekm): a scenario that runs to its steady state ([run] stop = steady)
+ * is solved by Newton from its initial state (ekm_steady_solve, the same
+ * solve as `ekm steady`); one that has none there (EKM_ENOTSTEADY), or
+ * that the steady solver does not take, is run by time stepping from its
+ * initial state (ekm_run, as `ekm run`).  Non-zero: the run failed. */
+static int solve_case(const ekm_scenario *sc, ekm_state *s, ekm_stepper *stp, cg_fitsc_case *c, ekm_error *e)
+{
+    ekm_state_init(s, sc);
+    ekm_error why = {0};
+    if (sc->stop == EKM_STOP_STEADY && ekm_steady_supported(sc, &why) == EKM_OK) {
+        const ekm_status rc = ekm_steady_solve(sc, s, NULL, &why);
+        if (rc == EKM_OK) {
+            c->last_solver = CG_FITSC_SOLVER_STEADY;
+            c->steady_solves++;
+            return 0;
+        }
+        if (rc != EKM_ENOTSTEADY) {
+            *e = why;
+            return 1;
+        }
+        ekm_state_init(s, sc); /* no steady state by Newton: time stepping decides */
+    }
+    c->last_solver = CG_FITSC_SOLVER_RUN;
+    c->stepped_runs++;
+    ekm_run_stats stats;
+    return ekm_run(sc, s, stp, NULL, &stats, e) != EKM_OK;
+}
+
 static int run_case(const cg_fitsc_problem *pb, cg_fitsc_case *c, const ekm_material *m, double **ze_out,
                     double *prof[CG_FITSC_NFIELD], size_t *nze)
 {
@@ -430,10 +460,8 @@ static int run_case(const cg_fitsc_problem *pb, cg_fitsc_case *c, const ekm_mate
         bad = !s || !stp;
     }
     if (!bad) {
-        ekm_state_init(s, &sc);
-        ekm_run_stats stats;
         const double t0 = now_s();
-        bad = ekm_run(&sc, s, stp, NULL, &stats, &e) != EKM_OK;
+        bad = solve_case(&sc, s, stp, c, &e);
         c->wall_last_s = now_s() - t0;
         c->wall_total_s += c->wall_last_s;
         c->runs++;

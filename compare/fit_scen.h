@@ -15,8 +15,10 @@
  *
  * Per trial material and case: the scenario is loaded through libekm's
  * reader with the case's set overrides followed by material.K=V (%.17g)
- * for every fitted key (so the reader validates the trial), run to its end
- * with ekm_run (whatever the scenario's [run] asks for), and the last state
+ * for every fitted key (so the reader validates the trial), solved as the
+ * campaign's ekm rule does (a [run] stop = steady scenario by Newton from
+ * its initial state, ekm_steady_solve; by time stepping, ekm_run, when it
+ * has no steady state there or is not a steady scenario), and the state
  * interpolated onto the DEM points exactly as `ekmcompare score --ekm-time
  * last` does (cg_score_locate/cg_score_interp; every DEM window against the
  * EKM's last state, on the cell centres of that state: with a pressure-held
@@ -62,6 +64,9 @@ enum cg_fitsc_field { CG_FITSC_PHI, CG_FITSC_VX, CG_FITSC_T, CG_FITSC_P, CG_FITS
 
 const char *cg_fitsc_field_name(int f); /* "phi", "vx", "T", "P", "sxz" */
 
+/* How a case's EKM state was made (solve_case in fit_scen.c). */
+enum cg_fitsc_solver { CG_FITSC_SOLVER_NONE, CG_FITSC_SOLVER_STEADY, CG_FITSC_SOLVER_RUN };
+
 typedef struct {
     char *dem, *scenario; /* paths as given */
     char **set;           /* the case's overrides */
@@ -86,6 +91,9 @@ typedef struct {
     double wall_last_s;  /* EKM wall time of the last run [s] */
     double wall_total_s; /* all its runs [s] */
     long runs;
+    long steady_solves; /* runs solved by ekm_steady_solve */
+    long stepped_runs;  /* runs by time stepping (not steady, or no steady state found by Newton) */
+    int last_solver;    /* cg_fitsc_solver of the last run */
 } cg_fitsc_case;
 
 typedef struct {

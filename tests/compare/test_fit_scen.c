@@ -46,6 +46,17 @@ static const char scenario_text[] =
     "[bottom]\ntype = wall\nvelocity = -0.1\n[top]\ntype = wall\nvelocity = 0.1\n"
     "[run]\nt_end = 1\noutput_dt = 0.5\n[numerics]\ndt_max = 5e-4\n";
 
+/* The same shear run to its steady state ([run] stop = steady): the fit
+ * solves it by Newton (ekm_steady_solve, as `ekm steady` in the campaign);
+ * the synthetic data come from time stepping to a tight steady test. */
+static const char scenario_text_steady[] =
+    "[scenario]\nname = fit_shear_steady\n"
+    "[material]\nrho_p = 2500\nphi_co = 0.60\nphi_cp = 0.64\nT0 = 1.5\neta0 = 3.55e-4\nzeta0 = 1e-4\n"
+    "lambda0 = 3.4e-4\neps0 = 212.2\nnu = 1\nA_h = 200e6\nB_h = 200e6\nalpha = 0\n"
+    "[domain]\nlength = 0.02\ncells = 10\n[gravity]\nmagnitude = 0\n[initial]\nphi = 0.55\nT = 1e-4\n"
+    "[bottom]\ntype = wall\nvelocity = -0.1\n[top]\ntype = wall\nvelocity = 0.1\n"
+    "[run]\nt_end = 200\noutput_dt = 0.5\nstop = steady\nsteady_tol = 1e-9\n";
+
 static const char *const case_sets[2][2] = {{"top.velocity=0.1", "bottom.velocity=-0.1"},
                                             {"top.velocity=0.25", "bottom.velocity=-0.25"}};
 
@@ -135,14 +146,21 @@ typedef struct {
     char ini[512], dem[2][512], cases[512];
 } files;
 
-static files make_files(void)
+/* The scenario TEXT, its two synthetic DEM files and CASES.json, named
+ * fitsc_<TAG>*. */
+static files make_files_of(const char *text, const char *tag)
 {
     files fs;
-    tmp_path(fs.ini, sizeof fs.ini, "fitsc_shear.ini");
-    tmp_path(fs.dem[0], sizeof fs.dem[0], "fitsc_dem0.h5");
-    tmp_path(fs.dem[1], sizeof fs.dem[1], "fitsc_dem1.h5");
-    tmp_path(fs.cases, sizeof fs.cases, "fitsc_cases.json");
-    assert_int_equal(write_text(fs.ini, scenario_text), 0);
+    char name[128];
+    snprintf(name, sizeof name, "fitsc_%s.ini", tag);
+    tmp_path(fs.ini, sizeof fs.ini, name);
+    snprintf(name, sizeof name, "fitsc_%s_dem0.h5", tag);
+    tmp_path(fs.dem[0], sizeof fs.dem[0], name);
+    snprintf(name, sizeof name, "fitsc_%s_dem1.h5", tag);
+    tmp_path(fs.dem[1], sizeof fs.dem[1], name);
+    snprintf(name, sizeof name, "fitsc_%s_cases.json", tag);
+    tmp_path(fs.cases, sizeof fs.cases, name);
+    assert_int_equal(write_text(fs.ini, text), 0);
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 4242);
     write_synthetic_dem(fs.ini, 0, NULL, fs.dem[0], rng);
@@ -150,6 +168,11 @@ static files make_files(void)
     gsl_rng_free(rng);
     write_cases(fs.cases, fs.ini, fs.dem[0], fs.dem[1]);
     return fs;
+}
+
+static files make_files(void)
+{
+    return make_files_of(scenario_text, "shear");
 }
 
 /* Run the binary; its exit code, stderr into errbuf. */
@@ -253,6 +276,50 @@ static void test_recovery(void **state)
     }
     fclose(fp);
     assert_true(seen);
+}
+
+/* A steady scenario: every evaluation is a Newton solve (the cases record
+ * "ekm steady" and no time-stepped run), eta0 and eps0 recovered within
+ * 3 SE of the truth from the same perturbed start, chi2/dof in 0.5-1.5:
+ * the steady solve reproduces the time-stepped steady data the synthetic
+ * DEM was made from (to within far less than the 2% SE). */
+static void test_steady_recovery(void **state)
+{
+    (void)state;
+    files fs = make_files_of(scenario_text_steady, "steady");
+    char out[512], args[4096], errbuf[8192];
+    tmp_path(out, sizeof out, "fitsc_steady_fit.json");
+    unlink(out);
+    snprintf(args, sizeof args, "--scenario %s --params eta0,eps0 -o %s --quiet", fs.cases, out);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 0);
+    json_error_t je;
+    json_t *root = json_load_file(out, 0, &je);
+    assert_non_null(root);
+    const double truth[2] = {TRUE_ETA0, TRUE_EPS0};
+    const char *names[2] = {"eta0", "eps0"};
+    for (int j = 0; j < 2; j++) {
+        json_t *p = json_object_get(json_object_get(root, "params"), names[j]);
+        const double v = json_real_value(json_object_get(p, "value")),
+                     se = json_real_value(json_object_get(p, "se"));
+        printf("  steady: %s truth %.6g fit %.6g SE %.3g (%+.2f SE)\n", names[j], truth[j], v, se,
+               (v - truth[j]) / se);
+        assert_true(se > 0.0 && se < 0.05 * truth[j]);
+        assert_close(v, truth[j], 3.0 * se);
+    }
+    const double chi2_dof = json_real_value(json_object_get(root, "chi2_dof"));
+    printf("  steady: chi2/dof = %.3f\n", chi2_dof);
+    assert_true(chi2_dof > 0.5 && chi2_dof < 1.5);
+    json_t *cases = json_object_get(root, "cases");
+    assert_int_equal(json_array_size(cases), 2);
+    for (size_t i = 0; i < 2; i++) {
+        json_t *c = json_array_get(cases, i);
+        assert_string_equal(json_string_value(json_object_get(c, "ekm_solver_last")), "ekm steady");
+        assert_int_equal(json_integer_value(json_object_get(c, "ekm_stepped_runs")), 0);
+        assert_int_equal(json_integer_value(json_object_get(c, "ekm_steady_solves")),
+                         json_integer_value(json_object_get(c, "ekm_runs")));
+        assert_true(json_integer_value(json_object_get(c, "ekm_runs")) > 2);
+    }
+    json_decref(root);
 }
 
 static void test_bad_input(void **state)
@@ -392,6 +459,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_recovery),
+        cmocka_unit_test(test_steady_recovery),
         cmocka_unit_test(test_pressure_wall),
         cmocka_unit_test(test_bad_input),
     };
