@@ -1,9 +1,9 @@
 #include "implicit.h"
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_linalg.h>
+#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 ekm_implicit_work *ekm_implicit_alloc(int n)
 {
@@ -18,7 +18,9 @@ ekm_implicit_work *ekm_implicit_alloc(int n)
     wk->rhs = calloc(m, sizeof(double));
     wk->x = calloc(m, sizeof(double));
     wk->aux = calloc(m, sizeof(double));
-    if (!wk->diag || !wk->sub || !wk->sup || !wk->rhs || !wk->x || !wk->aux) {
+    wk->fac_d = calloc(m, sizeof(double));
+    wk->fac_e = calloc(m, sizeof(double));
+    if (!wk->diag || !wk->sub || !wk->sup || !wk->rhs || !wk->x || !wk->aux || !wk->fac_d || !wk->fac_e) {
         ekm_implicit_free(wk);
         return NULL;
     }
@@ -35,11 +37,21 @@ void ekm_implicit_free(ekm_implicit_work *wk)
     free(wk->rhs);
     free(wk->x);
     free(wk->aux);
+    free(wk->fac_d);
+    free(wk->fac_e);
     free(wk);
 }
 
 /* Solve the m x m tridiagonal system held in wk (sub[i] couples row i to
- * i-1, sup[i] to i+1) into wk->x. */
+ * i-1, sup[i] to i+1) into wk->x, with LAPACK (no allocation: the *_work
+ * routines in column-major order call the Fortran ones directly).  A
+ * symmetric, weakly diagonally dominant system with a positive diagonal
+ * (positive semi-definite: the viscous and conduction operators, and the
+ * temperature Jacobian wherever the source does not heat faster than dt
+ * relaxes it) takes the L D L^T factorisation dptsv, which has one
+ * division on the recurrence per row where dgtsv (Gaussian elimination
+ * with partial pivoting) has two; dptsv works on copies, so that a system
+ * it finds singular falls back to dgtsv. */
 static ekm_status solve(ekm_implicit_work *wk, int m, const char *what, ekm_error *err)
 {
     if (m == 1) {
@@ -48,14 +60,27 @@ static ekm_status solve(ekm_implicit_work *wk, int m, const char *what, ekm_erro
         wk->x[0] = wk->rhs[0] / wk->diag[0];
         return EKM_OK;
     }
-    gsl_vector_view d = gsl_vector_view_array(wk->diag, (size_t)m);
-    gsl_vector_view e = gsl_vector_view_array(wk->sup, (size_t)m - 1);
-    gsl_vector_view f = gsl_vector_view_array(wk->sub + 1, (size_t)m - 1);
-    gsl_vector_view b = gsl_vector_view_array(wk->rhs, (size_t)m);
-    gsl_vector_view x = gsl_vector_view_array(wk->x, (size_t)m);
-    int rc = gsl_linalg_solve_tridiag(&d.vector, &e.vector, &f.vector, &b.vector, &x.vector);
-    if (rc != GSL_SUCCESS)
-        return EKM_FAIL(err, EKM_ENUMERIC, "%s: tridiagonal solve failed: %s", what, gsl_strerror(rc));
+    int spd = wk->diag[m - 1] > 0.0 && wk->diag[m - 1] >= fabs(wk->sub[m - 1]);
+    for (int i = 0; i < m - 1; i++)
+        spd &= wk->sup[i] == wk->sub[i + 1] && wk->diag[i] > 0.0 &&
+               wk->diag[i] >= fabs(wk->sub[i]) + fabs(wk->sup[i]);
+    if (spd) {
+        memcpy(wk->fac_d, wk->diag, (size_t)m * sizeof *wk->fac_d);
+        memcpy(wk->fac_e, wk->sup, ((size_t)m - 1) * sizeof *wk->fac_e);
+        memcpy(wk->x, wk->rhs, (size_t)m * sizeof *wk->x);
+        if (LAPACKE_dptsv_work(LAPACK_COL_MAJOR, m, 1, wk->fac_d, wk->fac_e, wk->x, m) == 0)
+            return EKM_OK;
+    }
+    /* dgtsv: dl = sub[1..m-1], d = diag, du = sup[0..m-2]; all three and
+     * the right-hand side are overwritten, the solution is left in rhs */
+    memcpy(wk->x, wk->rhs, (size_t)m * sizeof *wk->x);
+    const lapack_int info =
+        LAPACKE_dgtsv_work(LAPACK_COL_MAJOR, m, 1, wk->sub + 1, wk->diag, wk->sup, wk->x, m);
+    if (info != 0)
+        return EKM_FAIL(err, EKM_ENUMERIC,
+                        info > 0 ? "%s: tridiagonal solve failed: singular system (zero pivot in row %d)"
+                                 : "%s: tridiagonal solve failed: invalid argument %d",
+                        what, (int)(info > 0 ? info : -info));
     return EKM_OK;
 }
 

@@ -1,5 +1,6 @@
 /* implicit.h: the implicit (backward Euler) parts of a time step, each a
- * tridiagonal solve with GSL (gsl_linalg_solve_tridiag):
+ * tridiagonal solve with LAPACK (dptsv where the system is symmetric and
+ * diagonally dominant, else dgtsv; nothing is allocated per solve):
  *
  *   normal momentum   rho_f w_f - dt d/dz(mu_n dw/dz)      = rho_f w**_f  (faces)
  *   shear momentum    rho_j u_j - dt d/dz(eta du/dz)       = (rho u)*_j   (cells)
@@ -23,6 +24,7 @@ typedef struct {
     int n;                              /* cells */
     double *diag, *sub, *sup, *rhs, *x; /* the system and its solution, n + 1 each */
     double *aux;                        /* face conductances of the temperature solve, n + 1 */
+    double *fac_d, *fac_e;              /* the factorisation of a symmetric system (dptsv), n + 1 each */
 } ekm_implicit_work;
 
 ekm_implicit_work *ekm_implicit_alloc(int n);
