@@ -145,14 +145,15 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
 {
     const double a = dt / (dz * dz);
     const double b = dt / dz;
+    double e_above = 0.0; /* the face viscosity above cell j - 1, once per face */
     for (int j = 0; j < n; j++) {
+        const double e_below = e_above;
+        e_above = j < n - 1 ? harmonic(eta[j], eta[j + 1]) : 0.0;
         if (dry[j]) {
             wk->diag[j] = 1.0;
             wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
             continue;
         }
-        const double e_below = j > 0 ? harmonic(eta[j - 1], eta[j]) : 0.0;
-        const double e_above = j < n - 1 ? harmonic(eta[j], eta[j + 1]) : 0.0;
         wk->diag[j] = rho[j] + a * (e_below + e_above);
         wk->sub[j] = -a * e_below;
         wk->sup[j] = -a * e_above;
@@ -244,7 +245,12 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
         ekm_status st = solve(wk, n, "temperature", err);
         if (st != EKM_OK)
             return st;
-        double change = 0.0;
+        /* Newton converges quadratically: once every relative update
+         * |dT|/T is below sqrt(tol), the remaining error (~ update^2) is
+         * below tol (tested as |dT| < sqrt(tol) T, without a division). */
+        const double limit = fmax(tol, sqrt(tol));
+        int converged = 1;
+        double finite = 0.0; /* 0, or NaN once an update is not finite */
         for (int j = 0; j < n; j++) {
             if (dry[j]) {
                 T[j] = 0.0;
@@ -257,16 +263,14 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
                 Tn = 0.1 * T[j];
             if (Tn < T_floor)
                 Tn = T_floor;
-            const double c = fabs(Tn - T[j]) / Tn;
-            if (c > change)
-                change = c;
+            const double d = fabs(Tn - T[j]);
+            converged &= d < limit * Tn;
+            finite += 0.0 * d;
             T[j] = Tn;
         }
-        if (!isfinite(change))
+        if (!isfinite(finite))
             return EKM_FAIL(err, EKM_ENUMERIC, "temperature: non-finite Newton update");
-        /* Newton converges quadratically: once an update is below
-         * sqrt(tol), the remaining error (~ update^2) is below tol. */
-        if (change < tol || change * change < tol) {
+        if (converged) {
             *iterations = it;
             return EKM_OK;
         }

@@ -47,9 +47,15 @@ ekm_status ekm_material_check(const ekm_material *m, ekm_error *err)
     return EKM_OK;
 }
 
-double ekm_g(const ekm_material *m, double phi)
+/* g(phi) = 1/(1 - phi/phi_cp) */
+static inline double phi_cp_factor(const ekm_material *m, double phi)
 {
     return 1.0 / (1.0 - phi / m->phi_cp);
+}
+
+double ekm_g(const ekm_material *m, double phi)
+{
+    return phi_cp_factor(m, phi);
 }
 
 double ekm_pressure_kinetic(const ekm_material *m, double phi, double T)
@@ -84,6 +90,24 @@ ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v, d
     c.lambda = m->rho_p * m->lambda0 * g * (a + Ya);
     c.eps = m->eps0 * g * (a + m->nu * Ya); /* eps0 sqrt(T) g (1 + nu r) */
     c.mu_n = v == EKM_VARIANT_THESIS ? c.zeta : 4.0 / 3.0 * c.eta + c.zeta;
+    return c;
+}
+
+ekm_cell_properties ekm_cell_properties_at(const ekm_material *m, ekm_variant v, double phi, double T)
+{
+    ekm_cell_properties c;
+    const double g = phi_cp_factor(m, phi);
+    const double a = sqrt(T);
+    const double excess = phi > m->phi_co ? phi - m->phi_co : 0.0;
+    c.g = g;
+    c.Y = excess > 0.0 ? m->T0 * excess / phi : 0.0;
+    const double Ya = c.Y > 0.0 ? c.Y / a : 0.0;
+    const double rg = m->rho_p * g;
+    c.eta = rg * m->eta0 * (a + m->nu * Ya);
+    const double zeta = rg * m->zeta0 * (a + Ya);
+    c.lambda = rg * m->lambda0 * (a + Ya);
+    c.mu_n = v == EKM_VARIANT_THESIS ? zeta : 4.0 / 3.0 * c.eta + zeta;
+    c.P = rg * (phi * T + m->T0 * excess);
     return c;
 }
 
@@ -139,10 +163,14 @@ double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi, 
 ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_variant v, double phi, double u2,
                                                 double w2)
 {
+    return ekm_temperature_source_coeffs_gY(m, v, phi, ekm_g(m, phi), ekm_yield_temperature(m, phi), u2, w2);
+}
+
+ekm_source_coeffs ekm_temperature_source_coeffs_gY(const ekm_material *m, ekm_variant v, double phi, double g,
+                                                   double Y, double u2, double w2)
+{
     double cn, cny;
     normal_lengths(m, v, &cn, &cny);
-    const double g = ekm_g(m, phi);
-    const double Y = ekm_yield_temperature(m, phi);
     ekm_source_coeffs c;
     c.k_heat_a = m->rho_p * g * 2.0 / 3.0 * (m->eta0 * u2 + cn * w2);
     c.k_heat_y = m->rho_p * g * 2.0 / 3.0 * Y * (m->nu * m->eta0 * u2 + cny * w2);
