@@ -18,9 +18,7 @@ ekm_implicit_work *ekm_implicit_alloc(int n)
     wk->rhs = calloc(m, sizeof(double));
     wk->x = calloc(m, sizeof(double));
     wk->aux = calloc(m, sizeof(double));
-    wk->fac_d = calloc(m, sizeof(double));
-    wk->fac_e = calloc(m, sizeof(double));
-    if (!wk->diag || !wk->sub || !wk->sup || !wk->rhs || !wk->x || !wk->aux || !wk->fac_d || !wk->fac_e) {
+    if (!wk->diag || !wk->sub || !wk->sup || !wk->rhs || !wk->x || !wk->aux) {
         ekm_implicit_free(wk);
         return NULL;
     }
@@ -37,8 +35,6 @@ void ekm_implicit_free(ekm_implicit_work *wk)
     free(wk->rhs);
     free(wk->x);
     free(wk->aux);
-    free(wk->fac_d);
-    free(wk->fac_e);
     free(wk);
 }
 
@@ -46,12 +42,12 @@ void ekm_implicit_free(ekm_implicit_work *wk)
  * i-1, sup[i] to i+1) into wk->x, with LAPACK (no allocation: the *_work
  * routines in column-major order call the Fortran ones directly).  A
  * symmetric, weakly diagonally dominant system with a positive diagonal
- * (positive semi-definite: the viscous and conduction operators, and the
- * temperature Jacobian wherever the source does not heat faster than dt
- * relaxes it) takes the L D L^T factorisation dptsv, which has one
- * division on the recurrence per row where dgtsv (Gaussian elimination
- * with partial pivoting) has two; dptsv works on copies, so that a system
- * it finds singular falls back to dgtsv. */
+ * (the viscous and conduction operators, and the temperature Jacobian
+ * wherever the source does not heat faster than dt relaxes it) is
+ * positive semi-definite and takes the L D L^T factorisation dptsv, which
+ * has one division on the recurrence per row where dgtsv (Gaussian
+ * elimination with partial pivoting) has two; any other system takes
+ * dgtsv.  The system is overwritten (every caller assembles it anew). */
 static ekm_status solve(ekm_implicit_work *wk, int m, const char *what, ekm_error *err)
 {
     if (m == 1) {
@@ -60,27 +56,31 @@ static ekm_status solve(ekm_implicit_work *wk, int m, const char *what, ekm_erro
         wk->x[0] = wk->rhs[0] / wk->diag[0];
         return EKM_OK;
     }
-    int spd = wk->diag[m - 1] > 0.0 && wk->diag[m - 1] >= fabs(wk->sub[m - 1]);
-    for (int i = 0; i < m - 1; i++)
-        spd &= wk->sup[i] == wk->sub[i + 1] && wk->diag[i] > 0.0 &&
-               wk->diag[i] >= fabs(wk->sub[i]) + fabs(wk->sup[i]);
-    if (spd) {
-        memcpy(wk->fac_d, wk->diag, (size_t)m * sizeof *wk->fac_d);
-        memcpy(wk->fac_e, wk->sup, ((size_t)m - 1) * sizeof *wk->fac_e);
-        memcpy(wk->x, wk->rhs, (size_t)m * sizeof *wk->x);
-        if (LAPACKE_dptsv_work(LAPACK_COL_MAJOR, m, 1, wk->fac_d, wk->fac_e, wk->x, m) == 0)
-            return EKM_OK;
+    /* one pass: the test, and the right-hand side into x (both routines
+     * leave the solution in it) */
+    const double *diag = wk->diag, *sub = wk->sub, *sup = wk->sup, *rhs = wk->rhs;
+    double *x = wk->x;
+    int spd = (diag[m - 1] > 0.0) & (diag[m - 1] >= fabs(sub[m - 1]));
+    x[m - 1] = rhs[m - 1];
+    for (int i = 0; i < m - 1; i++) {
+        spd &= (sup[i] == sub[i + 1]) & (diag[i] > 0.0) & (diag[i] >= fabs(sub[i]) + fabs(sup[i]));
+        x[i] = rhs[i];
     }
-    /* dgtsv: dl = sub[1..m-1], d = diag, du = sup[0..m-2]; all three and
-     * the right-hand side are overwritten, the solution is left in rhs */
-    memcpy(wk->x, wk->rhs, (size_t)m * sizeof *wk->x);
-    const lapack_int info =
-        LAPACKE_dgtsv_work(LAPACK_COL_MAJOR, m, 1, wk->sub + 1, wk->diag, wk->sup, wk->x, m);
-    if (info != 0)
+    lapack_int info;
+    if (spd) {
+        /* d = diag, e = sup[0..m-2] (= sub[1..m-1]); both overwritten */
+        info = LAPACKE_dptsv_work(LAPACK_COL_MAJOR, m, 1, wk->diag, wk->sup, wk->x, m);
+    } else {
+        /* dl = sub[1..m-1], d = diag, du = sup[0..m-2]; all overwritten */
+        info = LAPACKE_dgtsv_work(LAPACK_COL_MAJOR, m, 1, wk->sub + 1, wk->diag, wk->sup, wk->x, m);
+    }
+    if (info > 0)
         return EKM_FAIL(err, EKM_ENUMERIC,
-                        info > 0 ? "%s: tridiagonal solve failed: singular system (zero pivot in row %d)"
-                                 : "%s: tridiagonal solve failed: invalid argument %d",
-                        what, (int)(info > 0 ? info : -info));
+                        "%s: tridiagonal solve failed: singular system (%s pivot in row %d)", what,
+                        spd ? "non-positive" : "zero", (int)info);
+    if (info < 0)
+        return EKM_FAIL(err, EKM_EINTERNAL, "%s: tridiagonal solve: LAPACK rejected argument %d", what,
+                        (int)-info);
     return EKM_OK;
 }
 
@@ -218,6 +218,13 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
         lam_face[j] = harmonic(lambda[j - 1], lambda[j]);
     lam_face[n] = 0.0;
     for (int it = 1; it <= newton_max; it++) {
+        /* S and dS/dT of every cell first, without branches (a loop the
+         * compiler vectorises; empty cells get values nobody reads), into
+         * the rows' rhs and diag, which the assembly reads before it
+         * overwrites them */
+        double *S_cell = wk->rhs, *dS_cell = wk->diag;
+        for (int j = 0; j < n; j++)
+            S_cell[j] = ekm_source_eval(&src[j], T[j], &dS_cell[j]);
         for (int j = 0; j < n; j++) {
             if (dry[j]) {
                 wk->diag[j] = 1.0;
@@ -225,8 +232,8 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
                 continue;
             }
             const double rho = rho_p * phi[j];
-            double dS;
-            double S = ekm_source_eval(&src[j], T[j], &dS);
+            double dS = dS_cell[j];
+            double S = S_cell[j];
             if (it == 1 && dt * fabs(dS) > 10.0 * rho) {
                 const double Tb = ekm_source_balance(&src[j]);
                 T[j] = Tb > T_floor ? Tb : T_floor;
@@ -252,21 +259,17 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
         int converged = 1;
         double finite = 0.0; /* 0, or NaN once an update is not finite */
         for (int j = 0; j < n; j++) {
-            if (dry[j]) {
-                T[j] = 0.0;
-                continue;
-            }
-            double Tn = T[j] + wk->x[j];
+            const double Tj = T[j];
             /* Newton safeguard: never step to or below zero; approach the
              * (concave) root from below instead. */
-            if (!(Tn > 0.1 * T[j]))
-                Tn = 0.1 * T[j];
-            if (Tn < T_floor)
-                Tn = T_floor;
-            const double d = fabs(Tn - T[j]);
-            converged &= d < limit * Tn;
-            finite += 0.0 * d;
-            T[j] = Tn;
+            double Tn = Tj + wk->x[j];
+            Tn = Tn > 0.1 * Tj ? Tn : 0.1 * Tj;
+            Tn = Tn < T_floor ? T_floor : Tn;
+            const double d = fabs(Tn - Tj);
+            const int wet = !dry[j];
+            converged &= !wet || d < limit * Tn;
+            finite += wet ? 0.0 * d : 0.0;
+            T[j] = wet ? Tn : 0.0;
         }
         if (!isfinite(finite))
             return EKM_FAIL(err, EKM_ENUMERIC, "temperature: non-finite Newton update");

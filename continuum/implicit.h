@@ -24,7 +24,6 @@ typedef struct {
     int n;                              /* cells */
     double *diag, *sub, *sup, *rhs, *x; /* the system and its solution, n + 1 each */
     double *aux;                        /* face conductances of the temperature solve, n + 1 */
-    double *fac_d, *fac_e;              /* the factorisation of a symmetric system (dptsv), n + 1 each */
 } ekm_implicit_work;
 
 ekm_implicit_work *ekm_implicit_alloc(int n);

@@ -93,24 +93,6 @@ ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v, d
     return c;
 }
 
-ekm_cell_properties ekm_cell_properties_at(const ekm_material *m, ekm_variant v, double phi, double T)
-{
-    ekm_cell_properties c;
-    const double g = phi_cp_factor(m, phi);
-    const double a = sqrt(T);
-    const double excess = phi > m->phi_co ? phi - m->phi_co : 0.0;
-    c.g = g;
-    c.Y = excess > 0.0 ? m->T0 * excess / phi : 0.0;
-    const double Ya = c.Y > 0.0 ? c.Y / a : 0.0;
-    const double rg = m->rho_p * g;
-    c.eta = rg * m->eta0 * (a + m->nu * Ya);
-    const double zeta = rg * m->zeta0 * (a + Ya);
-    c.lambda = rg * m->lambda0 * (a + Ya);
-    c.mu_n = v == EKM_VARIANT_THESIS ? zeta : 4.0 / 3.0 * c.eta + zeta;
-    c.P = rg * (phi * T + m->T0 * excess);
-    return c;
-}
-
 ekm_slab_stress ekm_stress_slab(const ekm_material *m, ekm_variant v, double phi, double T, double du_dz,
                                 double dw_dz)
 {

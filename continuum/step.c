@@ -218,29 +218,31 @@ static void properties(ekm_stepper *st, int n)
     const ekm_scenario *sc = st->sc;
     const ekm_material *m = &sc->material;
     const double phi_dry = sc->numerics.phi_dry, T_floor = sc->numerics.T_floor;
+    /* without branches on the emptiness: an empty cell's values are
+     * computed at phi_dry (finite: T at the floor) and replaced by 0 */
+    const double *phi_new = st->phi_new, *rhoT = st->rhoT;
+    double *T_star = st->T_star, *eta = st->eta, *mu_n = st->mu_n, *lambda = st->lambda, *P = st->P;
+    double *g_cell = st->g_cell, *Y_cell = st->Y_cell;
+    unsigned char *dry_cell = st->dry, *dry_face = st->dry_face;
     for (int j = 0; j < n; j++) {
-        const double phi = st->phi_new[j];
-        st->dry[j] = phi < phi_dry;
-        if (st->dry[j]) {
-            st->T_star[j] = 0.0;
-            st->P[j] = st->eta[j] = st->mu_n[j] = st->lambda[j] = 0.0;
-            st->g_cell[j] = st->Y_cell[j] = 0.0;
-            continue;
-        }
-        const double T = max2(st->rhoT[j] / (m->rho_p * phi), T_floor);
-        st->T_star[j] = T;
+        const int dry = phi_new[j] < phi_dry;
+        const double phi = dry ? phi_dry : phi_new[j];
+        const double T = max2(rhoT[j] / (m->rho_p * phi), T_floor);
         const ekm_cell_properties c = ekm_cell_properties_at(m, sc->variant, phi, T);
-        st->eta[j] = c.eta;
-        st->mu_n[j] = c.mu_n;
-        st->lambda[j] = c.lambda;
-        st->P[j] = c.P;
-        st->g_cell[j] = c.g;
-        st->Y_cell[j] = c.Y;
+        dry_cell[j] = (unsigned char)dry;
+        T_star[j] = dry ? 0.0 : T;
+        eta[j] = dry ? 0.0 : c.eta;
+        mu_n[j] = dry ? 0.0 : c.mu_n;
+        lambda[j] = dry ? 0.0 : c.lambda;
+        P[j] = dry ? 0.0 : c.P;
+        g_cell[j] = dry ? 0.0 : c.g;
+        Y_cell[j] = dry ? 0.0 : c.Y;
     }
+    double *rho_face = st->rho_face;
     for (int f = 1; f < n; f++) {
-        const double phi_face = 0.5 * (st->phi_new[f - 1] + st->phi_new[f]);
-        st->dry_face[f] = phi_face < phi_dry;
-        st->rho_face[f] = m->rho_p * phi_face;
+        const double phi_face = 0.5 * (phi_new[f - 1] + phi_new[f]);
+        dry_face[f] = phi_face < phi_dry;
+        rho_face[f] = m->rho_p * phi_face;
     }
 }
 
@@ -384,7 +386,8 @@ static int momentum(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
                     int n_solid)
 {
     const int n = s->n;
-    memcpy(st->rhs_face0, st->rhs_face, ((size_t)n + 1) * sizeof *st->rhs_face);
+    if (n_solid)
+        memcpy(st->rhs_face0, st->rhs_face, ((size_t)n + 1) * sizeof *st->rhs_face);
     for (int pass = 0; pass < (n_solid ? 2 : 1); pass++) {
         if (pass == 1) {
             memcpy(st->rhs_face, st->rhs_face0, ((size_t)n + 1) * sizeof *st->rhs_face);
