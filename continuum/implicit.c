@@ -39,40 +39,31 @@ void ekm_implicit_free(ekm_implicit_work *wk)
 }
 
 /* Solve the m x m tridiagonal system held in wk (sub[i] couples row i to
- * i-1, sup[i] to i+1) into wk->x, with LAPACK (no allocation: the *_work
+ * i-1, sup[i] to i+1) with the right-hand side x, into x, with LAPACK (no allocation: the *_work
  * routines in column-major order call the Fortran ones directly).  A
  * symmetric, weakly diagonally dominant system with a positive diagonal
+ * (spd != 0: row_spd of every row)
  * (the viscous and conduction operators, and the temperature Jacobian
  * wherever the source does not heat faster than dt relaxes it) is
  * positive semi-definite and takes the L D L^T factorisation dptsv, which
  * has one division on the recurrence per row where dgtsv (Gaussian
  * elimination with partial pivoting) has two; any other system takes
  * dgtsv.  The system is overwritten (every caller assembles it anew). */
-static ekm_status solve(ekm_implicit_work *wk, int m, const char *what, ekm_error *err)
+static ekm_status solve_in(ekm_implicit_work *wk, int m, int spd, double *x, const char *what, ekm_error *err)
 {
     if (m == 1) {
         if (wk->diag[0] == 0.0)
             return EKM_FAIL(err, EKM_ENUMERIC, "%s: singular 1x1 system", what);
-        wk->x[0] = wk->rhs[0] / wk->diag[0];
+        x[0] /= wk->diag[0];
         return EKM_OK;
-    }
-    /* one pass: the test, and the right-hand side into x (both routines
-     * leave the solution in it) */
-    const double *diag = wk->diag, *sub = wk->sub, *sup = wk->sup, *rhs = wk->rhs;
-    double *x = wk->x;
-    int spd = (diag[m - 1] > 0.0) & (diag[m - 1] >= fabs(sub[m - 1]));
-    x[m - 1] = rhs[m - 1];
-    for (int i = 0; i < m - 1; i++) {
-        spd &= (sup[i] == sub[i + 1]) & (diag[i] > 0.0) & (diag[i] >= fabs(sub[i]) + fabs(sup[i]));
-        x[i] = rhs[i];
     }
     lapack_int info;
     if (spd) {
         /* d = diag, e = sup[0..m-2] (= sub[1..m-1]); both overwritten */
-        info = LAPACKE_dptsv_work(LAPACK_COL_MAJOR, m, 1, wk->diag, wk->sup, wk->x, m);
+        info = LAPACKE_dptsv_work(LAPACK_COL_MAJOR, m, 1, wk->diag, wk->sup, x, m);
     } else {
         /* dl = sub[1..m-1], d = diag, du = sup[0..m-2]; all overwritten */
-        info = LAPACKE_dgtsv_work(LAPACK_COL_MAJOR, m, 1, wk->sub + 1, wk->diag, wk->sup, wk->x, m);
+        info = LAPACKE_dgtsv_work(LAPACK_COL_MAJOR, m, 1, wk->sub + 1, wk->diag, wk->sup, x, m);
     }
     if (info > 0)
         return EKM_FAIL(err, EKM_ENUMERIC,
@@ -82,6 +73,26 @@ static ekm_status solve(ekm_implicit_work *wk, int m, const char *what, ekm_erro
         return EKM_FAIL(err, EKM_EINTERNAL, "%s: tridiagonal solve: LAPACK rejected argument %d", what,
                         (int)-info);
     return EKM_OK;
+}
+
+/* Row j of the system in wk as solve_in's test needs it: a positive
+ * diagonal that dominates the row, and (j > 0) symmetric with row j - 1. */
+static inline int row_spd(const ekm_implicit_work *wk, int j)
+{
+    return (wk->diag[j] > 0.0) & (wk->diag[j] >= fabs(wk->sub[j]) + fabs(wk->sup[j])) &
+           (j == 0 || wk->sub[j] == wk->sup[j - 1]);
+}
+
+/* The same with the right-hand side in wk->rhs and the solution into
+ * wk->x, testing the system itself (one pass). */
+static ekm_status solve(ekm_implicit_work *wk, int m, const char *what, ekm_error *err)
+{
+    int spd = 1;
+    for (int i = 0; i < m; i++) {
+        spd &= row_spd(wk, i);
+        wk->x[i] = wk->rhs[i];
+    }
+    return solve_in(wk, m, spd, wk->x, what, err);
 }
 
 static double harmonic(double a, double b)
@@ -146,33 +157,31 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
     const double a = dt / (dz * dz);
     const double b = dt / dz;
     double e_above = 0.0; /* the face viscosity above cell j - 1, once per face */
+    int spd = 1;
+    /* the right-hand side in u, solved in place (a failed solve rejects the step) */
     for (int j = 0; j < n; j++) {
         const double e_below = e_above;
         e_above = j < n - 1 ? harmonic(eta[j], eta[j + 1]) : 0.0;
         if (dry[j]) {
             wk->diag[j] = 1.0;
-            wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
-            continue;
+            wk->sub[j] = wk->sup[j] = u[j] = 0.0;
+        } else {
+            wk->diag[j] = rho[j] + a * (e_below + e_above);
+            wk->sub[j] = -a * e_below;
+            wk->sup[j] = -a * e_above;
+            u[j] = rhs[j];
+            if (j == 0 && bottom.conductance > 0.0) {
+                wk->diag[j] += b * eta[j] * bottom.conductance;
+                u[j] += b * eta[j] * bottom.conductance * bottom.value;
+            }
+            if (j == n - 1 && top.conductance > 0.0) {
+                wk->diag[j] += b * eta[j] * top.conductance;
+                u[j] += b * eta[j] * top.conductance * top.value;
+            }
         }
-        wk->diag[j] = rho[j] + a * (e_below + e_above);
-        wk->sub[j] = -a * e_below;
-        wk->sup[j] = -a * e_above;
-        wk->rhs[j] = rhs[j];
-        if (j == 0 && bottom.conductance > 0.0) {
-            wk->diag[j] += b * eta[j] * bottom.conductance;
-            wk->rhs[j] += b * eta[j] * bottom.conductance * bottom.value;
-        }
-        if (j == n - 1 && top.conductance > 0.0) {
-            wk->diag[j] += b * eta[j] * top.conductance;
-            wk->rhs[j] += b * eta[j] * top.conductance * top.value;
-        }
+        spd &= row_spd(wk, j);
     }
-    ekm_status st = solve(wk, n, "shear momentum", err);
-    if (st != EKM_OK)
-        return st;
-    for (int j = 0; j < n; j++)
-        u[j] = wk->x[j];
-    return EKM_OK;
+    return solve_in(wk, n, spd, u, "shear momentum", err);
 }
 
 ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, double dz, const double *rho,
@@ -181,27 +190,25 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
                                     double *u, ekm_error *err)
 {
     const double b = dt / dz;
+    int spd = 1;
+    /* the right-hand side in u, solved in place (a failed solve rejects the step) */
     for (int j = 0; j < n; j++) {
         if (dry[j]) {
             wk->diag[j] = 1.0;
-            wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
-            continue;
+            wk->sub[j] = wk->sup[j] = u[j] = 0.0;
+        } else {
+            wk->diag[j] = rho[j] + b * (k[j] + k[j + 1]);
+            wk->sub[j] = j > 0 ? -b * k[j] : 0.0;
+            wk->sup[j] = j < n - 1 ? -b * k[j + 1] : 0.0;
+            u[j] = rhs[j] + b * (t0[j + 1] - t0[j]);
+            if (j == 0)
+                u[j] += b * k[0] * u_wall_bottom;
+            if (j == n - 1)
+                u[j] += b * k[n] * u_wall_top;
         }
-        wk->diag[j] = rho[j] + b * (k[j] + k[j + 1]);
-        wk->sub[j] = j > 0 ? -b * k[j] : 0.0;
-        wk->sup[j] = j < n - 1 ? -b * k[j + 1] : 0.0;
-        wk->rhs[j] = rhs[j] + b * (t0[j + 1] - t0[j]);
-        if (j == 0)
-            wk->rhs[j] += b * k[0] * u_wall_bottom;
-        if (j == n - 1)
-            wk->rhs[j] += b * k[n] * u_wall_top;
+        spd &= row_spd(wk, j);
     }
-    ekm_status st = solve(wk, n, "shear momentum", err);
-    if (st != EKM_OK)
-        return st;
-    for (int j = 0; j < n; j++)
-        u[j] = wk->x[j];
-    return EKM_OK;
+    return solve_in(wk, n, spd, u, "shear momentum", err);
 }
 
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz, double rho_p,
@@ -220,15 +227,17 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
     for (int it = 1; it <= newton_max; it++) {
         /* S and dS/dT of every cell first, without branches (a loop the
          * compiler vectorises; empty cells get values nobody reads), into
-         * the rows' rhs and diag, which the assembly reads before it
-         * overwrites them */
+         * rhs (unused: the right-hand side goes to x) and diag, which the
+         * assembly reads before it overwrites it */
         double *S_cell = wk->rhs, *dS_cell = wk->diag;
         for (int j = 0; j < n; j++)
             S_cell[j] = ekm_source_eval(&src[j], T[j], &dS_cell[j]);
+        int spd = 1;
         for (int j = 0; j < n; j++) {
             if (dry[j]) {
                 wk->diag[j] = 1.0;
-                wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
+                wk->sub[j] = wk->sup[j] = wk->x[j] = 0.0;
+                spd &= row_spd(wk, j);
                 continue;
             }
             const double rho = rho_p * phi[j];
@@ -247,9 +256,10 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
             wk->diag[j] = rho + a * (l_below + l_above) - dt * dS;
             wk->sub[j] = -a * l_below;
             wk->sup[j] = -a * l_above;
-            wk->rhs[j] = -residual;
+            wk->x[j] = -residual;
+            spd &= row_spd(wk, j);
         }
-        ekm_status st = solve(wk, n, "temperature", err);
+        ekm_status st = solve_in(wk, n, spd, wk->x, "temperature", err);
         if (st != EKM_OK)
             return st;
         /* Newton converges quadratically: once every relative update
