@@ -158,30 +158,35 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
     const double b = dt / dz;
     double e_above = 0.0; /* the face viscosity above cell j - 1, once per face */
     int spd = 1;
-    /* the right-hand side in u, solved in place (a failed solve rejects the step) */
+    double *x = wk->x; /* the right-hand side, then the solution (u is left as it was on a failure) */
     for (int j = 0; j < n; j++) {
         const double e_below = e_above;
         e_above = j < n - 1 ? harmonic(eta[j], eta[j + 1]) : 0.0;
         if (dry[j]) {
             wk->diag[j] = 1.0;
-            wk->sub[j] = wk->sup[j] = u[j] = 0.0;
+            wk->sub[j] = wk->sup[j] = x[j] = 0.0;
         } else {
             wk->diag[j] = rho[j] + a * (e_below + e_above);
             wk->sub[j] = -a * e_below;
             wk->sup[j] = -a * e_above;
-            u[j] = rhs[j];
+            x[j] = rhs[j];
             if (j == 0 && bottom.conductance > 0.0) {
                 wk->diag[j] += b * eta[j] * bottom.conductance;
-                u[j] += b * eta[j] * bottom.conductance * bottom.value;
+                x[j] += b * eta[j] * bottom.conductance * bottom.value;
             }
             if (j == n - 1 && top.conductance > 0.0) {
                 wk->diag[j] += b * eta[j] * top.conductance;
-                u[j] += b * eta[j] * top.conductance * top.value;
+                x[j] += b * eta[j] * top.conductance * top.value;
             }
         }
         spd &= row_spd(wk, j);
     }
-    return solve_in(wk, n, spd, u, "shear momentum", err);
+    ekm_status st = solve_in(wk, n, spd, x, "shear momentum", err);
+    if (st != EKM_OK)
+        return st;
+    for (int j = 0; j < n; j++)
+        u[j] = x[j];
+    return EKM_OK;
 }
 
 ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, double dz, const double *rho,
@@ -191,24 +196,29 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
 {
     const double b = dt / dz;
     int spd = 1;
-    /* the right-hand side in u, solved in place (a failed solve rejects the step) */
+    double *x = wk->x; /* the right-hand side, then the solution (u is left as it was on a failure) */
     for (int j = 0; j < n; j++) {
         if (dry[j]) {
             wk->diag[j] = 1.0;
-            wk->sub[j] = wk->sup[j] = u[j] = 0.0;
+            wk->sub[j] = wk->sup[j] = x[j] = 0.0;
         } else {
             wk->diag[j] = rho[j] + b * (k[j] + k[j + 1]);
             wk->sub[j] = j > 0 ? -b * k[j] : 0.0;
             wk->sup[j] = j < n - 1 ? -b * k[j + 1] : 0.0;
-            u[j] = rhs[j] + b * (t0[j + 1] - t0[j]);
+            x[j] = rhs[j] + b * (t0[j + 1] - t0[j]);
             if (j == 0)
-                u[j] += b * k[0] * u_wall_bottom;
+                x[j] += b * k[0] * u_wall_bottom;
             if (j == n - 1)
-                u[j] += b * k[n] * u_wall_top;
+                x[j] += b * k[n] * u_wall_top;
         }
         spd &= row_spd(wk, j);
     }
-    return solve_in(wk, n, spd, u, "shear momentum", err);
+    ekm_status st = solve_in(wk, n, spd, x, "shear momentum", err);
+    if (st != EKM_OK)
+        return st;
+    for (int j = 0; j < n; j++)
+        u[j] = x[j];
+    return EKM_OK;
 }
 
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz, double rho_p,
