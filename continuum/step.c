@@ -136,8 +136,9 @@ static int mass_update(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
     if (st->moving) {
         /* fluxes relative to the stretching grid; none through the walls */
         F[0] = F[n] = 0.0;
+        const double w_grid = st->gap_rate / n; /* face f moves at f w_grid */
         for (int f = 1; f < n; f++) {
-            const double w_rel = s->w[f] - f * st->gap_rate / n;
+            const double w_rel = s->w[f] - f * w_grid;
             F[f] = w_rel == 0.0 ? 0.0 : w_rel * ekm_flux_face_value(s->phi, n, f, w_rel > 0.0, st->psi);
         }
     } else {
