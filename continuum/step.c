@@ -55,6 +55,8 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->g_cell = calloc(c, sizeof(double));
     st->Y_cell = calloc(c, sizeof(double));
     st->T_rate = calloc(c, sizeof(double));
+    st->T_rate_prev = calloc(c, sizeof(double));
+    st->dt_last = 1.0;
     st->fail_time = -1.0;
     st->fail_cell = -1;
     st->moving = ekm_bc_pressure_wall(&sc->top);
@@ -116,6 +118,7 @@ void ekm_step_free(ekm_stepper *st)
     free(st->g_cell);
     free(st->Y_cell);
     free(st->T_rate);
+    free(st->T_rate_prev);
     free(st);
 }
 
@@ -415,14 +418,16 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
     if (n_solid)
         ekm_regime_finish(st, s, bb, bt);
     ekm_step_shear_rates(s, bb, bt, st->dry, st->u2, st->w2);
-    /* The first Newton iterate: T* plus the implicit change of the step
-     * before at its rate, (T - T*)/dt, where that stays well positive
-     * (else T*, as on the first step); the solution is the same to the
-     * Newton tolerance, reached in fewer iterations. */
+    /* The first Newton iterate: T* plus the implicit change (T - T*) at
+     * the rate of the last two accepted steps extrapolated linearly in
+     * time, where that stays well positive (else T*, as on the first
+     * step); the solution is the same to the Newton tolerance, reached in
+     * fewer iterations. */
     for (int j = 0; j < n; j++) {
         st->dry_T[j] = st->dry[j] || (n_solid && s->solid[j]);
         const double T_star = st->T_star[j];
-        const double guess = T_star + dt * st->T_rate[j];
+        const double guess =
+            T_star + dt * (st->T_rate[j] + (st->T_rate[j] - st->T_rate_prev[j]) * dt / st->dt_last);
         s->T[j] = guess > 0.5 * T_star ? guess : T_star;
         if (st->dry[j])
             continue;
@@ -445,13 +450,17 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
     return 1;
 }
 
-/* After an accepted step: the rate of the implicit change of T, the
- * next step's first Newton iterate (temperature). */
+/* After an accepted step: the rates of the implicit change of T of this
+ * step and the one before, for the next step's first Newton iterate
+ * (temperature). */
 static void keep_temperature_rate(ekm_stepper *st, const ekm_state *s, double dt)
 {
     const double inv_dt = 1.0 / dt;
-    for (int j = 0; j < s->n; j++)
+    st->dt_last = dt;
+    for (int j = 0; j < s->n; j++) {
+        st->T_rate_prev[j] = st->T_rate[j];
         st->T_rate[j] = st->dry_T[j] ? 0.0 : (s->T[j] - st->T_star[j]) * inv_dt;
+    }
 }
 
 static int state_finite(const ekm_state *s)
