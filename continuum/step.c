@@ -64,7 +64,8 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
         !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src || !st->rho_face ||
         !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face || !st->wk || !st->backup || !st->hyp ||
         !st->u2_old || !st->dw_old || !st->du_face_old || !st->kface || !st->t0face || !st->solid_face ||
-        !st->dry_T || !st->T_keep || !st->rhs_face0 || !st->g_cell || !st->Y_cell || !st->T_rate) {
+        !st->dry_T || !st->T_keep || !st->rhs_face0 || !st->g_cell || !st->Y_cell || !st->T_rate ||
+        !st->T_rate_prev) {
         ekm_step_free(st);
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
         return NULL;
@@ -423,11 +424,11 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
      * time, where that stays well positive (else T*, as on the first
      * step); the solution is the same to the Newton tolerance, reached in
      * fewer iterations. */
+    const double dt_ratio = dt / st->dt_last;
     for (int j = 0; j < n; j++) {
         st->dry_T[j] = st->dry[j] || (n_solid && s->solid[j]);
         const double T_star = st->T_star[j];
-        const double guess =
-            T_star + dt * (st->T_rate[j] + (st->T_rate[j] - st->T_rate_prev[j]) * dt / st->dt_last);
+        const double guess = T_star + dt * (st->T_rate[j] + (st->T_rate[j] - st->T_rate_prev[j]) * dt_ratio);
         s->T[j] = guess > 0.5 * T_star ? guess : T_star;
         if (st->dry[j])
             continue;
