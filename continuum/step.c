@@ -423,7 +423,9 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
      * the rate of the last two accepted steps extrapolated linearly in
      * time, where that stays well positive (else T*, as on the first
      * step); the solution is the same to the Newton tolerance, reached in
-     * fewer iterations. */
+     * fewer iterations, except where Newton ends on the T_floor clamp of
+     * a nearly empty cell, which depends on the first iterate (main has
+     * that too: docs/performance.md). */
     const double dt_ratio = dt / st->dt_last;
     for (int j = 0; j < n; j++) {
         st->dry_T[j] = st->dry[j] || (n_solid && s->solid[j]);
