@@ -54,9 +54,6 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->rhs_face0 = calloc(f, sizeof(double));
     st->g_cell = calloc(c, sizeof(double));
     st->Y_cell = calloc(c, sizeof(double));
-    st->T_rate = calloc(c, sizeof(double));
-    st->T_rate_prev = calloc(c, sizeof(double));
-    st->dt_last = 1.0;
     st->fail_time = -1.0;
     st->fail_cell = -1;
     st->moving = ekm_bc_pressure_wall(&sc->top);
@@ -64,8 +61,7 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
         !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src || !st->rho_face ||
         !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face || !st->wk || !st->backup || !st->hyp ||
         !st->u2_old || !st->dw_old || !st->du_face_old || !st->kface || !st->t0face || !st->solid_face ||
-        !st->dry_T || !st->T_keep || !st->rhs_face0 || !st->g_cell || !st->Y_cell || !st->T_rate ||
-        !st->T_rate_prev) {
+        !st->dry_T || !st->T_keep || !st->rhs_face0 || !st->g_cell || !st->Y_cell) {
         ekm_step_free(st);
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
         return NULL;
@@ -118,8 +114,6 @@ void ekm_step_free(ekm_stepper *st)
     free(st->rhs_face0);
     free(st->g_cell);
     free(st->Y_cell);
-    free(st->T_rate);
-    free(st->T_rate_prev);
     free(st);
 }
 
@@ -419,19 +413,9 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
     if (n_solid)
         ekm_regime_finish(st, s, bb, bt);
     ekm_step_shear_rates(s, bb, bt, st->dry, st->u2, st->w2);
-    /* The first Newton iterate: T* plus the implicit change (T - T*) at
-     * the rate of the last two accepted steps extrapolated linearly in
-     * time, where that stays well positive (else T*, as on the first
-     * step); the solution is the same to the Newton tolerance, reached in
-     * fewer iterations, except where Newton ends on the T_floor clamp of
-     * a nearly empty cell, which depends on the first iterate (main has
-     * that too: docs/performance.md). */
-    const double dt_ratio = dt / st->dt_last;
     for (int j = 0; j < n; j++) {
         st->dry_T[j] = st->dry[j] || (n_solid && s->solid[j]);
-        const double T_star = st->T_star[j];
-        const double guess = T_star + dt * (st->T_rate[j] + (st->T_rate[j] - st->T_rate_prev[j]) * dt_ratio);
-        s->T[j] = guess > 0.5 * T_star ? guess : T_star;
+        s->T[j] = st->T_star[j]; /* the first Newton iterate */
         if (st->dry[j])
             continue;
         st->src[j] = ekm_temperature_source_coeffs_gY(m, sc->variant, s->phi[j], st->g_cell[j], st->Y_cell[j],
@@ -451,19 +435,6 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
             s->T[j] = st->T_keep[j];
     }
     return 1;
-}
-
-/* After an accepted step: the rates of the implicit change of T of this
- * step and the one before, for the next step's first Newton iterate
- * (temperature). */
-static void keep_temperature_rate(ekm_stepper *st, const ekm_state *s, double dt)
-{
-    const double inv_dt = 1.0 / dt;
-    st->dt_last = dt;
-    for (int j = 0; j < s->n; j++) {
-        st->T_rate_prev[j] = st->T_rate[j];
-        st->T_rate[j] = st->dry_T[j] ? 0.0 : (s->T[j] - st->T_star[j]) * inv_dt;
-    }
 }
 
 static int state_finite(const ekm_state *s)
@@ -527,7 +498,6 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     s->t += dt;
     s->steps++;
     /* 9. regimes */
-    keep_temperature_rate(st, s, dt);
     if (st->sc->hypo.enabled)
         ekm_regime_switch(st, s, &bb, &bt);
     st->newton_iterations = iterations;

@@ -86,9 +86,6 @@ typedef struct {
     int newton_iterations;   /* of the last accepted step */
     char reject_reason[512]; /* why the last step was rejected */
     double *g_cell, *Y_cell; /* density factor g [-] and yield temperature Y [m^2/s^2] at phi*, n */
-    double *T_rate;          /* (T - T*)/dt of the last accepted step [m^2/s^3] (first Newton iterate), n */
-    double *T_rate_prev;     /* the same of the step before it [m^2/s^3], n */
-    double dt_last;          /* dt of the last accepted step [s] */
 } ekm_stepper;
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err);
