@@ -1,9 +1,9 @@
 #include "implicit.h"
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_linalg.h>
+#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 ekm_implicit_work *ekm_implicit_alloc(int n)
 {
@@ -39,24 +39,60 @@ void ekm_implicit_free(ekm_implicit_work *wk)
 }
 
 /* Solve the m x m tridiagonal system held in wk (sub[i] couples row i to
- * i-1, sup[i] to i+1) into wk->x. */
-static ekm_status solve(ekm_implicit_work *wk, int m, const char *what, ekm_error *err)
+ * i-1, sup[i] to i+1) with the right-hand side x, into x, with LAPACK (no allocation: the *_work
+ * routines in column-major order call the Fortran ones directly).  A
+ * symmetric, weakly diagonally dominant system with a positive diagonal
+ * (spd != 0: row_spd of every row)
+ * (the viscous and conduction operators, and the temperature Jacobian
+ * wherever the source does not heat faster than dt relaxes it) is
+ * positive semi-definite and takes the L D L^T factorisation dptsv, which
+ * has one division on the recurrence per row where dgtsv (Gaussian
+ * elimination with partial pivoting) has two; any other system takes
+ * dgtsv.  The system is overwritten (every caller assembles it anew). */
+static ekm_status solve_in(ekm_implicit_work *wk, int m, int spd, double *x, const char *what, ekm_error *err)
 {
     if (m == 1) {
         if (wk->diag[0] == 0.0)
             return EKM_FAIL(err, EKM_ENUMERIC, "%s: singular 1x1 system", what);
-        wk->x[0] = wk->rhs[0] / wk->diag[0];
+        x[0] /= wk->diag[0];
         return EKM_OK;
     }
-    gsl_vector_view d = gsl_vector_view_array(wk->diag, (size_t)m);
-    gsl_vector_view e = gsl_vector_view_array(wk->sup, (size_t)m - 1);
-    gsl_vector_view f = gsl_vector_view_array(wk->sub + 1, (size_t)m - 1);
-    gsl_vector_view b = gsl_vector_view_array(wk->rhs, (size_t)m);
-    gsl_vector_view x = gsl_vector_view_array(wk->x, (size_t)m);
-    int rc = gsl_linalg_solve_tridiag(&d.vector, &e.vector, &f.vector, &b.vector, &x.vector);
-    if (rc != GSL_SUCCESS)
-        return EKM_FAIL(err, EKM_ENUMERIC, "%s: tridiagonal solve failed: %s", what, gsl_strerror(rc));
+    lapack_int info;
+    if (spd) {
+        /* d = diag, e = sup[0..m-2] (= sub[1..m-1]); both overwritten */
+        info = LAPACKE_dptsv_work(LAPACK_COL_MAJOR, m, 1, wk->diag, wk->sup, x, m);
+    } else {
+        /* dl = sub[1..m-1], d = diag, du = sup[0..m-2]; all overwritten */
+        info = LAPACKE_dgtsv_work(LAPACK_COL_MAJOR, m, 1, wk->sub + 1, wk->diag, wk->sup, x, m);
+    }
+    if (info > 0)
+        return EKM_FAIL(err, EKM_ENUMERIC,
+                        "%s: tridiagonal solve failed: singular system (%s pivot in row %d)", what,
+                        spd ? "non-positive" : "zero", (int)info);
+    if (info < 0)
+        return EKM_FAIL(err, EKM_EINTERNAL, "%s: tridiagonal solve: LAPACK rejected argument %d", what,
+                        (int)-info);
     return EKM_OK;
+}
+
+/* Row j of the system in wk as solve_in's test needs it: a positive
+ * diagonal that dominates the row, and (j > 0) symmetric with row j - 1. */
+static inline int row_spd(const ekm_implicit_work *wk, int j)
+{
+    return (wk->diag[j] > 0.0) & (wk->diag[j] >= fabs(wk->sub[j]) + fabs(wk->sup[j])) &
+           (j == 0 || wk->sub[j] == wk->sup[j - 1]);
+}
+
+/* The same with the right-hand side in wk->rhs and the solution into
+ * wk->x, testing the system itself (one pass). */
+static ekm_status solve(ekm_implicit_work *wk, int m, const char *what, ekm_error *err)
+{
+    int spd = 1;
+    for (int i = 0; i < m; i++) {
+        spd &= row_spd(wk, i);
+        wk->x[i] = wk->rhs[i];
+    }
+    return solve_in(wk, m, spd, wk->x, what, err);
 }
 
 static double harmonic(double a, double b)
@@ -155,32 +191,36 @@ ekm_status ekm_implicit_shear_velocity(ekm_implicit_work *wk, int n, double dt, 
 {
     const double a = dt / (dz * dz);
     const double b = dt / dz;
+    double e_above = 0.0; /* the face viscosity above cell j - 1, once per face */
+    int spd = 1;
+    double *x = wk->x; /* the right-hand side, then the solution (u is left as it was on a failure) */
     for (int j = 0; j < n; j++) {
+        const double e_below = e_above;
+        e_above = j < n - 1 ? harmonic(eta[j], eta[j + 1]) : 0.0;
         if (dry[j]) {
             wk->diag[j] = 1.0;
-            wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
-            continue;
+            wk->sub[j] = wk->sup[j] = x[j] = 0.0;
+        } else {
+            wk->diag[j] = rho[j] + a * (e_below + e_above);
+            wk->sub[j] = -a * e_below;
+            wk->sup[j] = -a * e_above;
+            x[j] = rhs[j];
+            if (j == 0 && bottom.conductance > 0.0) {
+                wk->diag[j] += b * eta[j] * bottom.conductance;
+                x[j] += b * eta[j] * bottom.conductance * bottom.value;
+            }
+            if (j == n - 1 && top.conductance > 0.0) {
+                wk->diag[j] += b * eta[j] * top.conductance;
+                x[j] += b * eta[j] * top.conductance * top.value;
+            }
         }
-        const double e_below = j > 0 ? harmonic(eta[j - 1], eta[j]) : 0.0;
-        const double e_above = j < n - 1 ? harmonic(eta[j], eta[j + 1]) : 0.0;
-        wk->diag[j] = rho[j] + a * (e_below + e_above);
-        wk->sub[j] = -a * e_below;
-        wk->sup[j] = -a * e_above;
-        wk->rhs[j] = rhs[j];
-        if (j == 0 && bottom.conductance > 0.0) {
-            wk->diag[j] += b * eta[j] * bottom.conductance;
-            wk->rhs[j] += b * eta[j] * bottom.conductance * bottom.value;
-        }
-        if (j == n - 1 && top.conductance > 0.0) {
-            wk->diag[j] += b * eta[j] * top.conductance;
-            wk->rhs[j] += b * eta[j] * top.conductance * top.value;
-        }
+        spd &= row_spd(wk, j);
     }
-    ekm_status st = solve(wk, n, "shear momentum", err);
+    ekm_status st = solve_in(wk, n, spd, x, "shear momentum", err);
     if (st != EKM_OK)
         return st;
     for (int j = 0; j < n; j++)
-        u[j] = wk->x[j];
+        u[j] = x[j];
     return EKM_OK;
 }
 
@@ -190,26 +230,29 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
                                     double *u, ekm_error *err)
 {
     const double b = dt / dz;
+    int spd = 1;
+    double *x = wk->x; /* the right-hand side, then the solution (u is left as it was on a failure) */
     for (int j = 0; j < n; j++) {
         if (dry[j]) {
             wk->diag[j] = 1.0;
-            wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
-            continue;
+            wk->sub[j] = wk->sup[j] = x[j] = 0.0;
+        } else {
+            wk->diag[j] = rho[j] + b * (k[j] + k[j + 1]);
+            wk->sub[j] = j > 0 ? -b * k[j] : 0.0;
+            wk->sup[j] = j < n - 1 ? -b * k[j + 1] : 0.0;
+            x[j] = rhs[j] + b * (t0[j + 1] - t0[j]);
+            if (j == 0)
+                x[j] += b * k[0] * u_wall_bottom;
+            if (j == n - 1)
+                x[j] += b * k[n] * u_wall_top;
         }
-        wk->diag[j] = rho[j] + b * (k[j] + k[j + 1]);
-        wk->sub[j] = j > 0 ? -b * k[j] : 0.0;
-        wk->sup[j] = j < n - 1 ? -b * k[j + 1] : 0.0;
-        wk->rhs[j] = rhs[j] + b * (t0[j + 1] - t0[j]);
-        if (j == 0)
-            wk->rhs[j] += b * k[0] * u_wall_bottom;
-        if (j == n - 1)
-            wk->rhs[j] += b * k[n] * u_wall_top;
+        spd &= row_spd(wk, j);
     }
-    ekm_status st = solve(wk, n, "shear momentum", err);
+    ekm_status st = solve_in(wk, n, spd, x, "shear momentum", err);
     if (st != EKM_OK)
         return st;
     for (int j = 0; j < n; j++)
-        u[j] = wk->x[j];
+        u[j] = x[j];
     return EKM_OK;
 }
 
@@ -227,15 +270,24 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
         lam_face[j] = harmonic(lambda[j - 1], lambda[j]);
     lam_face[n] = 0.0;
     for (int it = 1; it <= newton_max; it++) {
+        /* S and dS/dT of every cell first, without branches (a loop the
+         * compiler vectorises; empty cells get values nobody reads), into
+         * rhs (unused: the right-hand side goes to x) and diag, which the
+         * assembly reads before it overwrites it */
+        double *S_cell = wk->rhs, *dS_cell = wk->diag;
+        for (int j = 0; j < n; j++)
+            S_cell[j] = ekm_source_eval(&src[j], T[j], &dS_cell[j]);
+        int spd = 1;
         for (int j = 0; j < n; j++) {
             if (dry[j]) {
                 wk->diag[j] = 1.0;
-                wk->sub[j] = wk->sup[j] = wk->rhs[j] = 0.0;
+                wk->sub[j] = wk->sup[j] = wk->x[j] = 0.0;
+                spd &= row_spd(wk, j);
                 continue;
             }
             const double rho = rho_p * phi[j];
-            double dS;
-            double S = ekm_source_eval(&src[j], T[j], &dS);
+            double dS = dS_cell[j];
+            double S = S_cell[j];
             const double l_below = lam_face[j], l_above = lam_face[j + 1];
             const double T_below = j > 0 ? T[j - 1] : 0.0;
             const double T_above = j < n - 1 ? T[j + 1] : 0.0;
@@ -263,34 +315,34 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
             wk->diag[j] = rho + a * (l_below + l_above) - dt * dS;
             wk->sub[j] = -a * l_below;
             wk->sup[j] = -a * l_above;
-            wk->rhs[j] = -residual;
+            wk->x[j] = -residual;
+            spd &= row_spd(wk, j);
         }
-        ekm_status st = solve(wk, n, "temperature", err);
+        ekm_status st = solve_in(wk, n, spd, wk->x, "temperature", err);
         if (st != EKM_OK)
             return st;
-        double change = 0.0;
+        /* Newton converges quadratically: once every relative update
+         * |dT|/T is below sqrt(tol), the remaining error (~ update^2) is
+         * below tol (tested as |dT| < sqrt(tol) T, without a division). */
+        const double limit = fmax(tol, sqrt(tol));
+        int converged = 1;
+        double finite = 0.0; /* 0, or NaN once an update is not finite */
         for (int j = 0; j < n; j++) {
-            if (dry[j]) {
-                T[j] = 0.0;
-                continue;
-            }
-            double Tn = T[j] + wk->x[j];
+            const double Tj = T[j];
             /* Newton safeguard: never step to or below zero; approach the
              * (concave) root from below instead. */
-            if (!(Tn > 0.1 * T[j]))
-                Tn = 0.1 * T[j];
-            if (Tn < T_floor)
-                Tn = T_floor;
-            const double c = fabs(Tn - T[j]) / Tn;
-            if (c > change)
-                change = c;
-            T[j] = Tn;
+            double Tn = Tj + wk->x[j];
+            Tn = Tn > 0.1 * Tj ? Tn : 0.1 * Tj;
+            Tn = Tn < T_floor ? T_floor : Tn;
+            const double d = fabs(Tn - Tj);
+            const int wet = !dry[j];
+            converged &= !wet || d < limit * Tn;
+            finite += wet ? 0.0 * d : 0.0;
+            T[j] = wet ? Tn : 0.0;
         }
-        if (!isfinite(change))
+        if (!isfinite(finite))
             return EKM_FAIL(err, EKM_ENUMERIC, "temperature: non-finite Newton update");
-        /* Newton converges quadratically: once an update is below
-         * sqrt(tol), the remaining error (~ update^2) is below tol. */
-        if (change < tol || change * change < tol) {
+        if (converged) {
             *iterations = it;
             return EKM_OK;
         }

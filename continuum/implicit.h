@@ -1,5 +1,6 @@
 /* implicit.h: the implicit (backward Euler) parts of a time step, each a
- * tridiagonal solve with GSL (gsl_linalg_solve_tridiag):
+ * tridiagonal solve with LAPACK (dptsv where the system is symmetric and
+ * diagonally dominant, else dgtsv; nothing is allocated per solve):
  *
  *   normal momentum   rho_f w_f - dt d/dz(mu_n dw/dz)
  *                     - dt^2 d/dz(K d/dz(phi w))          = rho_f w**_f  (faces)

@@ -47,9 +47,15 @@ ekm_status ekm_material_check(const ekm_material *m, ekm_error *err)
     return EKM_OK;
 }
 
-double ekm_g(const ekm_material *m, double phi)
+/* g(phi) = 1/(1 - phi/phi_cp) */
+static inline double phi_cp_factor(const ekm_material *m, double phi)
 {
     return 1.0 / (1.0 - phi / m->phi_cp);
+}
+
+double ekm_g(const ekm_material *m, double phi)
+{
+    return phi_cp_factor(m, phi);
 }
 
 double ekm_pressure_kinetic(const ekm_material *m, double phi, double T)
@@ -139,10 +145,14 @@ double ekm_temperature_source(const ekm_material *m, ekm_variant v, double phi, 
 ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_variant v, double phi, double u2,
                                                 double w2)
 {
+    return ekm_temperature_source_coeffs_gY(m, v, phi, ekm_g(m, phi), ekm_yield_temperature(m, phi), u2, w2);
+}
+
+ekm_source_coeffs ekm_temperature_source_coeffs_gY(const ekm_material *m, ekm_variant v, double phi, double g,
+                                                   double Y, double u2, double w2)
+{
     double cn, cny;
     normal_lengths(m, v, &cn, &cny);
-    const double g = ekm_g(m, phi);
-    const double Y = ekm_yield_temperature(m, phi);
     ekm_source_coeffs c;
     c.k_heat_a = m->rho_p * g * 2.0 / 3.0 * (m->eta0 * u2 + cn * w2);
     c.k_heat_y = m->rho_p * g * 2.0 / 3.0 * Y * (m->nu * m->eta0 * u2 + cny * w2);

@@ -82,6 +82,42 @@ double ekm_yield_temperature(const ekm_material *m, double phi);
 
 ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v, double phi, double T);
 
+/* Everything the time step needs at one flowing cell (phi, T), each
+ * factor computed once: the same values as ekm_g, ekm_yield_temperature,
+ * ekm_transport_coefficients and ekm_pressure_kinetic + ekm_pressure_yield
+ * (equal to round-off: one division for g, one for Y, one for 1/sqrt(T)).
+ * phi > 0 and T > 0 (the step's wet cells: phi >= phi_dry > 0, T >= T_floor
+ * > 0); no branch on a division, so that a loop over cells vectorises. */
+typedef struct {
+    double g;      /* density factor 1/(1 - phi/phi_cp) [-] */
+    double Y;      /* yield temperature [m^2/s^2] */
+    double eta;    /* shear viscosity [Pa s] */
+    double mu_n;   /* normal viscosity of sigma_zz [Pa s] */
+    double lambda; /* heat conductivity [kg/(m s)] */
+    double P;      /* equilibrium pressure P_K + P_Y [Pa] */
+} ekm_cell_properties;
+
+static inline ekm_cell_properties ekm_cell_properties_at(const ekm_material *m, ekm_variant v, double phi,
+                                                         double T)
+{
+    ekm_cell_properties c;
+    const double g = m->phi_cp / (m->phi_cp - phi);
+    const double a = __builtin_sqrt(T);
+    const double above_co = phi - m->phi_co;
+    const double excess = above_co > 0.0 ? above_co : 0.0;
+    c.g = g;
+    c.Y = m->T0 * excess / phi; /* 0 below phi_co */
+    const double Ya = c.Y / a;
+    const double rg = m->rho_p * g;
+    c.eta = rg * m->eta0 * (a + m->nu * Ya);
+    const double zeta = rg * m->zeta0 * (a + Ya);
+    c.lambda = rg * m->lambda0 * (a + Ya);
+    const double k_eta = v == EKM_VARIANT_THESIS ? 0.0 : 4.0 / 3.0; /* thesis: mu_n = zeta exactly */
+    c.mu_n = k_eta * c.eta + zeta;
+    c.P = rg * (phi * T + m->T0 * excess);
+    return c;
+}
+
 /* du_dz = u', dw_dz = w' [1/s]. */
 ekm_slab_stress ekm_stress_slab(const ekm_material *m, ekm_variant v, double phi, double T, double du_dz,
                                 double dw_dz);
@@ -103,6 +139,11 @@ typedef struct {
 
 ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_variant v, double phi, double u2,
                                                 double w2);
+
+/* The same from the density factor g and yield temperature Y of phi
+ * (ekm_cell_properties_at), which it does not recompute. */
+ekm_source_coeffs ekm_temperature_source_coeffs_gY(const ekm_material *m, ekm_variant v, double phi, double g,
+                                                   double Y, double u2, double w2);
 
 /* S(T) and dS/dT from precomputed coefficients (T > 0). */
 static inline double ekm_source_eval(const ekm_source_coeffs *c, double T, double *dS_dT)

@@ -28,6 +28,8 @@ int ekm_regime_begin(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *bb,
 {
     const int n = s->n;
     int count = 0;
+    if (!st->sc->hypo.enabled)
+        return 0; /* no cell is ever solid (solid_face stays zero) */
     for (int j = 0; j < n; j++) {
         st->dry_T[j] = s->phi[j] < st->sc->numerics.phi_dry; /* scratch: old emptiness */
         count += s->solid[j];

@@ -70,6 +70,28 @@ void ekm_state_copy(ekm_state *dst, const ekm_state *src)
     dst->mass_in = src->mass_in;
 }
 
+void ekm_state_copy_step(ekm_state *dst, const ekm_state *src, int grid, int solid)
+{
+    const size_t n = (size_t)src->n;
+    if (grid) {
+        dst->dz = src->dz;
+        memcpy(dst->z, src->z, n * sizeof *dst->z);
+    }
+    memcpy(dst->phi, src->phi, n * sizeof *dst->phi);
+    memcpy(dst->T, src->T, n * sizeof *dst->T);
+    memcpy(dst->u, src->u, n * sizeof *dst->u);
+    memcpy(dst->w, src->w, (n + 1) * sizeof *dst->w);
+    if (solid) {
+        memcpy(dst->sxx, src->sxx, n * sizeof *dst->sxx);
+        memcpy(dst->syy, src->syy, n * sizeof *dst->syy);
+        memcpy(dst->szz, src->szz, n * sizeof *dst->szz);
+        memcpy(dst->sxz, src->sxz, (n + 1) * sizeof *dst->sxz);
+    }
+    dst->t = src->t;
+    dst->steps = src->steps;
+    dst->mass_in = src->mass_in;
+}
+
 /* phi with P_Y(phi) = P: P (1 - phi/phi_cp) = rho_p T0 (phi - phi_co). */
 static double phi_of_yield_pressure(const ekm_material *m, double P)
 {

@@ -36,6 +36,12 @@ ekm_state *ekm_state_alloc(int n, double length);
 void ekm_state_free(ekm_state *s);
 /* Copy values (same n) from src to dst. */
 void ekm_state_copy(ekm_state *dst, const ekm_state *src);
+/* Copy only what a time step changes before it is accepted (the backup of
+ * a step, step.h): phi, T, u, w, t, steps, mass_in; with grid != 0 also
+ * dz and z (a stretching grid); with solid != 0 the solid stresses sxx,
+ * syy, szz, sxz ([hypo] enabled).  solid and rate_prev change only after
+ * a step is accepted (regime.h). */
+void ekm_state_copy_step(ekm_state *dst, const ekm_state *src, int grid, int solid);
 
 /* Initial condition of a scenario (phi, T, u below layer_height, w = 0;
  * [initial] solid = 1: material cells start solid with the isotropic stress

@@ -54,6 +54,8 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->rhs_face0 = calloc(f, sizeof(double));
     st->dP_dphi = calloc(c, sizeof(double));
     st->phi_coupled = calloc(f, sizeof(double));
+    st->g_cell = calloc(c, sizeof(double));
+    st->Y_cell = calloc(c, sizeof(double));
     st->fail_time = -1.0;
     st->fail_cell = -1;
     st->moving = ekm_bc_pressure_wall(&sc->top);
@@ -61,7 +63,8 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
         !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src || !st->rho_face ||
         !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face || !st->wk || !st->backup || !st->hyp ||
         !st->u2_old || !st->dw_old || !st->du_face_old || !st->kface || !st->t0face || !st->solid_face ||
-        !st->dry_T || !st->T_keep || !st->rhs_face0 || !st->dP_dphi || !st->phi_coupled) {
+        !st->dry_T || !st->T_keep || !st->rhs_face0 || !st->dP_dphi || !st->phi_coupled || !st->g_cell ||
+        !st->Y_cell) {
         ekm_step_free(st);
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
         return NULL;
@@ -114,6 +117,8 @@ void ekm_step_free(ekm_stepper *st)
     free(st->rhs_face0);
     free(st->dP_dphi);
     free(st->phi_coupled);
+    free(st->g_cell);
+    free(st->Y_cell);
     free(st);
 }
 
@@ -134,8 +139,9 @@ static int mass_update(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
     if (st->moving) {
         /* fluxes relative to the stretching grid; none through the walls */
         F[0] = F[n] = 0.0;
+        const double w_grid = st->gap_rate / n; /* face f moves at f w_grid */
         for (int f = 1; f < n; f++) {
-            const double w_rel = s->w[f] - f * st->gap_rate / n;
+            const double w_rel = s->w[f] - f * w_grid;
             F[f] = w_rel == 0.0 ? 0.0 : w_rel * ekm_flux_face_value(s->phi, n, f, w_rel > 0.0, st->psi);
         }
     } else {
@@ -143,10 +149,11 @@ static int mass_update(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
             F[f] = s->w[f] == 0.0 ? 0.0 : s->w[f] * ekm_flux_face_value(s->phi, n, f, s->w[f] > 0.0, st->psi);
     }
     const double r = dt / s->dz;
+    const double inv_dz_new = st->moving ? 1.0 / st->dz_new : 0.0;
     for (int j = 0; j < n; j++) {
         const double phi = s->phi[j];
         const double phi_new =
-            st->moving ? (phi * s->dz - dt * (F[j + 1] - F[j])) / st->dz_new : phi - r * (F[j + 1] - F[j]);
+            st->moving ? (phi * s->dz - dt * (F[j + 1] - F[j])) * inv_dz_new : phi - r * (F[j + 1] - F[j]);
         st->phi_new[j] = phi_new;
         if (!(phi_new >= 0.0) || !(phi_new - phi <= st->sc->numerics.phi_step_max * (m->phi_cp - phi))) {
             snprintf(st->reject_reason, sizeof st->reject_reason,
@@ -169,18 +176,17 @@ static void convection(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
     const double r = dt / s->dz;
     if (st->moving) {
         /* the content of each (stretching) cell, over its new height */
-        const double dz = s->dz, dz_new = st->dz_new;
+        const double dz = s->dz, rho_dz_new = rho_p / st->dz_new;
         ekm_flux_advect(n, st->F, s->u, bb->u_in, bt->u_in, st->psi, st->qF);
         for (int j = 0; j < n; j++)
-            st->rhoU[j] = rho_p * (s->phi[j] * s->u[j] * dz - dt * (st->qF[j + 1] - st->qF[j])) / dz_new;
+            st->rhoU[j] = rho_dz_new * (s->phi[j] * s->u[j] * dz - dt * (st->qF[j + 1] - st->qF[j]));
         ekm_flux_advect(n, st->F, s->T, bb->T_in, bt->T_in, st->psi, st->qF);
         for (int j = 0; j < n; j++)
-            st->rhoT[j] = rho_p * (s->phi[j] * s->T[j] * dz - dt * (st->qF[j + 1] - st->qF[j])) / dz_new;
+            st->rhoT[j] = rho_dz_new * (s->phi[j] * s->T[j] * dz - dt * (st->qF[j + 1] - st->qF[j]));
         ekm_flux_face_momentum(n, st->F, s->w, st->mom_c);
         for (int f = 1; f < n; f++) {
             const double phi_face = 0.5 * (s->phi[f - 1] + s->phi[f]);
-            st->rhs_face[f] =
-                rho_p * (phi_face * s->w[f] * dz - dt * (st->mom_c[f] - st->mom_c[f - 1])) / dz_new;
+            st->rhs_face[f] = rho_dz_new * (phi_face * s->w[f] * dz - dt * (st->mom_c[f] - st->mom_c[f - 1]));
         }
         return;
     }
@@ -209,31 +215,38 @@ static void stretch_grid(ekm_stepper *st, ekm_state *s, ekm_bc_face *bb, ekm_bc_
     bt->w = st->gap_rate;
 }
 
-/* Phase 4: T*, dry flags and transport coefficients at (phi*, T*). */
+/* Phase 4: T*, dry flags and transport coefficients at (phi*, T*); g and
+ * Y of each cell are kept for the temperature source (phase 7). */
 static void properties(ekm_stepper *st, int n)
 {
     const ekm_scenario *sc = st->sc;
     const ekm_material *m = &sc->material;
+    const double phi_dry = sc->numerics.phi_dry, T_floor = sc->numerics.T_floor;
+    /* without branches on the emptiness: an empty cell's values are
+     * computed at phi_dry (finite: T at the floor) and replaced by 0 */
+    const double *phi_new = st->phi_new, *rhoT = st->rhoT;
+    double *T_star = st->T_star, *eta = st->eta, *mu_n = st->mu_n, *lambda = st->lambda, *P = st->P;
+    double *g_cell = st->g_cell, *Y_cell = st->Y_cell;
+    unsigned char *dry_cell = st->dry, *dry_face = st->dry_face;
     for (int j = 0; j < n; j++) {
-        const double phi = st->phi_new[j];
-        st->dry[j] = phi < sc->numerics.phi_dry;
-        if (st->dry[j]) {
-            st->T_star[j] = 0.0;
-            st->P[j] = st->eta[j] = st->mu_n[j] = st->lambda[j] = 0.0;
-            continue;
-        }
-        const double T = max2(st->rhoT[j] / (m->rho_p * phi), sc->numerics.T_floor);
-        st->T_star[j] = T;
-        const ekm_transport c = ekm_transport_coefficients(m, sc->variant, phi, T);
-        st->eta[j] = c.eta;
-        st->mu_n[j] = c.mu_n;
-        st->lambda[j] = c.lambda;
-        st->P[j] = ekm_pressure_kinetic(m, phi, T) + ekm_pressure_yield(m, phi);
+        const int dry = phi_new[j] < phi_dry;
+        const double phi = dry ? phi_dry : phi_new[j];
+        const double T = max2(rhoT[j] / (m->rho_p * phi), T_floor);
+        const ekm_cell_properties c = ekm_cell_properties_at(m, sc->variant, phi, T);
+        dry_cell[j] = (unsigned char)dry;
+        T_star[j] = dry ? 0.0 : T;
+        eta[j] = dry ? 0.0 : c.eta;
+        mu_n[j] = dry ? 0.0 : c.mu_n;
+        lambda[j] = dry ? 0.0 : c.lambda;
+        P[j] = dry ? 0.0 : c.P;
+        g_cell[j] = dry ? 0.0 : c.g;
+        Y_cell[j] = dry ? 0.0 : c.Y;
     }
+    double *rho_face = st->rho_face;
     for (int f = 1; f < n; f++) {
-        const double phi_face = 0.5 * (st->phi_new[f - 1] + st->phi_new[f]);
-        st->dry_face[f] = phi_face < sc->numerics.phi_dry;
-        st->rho_face[f] = m->rho_p * phi_face;
+        const double phi_face = 0.5 * (phi_new[f - 1] + phi_new[f]);
+        dry_face[f] = phi_face < phi_dry;
+        rho_face[f] = m->rho_p * phi_face;
     }
 }
 
@@ -241,29 +254,34 @@ void ekm_step_shear_rates(const ekm_state *s, const ekm_bc_face *bb, const ekm_b
                           const unsigned char *dry, double *u2, double *w2)
 {
     const int n = s->n;
+    const double inv_dz = 1.0 / s->dz;
+    /* the squared gradient at the face below cell j, carried to the next
+     * cell (each face once) */
+    double below = 0.0;
+    int has_below = 0;
+    if (bb->wall_conductance > 0.0) {
+        const double g = (s->u[0] - bb->u_wall) * bb->wall_conductance;
+        below = g * g;
+        has_below = 1;
+    }
     for (int j = 0; j < n; j++) {
-        double sum = 0.0;
-        int count = 0;
-        if (j > 0 && !dry[j - 1]) {
-            const double g = (s->u[j] - s->u[j - 1]) / s->dz;
-            sum += g * g;
-            count++;
-        } else if (j == 0 && bb->wall_conductance > 0.0) {
-            const double g = (s->u[0] - bb->u_wall) * bb->wall_conductance;
-            sum += g * g;
-            count++;
-        }
-        if (j < n - 1 && !dry[j + 1]) {
-            const double g = (s->u[j + 1] - s->u[j]) / s->dz;
-            sum += g * g;
-            count++;
-        } else if (j == n - 1 && bt->wall_conductance > 0.0) {
+        double sum = has_below ? below : 0.0;
+        int count = has_below;
+        if (j < n - 1) {
+            const double g = (s->u[j + 1] - s->u[j]) * inv_dz;
+            below = g * g;
+            has_below = !dry[j];
+            if (!dry[j + 1]) {
+                sum += below;
+                count++;
+            }
+        } else if (bt->wall_conductance > 0.0) {
             const double g = (bt->u_wall - s->u[n - 1]) * bt->wall_conductance;
             sum += g * g;
             count++;
         }
-        u2[j] = count ? sum / count : 0.0;
-        const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
+        u2[j] = count == 2 ? 0.5 * sum : sum;
+        const double dw = (s->w[j + 1] - s->w[j]) * inv_dz;
         w2[j] = dw * dw;
     }
 }
@@ -376,13 +394,13 @@ static int shear_momentum(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, 
     const ekm_material *m = &st->sc->material;
     const int n = s->n;
     ekm_error serr;
-    for (int j = 0; j < n; j++)
-        st->rhs_cell[j] = st->rhoU[j] + dt * m->rho_p * st->phi_new[j] * st->g_x;
     ekm_implicit_end sb = {.value = bb->u_wall, .conductance = bb->wall_conductance};
     ekm_implicit_end stp = {.value = bt->u_wall, .conductance = bt->wall_conductance};
     double *rho_cell = st->qF; /* reuse: rho at cells */
-    for (int j = 0; j < n; j++)
+    for (int j = 0; j < n; j++) {
         rho_cell[j] = m->rho_p * st->phi_new[j];
+        st->rhs_cell[j] = st->rhoU[j] + dt * m->rho_p * st->phi_new[j] * st->g_x;
+    }
     ekm_status shear_rc;
     if (n_solid) {
         ekm_regime_shear_faces(st, s, bb, bt, dt);
@@ -409,7 +427,8 @@ static int momentum(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
                     int n_solid)
 {
     const int n = s->n;
-    memcpy(st->rhs_face0, st->rhs_face, ((size_t)n + 1) * sizeof *st->rhs_face);
+    if (n_solid)
+        memcpy(st->rhs_face0, st->rhs_face, ((size_t)n + 1) * sizeof *st->rhs_face);
     for (int pass = 0; pass < (n_solid ? 2 : 1); pass++) {
         if (pass == 1) {
             memcpy(st->rhs_face, st->rhs_face0, ((size_t)n + 1) * sizeof *st->rhs_face);
@@ -436,13 +455,13 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
     if (n_solid)
         ekm_regime_finish(st, s, bb, bt);
     ekm_step_shear_rates(s, bb, bt, st->dry, st->u2, st->w2);
-    for (int j = 0; j < n; j++)
-        st->dry_T[j] = st->dry[j] || (n_solid && s->solid[j]);
     for (int j = 0; j < n; j++) {
-        s->T[j] = st->T_star[j];
+        st->dry_T[j] = st->dry[j] || (n_solid && s->solid[j]);
+        s->T[j] = st->T_star[j]; /* the first Newton iterate */
         if (st->dry[j])
             continue;
-        st->src[j] = ekm_temperature_source_coeffs(m, sc->variant, s->phi[j], st->u2[j], st->w2[j]);
+        st->src[j] = ekm_temperature_source_coeffs_gY(m, sc->variant, s->phi[j], st->g_cell[j], st->Y_cell[j],
+                                                      st->u2[j], st->w2[j]);
     }
     if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src,
                                  st->dry_T, sc->numerics.T_floor, sc->numerics.newton_tol,
@@ -474,7 +493,7 @@ static int state_finite(const ekm_state *s)
 /* A rejected step: s back to the state before it (reason in st->reject_reason). */
 static ekm_status reject(ekm_stepper *st, ekm_state *s, int *accepted)
 {
-    ekm_state_copy(s, st->backup);
+    ekm_state_copy_step(s, st->backup, st->moving, st->sc->hypo.enabled);
     *accepted = 0;
     return EKM_OK;
 }
@@ -487,7 +506,7 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
                         "%s: t = %.9g s: time step dt = %g s is not a positive finite number", st->sc->source,
                         s->t, dt);
     *accepted = 1;
-    ekm_state_copy(st->backup, s);
+    ekm_state_copy_step(st->backup, s, st->moving, st->sc->hypo.enabled);
 
     /* 1. boundaries (and, with solid cells, their lagged rates) */
     ekm_bc_face bb, bt;

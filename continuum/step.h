@@ -89,8 +89,9 @@ typedef struct {
     int newton_iterations;   /* of the last accepted step */
     char reject_reason[512]; /* why the last step was rejected */
     /* implicit pressure coupling of the normal solve ([numerics] normal_coupling, implicit.h) */
-    double *dP_dphi;     /* dP/dphi at (phi*, T*) [Pa], n */
-    double *phi_coupled; /* phi the next mass update carries through each face [-], n+1 */
+    double *dP_dphi;         /* dP/dphi at (phi*, T*) [Pa], n */
+    double *phi_coupled;     /* phi the next mass update carries through each face [-], n+1 */
+    double *g_cell, *Y_cell; /* density factor g [-] and yield temperature Y [m^2/s^2] at phi*, n */
 } ekm_stepper;
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err);
