@@ -109,6 +109,12 @@ static json_t *fit_json(const cg_fit_outputs *o)
                                     json_string(c->last_solver == CG_FITSC_SOLVER_STEADY ? "ekm steady"
                                                 : c->last_solver == CG_FITSC_SOLVER_RUN  ? "ekm run"
                                                                                          : "none"));
+                if (c->check_done)
+                    json_object_set_new(jc, "steady_check",
+                                        json_pack("{s:b, s:b, s:o, s:f, s:s}", "agrees", c->check_agrees,
+                                                  "run_steady", c->check_run_steady, "difference",
+                                                  num(c->check_difference), "tolerance", CG_FITSC_AGREE_TOL,
+                                                  "kept", c->check_agrees ? "ekm steady" : "ekm run"));
             }
             json_array_append_new(cases, jc);
         }

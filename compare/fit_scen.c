@@ -400,22 +400,71 @@ ekm_status cg_fitsc_start_material(const cg_fitsc_problem *pb, ekm_material *m, 
  * state's own grid, which a pressure-held wall stretches with its current
  * gap at every step (step.c stretch_grid), the centres `score` gets from
  * /z and /gap with cg_score_centres. */
+/* Largest |a - b| of phi, vx and T over the column, each relative to b's
+ * largest magnitude (steady_agree.py's measure, without P). */
+static double state_difference(const ekm_state *a, const ekm_state *b)
+{
+    const double *fa[3] = {a->phi, a->u, a->T}, *fb[3] = {b->phi, b->u, b->T};
+    double worst = 0.0;
+    for (int f = 0; f < 3; f++) {
+        double scale = 0.0, diff = 0.0;
+        for (int j = 0; j < b->n; j++) {
+            scale = fmax(scale, fabs(fb[f][j]));
+            diff = fmax(diff, fabs(fa[f][j] - fb[f][j]));
+        }
+        const double rel = scale > 0.0 ? diff / scale : (diff > 0.0 ? INFINITY : 0.0);
+        worst = isnan(rel) ? INFINITY : fmax(worst, rel);
+    }
+    return worst;
+}
+
 /* The EKM state a case is scored at, as the campaign makes it (workflow
- * rule ekm): a scenario that runs to its steady state ([run] stop = steady)
- * is solved by Newton from its initial state (ekm_steady_solve, the same
- * solve as `ekm steady`); one that has none there (EKM_ENOTSTEADY), or
- * that the steady solver does not take, is run by time stepping from its
- * initial state (ekm_run, as `ekm run`).  Non-zero: the run failed. */
-static int solve_case(const ekm_scenario *sc, ekm_state *s, ekm_stepper *stp, cg_fitsc_case *c, ekm_error *e)
+ * rule ekm, scripts/campaign/ekm_step.sh): a scenario that runs to its
+ * steady state ([run] stop = steady) is solved by Newton from its initial
+ * state (ekm_steady_solve, the solve of `ekm steady`); one that has none
+ * there (EKM_ENOTSTEADY), or that the steady solver does not take, is run
+ * by time stepping from its initial state (ekm_run, as `ekm run`).  With
+ * check (the fitted material, once), the Newton state is also compared
+ * with the time-stepped run as the campaign does: kept when the run ended
+ * steady and agrees within CG_FITSC_AGREE_TOL, else the run's state is
+ * used (c->check_*).  Non-zero: the run failed. */
+static int solve_case(const ekm_scenario *sc, ekm_state *s, ekm_stepper *stp, cg_fitsc_case *c, int check,
+                      ekm_error *e)
 {
     ekm_state_init(s, sc);
     ekm_error why = {0};
+    ekm_run_stats stats;
     if (sc->stop == EKM_STOP_STEADY && ekm_steady_supported(sc, &why) == EKM_OK) {
         const ekm_status rc = ekm_steady_solve(sc, s, NULL, &why);
-        if (rc == EKM_OK) {
+        if (rc == EKM_OK && !check) {
             c->last_solver = CG_FITSC_SOLVER_STEADY;
             c->steady_solves++;
             return 0;
+        }
+        if (rc == EKM_OK) {
+            ekm_state *r = ekm_state_alloc(s->n, sc->length);
+            if (!r) {
+                EKM_FAIL(e, EKM_ENOMEM, "out of memory");
+                return 1;
+            }
+            ekm_state_init(r, sc);
+            const int bad = ekm_run(sc, r, stp, NULL, &stats, e) != EKM_OK;
+            if (!bad) {
+                c->check_done = 1;
+                c->check_difference = state_difference(s, r);
+                c->check_run_steady = stats.steady;
+                c->check_agrees = stats.steady && c->check_difference <= CG_FITSC_AGREE_TOL;
+                if (c->check_agrees) {
+                    c->last_solver = CG_FITSC_SOLVER_STEADY;
+                    c->steady_solves++;
+                } else {
+                    ekm_state_copy(s, r);
+                    c->last_solver = CG_FITSC_SOLVER_RUN;
+                    c->stepped_runs++;
+                }
+            }
+            ekm_state_free(r);
+            return bad;
         }
         if (rc != EKM_ENOTSTEADY) {
             *e = why;
@@ -425,7 +474,6 @@ static int solve_case(const ekm_scenario *sc, ekm_state *s, ekm_stepper *stp, cg
     }
     c->last_solver = CG_FITSC_SOLVER_RUN;
     c->stepped_runs++;
-    ekm_run_stats stats;
     return ekm_run(sc, s, stp, NULL, &stats, e) != EKM_OK;
 }
 
@@ -461,7 +509,7 @@ static int run_case(const cg_fitsc_problem *pb, cg_fitsc_case *c, const ekm_mate
     }
     if (!bad) {
         const double t0 = now_s();
-        bad = solve_case(&sc, s, stp, c, &e);
+        bad = solve_case(&sc, s, stp, c, pb->check_final, &e);
         c->wall_last_s = now_s() - t0;
         c->wall_total_s += c->wall_last_s;
         c->runs++;
@@ -576,7 +624,9 @@ static ekm_status finish_cb(void *ctx, const ekm_material *m, size_t *nused, ekm
     double *r = malloc(pb->nres * sizeof *r);
     if (!r)
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    pb->check_final = 1; /* the fitted material's states as the campaign makes them */
     const int bad = cg_fitsc_residuals(pb, m, r);
+    pb->check_final = 0;
     free(r);
     if (bad)
         return EKM_FAIL(err, EKM_ENUMERIC, "the fitted material: an EKM run failed");

@@ -56,11 +56,15 @@ enum cg_fitsc_field { CG_FITSC_PHI, CG_FITSC_VX, CG_FITSC_T, CG_FITSC_P, CG_FITS
  * below 1e-6 (gtol) or a chi2 change below 1e-8 relative (ftol) end a
  * start; at most 100 iterations. Tighter tests (those of --rheology) chase
  * the runs' own round-off for hundreds of evaluations. */
-#define CG_FITSC_XTOL     1e-6
-#define CG_FITSC_GTOL     1e-6
-#define CG_FITSC_FTOL     1e-8
-#define CG_FITSC_MAX_ITER 100
-#define CG_FITSC_STARTS   1 /* default starts: each evaluation is a set of EKM runs */
+/* The Newton state of a case at the fitted material is kept when the
+ * time-stepped run agrees within this fraction of its maxima (the
+ * campaign's test, scripts/campaign/steady_agree.py). */
+#define CG_FITSC_AGREE_TOL 1e-2
+#define CG_FITSC_XTOL      1e-6
+#define CG_FITSC_GTOL      1e-6
+#define CG_FITSC_FTOL      1e-8
+#define CG_FITSC_MAX_ITER  100
+#define CG_FITSC_STARTS    1 /* default starts: each evaluation is a set of EKM runs */
 
 const char *cg_fitsc_field_name(int f); /* "phi", "vx", "T", "P", "sxz" */
 
@@ -94,6 +98,11 @@ typedef struct {
     long steady_solves; /* runs solved by ekm_steady_solve */
     long stepped_runs;  /* runs by time stepping (not steady, or no steady state found by Newton) */
     int last_solver;    /* cg_fitsc_solver of the last run */
+    /* the fitted material's Newton state against ekm_run (fit_scen.c solve_case) */
+    int check_done;          /* 1: compared */
+    int check_run_steady;    /* the run ended steady */
+    int check_agrees;        /* 1: the Newton state was kept */
+    double check_difference; /* largest difference of phi, vx, T over the run's maxima [-] */
 } cg_fitsc_case;
 
 typedef struct {
@@ -109,6 +118,7 @@ typedef struct {
     long evaluations;
     double started_s;  /* monotonic clock at the start */
     double ekm_wall_s; /* all EKM runs [s] */
+    int check_final;   /* 1 while the fitted material is evaluated (solve_case's check) */
 } cg_fitsc_problem;
 
 /* Read CASES.json and every case's DEM file and scenario (with its set).

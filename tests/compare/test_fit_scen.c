@@ -318,6 +318,13 @@ static void test_steady_recovery(void **state)
         assert_int_equal(json_integer_value(json_object_get(c, "ekm_steady_solves")),
                          json_integer_value(json_object_get(c, "ekm_runs")));
         assert_true(json_integer_value(json_object_get(c, "ekm_runs")) > 2);
+        /* the fitted material's Newton state checked against time stepping, kept */
+        json_t *chk = json_object_get(c, "steady_check");
+        assert_non_null(chk);
+        assert_true(json_is_true(json_object_get(chk, "agrees")));
+        assert_true(json_is_true(json_object_get(chk, "run_steady")));
+        assert_true(json_real_value(json_object_get(chk, "difference")) < 1e-4);
+        assert_string_equal(json_string_value(json_object_get(chk, "kept")), "ekm steady");
     }
     json_decref(root);
 }
