@@ -15,7 +15,7 @@
 #include "step.h"
 
 #define MAX_RESOLVES    60   /* new solves after the empty set changed */
-#define FD_EPS          1e-7 /* relative finite-difference step of the Jacobian */
+#define FD_EPS          1e-8 /* relative finite-difference step of the Jacobian */
 #define DELTA0          1e-4 /* first pseudo-time step [s] */
 #define DELTA_MAX       1e20 /* [s]: beyond it the iteration is Newton's */
 #define W_TYP           1e-4 /* velocity scale of a sealed face's w [m/s] */
