@@ -15,10 +15,12 @@ trap 'rm -rf "$work"' EXIT
 rows=()
 keys=()
 
-# case NAME SCENARIO TAG: one scenario point (TAG "" = the scenario's only point)
+# case NAME SCENARIO TAG [MATERIAL]: one scenario point (TAG "" = the
+# scenario's only point), MATERIAL a [material] file (--material) or none
 case_row() {
-  local name=$1 ini=$root/scenarios/$2.ini tag=$3
+  local name=$1 ini=$root/scenarios/$2.ini tag=$3 material=${4:-}
   local sets=()
+  [ -n "$material" ] && sets+=(--material "$root/$material")
   while IFS= read -r s; do [ -n "$s" ] && sets+=(--set "$s"); done < <(
     "$ekm" scenario "$ini" --size ref --engine lammps --json |
       jq -r --arg t "$tag" '.points[] | select(.tag == $t) | .ekm_set[]')
@@ -65,6 +67,12 @@ case_row chute_26 chute theta26
 case_row shear_cell shear_cell ""
 case_row simple_shear simple_shear phi0.56-rate10
 case_row simple_shear_p simple_shear_p p100-rate10
+# the chute with the calibrated set of the chute fit (nearly arrested at 22
+# and 24 degrees; at 26 steady only after ~1000 s of model time, beyond
+# [run] t_end: the ekm run row is then not at its steady state)
+case_row chute_fit_22 chute theta22 results/calibration/chute/fit.ini
+case_row chute_fit_24 chute theta24 results/calibration/chute/fit.ini
+case_row chute_fit_26 chute theta26 results/calibration/chute/fit.ini
 
 printf '%s\n' "${rows[@]}" | jq -s --slurpfile k <(printf '%s\n' "${keys[@]}" | jq -s 'add') \
   '{rows: ., keys: $k[0]}' > "$OUT/steady.json.tmp"

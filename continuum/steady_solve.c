@@ -15,7 +15,7 @@
 #include "step.h"
 
 #define MAX_RESOLVES    60   /* new solves after the empty set changed */
-#define FD_EPS          1e-7 /* relative finite-difference step of the Jacobian */
+#define FD_EPS          1e-8 /* relative finite-difference step of the Jacobian */
 #define DELTA0          1e-4 /* first pseudo-time step [s] */
 #define DELTA_MAX       1e20 /* [s]: beyond it the iteration is Newton's */
 #define W_TYP           1e-4 /* velocity scale of a sealed face's w [m/s] */
@@ -633,7 +633,9 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
         if (!residual(p, p->U, p->R, p->mag))
             return EKM_FAIL(err, EKM_EINTERNAL, "steady solver: the accepted iterate is outside the domain");
         const double res_new = norm2_scaled(p, p->R, p->mag);
-        delta = fmin(DELTA_MAX, delta * fmin(4.0, fmax(0.5, 0.5 * STEP_CHANGE_MAX / fmax(change, 1e-300))));
+        /* grows by the step's change, shrinks with a rising residual (SER) */
+        delta = fmin(DELTA_MAX, delta * fmin(4.0, fmax(0.5, 0.5 * STEP_CHANGE_MAX / fmax(change, 1e-300))) *
+                                    fmin(1.0, res / fmax(res_new, 1e-300)));
         if (alpha < 1.0)
             delta *= 0.5;
         res = res_new;

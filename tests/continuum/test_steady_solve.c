@@ -167,31 +167,37 @@ static double rel_l2(const double *a, const double *b, int n, double floor)
     return sqrt(d) / fmax(sqrt(nb), floor * sqrt((double)n));
 }
 
-static void agree(const char *scenario, const char *angle_set)
+/* ekm run to steady (steady_tol 1e-8) and ekm steady, with up to two overrides */
+static void agree2(const char *scenario, const char *angle_set, const char *material_set)
 {
-    const char *sets_run[] = {"run.steady_tol=1e-8", "run.t_end=1000", angle_set};
-    const size_t n_run = angle_set ? 3 : 2;
+    const char *sets_run[] = {"run.steady_tol=1e-8", "run.t_end=1000", angle_set, material_set};
+    const size_t n_extra = angle_set ? (material_set ? 2 : 1) : 0;
     test_run r;
-    if (test_run_scenario(&r, scenario, sets_run, n_run, NULL, NULL) != EKM_OK)
+    if (test_run_scenario(&r, scenario, sets_run, 2 + n_extra, NULL, NULL) != EKM_OK)
         fail_msg("%s: %s", scenario, r.err.message);
     assert_int_equal(r.stats.steady, 1);
     steady_case c;
-    const char *sets_steady[] = {angle_set};
-    solve_ok(&c, scenario, sets_steady, angle_set ? 1 : 0);
+    solve_ok(&c, scenario, sets_run + 2, n_extra);
     const int n = c.s->n;
     const double e_phi = rel_l2(c.s->phi, r.s->phi, n, 1e-3);
     const double e_u = rel_l2(c.s->u, r.s->u, n, 1e-4);
     const double e_T = rel_l2(c.s->T, r.s->T, n, 1e-8);
     const double e_gap = fabs(c.s->dz / r.s->dz - 1.0);
-    printf("  %s %s: phi %.2e vx %.2e T %.2e gap %.2e (Newton %d iterations, %d attempts, %.3g s stepped)\n",
-           scenario, angle_set ? angle_set : "", e_phi, e_u, e_T, e_gap, c.rep.iterations, c.rep.attempts,
-           c.rep.warm_time);
+    printf("  %s %s %s: phi %.2e vx %.2e T %.2e gap %.2e (Newton %d iterations, %d attempts, %.3g s "
+           "stepped)\n",
+           scenario, angle_set ? angle_set : "", material_set ? material_set : "", e_phi, e_u, e_T, e_gap,
+           c.rep.iterations, c.rep.attempts, c.rep.warm_time);
     assert_true(e_phi < 1e-6);
     assert_true(e_u < 1e-6);
     assert_true(e_T < 1e-6);
     assert_true(e_gap < 1e-6);
     case_free(&c);
     test_run_free(&r);
+}
+
+static void agree(const char *scenario, const char *angle_set)
+{
+    agree2(scenario, angle_set, NULL);
 }
 
 static void test_agrees_with_time_stepping(void **state)
@@ -202,6 +208,20 @@ static void test_agrees_with_time_stepping(void **state)
     agree("scenarios/shear_cell.ini", NULL);
     agree("scenarios/chute.ini", "gravity.angle=22");
     agree("scenarios/chute.ini", "gravity.angle=24");
+}
+
+/* The chute with the calibrated set of the chute fit
+ * (results/calibration/chute/fit.ini: eta0 fitted, every other key the
+ * scenario's): the layer nearly arrests, at 22 degrees base T 2.4e-13
+ * m^2/s^2 (ekm run steady to 1e-8 after about 285 s), at 24 degrees 1.3e-10
+ * (about 7 s). */
+#define CHUTE_FIT_ETA0 "material.eta0=0.00045188733432076204"
+
+static void test_agrees_calibrated_chute(void **state)
+{
+    (void)state;
+    agree2("scenarios/chute.ini", "gravity.angle=22", CHUTE_FIT_ETA0);
+    agree2("scenarios/chute.ini", "gravity.angle=24", CHUTE_FIT_ETA0);
 }
 
 /* ---- the stepper does not move the solution ---- */
@@ -281,6 +301,7 @@ int main(void)
         cmocka_unit_test(test_couette_pressure),
         cmocka_unit_test(test_chute_stress_ratio),
         cmocka_unit_test(test_agrees_with_time_stepping),
+        cmocka_unit_test(test_agrees_calibrated_chute),
         cmocka_unit_test(test_stepper_keeps_solution),
         cmocka_unit_test(test_no_steady_state),
         cmocka_unit_test(test_unsupported),
