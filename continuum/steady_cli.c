@@ -92,10 +92,11 @@ ekm_status ekm_steady_read_guess(const char *path, const ekm_scenario *sc, ekm_s
         s->dz = gap / n;
     for (int j = 0; j < n; j++) {
         s->z[j] = (j + 0.5) * s->dz;
-        if (!(s->phi[j] >= 0.0 && s->phi[j] < sc->material.phi_cp) || !isfinite(s->u[j]) || !(s->T[j] >= 0.0))
+        if (!(s->phi[j] >= 0.0 && s->phi[j] < sc->material.phi_cp) || !isfinite(s->u[j]) ||
+            !(s->T[j] >= 0.0 && isfinite(s->T[j])))
             return EKM_FAIL(err, EKM_EINPUT,
                             "%s: the last frame's cell %d has phi = %g, vx = %g, T = %g: expected phi in [0, "
-                            "%g), finite vx, T >= 0",
+                            "%g), finite vx, finite T >= 0",
                             path, j, s->phi[j], s->u[j], s->T[j], sc->material.phi_cp);
     }
     memset(s->w, 0, ((size_t)n + 1) * sizeof *s->w);
@@ -114,8 +115,12 @@ static void default_output(const char *ini, char *out, size_t size)
 
 /* The output: one frame with the report as root attributes. */
 static ekm_status write_output(const char *out, const ekm_scenario *sc, const ekm_state *s,
-                               const ekm_steady_report *rep, ekm_error *err)
+                               const ekm_steady_report *rep, double mass_initial, ekm_error *err)
 {
+    /* the time steps taken: the warm-up between Newton attempts and the
+     * verification (as ekm run's stats.*, which ekmcompare reads to know an
+     * ekm output) */
+    const double steps = (double)rep->warm_steps + EKM_STEADY_VERIFY_STEPS;
     ekm_h5_writer *w = NULL;
     ekm_status st = ekm_h5_writer_open(&w, out, sc, s, err);
     if (st != EKM_OK)
@@ -137,6 +142,12 @@ static ekm_status write_output(const char *out, const ekm_scenario *sc, const ek
         {"steady.verify_change", rep->verify_change},
         {"steady.verify_time", rep->verify_time},
         {"stats.wall_time_s", rep->wall_s},
+        {"stats.steps", steps},
+        {"stats.cell_updates", steps * s->n},
+        {"stats.mass_initial", mass_initial},
+        {"stats.mass_final", ekm_state_mass(s, sc->material.rho_p)},
+        {"stats.mass_in", 0.0},
+        {"steady_drift", rep->verify_time > 0.0 ? rep->verify_change / rep->verify_time : 0.0},
     };
     for (size_t i = 0; i < sizeof attrs / sizeof attrs[0] && st == EKM_OK; i++)
         st = ekm_h5_writer_set_attr(w, attrs[i].name, attrs[i].value, err);
@@ -221,10 +232,11 @@ int ekm_steady_cli_main(int argc, char **argv)
     if (from)
         st = ekm_steady_read_guess(from, &sc, s, &err);
     ekm_steady_report rep = {.progress = quiet ? NULL : stderr};
+    const double mass_initial = ekm_state_mass(s, sc.material.rho_p);
     if (st == EKM_OK)
         st = ekm_steady_solve(&sc, s, &rep, &err);
     if (st == EKM_OK)
-        st = write_output(out, &sc, s, &rep, &err);
+        st = write_output(out, &sc, s, &rep, mass_initial, &err);
     int code = 0;
     if (st != EKM_OK)
         code = steady_fail(&err, st);

@@ -860,10 +860,19 @@ ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_rep
         const double chunk = fmin(span, sc->t_end - warmed);
         if (!(chunk > 0.0))
             break;
-        if (warm_up(&sc_warm, st, g, chunk, &werr) != EKM_OK) {
+        const ekm_status wrc = warm_up(&sc_warm, st, g, chunk, &werr);
+        if (wrc == EKM_ENOTSTEADY) {
             rc = EKM_FAIL(err, EKM_ENOTSTEADY,
                           "%s: no steady state: Newton did not converge and the time steps towards it failed "
                           "after %.3g s of model time: %.700s",
+                          sc->source, warmed, werr.message);
+            break;
+        }
+        if (wrc != EKM_OK) {
+            /* the time stepper itself failed (as `ekm run` would: its status, e.g. a step below dt_min) */
+            rc = EKM_FAIL(err, wrc,
+                          "%s: Newton did not converge and the time steps towards it failed after %.3g s of "
+                          "model time: %.700s",
                           sc->source, warmed, werr.message);
             break;
         }
