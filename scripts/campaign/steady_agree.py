@@ -2,16 +2,15 @@
 """steady_agree.py NEWTON.h5 RUN.h5 TOL: does `ekm steady`'s state (NEWTON)
 agree with the steady state `ekm run` reached from the scenario's initial
 state (RUN, [run] stop = steady)?  The campaign (scripts/campaign/ekm_step.sh)
-uses the Newton state only when it does: a slab can have more than one
-steady state (the chute at 30 degrees: a dense bed and a dilute fast layer,
-both stable), and the one a comparison with DEM needs is the one the
-initial state flows to.
+uses the Newton state only when it does: Newton can converge to a fixed
+point of the stepper the initial state does not flow to (the chute at 30
+degrees: a layer without the run's dilute top tail), and the one a
+comparison with DEM needs is the one the initial state flows to.
 
 Agreement: the run ended steady (root attribute steady = 1), and for phi,
 vx, T and P of the last frames, max |NEWTON - RUN| <= TOL x max |RUN| over
-the column (the run stops at its drift criterion, so it is close to, not
-at, the fixed point: TOL of about 1e-2 tells branches apart, which differ
-by O(1)), and the gap (a pressure-held wall) within TOL relative.
+the column (the run stops at its drift criterion, close to, not at, the
+fixed point: ekm_step.sh runs it to a 1000x tighter one), and the gap (a pressure-held wall) within TOL relative.
 Prints one line; exit 0: agree, 1: disagree, 2: a file that is not such
 an output."""
 import sys

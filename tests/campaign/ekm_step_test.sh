@@ -2,9 +2,10 @@
 # scripts/campaign/ekm_step.sh: a steady scenario's output is the Newton
 # state (ekm steady: root attribute steady_solver) when it agrees with the
 # time-stepped run, and the run's when Newton finds another steady state:
-# the chute at 30 degrees has two stable ones (a dense bed, where the
-# initial layer flows to, and a dilute fast layer Newton can land on);
-# nothing of the step is left beside its output.
+# at 30 degrees the chute runs to a fast dilute layer with a dilute top
+# tail, Newton returns one without it (0.18 of the largest phi apart,
+# docs/model.md "Steady solver"); nothing of the step is left beside its
+# output.
 # Usage: ekm_step_test.sh SOURCE_DIR BUILD_DIR WORK_DIR
 set -uo pipefail
 src=$1 build=$2 work=$3
