@@ -10,7 +10,7 @@ comparison with DEM needs is the one the initial state flows to.
 Agreement: the run ended steady (root attribute steady = 1), and for phi,
 vx, T and P of the last frames, max |NEWTON - RUN| <= TOL x max |RUN| over
 the column (the run stops at its drift criterion, close to, not at, the
-fixed point: ekm_step.sh runs it to a 1000x tighter one), and the gap (a pressure-held wall) within TOL relative.
+fixed point: ekm_step.sh passes TOL 5e-2), and the gap (a pressure-held wall) within TOL relative.
 Prints one line; exit 0: agree, 1: disagree, 2: a file that is not such
 an output."""
 import sys
