@@ -8,6 +8,7 @@
 
 #include "atomic.h"
 #include "bc.h"
+#include "cli_args.h"
 #include "ekm_version.h"
 #include "h5out.h"
 #include "homog_cli.h"
@@ -86,16 +87,6 @@ static ekm_status write_frame(void *ctx, const ekm_state *s, const ekm_stepper *
     return ekm_h5_writer_append(((frame_ctx *)ctx)->writer, s, err);
 }
 
-static void default_output(const char *ini, char *out, size_t size)
-{
-    const char *base = strrchr(ini, '/');
-    base = base ? base + 1 : ini;
-    size_t len = strlen(base);
-    if (len > 4 && strcmp(base + len - 4, ".ini") == 0)
-        len -= 4;
-    snprintf(out, size, "%.*s.h5", (int)len, base);
-}
-
 static int fail(const ekm_error *err, ekm_status st)
 {
     ekm_error_print("ekm", err);
@@ -104,40 +95,17 @@ static int fail(const ekm_error *err, ekm_status st)
 
 static int cmd_run(int argc, char **argv)
 {
-    const char *ini = NULL, *out = NULL, *material = NULL;
-    int quiet = 0;
-    const char **sets = calloc((size_t)argc, sizeof *sets);
-    size_t n_sets = 0;
-    if (!sets) {
-        fprintf(stderr, "ekm: out of memory\n");
-        return ekm_status_exit_code(EKM_ENOMEM);
+    ekm_cli_args args;
+    const int usage = ekm_cli_args_parse("run", argc, argv, 0, &args);
+    if (usage) {
+        ekm_cli_args_free(&args);
+        return usage;
     }
-    for (int i = 0; i < argc; i++) {
-        if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
-            out = argv[++i];
-        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc)
-            material = argv[++i];
-        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc)
-            sets[n_sets++] = argv[++i];
-        else if (strcmp(argv[i], "--quiet") == 0)
-            quiet = 1;
-        else if (argv[i][0] == '-' || ini) {
-            fprintf(stderr, "ekm run: unexpected argument '%s' (see ekm --help)\n", argv[i]);
-            free(sets);
-            return ekm_status_exit_code(EKM_EUSAGE);
-        } else
-            ini = argv[i];
-    }
-    if (!ini) {
-        fprintf(stderr, "ekm run: missing scenario file (see ekm --help)\n");
-        free(sets);
-        return ekm_status_exit_code(EKM_EUSAGE);
-    }
-    char out_buf[1024], xdmf[1100];
-    if (!out) {
-        default_output(ini, out_buf, sizeof out_buf);
-        out = out_buf;
-    }
+    const char *ini = args.ini, *out = args.out, *material = args.material;
+    const int quiet = args.quiet;
+    const char **sets = args.sets; /* freed below (free(sets)) */
+    const size_t n_sets = args.n_sets;
+    char xdmf[1100];
     ekm_error err = {0};
     /* neither the output nor its sidecar may replace the scenario file */
     ekm_xdmf_path(out, xdmf, sizeof xdmf);

@@ -7,6 +7,7 @@
 
 #include "atomic.h"
 #include "bc.h"
+#include "cli_args.h"
 #include "h5.h"
 #include "h5out.h"
 #include "scenario.h"
@@ -103,16 +104,6 @@ ekm_status ekm_steady_read_guess(const char *path, const ekm_scenario *sc, ekm_s
     return EKM_OK;
 }
 
-static void default_output(const char *ini, char *out, size_t size)
-{
-    const char *base = strrchr(ini, '/');
-    base = base ? base + 1 : ini;
-    size_t len = strlen(base);
-    if (len > 4 && strcmp(base + len - 4, ".ini") == 0)
-        len -= 4;
-    snprintf(out, size, "%.*s.h5", (int)len, base);
-}
-
 /* The output: one frame with the report as root attributes. */
 static ekm_status write_output(const char *out, const ekm_scenario *sc, const ekm_state *s,
                                const ekm_steady_report *rep, double mass_initial, ekm_error *err)
@@ -165,42 +156,17 @@ static ekm_status write_output(const char *out, const ekm_scenario *sc, const ek
 
 int ekm_steady_cli_main(int argc, char **argv)
 {
-    const char *ini = NULL, *out = NULL, *material = NULL, *from = NULL;
-    int quiet = 0;
-    const char **sets = calloc((size_t)argc + 1, sizeof *sets);
-    size_t n_sets = 0;
-    if (!sets) {
-        fprintf(stderr, "ekm steady: out of memory\n");
-        return ekm_status_exit_code(EKM_ENOMEM);
+    ekm_cli_args args;
+    const int usage = ekm_cli_args_parse("steady", argc, argv, 1, &args);
+    if (usage) {
+        ekm_cli_args_free(&args);
+        return usage;
     }
-    for (int i = 0; i < argc; i++) {
-        if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
-            out = argv[++i];
-        else if (strcmp(argv[i], "--from") == 0 && i + 1 < argc)
-            from = argv[++i];
-        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc)
-            material = argv[++i];
-        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc)
-            sets[n_sets++] = argv[++i];
-        else if (strcmp(argv[i], "--quiet") == 0)
-            quiet = 1;
-        else if (argv[i][0] == '-' || ini) {
-            fprintf(stderr, "ekm steady: unexpected argument '%s' (see ekm --help)\n", argv[i]);
-            free(sets);
-            return ekm_status_exit_code(EKM_EUSAGE);
-        } else
-            ini = argv[i];
-    }
-    if (!ini) {
-        fprintf(stderr, "ekm steady: missing scenario file (see ekm --help)\n");
-        free(sets);
-        return ekm_status_exit_code(EKM_EUSAGE);
-    }
-    char out_buf[1024], xdmf[1100];
-    if (!out) {
-        default_output(ini, out_buf, sizeof out_buf);
-        out = out_buf;
-    }
+    const char *ini = args.ini, *out = args.out, *material = args.material, *from = args.from;
+    const int quiet = args.quiet;
+    const char **sets = args.sets; /* freed below (free(sets)) */
+    const size_t n_sets = args.n_sets;
+    char xdmf[1100];
     ekm_error err = {0};
     ekm_xdmf_path(out, xdmf, sizeof xdmf);
     const char *const inputs[] = {ini, material ? material : ini, from ? from : ini};

@@ -1,0 +1,59 @@
+#include "cli_args.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "status.h"
+
+static void default_output(const char *ini, char *out, size_t size)
+{
+    const char *base = strrchr(ini, '/');
+    base = base ? base + 1 : ini;
+    size_t len = strlen(base);
+    if (len > 4 && strcmp(base + len - 4, ".ini") == 0)
+        len -= 4;
+    snprintf(out, size, "%.*s.h5", (int)len, base);
+}
+
+int ekm_cli_args_parse(const char *cmd, int argc, char **argv, int with_from, ekm_cli_args *a)
+{
+    memset(a, 0, sizeof *a);
+    a->sets = calloc((size_t)argc + 1, sizeof *a->sets);
+    if (!a->sets) {
+        fprintf(stderr, "ekm %s: out of memory\n", cmd);
+        return ekm_status_exit_code(EKM_ENOMEM);
+    }
+    for (int i = 0; i < argc; i++) {
+        if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
+            a->out = argv[++i];
+        else if (with_from && strcmp(argv[i], "--from") == 0 && i + 1 < argc)
+            a->from = argv[++i];
+        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc)
+            a->material = argv[++i];
+        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc)
+            a->sets[a->n_sets++] = argv[++i];
+        else if (strcmp(argv[i], "--quiet") == 0)
+            a->quiet = 1;
+        else if (argv[i][0] == '-' || a->ini) {
+            fprintf(stderr, "ekm %s: unexpected argument '%s' (see ekm --help)\n", cmd, argv[i]);
+            return ekm_status_exit_code(EKM_EUSAGE);
+        } else
+            a->ini = argv[i];
+    }
+    if (!a->ini) {
+        fprintf(stderr, "ekm %s: missing scenario file (see ekm --help)\n", cmd);
+        return ekm_status_exit_code(EKM_EUSAGE);
+    }
+    if (!a->out) {
+        default_output(a->ini, a->out_buf, sizeof a->out_buf);
+        a->out = a->out_buf;
+    }
+    return 0;
+}
+
+void ekm_cli_args_free(ekm_cli_args *a)
+{
+    free(a->sets);
+    a->sets = NULL;
+}

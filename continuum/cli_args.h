@@ -1,0 +1,25 @@
+/* cli_args.h: the command line `ekm run` and `ekm steady` share:
+ * FILE.ini [-o OUT.h5] [--material FIT.ini] [--set S.K=V ...] [--quiet]
+ * (and for steady [--from RUN.h5]); the default output is the scenario
+ * file's name with .h5 in the current directory. */
+#ifndef EKM_CLI_ARGS_H
+#define EKM_CLI_ARGS_H
+
+#include <stddef.h>
+
+typedef struct {
+    const char *ini, *out, *material, *from; /* from: NULL unless given */
+    int quiet;
+    const char **sets; /* the --set values, n_sets of them */
+    size_t n_sets;
+    char out_buf[1024]; /* the default output's name */
+} ekm_cli_args;
+
+/* Parse argv (the words after the subcommand CMD, "run" or "steady");
+ * with_from: accept --from.  0, or the exit code (docs/exit-codes.md)
+ * after one error line "ekm CMD: ..." on stderr.  ekm_cli_args_free()
+ * in every case. */
+int ekm_cli_args_parse(const char *cmd, int argc, char **argv, int with_from, ekm_cli_args *a);
+void ekm_cli_args_free(ekm_cli_args *a);
+
+#endif
