@@ -4,7 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "atomic.h"
 #include "status.h"
+#include "xdmf.h"
 
 static void default_output(const char *ini, char *out, size_t size)
 {
@@ -56,4 +58,22 @@ void ekm_cli_args_free(ekm_cli_args *a)
 {
     free(a->sets);
     a->sets = NULL;
+}
+
+ekm_status ekm_cli_args_check_outputs(const ekm_cli_args *a, ekm_error *err)
+{
+    char xdmf[1100];
+    ekm_xdmf_path(a->out, xdmf, sizeof xdmf);
+    const char *inputs[3] = {a->ini};
+    size_t n = 1;
+    if (a->material)
+        inputs[n++] = a->material;
+    if (a->from)
+        inputs[n++] = a->from;
+    ekm_status st = ekm_atomic_check_target(a->out, err);
+    if (st == EKM_OK)
+        st = ekm_atomic_refuse_input(a->out, inputs, n, err);
+    if (st == EKM_OK)
+        st = ekm_atomic_refuse_input(xdmf, inputs, n, err);
+    return st;
 }

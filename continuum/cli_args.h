@@ -7,6 +7,8 @@
 
 #include <stddef.h>
 
+#include "status.h"
+
 typedef struct {
     const char *ini, *out, *material, *from; /* from: NULL unless given */
     int quiet;
@@ -21,5 +23,9 @@ typedef struct {
  * in every case. */
 int ekm_cli_args_parse(const char *cmd, int argc, char **argv, int with_from, ekm_cli_args *a);
 void ekm_cli_args_free(ekm_cli_args *a);
+
+/* The output and its XDMF sidecar may be written: their folder is
+ * writable and neither is an input (the scenario, --material, --from). */
+ekm_status ekm_cli_args_check_outputs(const ekm_cli_args *a, ekm_error *err);
 
 #endif

@@ -105,17 +105,9 @@ static int cmd_run(int argc, char **argv)
     const int quiet = args.quiet;
     const char **sets = args.sets; /* freed below (free(sets)) */
     const size_t n_sets = args.n_sets;
-    char xdmf[1100];
     ekm_error err = {0};
-    /* neither the output nor its sidecar may replace the scenario file */
-    ekm_xdmf_path(out, xdmf, sizeof xdmf);
-    const char *const inputs[] = {ini, material};
-    const size_t n_inputs = material ? 2 : 1;
-    ekm_status st = ekm_atomic_check_target(out, &err);
-    if (st == EKM_OK)
-        st = ekm_atomic_refuse_input(out, inputs, n_inputs, &err);
-    if (st == EKM_OK)
-        st = ekm_atomic_refuse_input(xdmf, inputs, n_inputs, &err);
+    /* neither the output nor its sidecar may replace an input */
+    ekm_status st = ekm_cli_args_check_outputs(&args, &err);
     if (st != EKM_OK) {
         free(sets);
         return fail(&err, st);

@@ -166,15 +166,8 @@ int ekm_steady_cli_main(int argc, char **argv)
     const int quiet = args.quiet;
     const char **sets = args.sets; /* freed below (free(sets)) */
     const size_t n_sets = args.n_sets;
-    char xdmf[1100];
     ekm_error err = {0};
-    ekm_xdmf_path(out, xdmf, sizeof xdmf);
-    const char *const inputs[] = {ini, material ? material : ini, from ? from : ini};
-    ekm_status st = ekm_atomic_check_target(out, &err);
-    if (st == EKM_OK)
-        st = ekm_atomic_refuse_input(out, inputs, 3, &err);
-    if (st == EKM_OK)
-        st = ekm_atomic_refuse_input(xdmf, inputs, 3, &err);
+    ekm_status st = ekm_cli_args_check_outputs(&args, &err);
     if (st != EKM_OK) {
         free(sets);
         return steady_fail(&err, st);

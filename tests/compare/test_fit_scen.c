@@ -200,6 +200,26 @@ static int count_lines(const char *s)
     return n;
 }
 
+/* eta0 and eps0 of FIT.json (root) within 3 SE of the truth, SE positive
+ * and below 5 % of it; prints each with TAG; returns the fitted eta0. */
+static double assert_recovered(json_t *root, const char *tag)
+{
+    const double truth[2] = {TRUE_ETA0, TRUE_EPS0};
+    const char *names[2] = {"eta0", "eps0"};
+    double fit[2];
+    for (int j = 0; j < 2; j++) {
+        json_t *p = json_object_get(json_object_get(root, "params"), names[j]);
+        const double v = json_real_value(json_object_get(p, "value")),
+                     se = json_real_value(json_object_get(p, "se"));
+        printf("  %s%s truth %.6g fit %.6g SE %.3g (%+.2f SE)\n", tag, names[j], truth[j], v, se,
+               (v - truth[j]) / se);
+        assert_true(se > 0.0 && se < 0.05 * truth[j]);
+        assert_close(v, truth[j], 3.0 * se);
+        fit[j] = v;
+    }
+    return fit[0];
+}
+
 /* eta0 and eps0 recovered within 3 SE from a perturbed start (the
  * scenario's 3.55e-4, 212.2: -29%, -29%), chi2/dof in 0.5-1.5; A_h (the
  * hypoplastic law's, [hypo] disabled: no effect at all) reported not
@@ -220,19 +240,9 @@ static void test_recovery(void **state)
     json_error_t je;
     json_t *root = json_load_file(out, 0, &je);
     assert_non_null(root);
-    const double truth[2] = {TRUE_ETA0, TRUE_EPS0};
+    const double fit_eta0 = assert_recovered(root, "");
     const char *names[2] = {"eta0", "eps0"};
-    double fit_eta0 = NAN;
     for (int j = 0; j < 2; j++) {
-        json_t *p = json_object_get(json_object_get(root, "params"), names[j]);
-        const double v = json_real_value(json_object_get(p, "value")),
-                     se = json_real_value(json_object_get(p, "se"));
-        printf("  %s truth %.6g fit %.6g SE %.3g (%+.2f SE)\n", names[j], truth[j], v, se,
-               (v - truth[j]) / se);
-        assert_true(se > 0.0 && se < 0.05 * truth[j]);
-        if (j == 0)
-            fit_eta0 = v;
-        assert_close(v, truth[j], 3.0 * se);
         assert_true(json_is_true(json_object_get(json_object_get(root, "identifiable"), names[j])));
     }
     assert_true(json_is_false(json_object_get(json_object_get(root, "identifiable"), "A_h")));
@@ -295,17 +305,7 @@ static void test_steady_recovery(void **state)
     json_error_t je;
     json_t *root = json_load_file(out, 0, &je);
     assert_non_null(root);
-    const double truth[2] = {TRUE_ETA0, TRUE_EPS0};
-    const char *names[2] = {"eta0", "eps0"};
-    for (int j = 0; j < 2; j++) {
-        json_t *p = json_object_get(json_object_get(root, "params"), names[j]);
-        const double v = json_real_value(json_object_get(p, "value")),
-                     se = json_real_value(json_object_get(p, "se"));
-        printf("  steady: %s truth %.6g fit %.6g SE %.3g (%+.2f SE)\n", names[j], truth[j], v, se,
-               (v - truth[j]) / se);
-        assert_true(se > 0.0 && se < 0.05 * truth[j]);
-        assert_close(v, truth[j], 3.0 * se);
-    }
+    assert_recovered(root, "steady: ");
     const double chi2_dof = json_real_value(json_object_get(root, "chi2_dof"));
     printf("  steady: chi2/dof = %.3f\n", chi2_dof);
     assert_true(chi2_dof > 0.5 && chi2_dof < 1.5);
