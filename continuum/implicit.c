@@ -277,7 +277,7 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
         double *S_cell = wk->rhs, *dS_cell = wk->diag;
         for (int j = 0; j < n; j++)
             S_cell[j] = ekm_source_eval(&src[j], T[j], &dS_cell[j]);
-        int spd = 1;
+        int spd = 1, restarted = 0;
         for (int j = 0; j < n; j++) {
             if (dry[j]) {
                 wk->diag[j] = 1.0;
@@ -312,7 +312,29 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
                     residual = rb;
                 }
             }
-            wk->diag[j] = rho + a * (l_below + l_above) - dt * dS;
+            double diag = rho + a * (l_below + l_above) - dt * dS;
+            if (!(diag > 0.0)) {
+                /* Left of the minimum of the cell's equation (heating
+                 * faster than the step can follow: dt dS/dT > rho + the
+                 * conduction's diagonal), where Newton would step down
+                 * towards T = 0 and past the root.  Restart the cell at
+                 * the top of its bracket: the root lies between
+                 * T*' = (rho T* + conduction from the neighbours) / (rho
+                 * + its diagonal) and the local balance S(Tb) = 0, and
+                 * above max(T*', Tb) the source falls (dS/dT < 0), so the
+                 * row is positive there and Newton descends to the root
+                 * (docs/model.md "Temperature step"). */
+                const double T_cond = (rhoT_star[j] + a * (l_above * T_above + l_below * T_below)) /
+                                      (rho + a * (l_below + l_above));
+                const double Tt = fmax(fmax(ekm_source_balance(&src[j]), T_cond), T_floor);
+                S = ekm_source_eval(&src[j], Tt, &dS);
+                T[j] = Tt;
+                residual = rho * Tt - rhoT_star[j] -
+                           a * (l_above * (T_above - Tt) - l_below * (Tt - T_below)) - dt * S;
+                diag = rho + a * (l_below + l_above) - dt * dS;
+                restarted = 1; /* the rows before were linearised at the old T[j] */
+            }
+            wk->diag[j] = diag;
             wk->sub[j] = -a * l_below;
             wk->sup[j] = -a * l_above;
             wk->x[j] = -residual;
@@ -325,7 +347,7 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
          * |dT|/T is below sqrt(tol), the remaining error (~ update^2) is
          * below tol (tested as |dT| < sqrt(tol) T, without a division). */
         const double limit = fmax(tol, sqrt(tol));
-        int converged = 1;
+        int converged = !restarted;
         double finite = 0.0; /* 0, or NaN once an update is not finite */
         for (int j = 0; j < n; j++) {
             const double Tj = T[j];

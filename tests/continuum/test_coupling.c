@@ -267,10 +267,16 @@ static void test_filling_10x(void **state)
 
 /* At 0.01x (1e-4 m/s for 4000 s) the explicit scheme's bed oscillates
  * (cells from 0.045 to 0.599 at the end: the thesis's observation at this
- * inflow); the implicit bed is the one the mass balance gives: every bed
- * cell but the top one within [phi_co - 0.03, phi_cp), and the bed's top
- * where the mass that entered fills the column below the inflow stream,
- * within one cell. */
+ * inflow); the implicit bed is the one the mass balance gives: the bed
+ * below its top cell at a mean phi within [phi_co - 0.03, phi_cp), no cell
+ * of it looser than 0.3, and the bed's top where the mass that entered
+ * fills the column below the inflow stream, within one cell.  Which
+ * single cells of the bed end loose is chaotic (the cold bed, T ~ 1e-14
+ * m^2/s^2, amplifies round-off): the loosest cell below the top was 0.593
+ * at top.T = 1e-10 and 0.524, 0.600, 0.432, 0.589 at 1e-10 x (1 + 1e-6,
+ * 1e-5, -1e-5, 1e-4) before the temperature restart (docs/model.md,
+ * "Temperature step"), 0.555, 0.600, 0.596, 0.593, 0.571 with it; the
+ * mean did not move. */
 static void test_filling_slow(void **state)
 {
     (void)state;
@@ -279,9 +285,12 @@ static void test_filling_slow(void **state)
     coupling_run(&i, "scenarios/thesis_filling.ini", sets, 4, "implicit");
     const bed b = bed_of(&i);
     assert_true(b.top >= 1);
-    double phi_low = 1.0;
-    for (int j = 0; j < b.top; j++)
+    double phi_low = 1.0, phi_sum = 0.0;
+    for (int j = 0; j < b.top; j++) {
         phi_low = fmin(phi_low, i.s->phi[j]);
+        phi_sum += i.s->phi[j];
+    }
+    const double phi_below_top = phi_sum / b.top;
     /* the stream above the bed holds phi_in per cell; the rest of the mass
      * is the bed's, at its mean phi */
     const double rho_p = i.sc.material.rho_p, dz = i.s->dz;
@@ -290,9 +299,10 @@ static void test_filling_slow(void **state)
     const double phi_mean = b.mass / (rho_p * dz * (b.top + 1));
     const double height = (mass - stream) / (rho_p * phi_mean);
     printf("filling 0.01x (implicit, %ld steps): bed top cell %d (z = %.4g m), from the mass %.4g m, bed phi "
-           "[%.3f, %.3f] (below the top cell from %.3f)\n",
-           i.stats.steps, b.top, (b.top + 1) * dz, height, b.phi_min, b.phi_max, phi_low);
-    assert_true(phi_low >= i.sc.material.phi_co - 0.03 && b.phi_max < i.sc.material.phi_cp);
+           "[%.3f, %.3f] (below the top cell: mean %.4f, from %.3f)\n",
+           i.stats.steps, b.top, (b.top + 1) * dz, height, b.phi_min, b.phi_max, phi_below_top, phi_low);
+    assert_true(phi_below_top >= i.sc.material.phi_co - 0.03 && b.phi_max < i.sc.material.phi_cp);
+    assert_true(phi_low > 0.3);
     assert_true(fabs(height - (b.top + 1) * dz) <= dz);
     test_run_free(&i);
 }
