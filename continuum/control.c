@@ -54,7 +54,9 @@ typedef struct {
     int cell_speed, cell_flow, cell_solid; /* cell_speed: next to the fastest face */
 } wave_speed_max;
 
-static wave_speed_max wave_speeds(const ekm_scenario *sc, const ekm_state *s)
+/* flow_c2 = 0: the sound speed of the solid cells only (with the implicit
+ * coupling the flowing cells' does not limit the step). */
+static wave_speed_max wave_speeds(const ekm_scenario *sc, const ekm_state *s, int flow_c2)
 {
     double v = 0.0;
     int cell_speed = -1;
@@ -73,7 +75,7 @@ static wave_speed_max wave_speeds(const ekm_scenario *sc, const ekm_state *s)
     }
     wave_speed_max m = {.speed = v, .cell_speed = cell_speed, .cell_flow = -1, .cell_solid = -1};
     for (int j = 0; j < s->n; j++)
-        if (s->phi[j] >= sc->numerics.phi_dry) {
+        if (s->phi[j] >= sc->numerics.phi_dry && (flow_c2 || s->solid[j])) {
             const double c2 = ekm_sound_speed_squared(&sc->material, s->phi[j], s->T[j]);
             double *c2_max = s->solid[j] ? &m.c2_solid : &m.c2_flow;
             if (c2 > *c2_max) {
@@ -98,9 +100,11 @@ static thermal_rate_max thermal_rate(const ekm_scenario *sc, const ekm_state *s)
     for (int j = 0; j < s->n; j++) {
         if (s->phi[j] < sc->numerics.phi_dry || s->solid[j] || !(s->T[j] > 0.0))
             continue;
-        const double eps = ekm_transport_coefficients(m, sc->variant, s->phi[j], s->T[j]).eps;
-        const double pk = ekm_pressure_kinetic(m, s->phi[j], s->T[j]);
-        const double rate = eps * pk / (pk + ekm_pressure_yield(m, s->phi[j]));
+        /* eps P_K / (P_K + P_Y) with eps = eps0 g (sqrt(T) + nu Y / sqrt(T)),
+         * P_K = rho_p g phi T, P_Y = rho_p g phi Y: eps0 g sqrt(T) (T + nu Y) / (T + Y) */
+        const ekm_cell_properties c = ekm_cell_properties_at(m, sc->variant, s->phi[j], s->T[j]);
+        const double T = s->T[j];
+        const double rate = m->eps0 * c.g * sqrt(T) * (T + m->nu * c.Y) / (T + c.Y);
         if (rate > th.rate) {
             th.rate = rate;
             th.cell = j;
@@ -117,7 +121,8 @@ static double acoustic_dt(const ekm_scenario *sc, const ekm_state *s, double spe
 
 double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_limit *why)
 {
-    const wave_speed_max w = wave_speeds(sc, s);
+    const int implicit = sc->numerics.normal_coupling == EKM_COUPLING_IMPLICIT;
+    const wave_speed_max w = wave_speeds(sc, s, !implicit);
     /* Compression limit: predicted dphi/dt = -phi dw/dz must not close more
      * than half of phi_step_max of the gap to phi_cp in one step (the
      * step is rejected beyond phi_step_max; this avoids most rejections). */
@@ -136,7 +141,7 @@ double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_lim
      * does not limit them, the convection (explicit upwind transport of
      * phi, u, T and the face momentum) does: cfl dz / max |w|.  With the
      * explicit coupling the acoustic CFL, cfl dz / max(|w| + c). */
-    ekm_dt_limit lim = sc->numerics.normal_coupling == EKM_COUPLING_IMPLICIT
+    ekm_dt_limit lim = implicit
                            ? (ekm_dt_limit){"convective", w.cell_speed, acoustic_dt(sc, s, w.speed, 0.0)}
                            : (ekm_dt_limit){"acoustic", w.cell_flow, acoustic_dt(sc, s, w.speed, w.c2_flow)};
     /* Solid cells: their stress is implicit in the momentum solves (hypo.h),
@@ -163,7 +168,7 @@ double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_lim
      * cell times P_K/(P_K + P_Y): the kinetic dissipation rate eps0 sqrt(T)
      * g at nu = 1) at most thermal_relax_step.  A cold dense bed (P_Y >>
      * P_K) is not limited: its pressure does not depend on T. */
-    if (sc->numerics.normal_coupling == EKM_COUPLING_IMPLICIT) {
+    if (implicit) {
         const thermal_rate_max th = thermal_rate(sc, s);
         if (th.rate > 0.0 && sc->numerics.thermal_relax_step / th.rate < lim.dt_s)
             lim = (ekm_dt_limit){"thermal relaxation", th.cell, sc->numerics.thermal_relax_step / th.rate};
@@ -177,13 +182,13 @@ double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_lim
 
 double ekm_control_acoustic_dt(const ekm_scenario *sc, const ekm_state *s)
 {
-    const wave_speed_max w = wave_speeds(sc, s);
+    const wave_speed_max w = wave_speeds(sc, s, 1);
     return acoustic_dt(sc, s, w.speed, w.c2_flow);
 }
 
 double ekm_control_restart_dt(const ekm_scenario *sc, const ekm_state *s)
 {
-    const wave_speed_max w = wave_speeds(sc, s);
+    const wave_speed_max w = wave_speeds(sc, s, 1);
     return fmin(acoustic_dt(sc, s, w.speed, max2(w.c2_flow, w.c2_solid)), ekm_control_max_dt(sc, s, NULL));
 }
 

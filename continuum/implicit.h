@@ -45,9 +45,14 @@ typedef struct {
  *   F_end = flux (an end with prescribed w),
  * adds dt/dz (P**_f - P**_{f-1}) - dt/dz (P*_f - P*_{f-1}) to face f's row:
  * the tridiagonal terms c (K_f + K_{f-1}) phi_face_f w_f - c K_f phi_face_{f+1}
- * w_{f+1} - c K_{f-1} phi_face_{f-1} w_{f-1}, c = dt^2/dz^2.  Every column
- * then has the sum rho_face > 0 (diagonal minus off-diagonals), so the
- * system stays non-singular and the coupling is stable at any dt. */
+ * w_{f+1} - c K_{f-1} phi_face_{f-1} w_{f-1}, c = dt^2/dz^2.  Every
+ * interior column then has the sum rho_face > 0 (diagonal minus
+ * off-diagonals).  At an end whose w follows, the column of the face next
+ * to it sums to rho_face - c K_end (phi_face_end - phi_face_inner) when the
+ * end's phi is the larger, which is negative at large enough dt: there the
+ * system need not be diagonally dominant; dgtsv (partial pivoting) solves
+ * it, and a singular one fails the solve, which rejects the step (retried
+ * with half of it, restoring dominance). */
 typedef struct {
     const double *K;        /* dP/dphi at cells [Pa], n; 0 where P is not a function of phi (solid, empty) */
     const double *phi_face; /* volume fraction the next mass update carries through each face [-], n+1 */

@@ -318,7 +318,7 @@ static void boundaries(ekm_stepper *st, ekm_state *s, double dt, ekm_bc_face *bb
  * each flowing cell at (phi*, T*) (none in empty and solid cells: their
  * pressure is not the equilibrium P(phi) and solid cells are implicit
  * already), the upwind phi* of each face by the direction of the current
- * w (the mean of the two cells where w = 0), the known fluxes of
+ * w relative to the face (the mean of the two cells where it is 0), the known fluxes of
  * prescribed ends.  On a stretching grid the fluxes relative to the faces
  * are linear in w with the same phi; the grid's own part is left out
  * (known, and zero once the gap holds). */
@@ -332,10 +332,13 @@ static ekm_implicit_coupling coupling_terms(ekm_stepper *st, const ekm_state *s,
         st->dP_dphi[j] = st->dry[j] || (sc->hypo.enabled && s->solid[j])
                              ? 0.0
                              : ekm_pressure_dphi(&sc->material, phi[j], st->T_star[j]);
-    for (int f = 1; f < n; f++)
-        st->phi_coupled[f] = s->w[f] > 0.0   ? phi[f - 1]
-                             : s->w[f] < 0.0 ? phi[f]
-                                             : 0.5 * (phi[f - 1] + phi[f]);
+    /* upwind by the velocity relative to the face, as the mass update
+     * (phase 2): on a stretching grid face f moves at f gap_rate / n */
+    const double w_grid = st->moving ? st->gap_rate / n : 0.0;
+    for (int f = 1; f < n; f++) {
+        const double w_rel = s->w[f] - f * w_grid;
+        st->phi_coupled[f] = w_rel > 0.0 ? phi[f - 1] : w_rel < 0.0 ? phi[f] : 0.5 * (phi[f - 1] + phi[f]);
+    }
     st->phi_coupled[0] = s->w[0] > 0.0 ? bb->phi_in : phi[0];
     st->phi_coupled[n] = s->w[n] < 0.0 ? bt->phi_in : phi[n - 1];
     ekm_implicit_coupling cp = {.K = st->dP_dphi, .phi_face = st->phi_coupled};
