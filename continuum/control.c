@@ -180,6 +180,14 @@ double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_lim
     return lim.dt_s;
 }
 
+double ekm_control_thermal_rate(const ekm_scenario *sc, const ekm_state *s, int *cell)
+{
+    const thermal_rate_max th = thermal_rate(sc, s);
+    if (cell)
+        *cell = th.cell;
+    return th.rate;
+}
+
 double ekm_control_acoustic_dt(const ekm_scenario *sc, const ekm_state *s)
 {
     const wave_speed_max w = wave_speeds(sc, s, 1);

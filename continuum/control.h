@@ -49,6 +49,11 @@ double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_lim
  * test of the implicit coupling).  INFINITY when nothing moves. */
 double ekm_control_acoustic_dt(const ekm_scenario *sc, const ekm_state *s);
 
+/* The largest relaxation rate of the kinetic pressure [1/s] over the
+ * flowing cells of s, eps P_K / (P_K + P_Y) (the thermal relaxation limit's
+ * rate), and the cell that has it (-1: none). */
+double ekm_control_thermal_rate(const ekm_scenario *sc, const ekm_state *s, int *cell);
+
 /* The step to restart from after a change of the driving (an inflow
  * closes, the base starts tilting, a piston reverses): the acoustic step
  * cfl dz / max(|w| + c) over every cell, solid ones included, so that the

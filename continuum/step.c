@@ -6,7 +6,14 @@
 #include <string.h>
 
 #include "bc.h"
+#include "control.h"
 #include "regime.h"
+
+/* The thermal relaxation limit at the end of a step: dt times the rate of
+ * the new state at most this times [numerics] thermal_relax_step (1 %
+ * above the limit the step was chosen by, so that a steady state, whose
+ * rate does not change, is never rejected by round-off). */
+#define EKM_THERMAL_END_FACTOR 1.01
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
 {
@@ -161,6 +168,7 @@ static int mass_update(ekm_stepper *st, const ekm_state *s, const ekm_bc_face *b
                      "(allowed [0, %.9g)), T = %.3g m^2/s^2, w below/above = %.3g/%.3g m/s",
                      s->t, dt, j, s->z[j], phi, phi_new,
                      phi + st->sc->numerics.phi_step_max * (m->phi_cp - phi), s->T[j], s->w[j], s->w[j + 1]);
+            st->rejected_phi++;
             return 0;
         }
     }
@@ -538,6 +546,22 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
         snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s, dt = %.3g s: non-finite state",
                  s->t, dt);
         return reject(st, s, accepted);
+    }
+    /* implicit coupling: the thermal relaxation limit (control.c, taken at
+     * the start of the step) must hold at its end too: a step that heats a
+     * cold cell (a shear start-up) is otherwise longer than the pressure's
+     * relaxation time it creates (docs/model.md "Implicit pressure
+     * coupling") */
+    if (st->sc->numerics.normal_coupling == EKM_COUPLING_IMPLICIT) {
+        int cell = -1;
+        const double rate = ekm_control_thermal_rate(st->sc, s, &cell);
+        if (dt * rate > EKM_THERMAL_END_FACTOR * st->sc->numerics.thermal_relax_step) {
+            snprintf(st->reject_reason, sizeof st->reject_reason,
+                     "t = %.9g s, dt = %.3g s: the thermal relaxation rate at the end of the step, %.3g 1/s "
+                     "(cell %d), exceeds %g x thermal_relax_step / dt",
+                     s->t, dt, rate, cell, EKM_THERMAL_END_FACTOR);
+            return reject(st, s, accepted);
+        }
     }
     s->mass_in += dt * st->sc->material.rho_p * (st->F[0] - st->F[n]);
     s->t += dt;

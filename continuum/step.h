@@ -88,6 +88,7 @@ typedef struct {
     double dz_new;           /* cell height at the end of this step [m] (moving) */
     int newton_iterations;   /* of the last accepted step */
     char reject_reason[512]; /* why the last step was rejected */
+    long rejected_phi;       /* steps rejected by the phi bound (phase 2) so far */
     /* implicit pressure coupling of the normal solve ([numerics] normal_coupling, implicit.h) */
     double *dP_dphi;         /* dP/dphi at (phi*, T*) [Pa], n */
     double *phi_coupled;     /* phi the next mass update carries through each face [-], n+1 */
