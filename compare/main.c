@@ -250,6 +250,22 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
                 o.axis = 2;
             else
                 rc = usage_error(err, "--axis: expected x, y or z, got '%s'", v);
+        } else if (!strcmp(a, "--axes")) {
+            ARG();
+            if (!strcmp(v, "x,z")) {
+                o.axis = 2;
+                o.axis2 = 0;
+            } else if (!strcmp(v, "x") || !strcmp(v, "y") || !strcmp(v, "z")) {
+                o.axis = v[0] - 'x';
+                o.axis2 = -1;
+            } else {
+                rc = usage_error(err,
+                                 "--axes: expected z (a 1D profile, the default; or x, y) or x,z (a 2D grid "
+                                 "averaged over y), got '%s'",
+                                 v);
+            }
+        } else if (!strcmp(a, "--ensemble")) {
+            o.ensemble = 1;
         } else if (!strcmp(a, "--kernel")) {
             ARG();
             o.kernel = v;
@@ -260,7 +276,22 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
                 rc = usage_error(err, "--width: expected a positive width, got '%s'", v);
         } else if (!strcmp(a, "--bins")) {
             ARG();
-            rc = get_size(a, v, &o.bins, err);
+            const char *comma = strchr(v, ',');
+            if (comma) { /* NX,NZ (--axes x,z) */
+                char nx[32];
+                size_t len = (size_t)(comma - v);
+                if (len >= sizeof nx)
+                    len = sizeof nx - 1;
+                memcpy(nx, v, len);
+                nx[len] = '\0';
+                rc = get_size(a, nx, &o.bins_x, err);
+                if (!rc)
+                    rc = get_size(a, comma + 1, &o.bins, err);
+                if (rc)
+                    rc = usage_error(err, "--bins: expected N, or NX,NZ with --axes x,z, got '%s'", v);
+            } else {
+                rc = get_size(a, v, &o.bins, err);
+            }
         } else if (!strcmp(a, "--dz")) {
             ARG();
             rc = get_double(a, v, &o.dz, err);
@@ -341,6 +372,11 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
     }
     if (!rc && o.every && o.window > 0)
         rc = EKM_FAIL(err, EKM_EUSAGE, "cg: expected --every or --window, not both");
+    if (!rc && o.axis2 < 0 && o.ensemble)
+        rc = EKM_FAIL(err, EKM_EUSAGE,
+                      "--ensemble: expected --axes x,z (the 1D profile has no ensemble mode)");
+    if (!rc && o.axis2 < 0 && o.bins_x)
+        rc = EKM_FAIL(err, EKM_EUSAGE, "--bins NX,NZ: expected --axes x,z (a 1D profile takes --bins N)");
     if (!rc) {
         o.inputs = inputs;
         o.ninputs = nin;
