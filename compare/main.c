@@ -1,4 +1,4 @@
-/* main.c: the ekmcompare command line (cg and score subcommands). */
+/* main.c: the ekmcompare command line (cg, score, fit, steady and base subcommands). */
 #include <gsl/gsl_errno.h>
 #include <math.h>
 #include <stdio.h>
