@@ -58,7 +58,7 @@ static const ekm_field FIELDS[] = {
     SE("cxz", "Pa", "cxz"),
     {"p_base", "Pa", "base pressure: normal force of the pile on the floor grains per unit floor area"},
     {"p_base_se", "Pa", "standard error of p_base across the runs of the ensemble (independent piles)"},
-    {"p_base_fold_se", "Pa", "standard error of p_base from folding: |p(x) - p(mirror of x)|/2"},
+    {"p_base_se_fold", "Pa", "standard error of p_base from folding: |p(x) - p(mirror of x)|/2"},
     {"p_base_runs", "Pa", "p_base of each run of the ensemble, [runs][bins]"},
 };
 

@@ -320,7 +320,7 @@ static ekm_status write_h5(const base_state *st, const double *p, const double *
     if (!rc)
         rc = dataset(w, "p_base_se", se, 1, &st->n, err);
     if (!rc)
-        rc = dataset(w, "p_base_fold_se", fold, 1, &st->n, err);
+        rc = dataset(w, "p_base_se_fold", fold, 1, &st->n, err);
     if (!rc)
         rc = dataset(w, "p_base_runs", st->runs, 2, dims2, err);
     char inputs[4096] = "", window[256], ftype[32];
@@ -338,7 +338,7 @@ static ekm_status write_h5(const base_state *st, const double *p, const double *
                 {"quantity", "base pressure -sum(fz of the floor grains in a bin)/(dx y_period)"},
                 {"floor_type", ftype},
                 {"window", window},
-                {"standard_error", "p_base_se: across the runs, sd/sqrt(runs); p_base_fold_se: "
+                {"standard_error", "p_base_se: across the runs, sd/sqrt(runs); p_base_se_fold: "
                                    "|p(x) - p(2 centre - x)|/2"},
                 {"code_version", EKMBENCH_VERSION}};
     for (size_t i = 0; i < sizeof strs / sizeof strs[0] && !rc; i++)
@@ -373,7 +373,7 @@ static ekm_status write_csv(const base_state *st, const double *p, const double 
     ekm_status rc = ekm_atomic_open(&out, st->o->csv, err);
     if (rc)
         return rc;
-    fputs("x,p_base,p_base_se,p_base_fold_se\n", out.fp);
+    fputs("x,p_base,p_base_se,p_base_se_fold\n", out.fp);
     for (size_t k = 0; k < st->n; k++)
         fprintf(out.fp, "%.9g,%.9g,%.9g,%.9g\n", st->lo + ((double)k + 0.5) * st->dx, p[k], se[k], fold[k]);
     return ekm_atomic_commit(&out, err);

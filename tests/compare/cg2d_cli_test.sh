@@ -73,9 +73,9 @@ ls bad.* > /dev/null 2>&1 && fail "an error left an output behind: $(ls bad.*)"
 
 # base: outputs
 expect 0 "" -- "$ekmc" base pile.dump -o base.h5 --csv base.csv --dx 0.008 --quiet
-head -1 base.csv | grep -q '^x,p_base,p_base_se,p_base_fold_se$' || fail "base.csv: bad header"
+head -1 base.csv | grep -q '^x,p_base,p_base_se,p_base_se_fold$' || fail "base.csv: bad header"
 [ "$(wc -l < base.csv)" -eq 21 ] || fail "base.csv: expected 20 bins"
-for d in x p_base p_base_se p_base_fold_se p_base_runs; do
+for d in x p_base p_base_se p_base_se_fold p_base_runs; do
   h5dump -H -d "$d" base.h5 > /dev/null 2>&1 || fail "base: no dataset /$d"
 done
 h5dump -a y_period base.h5 | grep -q "0.004" || fail "base: attribute y_period"

@@ -369,7 +369,7 @@ static void test_base_hydrostatic(void **state)
     int rank;
     double *x = read_data(out, "x", dims, &rank), *p = read_data(out, "p_base", dims, &rank);
     double *se = read_data(out, "p_base_se", dims, &rank),
-           *fold = read_data(out, "p_base_fold_se", dims, &rank);
+           *fold = read_data(out, "p_base_se_fold", dims, &rank);
     size_t n = dims[0];
     assert_int_equal(n, 20);
     double pmax = so.rho_bulk * so.g * so.height;
@@ -414,7 +414,7 @@ static void test_base_hydrostatic(void **state)
     so.tilt = 0.2;
     assert_int_equal(synth_pile_write(d2, &so), 0);
     run_base(&o, (const char *const[1]){d2}, 1, out);
-    fold = read_data(out, "p_base_fold_se", dims, &rank);
+    fold = read_data(out, "p_base_se_fold", dims, &rank);
     for (size_t k = 0; k < n; k++) {
         double a = bin_p(&so, x[k] - 0.004, 0.008), b = bin_p(&so, x[n - 1 - k] - 0.004, 0.008);
         assert_close(fold[k], 0.5 * fabs(a - b), 1e-12 * pmax);
