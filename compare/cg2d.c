@@ -205,7 +205,11 @@ void cg2d_profile_snapshot(cg2d_profile *p, const cg2d_particles *pt, double *pr
 
 void cg2d_profile_derive(const double *prim, const cg2d_grid *g, double *f)
 {
-    size_t n = cg2d_ncell(g);
+    cg2d_derive_cells(prim, cg2d_ncell(g), f);
+}
+
+void cg2d_derive_cells(const double *prim, size_t n, double *f)
+{
 #define PRIM(q) prim[(size_t)(q)*n + c]
 #define FLD(q)  f[(size_t)(q)*n + c]
     for (size_t c = 0; c < n; c++) {

@@ -103,4 +103,7 @@ void cg2d_profile_snapshot(cg2d_profile *p, const cg2d_particles *pt, double *pr
 /* Fields (CG2D_NFIELD x ncell) from (averaged) primaries. */
 void cg2d_profile_derive(const double *prim, const cg2d_grid *g, double *fields);
 
+/* The same for n cells of any layout q * n + c (n = 1: one cell). */
+void cg2d_derive_cells(const double *prim, size_t n, double *fields);
+
 #endif

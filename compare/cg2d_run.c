@@ -40,7 +40,7 @@ typedef struct {
     cg_blocks *b; /* the open window */
     double *mean; /* CG_NPRIM x ncell */
     double *fld;  /* CG2D_NFIELD x ncell */
-    double *bf;   /* samples x CG2D_NFIELD x ncell: fields per block (or per run) */
+    double *bf;   /* samples x CG2D_NFIELD: one cell's fields per block (or per run) */
     double *series, *work;
     size_t nsample_cap; /* rows of bf, series, work */
     double *runs;       /* ensemble: R x CG_NPRIM x ncell, each run's mean */
@@ -153,7 +153,7 @@ static ekm_status state_grid(cg2d_state *st, const cg_input *src, ekm_error *err
     st->prim = malloc(CG_NPRIM * n * sizeof(double));
     st->mean = malloc(CG_NPRIM * n * sizeof(double));
     st->fld = malloc(CG2D_NFIELD * n * sizeof(double));
-    st->bf = malloc(st->nsample_cap * CG2D_NFIELD * n * sizeof(double));
+    st->bf = malloc(st->nsample_cap * CG2D_NFIELD * sizeof(double));
     st->series = malloc(st->nsample_cap * sizeof(double));
     st->work = malloc(st->nsample_cap * sizeof(double));
     if (o->ensemble) {
@@ -189,48 +189,52 @@ static ekm_status check_same_box(const cg2d_state *st, const cg_input *src, ekm_
     return EKM_OK;
 }
 
-/* Fields of st->mean, and their SEs from nsample samples of fields in
- * st->bf (blocking for blocks, plain sd/sqrt(n) for runs), appended to r. */
-static ekm_status append_window(cg2d_state *st, size_t nsample, int independent, double t_mid, double nsnap,
-                                ekm_error *err)
+/* Fields of st->mean, and their SEs from nsample samples of the kernel
+ * sums (samples + j m, times scale: the blocks' sums, or the runs' means),
+ * derived cell by cell (no store of every sample's fields): blocking for
+ * blocks, plain sd/sqrt(n) for independent runs; appended to r. */
+static ekm_status append_window(cg2d_state *st, const double *samples, size_t nsample, double scale,
+                                int independent, double t_mid, double nsnap, ekm_error *err)
 {
     cg2d_results *r = &st->r;
     ekm_status rc = results_grow(r, err);
     if (rc)
         return rc;
-    size_t n = st->ncell, nf = CG2D_NFIELD * n;
+    size_t n = st->ncell, m = CG_NPRIM * n;
     cg2d_profile_derive(st->mean, &st->g, st->fld);
     for (int f = 0; f < CG2D_NFIELD; f++)
-        for (size_t c = 0; c < n; c++) {
-            size_t idx = (size_t)f * n + c;
-            r->f[f][r->nt * n + c] = st->fld[idx];
+        for (size_t c = 0; c < n; c++)
+            r->f[f][r->nt * n + c] = st->fld[(size_t)f * n + c];
+    for (size_t c = 0; c < n; c++) {
+        for (size_t j = 0; j < nsample; j++) {
+            double one[CG_NPRIM];
+            for (size_t q = 0; q < CG_NPRIM; q++)
+                one[q] = samples[j * m + q * n + c] * scale;
+            cg2d_derive_cells(one, 1, st->bf + j * CG2D_NFIELD);
+        }
+        for (int f = 0; f < CG2D_NFIELD; f++) {
             double se = NAN;
-            if (independent) {
+            size_t nfin = 0;
+            for (size_t j = 0; j < nsample; j++) {
+                st->series[j] = st->bf[j * CG2D_NFIELD + (size_t)f];
+                nfin += isfinite(st->series[j]) != 0;
+            }
+            if (independent && nfin >= 2) {
                 double sum = 0.0, ss = 0.0;
-                size_t nfin = 0;
-                for (size_t j = 0; j < nsample; j++) {
-                    double v = st->bf[j * nf + idx];
-                    if (isfinite(v)) {
-                        sum += v;
-                        nfin++;
-                    }
-                }
-                if (nfin >= 2) {
-                    double mean = sum / (double)nfin;
-                    for (size_t j = 0; j < nsample; j++) {
-                        double v = st->bf[j * nf + idx];
-                        if (isfinite(v))
-                            ss += (v - mean) * (v - mean);
-                    }
-                    se = sqrt(ss / (double)(nfin - 1) / (double)nfin);
-                }
-            } else if (nsample >= 2) {
                 for (size_t j = 0; j < nsample; j++)
-                    st->series[j] = st->bf[j * nf + idx];
+                    if (isfinite(st->series[j]))
+                        sum += st->series[j];
+                double mean = sum / (double)nfin;
+                for (size_t j = 0; j < nsample; j++)
+                    if (isfinite(st->series[j]))
+                        ss += (st->series[j] - mean) * (st->series[j] - mean);
+                se = sqrt(ss / (double)(nfin - 1) / (double)nfin);
+            } else if (!independent && nsample >= 2) {
                 se = cg_stats_se(st->series, nsample, st->work);
             }
             r->se[f][r->nt * n + c] = se;
         }
+    }
     r->t[r->nt] = t_mid;
     r->nsnap[r->nt] = nsnap;
     r->nt++;
@@ -241,13 +245,9 @@ static ekm_status append_window(cg2d_state *st, size_t nsample, int independent,
 static ekm_status finish_window(cg2d_state *st, double t_mid, ekm_error *err)
 {
     cg_blocks *b = st->b;
-    size_t nf = CG2D_NFIELD * st->ncell;
     cg_blocks_mean(b, st->mean);
-    for (size_t j = 0; j < b->nblocks; j++) {
-        cg_blocks_block_mean(b, j, st->prim);
-        cg2d_profile_derive(st->prim, &st->g, st->bf + j * nf);
-    }
-    ekm_status rc = append_window(st, b->nblocks, 0, t_mid, (double)b->nsnap, err);
+    ekm_status rc =
+        append_window(st, b->blocks, b->nblocks, 1.0 / (double)b->bsize, 0, t_mid, (double)b->nsnap, err);
     cg_blocks_reset(b);
     return rc;
 }
@@ -333,7 +333,7 @@ static ekm_status read_run(cg2d_state *st, const cg_run_opts *ro, size_t irun, e
 /* The ensemble's one window: fields of the mean over runs, SE across runs. */
 static ekm_status finish_ensemble(cg2d_state *st, ekm_error *err)
 {
-    size_t m = CG_NPRIM * st->ncell, nf = CG2D_NFIELD * st->ncell, R = st->nruns;
+    size_t m = CG_NPRIM * st->ncell, R = st->nruns;
     double tsum = 0.0;
     for (size_t i = 0; i < m; i++) {
         double s = 0.0;
@@ -341,11 +341,9 @@ static ekm_status finish_ensemble(cg2d_state *st, ekm_error *err)
             s += st->runs[j * m + i];
         st->mean[i] = s / (double)R;
     }
-    for (size_t j = 0; j < R; j++) {
-        cg2d_profile_derive(st->runs + j * m, &st->g, st->bf + j * nf);
+    for (size_t j = 0; j < R; j++)
         tsum += st->run_t[j];
-    }
-    return append_window(st, R, 1, tsum / (double)R, (double)st->nused, err);
+    return append_window(st, st->runs, R, 1.0, 1, tsum / (double)R, (double)st->nused, err);
 }
 
 /* ---- output ---- */

@@ -322,6 +322,63 @@ static void test_ensemble(void **state)
         free(all[i]->f);
 }
 
+/* One run of 4 snapshots: 4 blocks of one snapshot, below the 8 blocks of
+ * a blocking level, so rho_se is the plain SE of the 4 snapshots' rho and
+ * vx_se that of their vx (each from its own snapshot), exactly. */
+static void test_window_se(void **state)
+{
+    (void)state;
+    char d[512], o[512], os[4][512];
+    synth_opts so = dump2d();
+    assert_int_equal(synth_write(tmp_path(d, sizeof d, "cg2d_se.dump"), &so), 0);
+    const char *in[1] = {d};
+    cg_run_opts opt = cg_run_opts_default();
+    opt.axis2 = 0;
+    opt.width = 0.0025;
+    run(&opt, in, 1, tmp_path(o, sizeof o, "cg2d_se.h5"));
+    grid2d rho = read2d(o, "rho"), rse = read2d(o, "rho_se"), vse = read2d(o, "vx_se"), r[4], v[4];
+    opt.have_steps = 1;
+    for (int j = 0; j < 4; j++) {
+        char name[64];
+        snprintf(name, sizeof name, "cg2d_se%d.h5", j);
+        opt.step_a = opt.step_b = so.step0 + j * so.dstep;
+        run(&opt, in, 1, tmp_path(os[j], sizeof os[j], name));
+        r[j] = read2d(os[j], "rho");
+        v[j] = read2d(os[j], "vx");
+    }
+    size_t nc = rho.nz * rho.nx, checked = 0;
+    double rmax = 0;
+    for (size_t c = 0; c < nc; c++)
+        rmax = fmax(rmax, rho.f[c]);
+    for (size_t c = 0; c < nc; c++) {
+        double m = 0, s = 0, mv = 0, sv = 0;
+        int allv = 1;
+        for (int j = 0; j < 4; j++) {
+            m += r[j].f[c] / 4;
+            allv &= isfinite(v[j].f[c]);
+            mv += v[j].f[c] / 4;
+        }
+        for (int j = 0; j < 4; j++) {
+            s += (r[j].f[c] - m) * (r[j].f[c] - m);
+            sv += (v[j].f[c] - mv) * (v[j].f[c] - mv);
+        }
+        assert_close(rho.f[c], m, 1e-13 * rmax);
+        assert_close(rse.f[c], sqrt(s / 3 / 4), 1e-12 * rmax);
+        if (allv) {
+            assert_close(vse.f[c], sqrt(sv / 3 / 4), 1e-12);
+            checked++;
+        }
+    }
+    assert_true(checked > nc / 2);
+    free(rho.f);
+    free(rse.f);
+    free(vse.f);
+    for (int j = 0; j < 4; j++) {
+        free(r[j].f);
+        free(v[j].f);
+    }
+}
+
 static void run_base(cg_base_opts *o, const char *const *in, size_t nin, const char *out)
 {
     o->inputs = in;
@@ -452,9 +509,13 @@ static void test_base_bad_input(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mass_volume),          cmocka_unit_test(test_1d_from_2d),
-        cmocka_unit_test(test_particle_temperature), cmocka_unit_test(test_ensemble),
-        cmocka_unit_test(test_base_hydrostatic),     cmocka_unit_test(test_base_bad_input),
+        cmocka_unit_test(test_mass_volume),
+        cmocka_unit_test(test_1d_from_2d),
+        cmocka_unit_test(test_particle_temperature),
+        cmocka_unit_test(test_ensemble),
+        cmocka_unit_test(test_window_se),
+        cmocka_unit_test(test_base_hydrostatic),
+        cmocka_unit_test(test_base_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
