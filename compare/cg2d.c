@@ -123,6 +123,40 @@ static void velocity_at(const cg2d_profile *p, const double *rho, double x, doub
     }
 }
 
+/* Contact stress of the pair dump's contacts: the kernel averaged along
+ * each branch (midpoint rule). */
+static void deposit_contacts(cg2d_profile *p, const cg2d_particles *pt)
+{
+    const cg2d_grid *g = &p->g;
+    size_t nx = g->gx.n;
+    double hx = g->gx.dz / CG_SUBGRID, hz = g->gz.dz / CG_SUBGRID;
+    for (size_t c = 0; c < pt->nc; c++) {
+        const double *b = pt->cb + 3 * c, *f = pt->cf + 3 * c;
+        const double t[6] = {-f[0] * b[0],
+                             -f[1] * b[1],
+                             -f[2] * b[2],
+                             -0.5 * (f[0] * b[1] + f[1] * b[0]),
+                             -0.5 * (f[0] * b[2] + f[2] * b[0]),
+                             -0.5 * (f[1] * b[2] + f[2] * b[1])};
+        double mm = fmax(ceil(fabs(b[0]) / hx), ceil(fabs(b[2]) / hz));
+        size_t M = mm < 1 ? 1 : mm > 1e6 ? 1000000 : (size_t)mm;
+        for (size_t q = 0; q < M; q++) {
+            double u = ((double)q + 0.5) / (double)M;
+            size_t nwx = cg_kernel_weights(p->k, &g->gx, pt->cx[c] + u * b[0], 0.0, p->binx, p->wx);
+            size_t nwz = cg_kernel_weights(p->k, &g->gz, pt->cz[c] + u * b[2], 0.0, p->binz, p->wz);
+            for (size_t jz = 0; jz < nwz; jz++) {
+                double *row = p->acc + p->binz[jz] * nx * CG_NPRIM;
+                for (size_t jx = 0; jx < nwx; jx++) {
+                    double *d = row + p->binx[jx] * CG_NPRIM + CG_P_SXX,
+                           w = p->wz[jz] * p->wx[jx] / (double)M;
+                    for (int e = 0; e < 6; e++)
+                        d[e] += t[e] * w;
+                }
+            }
+        }
+    }
+}
+
 void cg2d_profile_snapshot(cg2d_profile *p, const cg2d_particles *pt, double *prim)
 {
     const cg2d_grid *g = &p->g;
@@ -156,6 +190,7 @@ void cg2d_profile_snapshot(cg2d_profile *p, const cg2d_particles *pt, double *pr
             }
         }
     }
+    deposit_contacts(p, pt);
     double *rho = prim + CG_P_RHO * nc;
     for (size_t c = 0; c < nc; c++) {
         const double *q = acc + c * CG_NPRIM;

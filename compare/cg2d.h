@@ -20,6 +20,10 @@
  * Fluctuations c_i = v_i - V(x_i, z_i), V interpolated bilinearly between
  * cell centres (empty cells skipped; CG_T_PARTICLE), or c_i = v_i - V_c
  * (CG_T_CONSISTENT: K = sum m v v W / L_y - rho V V).
+ * Contact stress: per-atom S_i (as 1D), or from a pair dump the line
+ * integral along each branch b = r_i - r_j, S_c = -sum sym(f b) Wbar / L_y,
+ * Wbar the 2D weight averaged over the branch (midpoint rule, points at
+ * most dx/16 apart along x and dz/16 along z).
  */
 #ifndef CG_CG2D_H
 #define CG_CG2D_H
@@ -78,6 +82,11 @@ typedef struct {
     const double *vol; /* volumes [m^3] */
     const double *S;   /* contact stress x volume, 6 per particle [Pa m^3], or NULL */
     double length_y;   /* box length along the averaged axis y [m] */
+    size_t nc;         /* contacts (pair dump), or 0 */
+    const double *cx;  /* partner j's coordinate along x [m] */
+    const double *cz;  /* partner j's coordinate along z [m] */
+    const double *cb;  /* branch vectors r_i - r_j, 3 per contact [m] */
+    const double *cf;  /* forces on i by j, 3 per contact [N] */
 } cg2d_particles;
 
 typedef struct {

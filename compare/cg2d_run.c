@@ -298,7 +298,12 @@ static ekm_status read_run(cg2d_state *st, const cg_run_opts *ro, size_t irun, e
                                    .m = src.m,
                                    .vol = src.vol,
                                    .S = src.pt.S,
-                                   .length_y = src.length_avg};
+                                   .length_y = src.length_avg,
+                                   .nc = src.pt.nc,
+                                   .cx = src.pairs.cs2,
+                                   .cz = src.pt.cs,
+                                   .cb = src.pt.cb,
+                                   .cf = src.pt.cf};
         cg2d_profile_snapshot(st->prof, &pt, st->prim);
         for (size_t i = 0; i < pt.n; i++)
             if (pt.m[i] > 0)
@@ -359,7 +364,7 @@ static ekm_status dataset(ekm_h5_file *w, const char *name, const double *data, 
 
 static int nfields_of(const cg_run_opts *o)
 {
-    return o->nstress ? CG2D_NFIELD : CG2D_NFIELD_KINETIC;
+    return o->nstress || o->npairs ? CG2D_NFIELD : CG2D_NFIELD_KINETIC;
 }
 
 static ekm_status centres(const cg_grid *g, double **out, ekm_error *err)
@@ -387,6 +392,9 @@ static ekm_status write_attrs(ekm_h5_file *w, const cg2d_state *st, const char *
     if (o->nstress)
         snprintf(stress, sizeof stress, "kinetic + per-atom %s %s %s %s %s %s", o->stress[0], o->stress[1],
                  o->stress[2], o->stress[3], o->stress[4], o->stress[5]);
+    else if (o->npairs)
+        snprintf(stress, sizeof stress, "kinetic + contacts from pair dumps (branch line integral), %s",
+                 o->npaircols == 9 ? "positions" : "atom ids");
     else
         snprintf(stress, sizeof stress, "kinetic only");
     char types[16 * CG_MAXTYPES + 8] = "all";
@@ -416,6 +424,13 @@ static ekm_status write_attrs(ekm_h5_file *w, const cg2d_state *st, const char *
     ekm_status rc = EKM_OK;
     for (size_t i = 0; i < sizeof strs / sizeof strs[0] && !rc; i++)
         rc = ekm_h5_attr_set_string(w, NULL, strs[i].name, strs[i].value, err);
+    if (!rc && o->npairs) {
+        char pairs[4096] = "";
+        size_t used = 0;
+        for (size_t i = 0; i < o->npairs && used + 2 < sizeof pairs; i++)
+            used += (size_t)snprintf(pairs + used, sizeof pairs - used, "%s%s", i ? "\n" : "", o->pairs[i]);
+        rc = ekm_h5_attr_set_string(w, NULL, "pair_inputs", pairs, err);
+    }
     double d = st->dcount > 0 ? st->dsum / st->dcount : st->width;
     const struct {
         const char *name;
@@ -548,9 +563,13 @@ static ekm_status check_options(const cg_run_opts *o, ekm_error *err)
         return EKM_FAIL(err, EKM_EUSAGE, "cg: expected -o OUT.h5 and/or --csv OUT.csv");
     if (o->axis != 2 || o->axis2 != 0)
         return EKM_FAIL(err, EKM_EUSAGE, "--axes: expected x,z (the 2D grid, averaged over y)");
-    if (o->npairs)
+    if (o->nstress && o->npairs)
         return EKM_FAIL(err, EKM_EUSAGE,
-                        "--pairs: not available with --axes x,z (give the per-atom stress, --stress)");
+                        "cg: expected --stress or --pairs, not both (the contact stress would count twice)");
+    if (o->npairs && o->npaircols != 9 && o->npaircols != 5)
+        return EKM_FAIL(err, EKM_EUSAGE,
+                        "--pairs: expected --pair-columns with 9 (x1,y1,z1,x2,y2,z2,fx,fy,fz) "
+                        "or 5 (id1,id2,fx,fy,fz) names");
     if (!strcmp(o->kernel, "bins"))
         return EKM_FAIL(err, EKM_EUSAGE,
                         "--kernel: bins (sphere-slab volumes) has no exact 2D form: expected gauss or lucy "

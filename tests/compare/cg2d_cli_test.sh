@@ -58,8 +58,8 @@ expect 1 "--ensemble: one window per run" -- "$ekmc" cg a.dump b.dump --axes x,z
 expect 1 "--kernel: bins .* no exact 2D form" -- "$ekmc" cg a.dump --axes x,z --kernel bins -o bad.h5
 expect 1 "--bins: expected NX,NZ" -- "$ekmc" cg a.dump --axes x,z --bins 10 -o bad.h5
 expect 1 "--bins NX,NZ: expected --axes x,z" -- "$ekmc" cg a.dump --bins 10,12 -o bad.h5
-expect 1 "--pairs: not available with --axes x,z" -- \
-  "$ekmc" cg a.dump --axes x,z --pairs p.dump --pair-columns id1,id2,fx,fy,fz -o bad.h5
+expect 1 "expected --stress or --pairs, not both" -- \
+  "$ekmc" cg a.dump --axes x,z --stress c_s --pairs p.dump --pair-columns id1,id2,fx,fy,fz -o bad.h5
 expect 2 "wide.dump:[0-9]+: ITEM: BOX BOUNDS: x: expected the box of the first run" -- \
   "$ekmc" cg a.dump wide.dump --axes x,z --ensemble -o bad.h5
 expect 2 "nofz.dump:9: ITEM: ATOMS has no column 'fz'" -- "$ekmc" base nofz.dump -o bad.h5

@@ -12,6 +12,7 @@
 
 #include "base.h"
 #include "cgrun.h"
+#include "dump.h"
 #include "h5.h"
 #include "synth.h"
 #include "test_util.h"
@@ -379,6 +380,70 @@ static void test_window_se(void **state)
     }
 }
 
+/* Contact stress from a pair dump (the LIGGGHTS chute fixture, positions
+ * mode): the integral of cxx, czz, cxz over the grid times L_y is, for
+ * each snapshot, the sum over contacts of -f_x b_x, -f_z b_z,
+ * -(f_x b_z + f_z b_x)/2 with b the minimum-image branch vector: the
+ * branch line integral conserves the contact stress to round-off. */
+static void test_pair_contacts(void **state)
+{
+    (void)state;
+    static const char *cols[9] = {"c_pc[1]", "c_pc[2]",  "c_pc[3]",  "c_pc[4]", "c_pc[5]",
+                                  "c_pc[6]", "c_pc[10]", "c_pc[11]", "c_pc[12]"};
+    const char *atoms = CG_FIXTURES "/chute_liggghts_atoms.dump.gz",
+               *pairs = CG_FIXTURES "/chute_liggghts_pairs.dump.gz";
+    char out[512];
+    cg_run_opts o = cg_run_opts_default();
+    o.axis2 = 0;
+    o.dt = 1e-5;
+    o.every = 1;
+    o.pairs = (const char *const[1]){pairs};
+    o.npairs = 1;
+    o.npaircols = 9;
+    for (int j = 0; j < 9; j++)
+        o.paircols[j] = cols[j];
+    run(&o, (const char *const[1]){atoms}, 1, tmp_path(out, sizeof out, "cg2d_pairs.h5"));
+    grid2d cxx = read2d(out, "cxx"), czz = read2d(out, "czz"), cxz = read2d(out, "cxz");
+    double dx = read_attr(out, "dx"), dz = read_attr(out, "dz"), ly = read_attr(out, "averaged_length");
+    assert_int_equal(czz.nt, 2);
+    cg_dump *d;
+    cg_snapshot sn;
+    memset(&sn, 0, sizeof sn);
+    ekm_error err;
+    assert_int_equal(cg_dump_open(&d, pairs, cols, 9, &err), EKM_OK);
+    for (size_t it = 0; it < 2; it++) {
+        assert_int_equal(cg_dump_next(d, &sn, &err), EKM_OK);
+        double want[3] = {0, 0, 0}, got[3] = {0, 0, 0};
+        for (size_t k = 0; k < (size_t)sn.natoms; k++) {
+            const double *row = sn.data + k * sn.nsel;
+            double b[3];
+            for (int c = 0; c < 3; c++) {
+                double L = sn.hi[c] - sn.lo[c];
+                b[c] = row[c] - row[3 + c];
+                if (sn.periodic[c])
+                    b[c] -= L * nearbyint(b[c] / L);
+            }
+            want[0] += -row[6] * b[0];
+            want[1] += -row[8] * b[2];
+            want[2] += -0.5 * (row[6] * b[2] + row[8] * b[0]);
+        }
+        size_t nc = czz.nz * czz.nx;
+        for (size_t c = 0; c < nc; c++) {
+            got[0] += cxx.f[it * nc + c] * dx * dz * ly;
+            got[1] += czz.f[it * nc + c] * dx * dz * ly;
+            got[2] += cxz.f[it * nc + c] * dx * dz * ly;
+        }
+        for (int q = 0; q < 3; q++)
+            assert_close(got[q], want[q], 1e-11 * fabs(want[1]));
+        assert_true(want[1] < 0); /* compression */
+    }
+    cg_dump_close(d);
+    cg_snapshot_free(&sn);
+    free(cxx.f);
+    free(czz.f);
+    free(cxz.f);
+}
+
 static void run_base(cg_base_opts *o, const char *const *in, size_t nin, const char *out)
 {
     o->inputs = in;
@@ -514,6 +579,7 @@ int main(void)
         cmocka_unit_test(test_particle_temperature),
         cmocka_unit_test(test_ensemble),
         cmocka_unit_test(test_window_se),
+        cmocka_unit_test(test_pair_contacts),
         cmocka_unit_test(test_base_hydrostatic),
         cmocka_unit_test(test_base_bad_input),
     };
