@@ -62,7 +62,7 @@ static int position_flavour(const cg_snapshot *s)
 }
 
 /* The grid from the first snapshot: symmetric about the centre. */
-static ekm_status make_grid(base_state *st, const cg_snapshot *s, int flav, ekm_error *err)
+static ekm_status make_grid(base_state *st, const cg_snapshot *s, ekm_error *err)
 {
     const cg_base_opts *o = st->o;
     double lo = s->lo[0], hi = s->hi[0];
@@ -129,7 +129,6 @@ static ekm_status make_grid(base_state *st, const cg_snapshot *s, int flav, ekm_
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
     st->y_period = s->hi[1] - s->lo[1];
     st->y_not_periodic = !s->periodic[1];
-    (void)flav;
     st->have_grid = 1;
     return EKM_OK;
 }
@@ -172,7 +171,7 @@ static ekm_status add_snapshot(base_state *st, const cg_snapshot *s, ekm_error *
     if (st->nfloor == 0)
         st->nfloor = nfloor;
     if (!st->have_grid) {
-        ekm_status rc = make_grid(st, s, flav, err);
+        ekm_status rc = make_grid(st, s, err);
         if (rc)
             return rc;
     } else if (!st->o->have_range && st->nruns > 0 && st->nsnap == 0) {

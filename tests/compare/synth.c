@@ -304,7 +304,7 @@ int synth_pile_write(const char *path, const synth_pile_opts *o)
                 x = ((double)(i % o->nfx) + 0.5) * a;
                 y = ((double)(i / o->nfx) + 0.5) * b;
                 z = o->radius;
-                fz = -synth_pile_p(o, x) * a * b;
+                fz = -synth_pile_p(o, x) * a * b * (1.0 + o->eps_step * (double)s);
             } else {
                 type = 1;
                 x = 0.5 * o->lx + (2.0 * gsl_rng_uniform(r) - 1.0) * o->halfwidth;

@@ -57,6 +57,7 @@ typedef struct {
     double halfwidth;   /* wedge half-width at the floor [m] */
     double rho_bulk, g; /* bulk density [kg/m^3], gravity [m/s^2] */
     double eps, tilt;   /* relative perturbation of the load, and its slope */
+    double eps_step;    /* snapshot s carries the load x (1 + eps_step s) on top */
     size_t npile;       /* pile grains (type 1) */
     size_t nsnap;       /* snapshots (all the same pile) */
     int with_fz;        /* 0: no fx fy fz columns (a dump `base` must refuse) */
