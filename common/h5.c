@@ -419,14 +419,17 @@ ekm_status ekm_h5_row_view(ekm_h5_file *f, const char *view, const char *source,
 {
     hid_t d = H5Dopen2(f->file, source, H5P_DEFAULT), sspace = -1, vspace = -1, type = -1, dcpl = -1,
           lcpl = -1, v = -1;
-    hsize_t dims[2];
-    int ok = d >= 0 && (sspace = H5Dget_space(d)) >= 0 && H5Sget_simple_extent_ndims(sspace) == 2 &&
+    hsize_t dims[3] = {0, 0, 1};
+    int rank = 0;
+    int ok = d >= 0 && (sspace = H5Dget_space(d)) >= 0 &&
+             ((rank = H5Sget_simple_extent_ndims(sspace)) == 2 || rank == 3) &&
              H5Sget_simple_extent_dims(sspace, dims, NULL) >= 0 && row < dims[0] &&
              (type = H5Dget_type(d)) >= 0;
     if (ok) {
-        const hsize_t start[2] = {row, 0}, count[2] = {1, dims[1]};
+        /* rank 3 (a 2D grid per row): the view is the row's [dims1][dims2] */
+        const hsize_t start[3] = {row, 0, 0}, count[3] = {1, dims[1], dims[2]};
         ok = H5Sselect_hyperslab(sspace, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
-             (vspace = H5Screate_simple(1, &dims[1], NULL)) >= 0 &&
+             (vspace = H5Screate_simple(rank - 1, &dims[1], NULL)) >= 0 &&
              (dcpl = H5Pcreate(H5P_DATASET_CREATE)) >= 0 &&
              H5Pset_virtual(dcpl, vspace, ".", source, sspace) >= 0 &&
              (lcpl = H5Pcreate(H5P_LINK_CREATE)) >= 0 && H5Pset_create_intermediate_group(lcpl, 1) >= 0 &&

@@ -98,7 +98,7 @@ ekm_status ekm_h5_append(ekm_h5_file *f, const char *name, const void *row, ekm_
 /* A virtual dataset VIEW (1D, created with its groups) showing row `row`
  * of the 2D dataset SOURCE of the same file, without copying it (a plain
  * dataset to readers that cannot select a row, e.g. ParaView's Xdmf3
- * readers). */
+ * readers).  A 3D SOURCE [nt][n][m] gives the 2D view [n][m] of row `row`. */
 ekm_status ekm_h5_row_view(ekm_h5_file *f, const char *view, const char *source, size_t row, ekm_error *err);
 
 /* Existence: a dataset (or any link) named name; an attribute on obj. */

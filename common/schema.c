@@ -40,6 +40,26 @@ static const ekm_field FIELDS[] = {
     SE("szz", "Pa", "szz"),
     SE("mu", "1", "mu"),
     SE("I", "1", "I"),
+    /* 2D coarse-graining (ekmcompare cg --axes x,z) and the base pressure
+     * (ekmcompare base), docs/compare.md */
+    {"kxx", "Pa", "kinetic stress K_xx of the velocity fluctuations, >= 0 (CG 2D)"},
+    {"kzz", "Pa", "kinetic stress K_zz of the velocity fluctuations, >= 0 (CG 2D)"},
+    {"kxz", "Pa", "kinetic stress K_xz of the velocity fluctuations (CG 2D)"},
+    {"sxx", "Pa", "normal stress sigma_xx, negative in compression (CG 2D)"},
+    {"cxx", "Pa", "contact stress xx, negative in compression (CG 2D, with a contact stress)"},
+    {"czz", "Pa", "contact stress zz, negative in compression (CG 2D, with a contact stress)"},
+    {"cxz", "Pa", "contact stress xz (CG 2D, with a contact stress)"},
+    SE("kxx", "Pa", "kxx"),
+    SE("kzz", "Pa", "kzz"),
+    SE("kxz", "Pa", "kxz"),
+    SE("sxx", "Pa", "sxx"),
+    SE("cxx", "Pa", "cxx"),
+    SE("czz", "Pa", "czz"),
+    SE("cxz", "Pa", "cxz"),
+    {"p_base", "Pa", "base pressure: normal force of the pile on the floor grains per unit floor area"},
+    {"p_base_se", "Pa", "standard error of p_base across the runs of the ensemble (independent piles)"},
+    {"p_base_se_fold", "Pa", "standard error of p_base from folding: |p(x) - p(mirror of x)|/2"},
+    {"p_base_runs", "Pa", "p_base of each run of the ensemble, [runs][bins]"},
 };
 
 size_t ekm_field_count(void)

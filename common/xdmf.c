@@ -64,8 +64,54 @@ ekm_status ekm_xdmf_add_views(ekm_h5_file *f, const ekm_xdmf_series *s, ekm_erro
     return EKM_OK;
 }
 
+/* The 2D grid (s->nx > 0): n x nx cells in ParaView's Z-X plane. */
+static void write_grid2d(FILE *fp, const ekm_xdmf_series *s)
+{
+    const char *base = base_name(s->h5_path);
+    fputs("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+          "<!-- 2D grid: x along ParaView's X, z along its Z, one cell thick in Y (the averaged\n"
+          "     direction); every field cell-centred (docs/compare.md) -->\n"
+          "<Xdmf Version=\"2.0\">\n <Domain>\n  <Grid Name=\"",
+          fp);
+    ekm_xdmf_escape(fp, s->title);
+    fputs("\" GridType=\"Collection\" CollectionType=\"Temporal\">\n", fp);
+    for (size_t i = 0; i < s->nt; i++) {
+        fprintf(fp,
+                "   <Grid Name=\"frame%zu\" GridType=\"Uniform\">\n"
+                "    <Time Value=\"%.17g\"/>\n"
+                "    <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"%zu 2 %zu\"/>\n"
+                "    <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
+                "     <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">"
+                "%.17g 0 %.17g</DataItem>\n"
+                "     <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">"
+                "%.17g %.17g %.17g</DataItem>\n"
+                "    </Geometry>\n",
+                i, s->t[i], s->n + 1, s->nx + 1, s->lo[i], s->x0, s->dz[i], s->dx, s->dx);
+        for (size_t k = 0; k < s->nfields; k++) {
+            const ekm_xdmf_field *fl = &s->fields[k];
+            fputs("    <Attribute Name=\"", fp);
+            ekm_xdmf_escape(fp, fl->name);
+            fprintf(fp,
+                    "\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+                    "     <DataItem Dimensions=\"%zu 1 %zu\" NumberType=\"%s\" Precision=\"%d\" "
+                    "Format=\"HDF\">",
+                    s->n, s->nx, fl->is_int ? "Int" : "Float", fl->is_int ? 4 : 8);
+            ekm_xdmf_escape(fp, base);
+            fputs(":/xdmf/", fp);
+            ekm_xdmf_escape(fp, fl->name);
+            fprintf(fp, "/%zu</DataItem>\n    </Attribute>\n", i);
+        }
+        fputs("   </Grid>\n", fp);
+    }
+    fputs("  </Grid>\n </Domain>\n</Xdmf>\n", fp);
+}
+
 void ekm_xdmf_write(FILE *fp, const ekm_xdmf_series *s)
 {
+    if (s->nx > 0) {
+        write_grid2d(fp, s);
+        return;
+    }
     const char *base = base_name(s->h5_path);
     fputs("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
           "<!-- profile along ParaView's Z axis (the slab normal z): one column of cells, one cell\n"

@@ -40,6 +40,12 @@ typedef struct {
     const double *lo, *dz;        /* [nt] lower end, cell size of each frame [m] */
     const ekm_xdmf_field *fields; /* nfields of them */
     size_t nfields;
+    /* A 2D grid (ekmcompare cg --axes x,z) when nx > 0: the fields are
+     * [nt][n][nx] datasets (x fastest), n cells along ParaView's Z (lo, dz)
+     * by nx along its X (x0, dx), one cell (of width dx) thick in Y.
+     * nx == 0 (a zero-initialised series): the column of n cells above. */
+    size_t nx;
+    double x0, dx; /* lower end and cell size along X [m] (2D) */
 } ekm_xdmf_series;
 
 /* The sidecar's path for an output path (".h5" replaced by ".xdmf", else

@@ -23,7 +23,8 @@ void cg_input_close(cg_input *src)
     free(src->vol);
     free(src->rad);
     free(src->S);
-    src->s = src->v = src->m = src->vol = src->rad = src->S = NULL;
+    free(src->s2);
+    src->s = src->v = src->m = src->vol = src->rad = src->S = src->s2 = NULL;
     src->cap = 0;
 }
 
@@ -37,7 +38,8 @@ void cg_input_init(cg_input *src, const cg_run_opts *o)
     const char *want[CG_IN_NCOL];
     for (size_t j = 0; j < CG_IN_STRESS; j++) {
         int f = (int)j / 3, c = (int)j % 3;
-        int need = j >= CG_IN_VX || c == o->axis || (f >= 2 && c > o->axis) || (idmode && f == 0);
+        int need = j >= CG_IN_VX || c == o->axis || (f >= 2 && c > o->axis) || (idmode && f == 0) ||
+                   c == o->axis2 || (f >= 2 && o->axis2 >= 0 && c > o->axis2);
         want[j] = need ? base_cols[j] : NULL;
     }
     for (size_t j = 0; j < 6; j++)
@@ -82,6 +84,12 @@ static ekm_status input_grow(cg_input *src, size_t n, ekm_error *err)
     for (int i = 0; i < 6; i++)
         if (!p[i])
             return EKM_FAIL(err, EKM_ENOMEM, "out of memory (%zu atoms)", n);
+    if (src->o->axis2 >= 0) {
+        double *q = realloc(src->s2, c * sizeof(double));
+        if (!q)
+            return EKM_FAIL(err, EKM_ENOMEM, "out of memory (%zu atoms)", n);
+        src->s2 = q;
+    }
     src->cap = c;
     return EKM_OK;
 }
@@ -95,12 +103,12 @@ static ekm_status missing(const cg_snapshot *s, const char *what, ekm_error *err
 #define PR(c)      (src->col[c] >= 0 && pr[src->col[c]])
 #define AT(row, c) ((row)[src->col[c]])
 
-static ekm_status input_convert(cg_input *src, ekm_error *err)
+/* The position flavour (0 plain, 1 unwrapped, 2 scaled, 3 scaled
+ * unwrapped) dumped for axis ax, checked; *flav_out. */
+static ekm_status position_flavour(const cg_input *src, int ax, int *flav_out, ekm_error *err)
 {
-    const cg_run_opts *o = src->o;
     const cg_snapshot *sn = &src->snap;
     const int *pr = sn->present;
-    int ax = o->axis;
     static const char axname[3] = {'x', 'y', 'z'};
     int flav = -1;
     for (int f = 0; f < 4; f++)
@@ -122,6 +130,53 @@ static ekm_status input_convert(cg_input *src, ekm_error *err)
                                c == 1 ? "'ys' (scaled triclinic coordinates need all three)"
                                       : "'zs' (scaled triclinic coordinates need all three)",
                                err);
+    *flav_out = flav;
+    return EKM_OK;
+}
+
+/* Coordinate of an atom (row) along axis ax from flavour flav, wrapped
+ * into the box when it is periodic along ax. */
+static double axis_coord(const cg_input *src, const double *row, int flav, int ax, const double L[3])
+{
+    const cg_snapshot *sn = &src->snap;
+    const int *pr = sn->present;
+    double s;
+    if (flav < 2) {
+        s = AT(row, CG_IN_POS + 3 * flav + ax);
+    } else {
+        double q[3];
+        for (int c = 0; c < 3; c++)
+            q[c] = PR(CG_IN_POS + 3 * flav + c) ? AT(row, CG_IN_POS + 3 * flav + c) : 0.0;
+        if (ax == 2)
+            s = sn->lo[2] + q[2] * L[2];
+        else if (ax == 1)
+            s = sn->lo[1] + q[1] * L[1] + (sn->triclinic ? q[2] * sn->tilt[2] : 0.0);
+        else
+            s = sn->lo[0] + q[0] * L[0] + (sn->triclinic ? q[1] * sn->tilt[0] + q[2] * sn->tilt[1] : 0.0);
+    }
+    if (sn->periodic[ax]) {
+        double lo = sn->lo[ax], hi = sn->hi[ax];
+        s = lo + fmod(s - lo, L[ax]);
+        if (s < lo)
+            s += L[ax];
+        if (s >= hi)
+            s = lo;
+    }
+    return s;
+}
+
+static ekm_status input_convert(cg_input *src, ekm_error *err)
+{
+    const cg_run_opts *o = src->o;
+    const cg_snapshot *sn = &src->snap;
+    const int *pr = sn->present;
+    int ax = o->axis, ax2 = o->axis2;
+    int flav = -1, flav2 = -1;
+    ekm_status prc = position_flavour(src, ax, &flav, err);
+    if (!prc && ax2 >= 0)
+        prc = position_flavour(src, ax2, &flav2, err);
+    if (prc)
+        return prc;
     for (int c = 0; c < 3; c++)
         if (!PR(CG_IN_VX + c))
             return missing(sn, c == 0 ? "'vx'" : c == 1 ? "'vy'" : "'vz'", err);
@@ -166,31 +221,18 @@ static ekm_status input_convert(cg_input *src, ekm_error *err)
     src->lo = sn->lo[ax];
     src->hi = sn->hi[ax];
     src->periodic = sn->periodic[ax];
+    if (ax2 >= 0) {
+        src->lo2 = sn->lo[ax2];
+        src->hi2 = sn->hi[ax2];
+        src->periodic2 = sn->periodic[ax2];
+        src->length_avg = L[3 - ax - ax2];
+    }
     const size_t w = sn->nsel;
     for (size_t i = 0; i < n; i++) {
         const double *row = sn->data + i * w;
-        double s;
-        if (!scaled) {
-            s = AT(row, CG_IN_POS + 3 * flav + ax);
-        } else {
-            double q[3];
-            for (int c = 0; c < 3; c++)
-                q[c] = PR(CG_IN_POS + 3 * flav + c) ? AT(row, CG_IN_POS + 3 * flav + c) : 0.0;
-            if (ax == 2)
-                s = sn->lo[2] + q[2] * L[2];
-            else if (ax == 1)
-                s = sn->lo[1] + q[1] * L[1] + (sn->triclinic ? q[2] * sn->tilt[2] : 0.0);
-            else
-                s = sn->lo[0] + q[0] * L[0] + (sn->triclinic ? q[1] * sn->tilt[0] + q[2] * sn->tilt[1] : 0.0);
-        }
-        if (src->periodic) {
-            s = src->lo + fmod(s - src->lo, L[ax]);
-            if (s < src->lo)
-                s += L[ax];
-            if (s >= src->hi)
-                s = src->lo;
-        }
-        src->s[i] = s;
+        src->s[i] = axis_coord(src, row, flav, ax, L);
+        if (ax2 >= 0)
+            src->s2[i] = axis_coord(src, row, flav2, ax2, L);
         for (int c = 0; c < 3; c++)
             src->v[3 * i + c] = AT(row, CG_IN_VX + c);
         double r = has_rad ? AT(row, CG_IN_RADIUS) : has_diam ? 0.5 * AT(row, CG_IN_DIAMETER) : -1.0;

@@ -57,6 +57,10 @@ typedef struct {
     double t;          /* time of the current snapshot [s] */
     double lo, hi;     /* box along the axis [m] */
     int periodic;      /* box periodic along the axis */
+    double *s2;        /* 2D (o->axis2 >= 0): coordinate along axis2 [m] */
+    double lo2, hi2;   /* box along axis2 [m] */
+    int periodic2;     /* box periodic along axis2 */
+    double length_avg; /* 2D: box length along the averaged axis [m] */
     double dsum;       /* sum of diameters so far [m] */
     double dcount;     /* particles in dsum */
     cg_contacts pairs; /* contacts from the pair dumps */

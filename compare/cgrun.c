@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "atomic.h"
+#include "cg2d_run.h"
 #include "cg_input.h"
 #include "cg_output.h"
 #include "kernel.h"
@@ -23,6 +24,7 @@ cg_run_opts cg_run_opts_default(void)
     cg_run_opts o;
     memset(&o, 0, sizeof o);
     o.axis = 2;
+    o.axis2 = -1;
     o.kernel = "gauss";
     o.tmode = CG_T_PARTICLE;
     return o;
@@ -74,7 +76,7 @@ static ekm_status make_grid(const cg_run_opts *o, const cg_input *src, double wi
 /* Every output must be writable, and none may replace an input (dumps and
  * pair dumps), nor the HDF5 output's sidecar or the HDF5 output the CSV:
  * refused before any work. */
-static ekm_status refuse_inputs(const cg_run_opts *o, ekm_error *err)
+ekm_status cg_run_refuse_inputs(const cg_run_opts *o, ekm_error *err)
 {
     size_t n = o->ninputs + o->npairs;
     const char **in = malloc((n + 1) * sizeof *in);
@@ -109,6 +111,8 @@ static ekm_status refuse_inputs(const cg_run_opts *o, ekm_error *err)
 
 ekm_status cg_run(const cg_run_opts *o, ekm_error *err)
 {
+    if (o->axis2 >= 0)
+        return cg2d_run(o, err);
     if (o->ninputs == 0)
         return EKM_FAIL(err, EKM_EUSAGE, "cg: expected at least one dump file");
     if (!o->out && !o->csv)
@@ -139,7 +143,7 @@ ekm_status cg_run(const cg_run_opts *o, ekm_error *err)
                  o->npaircols == 9 ? "positions" : "atom ids");
     else
         snprintf(info.stress, sizeof info.stress, "kinetic only");
-    ekm_status rc = refuse_inputs(o, err);
+    ekm_status rc = cg_run_refuse_inputs(o, err);
     if (rc)
         return rc;
     double t_start = -INFINITY;

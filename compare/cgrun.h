@@ -31,6 +31,8 @@ typedef struct {
     const char *out;           /* HDF5 output path, or NULL */
     const char *csv;           /* CSV output path, or NULL */
     int axis;                  /* profile axis: 0 x, 1 y, 2 z */
+    int axis2;                 /* 2D grid (--axes x,z, cg2d.h): the second axis (0 x, with
+                                  axis 2 z); -1: a 1D profile (the default) */
     const char *kernel;        /* "gauss", "lucy" or "bins" */
     double width;              /* kernel std. deviation [m]; 0: mean diameter */
     size_t bins;               /* number of bins; 0: from dz */
@@ -60,10 +62,18 @@ typedef struct {
                                 complete snapshots (--expect-snapshots): fewer,
                                 more, or one cut short is an error */
     FILE *log;               /* notes and warnings, or NULL */
+    size_t bins_x;           /* 2D: cells along x (--bins NX,NZ; o->bins along z); 0: from dz */
+    int ensemble;            /* 2D: 1: every input is an independent run (--ensemble) */
 } cg_run_opts;
 
 cg_run_opts cg_run_opts_default(void);
 
+/* The 1D profile, or with o->axis2 >= 0 the 2D grid (cg2d_run.h). */
 ekm_status cg_run(const cg_run_opts *o, ekm_error *err);
+
+/* Every output of o must be writable, and none may replace an input
+ * (dumps, pair dumps), the HDF5 output's XDMF sidecar or (the CSV) the
+ * HDF5 output. */
+ekm_status cg_run_refuse_inputs(const cg_run_opts *o, ekm_error *err);
 
 #endif

@@ -10,10 +10,11 @@ void cg_contacts_close(cg_contacts *c)
     c->pd = NULL;
     cg_snapshot_free(&c->psnap);
     free(c->cs);
+    free(c->cs2);
     free(c->cb);
     free(c->cf);
     free(c->ids);
-    c->cs = c->cb = c->cf = c->ids = NULL;
+    c->cs = c->cs2 = c->cb = c->cf = c->ids = NULL;
     c->ccap = c->idcap = 0;
 }
 
@@ -116,7 +117,10 @@ ekm_status cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snap
         double *f = realloc(c->cf, 3 * nc * sizeof *f);
         if (f)
             c->cf = f;
-        if (!a || !b || !f)
+        double *a2 = o->axis2 >= 0 ? realloc(c->cs2, nc * sizeof *a2) : NULL;
+        if (a2)
+            c->cs2 = a2;
+        if (!a || !b || !f || (o->axis2 >= 0 && !a2))
             return EKM_FAIL(err, EKM_ENOMEM, "out of memory (%zu contacts)", nc);
         c->ccap = nc;
     }
@@ -130,6 +134,8 @@ ekm_status cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snap
             }
             min_image(sn, c->cb + 3 * k);
             c->cs[k] = row[3 + ax];
+            if (o->axis2 >= 0)
+                c->cs2[k] = row[3 + o->axis2];
         }
     } else {
         size_t n = pt->n;
@@ -159,6 +165,8 @@ ekm_status cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snap
             }
             min_image(sn, c->cb + 3 * k);
             c->cs[k] = pt->s[j];
+            if (o->axis2 >= 0)
+                c->cs2[k] = (ad + (size_t)j * aw)[pos_col[o->axis2]];
         }
     }
     pt->nc = nc;

@@ -28,12 +28,14 @@ typedef struct {
     int have_pair;        /* psnap read but not used yet */
     size_t ccap;          /* contact capacity */
     double *cs, *cb, *cf; /* contacts: partner coordinate [m], branch [m], force [N] */
+    double *cs2;          /* 2D (o->axis2 >= 0): partner coordinate along axis2 [m] */
     double *ids;          /* id-mode: (id, index) pairs sorted by id */
     size_t idcap;
 } cg_contacts;
 
 /* The pair snapshot with the atom snapshot sn's step, as contacts of pt
- * (pt->nc, cs, cb, cf point into c). o: pair files and columns, the axis.
+ * (pt->nc, cs, cb, cf point into c; with o->axis2 >= 0 also c->cs2, the
+ * partner's coordinate along axis2). o: pair files and columns, the axis.
  * Id mode (5 columns): id_col and pos_col[3] are the columns of the atom
  * ids and of x, y, z in sn->data; pt->s and pt->n are the atoms'. */
 ekm_status cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snapshot *sn, int id_col,

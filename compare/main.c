@@ -1,4 +1,4 @@
-/* main.c: the ekmcompare command line (cg and score subcommands). */
+/* main.c: the ekmcompare command line (cg, score, fit, steady and base subcommands). */
 #include <gsl/gsl_errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -9,6 +9,7 @@
 #include "cgrun.h"
 #include "status.h"
 #include "atomic.h"
+#include "base.h"
 #include "fit_cli.h"
 #include "h5.h"
 #include "score.h"
@@ -25,6 +26,7 @@ static const char usage_text[] =
     "       ekmcompare fit --scenario CASES.json --params eta0,eps0 [--fields phi,vx,T,P,sxz]\n"
     "                      -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
     "       ekmcompare steady MONITOR.txt [--column N] [--tol X]\n"
+    "       ekmcompare base DUMP... (-o BASE.h5 | --csv BASE.csv) [--floor-type N] [--dx DX]\n"
     "       ekmcompare --help | --version\n"
     "\n"
     "cg: coarse-grain LAMMPS/LIGGGHTS dumps (text, gzip, binary) into slab profiles\n"
@@ -32,6 +34,9 @@ static const char usage_text[] =
     "  -o FILE              HDF5 output (written atomically)\n"
     "  --csv FILE           the same as CSV\n"
     "  --axis x|y|z         profile axis (default z)\n"
+    "  --axes x,z           a 2D grid in x and z averaged over y: fields [nt][nz][nx] (--axes z: the\n"
+    "                       1D profile, the default); --bins NX,NZ or --dz (both axes); --range: z\n"
+    "  --ensemble           (with --axes x,z) every DUMP is an independent run: SE across the runs\n"
     "  --kernel K           gauss (default), lucy or bins (exact sphere-slab volumes)\n"
     "  --exact-kernel       evaluate gauss/lucy per particle instead of on a dz/16 sub-grid\n"
     "  --width W            kernel standard deviation [m] (default: mean diameter)\n"
@@ -71,6 +76,13 @@ static const char usage_text[] =
     "                       largest phi on both sides (default 0.1; 0: every point)\n"
     "  --scalars LIST       scalar observables with SEs: set names (chute, shear_cell,\n"
     "                       filling, simple_shear) or scalar names (docs/compare.md)\n"
+    "\n"
+    "base: the base pressure p(x) = -sum(fz of the floor grains in a bin)/(dx L_y) of a pile,\n"
+    "time-averaged per run (each DUMP one run: an independent pile), with the SE across runs and\n"
+    "from folding about the centre (docs/compare.md). Options: -o, --csv, --floor-type N (default\n"
+    "2), --dx DX | --bins N (default 2 floor-grain diameters), --range LO:HI, --centre XC (default\n"
+    "the middle), --from T --to T, --steps A:B, --dt DT, --last N (the last N selected snapshots\n"
+    "of each run), --quiet.\n"
     "\n"
     "steady: is a run steady? The drift criterion on a monitor series (column N, default 2,\n"
     "of the lines not starting with #): the relative change of the mean from the quarter\n"
@@ -250,6 +262,22 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
                 o.axis = 2;
             else
                 rc = usage_error(err, "--axis: expected x, y or z, got '%s'", v);
+        } else if (!strcmp(a, "--axes")) {
+            ARG();
+            if (!strcmp(v, "x,z")) {
+                o.axis = 2;
+                o.axis2 = 0;
+            } else if (!strcmp(v, "x") || !strcmp(v, "y") || !strcmp(v, "z")) {
+                o.axis = v[0] - 'x';
+                o.axis2 = -1;
+            } else {
+                rc = usage_error(err,
+                                 "--axes: expected z (a 1D profile, the default; or x, y) or x,z (a 2D grid "
+                                 "averaged over y), got '%s'",
+                                 v);
+            }
+        } else if (!strcmp(a, "--ensemble")) {
+            o.ensemble = 1;
         } else if (!strcmp(a, "--kernel")) {
             ARG();
             o.kernel = v;
@@ -260,7 +288,22 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
                 rc = usage_error(err, "--width: expected a positive width, got '%s'", v);
         } else if (!strcmp(a, "--bins")) {
             ARG();
-            rc = get_size(a, v, &o.bins, err);
+            const char *comma = strchr(v, ',');
+            if (comma) { /* NX,NZ (--axes x,z) */
+                char nx[32];
+                size_t len = (size_t)(comma - v);
+                if (len >= sizeof nx)
+                    len = sizeof nx - 1;
+                memcpy(nx, v, len);
+                nx[len] = '\0';
+                rc = get_size(a, nx, &o.bins_x, err);
+                if (!rc)
+                    rc = get_size(a, comma + 1, &o.bins, err);
+                if (rc)
+                    rc = usage_error(err, "--bins: expected N, or NX,NZ with --axes x,z, got '%s'", v);
+            } else {
+                rc = get_size(a, v, &o.bins, err);
+            }
         } else if (!strcmp(a, "--dz")) {
             ARG();
             rc = get_double(a, v, &o.dz, err);
@@ -341,6 +384,11 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
     }
     if (!rc && o.every && o.window > 0)
         rc = EKM_FAIL(err, EKM_EUSAGE, "cg: expected --every or --window, not both");
+    if (!rc && o.axis2 < 0 && o.ensemble)
+        rc = EKM_FAIL(err, EKM_EUSAGE,
+                      "--ensemble: expected --axes x,z (the 1D profile has no ensemble mode)");
+    if (!rc && o.axis2 < 0 && o.bins_x)
+        rc = EKM_FAIL(err, EKM_EUSAGE, "--bins NX,NZ: expected --axes x,z (a 1D profile takes --bins N)");
     if (!rc) {
         o.inputs = inputs;
         o.ninputs = nin;
@@ -355,6 +403,93 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
     }
     free(inputs);
     free(pairs);
+    return rc;
+}
+
+static ekm_status cmd_base(int argc, char **argv, ekm_error *err)
+{
+    cg_base_opts o = cg_base_opts_default();
+    o.log = stderr;
+    const char **inputs = calloc((size_t)argc + 1, sizeof *inputs);
+    if (!inputs)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    size_t nin = 0;
+    ekm_status rc = EKM_OK;
+    for (int i = 0; i < argc && !rc; i++) {
+        const char *a = argv[i], *v = NULL;
+        if (a[0] != '-' || !strcmp(a, "-")) {
+            inputs[nin++] = a;
+            continue;
+        }
+        if (!strcmp(a, "-o")) {
+            ARG();
+            o.out = v;
+        } else if (!strcmp(a, "--csv")) {
+            ARG();
+            o.csv = v;
+        } else if (!strcmp(a, "--floor-type")) {
+            ARG();
+            char *end;
+            long t = strtol(v, &end, 10);
+            if (end == v || *end || t < 0 || t > 1000000)
+                rc = usage_error(err, "--floor-type: expected an atom type (integer >= 0), got '%s'", v);
+            o.floor_type = (int)t;
+        } else if (!strcmp(a, "--dx")) {
+            ARG();
+            rc = get_double(a, v, &o.dx, err);
+            if (!rc && !(o.dx > 0))
+                rc = usage_error(err, "--dx: expected a positive bin width, got '%s'", v);
+        } else if (!strcmp(a, "--bins")) {
+            ARG();
+            rc = get_size(a, v, &o.bins, err);
+        } else if (!strcmp(a, "--range")) {
+            ARG();
+            rc = get_pair(a, v, &o.range_lo, &o.range_hi, err);
+            if (!rc && !(o.range_hi > o.range_lo))
+                rc = usage_error(err, "--range: expected LO < HI, got '%s'", v);
+            o.have_range = 1;
+        } else if (!strcmp(a, "--centre")) {
+            ARG();
+            rc = get_double(a, v, &o.centre, err);
+            o.have_centre = 1;
+        } else if (!strcmp(a, "--dt")) {
+            ARG();
+            rc = get_double(a, v, &o.dt, err);
+            if (!rc && !(o.dt > 0))
+                rc = usage_error(err, "--dt: expected a positive time step, got '%s'", v);
+        } else if (!strcmp(a, "--from")) {
+            ARG();
+            rc = get_double(a, v, &o.from, err);
+            o.have_from = 1;
+        } else if (!strcmp(a, "--to")) {
+            ARG();
+            rc = get_double(a, v, &o.to, err);
+            o.have_to = 1;
+        } else if (!strcmp(a, "--steps")) {
+            ARG();
+            double x, y;
+            rc = get_pair(a, v, &x, &y, err);
+            if (!rc && (x != floor(x) || y != floor(y) || y < x))
+                rc = usage_error(err, "--steps: expected integers A:B with A <= B, got '%s'", v);
+            o.step_a = (int64_t)x;
+            o.step_b = (int64_t)y;
+            o.have_steps = 1;
+        } else if (!strcmp(a, "--last")) {
+            ARG();
+            rc = get_size(a, v, &o.last, err);
+        } else if (!strcmp(a, "--quiet"))
+            o.log = NULL;
+        else
+            rc = usage_error(err, "base: unknown option '%s' (see ekmcompare --help)", a);
+    }
+    if (!rc && o.dx > 0 && o.bins)
+        rc = EKM_FAIL(err, EKM_EUSAGE, "base: expected --dx or --bins, not both");
+    if (!rc) {
+        o.inputs = inputs;
+        o.ninputs = nin;
+        rc = cg_base_run(&o, err);
+    }
+    free(inputs);
     return rc;
 }
 
@@ -499,9 +634,11 @@ int main(int argc, char **argv)
         rc = cmd_score(argc - 2, argv + 2, &err);
     else if (!strcmp(argv[1], "steady"))
         rc = cmd_steady(argc - 2, argv + 2, &err);
+    else if (!strcmp(argv[1], "base"))
+        rc = cmd_base(argc - 2, argv + 2, &err);
     else
         rc = EKM_FAIL(&err, EKM_EUSAGE,
-                      "unknown command '%s': expected cg, score, fit or steady (see --help)", argv[1]);
+                      "unknown command '%s': expected cg, score, fit, steady or base (see --help)", argv[1]);
     if (rc) {
         ekm_error_print("ekmcompare", &err);
         return ekm_status_exit_code(rc);

@@ -49,6 +49,13 @@ static double draw_z(const synth_opts *o, double u)
     return x * o->lz;
 }
 
+/* x from p(x) ~ 1 + ax (x/lx - 1/2), as draw_z. */
+static double draw_x(const synth_opts *o, double u)
+{
+    double A = 0.5 * o->ax, B = 1.0 - 0.5 * o->ax;
+    return (-B + sqrt(B * B + 4.0 * A * u)) / (2.0 * A) * o->lx;
+}
+
 typedef struct {
     FILE *fp;
     gzFile gz;
@@ -117,7 +124,7 @@ int synth_write(const char *path, const synth_opts *o)
             double T = o->T0 * (1.0 + o->b * (z / o->lz - 0.5)), sd = sqrt(T);
             q[0] = (double)(i + 1);
             q[1] = 1;
-            q[2] = gsl_rng_uniform(r) * o->lx;
+            q[2] = o->ax == 0.0 ? gsl_rng_uniform(r) * o->lx : draw_x(o, gsl_rng_uniform(r));
             q[3] = gsl_rng_uniform(r) * o->ly;
             q[4] = z;
             q[5] = o->u0 + o->gdot * (z - 0.5 * o->lz) + gsl_ran_gaussian(r, sd);
@@ -162,6 +169,8 @@ int synth_write(const char *path, const synth_opts *o)
         if (o->format == SYNTH_BIN) {
             int64_t mlen = -10;
             int32_t endian = 1, rev = 2, tri = 0, bnd[6] = {0, 0, 0, 0, 1, 1}, size_one = nc;
+            if (o->xwalls)
+                bnd[0] = bnd[1] = 1;
             double box[6] = {0, o->lx, 0, o->ly, 0, o->lz};
             int64_t na = (int64_t)n;
             put(&w, &mlen, 8);
@@ -205,7 +214,7 @@ int synth_write(const char *path, const synth_opts *o)
             if (!o->liggghts)
                 putf(&w, "ITEM: TIME\n%.16g\n", (double)step * o->dt);
             putf(&w, "ITEM: TIMESTEP\n%lld\nITEM: NUMBER OF ATOMS\n%zu\n", (long long)step, n);
-            putf(&w, "ITEM: BOX BOUNDS pp pp ff\n");
+            putf(&w, o->xwalls ? "ITEM: BOX BOUNDS ff pp ff\n" : "ITEM: BOX BOUNDS pp pp ff\n");
             putf(&w, "%.16e %.16e\n%.16e %.16e\n%.16e %.16e\n", 0.0, o->lx, 0.0, o->ly, 0.0, o->lz);
             putf(&w, "ITEM: ATOMS");
             for (int k = 0; k < nc; k++) {
@@ -241,4 +250,75 @@ int synth_write(const char *path, const synth_opts *o)
     if (w.fp)
         rc |= fclose(w.fp) != 0;
     return rc;
+}
+
+synth_pile_opts synth_pile_default(void)
+{
+    synth_pile_opts o;
+    memset(&o, 0, sizeof o);
+    o.nfx = 80;
+    o.nfy = 2;
+    o.lx = 0.16;
+    o.ly = 0.004;
+    o.lz = 0.1;
+    o.radius = 0.001;
+    o.height = 0.03;
+    o.halfwidth = 0.06;
+    o.rho_bulk = 1500.0;
+    o.g = 9.81;
+    o.npile = 300;
+    o.nsnap = 3;
+    o.with_fz = 1;
+    o.seed = 7;
+    return o;
+}
+
+double synth_pile_p(const synth_pile_opts *o, double x)
+{
+    double xc = 0.5 * o->lx, h = o->height * (1.0 - fabs(x - xc) / o->halfwidth);
+    if (h < 0.0)
+        h = 0.0;
+    return o->rho_bulk * o->g * h * (1.0 + o->eps) * (1.0 + o->tilt * (x - xc) / o->halfwidth);
+}
+
+int synth_pile_write(const char *path, const synth_pile_opts *o)
+{
+    FILE *fp = fopen(path, "w");
+    if (!fp)
+        return 1;
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, o->seed);
+    double a = o->lx / (double)o->nfx, b = o->ly / (double)o->nfy,
+           m = o->rho_bulk / 0.6 * 4.0 / 3.0 * PI * o->radius * o->radius * o->radius;
+    size_t nfloor = o->nfx * o->nfy, n = nfloor + o->npile;
+    for (size_t s = 0; s < o->nsnap; s++) {
+        fprintf(fp, "ITEM: TIMESTEP\n%zu\nITEM: NUMBER OF ATOMS\n%zu\n", 1000 * s, n);
+        fprintf(fp, "ITEM: BOX BOUNDS ff pp ff\n%.17g %.17g\n%.17g %.17g\n%.17g %.17g\n", 0.0, o->lx, 0.0,
+                o->ly, 0.0, o->lz);
+        fprintf(fp, "ITEM: ATOMS id type x y z vx vy vz radius mass%s\n", o->with_fz ? " fx fy fz" : "");
+        for (size_t i = 0; i < n; i++) {
+            double x, y, z, fz;
+            int type;
+            if (i < nfloor) {
+                type = 2;
+                x = ((double)(i % o->nfx) + 0.5) * a;
+                y = ((double)(i / o->nfx) + 0.5) * b;
+                z = o->radius;
+                fz = -synth_pile_p(o, x) * a * b * (1.0 + o->eps_step * (double)s);
+            } else {
+                type = 1;
+                x = 0.5 * o->lx + (2.0 * gsl_rng_uniform(r) - 1.0) * o->halfwidth;
+                y = gsl_rng_uniform(r) * o->ly;
+                double h = o->height * (1.0 - fabs(x - 0.5 * o->lx) / o->halfwidth);
+                z = 2.0 * o->radius + gsl_rng_uniform(r) * h;
+                fz = gsl_ran_gaussian(r, 1e-3);
+            }
+            fprintf(fp, "%zu %d %.17g %.17g %.17g 0 0 0 %.17g %.17g", i + 1, type, x, y, z, o->radius, m);
+            if (o->with_fz)
+                fprintf(fp, " %.17g %.17g %.17g", gsl_ran_gaussian(r, 1e-4), gsl_ran_gaussian(r, 1e-4), fz);
+            fputc('\n', fp);
+        }
+    }
+    gsl_rng_free(r);
+    return fclose(fp) != 0;
 }

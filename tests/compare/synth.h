@@ -30,6 +30,8 @@ typedef struct {
     double P0, S0;        /* contact pressure and shear stress [Pa] */
     double dt;            /* time step [s]; TIME = step dt */
     int64_t step0, dstep; /* first step and step between snapshots */
+    double ax;            /* density slope along x: p(x) ~ 1 + ax (x/lx - 1/2) (|ax| < 2; 0: uniform) */
+    int xwalls;           /* 1: walls in x (BOX BOUNDS ff pp ff) instead of periodic */
 } synth_opts;
 
 synth_opts synth_default(void);
@@ -39,5 +41,35 @@ int synth_write(const char *path, const synth_opts *o);
 
 /* Exact density [kg/m^3] at z of the draw (all snapshots). */
 double synth_rho(const synth_opts *o, double z);
+
+/* A synthetic pile at rest for `ekmcompare base`: floor grains (type 2)
+ * on a lattice of nfx x nfy sites ((i + 1/2) lx/nfx, (j + 1/2) ly/nfy)
+ * at z = radius, each with fz = -p(x_i) (lx/nfx) (ly/nfy): the weight of
+ * the hydrostatic column above its site, p(x) = rho_bulk g h(x) (1 + eps)
+ * (1 + tilt (x - xc)/halfwidth), h(x) = height max(0, 1 - |x - xc|/halfwidth),
+ * xc = lx/2 (a wedge pile); fx, fy small random; npile pile grains
+ * (type 1) inside the wedge with random forces (which must not count). */
+typedef struct {
+    size_t nfx, nfy;    /* floor lattice sites along x and y */
+    double lx, ly, lz;  /* box [0,lx) x [0,ly) x [0,lz] [m] */
+    double radius;      /* grain radius [m] */
+    double height;      /* wedge height at its centre [m] */
+    double halfwidth;   /* wedge half-width at the floor [m] */
+    double rho_bulk, g; /* bulk density [kg/m^3], gravity [m/s^2] */
+    double eps, tilt;   /* relative perturbation of the load, and its slope */
+    double eps_step;    /* snapshot s carries the load x (1 + eps_step s) on top */
+    size_t npile;       /* pile grains (type 1) */
+    size_t nsnap;       /* snapshots (all the same pile) */
+    int with_fz;        /* 0: no fx fy fz columns (a dump `base` must refuse) */
+    unsigned long seed;
+} synth_pile_opts;
+
+synth_pile_opts synth_pile_default(void);
+
+/* The base pressure [Pa] the pile's floor load represents at x. */
+double synth_pile_p(const synth_pile_opts *o, double x);
+
+/* Write the dump (text, full precision); 0 on success. */
+int synth_pile_write(const char *path, const synth_pile_opts *o);
 
 #endif

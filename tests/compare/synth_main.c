@@ -1,5 +1,6 @@
 /* cg_synth: write a synthetic dump (benchmark and manual tests).
- * usage: cg_synth OUT text|gz|bin NATOMS NSNAP [liggghts] */
+ * usage: cg_synth OUT text|gz|bin NATOMS NSNAP [liggghts]
+ *        cg_synth OUT pile|pile_nofz   (a synthetic pile, with or without fx fy fz) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,6 +9,16 @@
 
 int main(int argc, char **argv)
 {
+    if (argc == 3 && (!strcmp(argv[2], "pile") || !strcmp(argv[2], "pile_nofz"))) {
+        /* the synthetic hydrostatic pile of synth.h (ekmcompare base) */
+        synth_pile_opts p = synth_pile_default();
+        p.with_fz = !strcmp(argv[2], "pile");
+        if (synth_pile_write(argv[1], &p)) {
+            fprintf(stderr, "cg_synth: cannot write %s\n", argv[1]);
+            return 1;
+        }
+        return 0;
+    }
     if (argc < 5) {
         fprintf(stderr, "usage: cg_synth OUT text|gz|bin NATOMS NSNAP [liggghts]\n");
         return 2;
