@@ -154,7 +154,7 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
         .newton_tol = 1e-9,
         .newton_max = 30,
         .normal_coupling = EKM_COUPLING_IMPLICIT,
-        .thermal_relax_step = 0.1,
+        .thermal_relax_step = 0.05,
     };
     s->hypo = (ekm_hypo_params){
         .enabled = 0,
