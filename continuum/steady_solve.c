@@ -22,8 +22,7 @@
 #define LNT_STEP_MAX    2.0  /* largest change of ln T per iteration */
 #define STEP_CHANGE_MAX 2.0  /* largest relative change of a pseudo-time step */
 #define PHI_SCALE       0.2  /* phi change that counts as 1 in it [-] */
-#define PHI_SHRINK      1e-3 /* a run's top cell thinner than this during a solve joins the one below [-] */
-#define PHI_THIN        1e-6 /* a thinner film joins the material below (merge_thin_cells) [-] */
+#define PHI_FRINGE      1e-6 /* the dilute fringe: empty set changes below it are left (topology_changed) [-] */
 
 /* Slots of the unknowns of cell j: U[j nv + slot]. */
 enum { SLOT_C = 0, SLOT_U = 1, SLOT_T = 2, SLOT_DZ = 3 };
@@ -33,13 +32,15 @@ typedef struct {
     int n, nv, moving, N;
     int kl, ku, ldab;
     double g_x, g_z, dz0;
-    unsigned char *dry;      /* frozen empty cells, n */
+    double u_ref;       /* the u unknowns and the scratch state's u are u - u_ref (the top wet cell's u of the
+                         * guess: a dilute tail's tiny differences keep their digits) [m/s] */
+    unsigned char *dry; /* frozen empty cells, n */
     unsigned char *dry_face; /* frozen empty faces, n + 1 */
     unsigned char
         *sealed; /* faces with a wet cell below and an empty one above whose w is an unknown, n + 1 */
     unsigned char *joined;    /* faces forced into their run (a sealed w pushed upwards), n + 1 */
     unsigned char *algebraic; /* rows without pseudo-mass, N */
-    double *c0;               /* cumulative phi of the guess, n */
+    double *c0;               /* cumulative phi of the guess from the top, sum_{i>=j} phi_i, n */
     ekm_state *s;             /* scratch state for bc.c and the shear rates */
     double *dz, *P, *eta, *mu_n, *lambda, *u2, *w2; /* n each */
     double *R, *mag, *mag1, *pmass, *R1, *U, *U1, *dU, *typ, *h, *ab;
@@ -168,6 +169,8 @@ static void rates_at(ss_problem *p, double dz, ekm_bc_face *bb, ekm_bc_face *bt)
     s->dz = dz;
     *bb = ekm_bc_evaluate(&p->sc->bottom, EKM_SIDE_BOTTOM, 0.0, s);
     *bt = ekm_bc_evaluate(&p->sc->top, EKM_SIDE_TOP, 0.0, s);
+    bb->u_wall -= p->u_ref;
+    bt->u_wall -= p->u_ref;
     ekm_step_shear_rates(s, bb, bt, p->dry, p->u2, p->w2);
 }
 
@@ -180,7 +183,7 @@ static int unpack(ss_problem *p, const double *U)
     const int n = p->n, nv = p->nv;
     for (int j = 0; j < n; j++) {
         const double *x = U + (size_t)j * nv;
-        const double phi = x[SLOT_C] - (j ? U[(size_t)(j - 1) * nv + SLOT_C] : 0.0);
+        const double phi = x[SLOT_C] - (j < n - 1 ? U[(size_t)(j + 1) * nv + SLOT_C] : 0.0);
         p->dz[j] = p->moving ? x[SLOT_DZ] : p->dz0;
         if (!isfinite(phi) || !isfinite(x[SLOT_U]) || !isfinite(x[SLOT_T]) || !(p->dz[j] > 0.0))
             return 0;
@@ -209,6 +212,14 @@ static int unpack(ss_problem *p, const double *U)
     s->w[0] = p->sc->bottom.kind == EKM_BC_FREE ? s->w[1] : 0.0;
     s->w[n] = p->sc->top.kind == EKM_BC_FREE ? s->w[n - 1] : 0.0;
     return 1;
+}
+
+/* 1: cell j's slot-C row is the normal momentum of the face below it (an
+ * interior face with material that is not a sealed surface); else the
+ * mass row of its run (the cumulative phi from the cell up is kept). */
+static int joined_below(const ss_problem *p, int j)
+{
+    return j > 0 && !p->dry_face[j] && !p->sealed[j];
 }
 
 /* The steady normal momentum of interior face f (w = 0 but on sealed faces). */
@@ -244,12 +255,9 @@ static int residual(ss_problem *p, const double *U, double *R, double *mag)
             rates_at(p, dz, &bb, &bt);
             dz_rates = dz;
         }
-        /* slot C: the face above, or the mass up to this cell */
-        if (j < n - 1 && !p->dry_face[j + 1] && !p->sealed[j + 1]) {
-            r[SLOT_C] = face_row(p, j + 1, dz, &mg[SLOT_C]);
-        } else if (j == n - 1 && p->moving) {
-            r[SLOT_C] = p->P[j] - sc->top.pressure;
-            mg[SLOT_C] = fabs(p->P[j]) + sc->top.pressure;
+        /* slot C: the face below, or the mass from this cell up */
+        if (joined_below(p, j)) {
+            r[SLOT_C] = face_row(p, j, dz, &mg[SLOT_C]);
         } else if (p->moving) {
             r[SLOT_C] = dz * x[SLOT_C] - p->dz0 * p->c0[j];
             mg[SLOT_C] = p->dz0 * (p->c0[j] + m->phi_cp);
@@ -306,8 +314,8 @@ static int residual(ss_problem *p, const double *U, double *R, double *mag)
                 r[SLOT_DZ] = x[SLOT_DZ] - U[i + nv + SLOT_DZ];
                 mg[SLOT_DZ] = p->dz0;
             } else {
-                r[SLOT_DZ] = dz * x[SLOT_C] - p->dz0 * p->c0[j];
-                mg[SLOT_DZ] = p->dz0 * (p->c0[j] + m->phi_cp);
+                r[SLOT_DZ] = p->P[j] - sc->top.pressure;
+                mg[SLOT_DZ] = fabs(p->P[j]) + sc->top.pressure;
             }
         }
     }
@@ -338,11 +346,25 @@ static void classify(ss_problem *p, const ekm_state *s)
         u_scale = fmax(u_scale, fabs(sc->top.velocity + sc->top.shear_rate * n * s->dz));
     for (int j = 0; j < n; j++) {
         p->dry[j] = s->phi[j] < phi_dry;
+        /* the top of a dilute tail: a cell with some material above a
+         * thinner one joined by a face with material is filled by the
+         * stepper (it creeps up, docs/model.md): it has material */
+        if (p->dry[j] && j > 0 && s->phi[j] > 0.0 && !p->dry[j - 1] && s->phi[j - 1] < PHI_FRINGE &&
+            0.5 * (s->phi[j - 1] + s->phi[j]) >= phi_dry)
+            p->dry[j] = 0;
+    }
+    p->u_ref = 0.0;
+    for (int j = n - 1; j >= 0; j--) {
         c += s->phi[j];
         p->c0[j] = c;
         if (!p->dry[j])
             u_scale = fmax(u_scale, fabs(s->u[j]));
     }
+    for (int j = n - 1; j >= 0; j--)
+        if (!p->dry[j] && s->phi[j] >= phi_dry) {
+            p->u_ref = s->u[j];
+            break;
+        }
     /* the speed gravity along the slab gives over the height */
     u_scale = fmax(u_scale, sqrt(fabs(p->g_x) * n * s->dz));
     u_scale = fmax(u_scale, 1e-3);
@@ -356,8 +378,10 @@ static void classify(ss_problem *p, const ekm_state *s)
         unsigned char *alg = p->algebraic + (size_t)j * nv;
         x[SLOT_C] = p->c0[j];
         t[SLOT_C] = 1.0;
-        alg[SLOT_C] = !(j < n - 1 && !p->dry_face[j + 1] && !p->sealed[j + 1]);
-        x[SLOT_U] = p->dry[j] ? 0.0 : s->u[j];
+        alg[SLOT_C] = !joined_below(p, j);
+        /* a cell that just became wet starts at its wet neighbour's u, T */
+        const int fresh = !p->dry[j] && s->phi[j] < phi_dry && j > 0;
+        x[SLOT_U] = p->dry[j] ? 0.0 : (fresh ? s->u[j - 1] : s->u[j]) - p->u_ref;
         t[SLOT_U] = u_scale;
         alg[SLOT_U] = p->dry[j];
         if (j > 0 && p->sealed[j]) {
@@ -369,8 +393,7 @@ static void classify(ss_problem *p, const ekm_state *s)
             t[SLOT_T] = 1.0;
             alg[SLOT_T] = 1;
         } else {
-            /* a cell that just became wet starts at its wet neighbour's T */
-            double T = s->T[j];
+            double T = fresh ? s->T[j - 1] : s->T[j];
             if (!(T > 0.0))
                 T = j > 0 && s->T[j - 1] > 0.0 ? s->T[j - 1] : fmax(sc->T_init, sc->numerics.T_floor);
             x[SLOT_T] = log(fmax(T, sc->numerics.T_floor));
@@ -409,11 +432,10 @@ static const char *row_name(const ss_problem *p, int i)
 {
     const int j = i / p->nv, slot = i % p->nv;
     switch (slot) {
-    case SLOT_C:
-        return p->algebraic[i] ? (j == p->n - 1 && p->moving ? "wall pressure" : "mass") : "normal momentum";
+    case SLOT_C: return p->algebraic[i] ? "mass" : "normal momentum";
     case SLOT_U: return "shear momentum";
     case SLOT_T: return j > 0 && p->sealed[j] ? "surface normal momentum" : "temperature";
-    default: return "gap";
+    default: return j == p->n - 1 ? "wall pressure" : "gap";
     }
 }
 
@@ -432,10 +454,10 @@ static void pseudo_mass(ss_problem *p)
     for (int j = 0; j < n; j++) {
         const size_t i = (size_t)j * nv;
         const double dz = p->dz[j];
-        if (j < n - 1) {
-            const double phi_face = 0.5 * (s->phi[j] + s->phi[j + 1]);
-            const double mu = 0.5 * (p->mu_n[j] + p->mu_n[j + 1]);
-            p->pmass[i + SLOT_C] = 2.0 * mu / (fmax(phi_face, 1e-3) * dz);
+        if (j > 0) {
+            const double phi_face = 0.5 * (s->phi[j - 1] + s->phi[j]);
+            const double mu = 0.5 * (p->mu_n[j - 1] + p->mu_n[j]);
+            p->pmass[i + SLOT_C] = -2.0 * mu / (fmax(phi_face, 1e-3) * dz);
         }
         p->pmass[i + SLOT_U] = -rho_p * s->phi[j];
         if (j > 0 && p->sealed[j])
@@ -446,8 +468,8 @@ static void pseudo_mass(ss_problem *p)
 }
 
 /* The size of a finite-difference step's column: a cumulative phi moves
- * phi of its cell and the next by it, so it is their distance to the ends
- * of (0, phi_cp) (wet cells; 1 phi-cell at most). */
+ * phi of its cell and of the one below by it, so it is their distance to
+ * the ends of (0, phi_cp) (wet cells; 1 phi-cell at most). */
 static double fd_scale(const ss_problem *p, int c)
 {
     if (c % p->nv != SLOT_C)
@@ -455,10 +477,10 @@ static double fd_scale(const ss_problem *p, int c)
     const int j = c / p->nv;
     const double phi_cp = p->sc->material.phi_cp;
     double room = 1.0;
-    for (int k = j; k <= j + 1 && k < p->n; k++) {
+    for (int k = j > 0 ? j - 1 : 0; k <= j; k++) {
         if (p->dry[k])
             continue;
-        const double phi = p->U[(size_t)k * p->nv] - (k ? p->U[(size_t)(k - 1) * p->nv] : 0.0);
+        const double phi = p->U[(size_t)k * p->nv] - (k < p->n - 1 ? p->U[(size_t)(k + 1) * p->nv] : 0.0);
         room = fmin(room, fmin(phi, phi_cp - phi));
     }
     return fmax(room, 1e-12);
@@ -515,19 +537,21 @@ static double now_s(void)
 }
 
 /* At the accepted iterate p->U (unpacked): a surface face pushed upwards
- * (w > 0: the layer grows into the empty cell, which joins the run), or
- * the top cell of a run thinned below PHI_SHRINK (it will be merged into
- * the cell below).  1: the frozen empty set no longer fits. */
+ * (w > 0: the layer grows into the empty cell, which joins the run), or a
+ * cell with material thinned below phi_dry (the stepper's emptiness rule:
+ * it is empty from now on, keeping its mass), but the top of a dilute
+ * tail (the cell below it thinner than PHI_FRINGE, see classify).  1: the frozen empty set no
+ * longer fits. */
 static int surface_moves(ss_problem *p)
 {
     int moves = 0;
     const ekm_state *s = p->s;
-    for (int f = 1; f < p->n; f++) {
+    for (int f = 1; f < p->n; f++)
         if (p->sealed[f] && s->w[f] > 0.0)
             moves = p->joined[f] = 1;
-        if (p->sealed[f] && s->phi[f - 1] < PHI_SHRINK)
+    for (int j = 0; j < p->n; j++)
+        if (!p->dry[j] && s->phi[j] < p->sc->numerics.phi_dry && !(j > 0 && s->phi[j - 1] < PHI_FRINGE))
             moves = 1;
-    }
     return moves;
 }
 
@@ -622,7 +646,7 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
                 change = fmax(change, fabs(alpha * p->dU[i]) / fmax(fabs(p->U[i]), p->typ[i]));
         for (int j = 0; j < p->n; j++) {
             const double dphi = alpha * (p->dU[(size_t)j * p->nv + SLOT_C] -
-                                         (j ? p->dU[(size_t)(j - 1) * p->nv + SLOT_C] : 0.0));
+                                         (j < p->n - 1 ? p->dU[(size_t)(j + 1) * p->nv + SLOT_C] : 0.0));
             change = fmax(change, fabs(dphi) / PHI_SCALE);
         }
         if (change > STEP_CHANGE_MAX && delta > DELTA0 * 1e-6 && delta < DELTA_MAX) {
@@ -658,22 +682,29 @@ static void store(ss_problem *p, ekm_state *s)
     for (int j = 0; j < n; j++) {
         s->z[j] = (j + 0.5) * s->dz;
         s->phi[j] = p->s->phi[j];
-        s->u[j] = p->s->u[j];
-        s->T[j] = p->s->T[j];
+        /* the stepper's emptiness rule: no u, T below phi_dry */
+        const int empty = p->dry[j] || s->phi[j] < p->sc->numerics.phi_dry;
+        s->u[j] = empty ? 0.0 : p->s->u[j] + p->u_ref;
+        s->T[j] = empty ? 0.0 : p->s->T[j];
     }
     memcpy(s->w, p->s->w, ((size_t)n + 1) * sizeof *s->w);
 }
 
 /* 1: the empty set or a sealed face of the solution differs from the
- * frozen one (the faces with an upward w join their run). */
+ * frozen one (the faces with an upward w join their run), but in the
+ * fringe: a cell with material that thinned below phi_dry, or a face
+ * whose cells are both below PHI_FRINGE, keeps its frozen kind (docs/model.md: the emptiness
+ * rule has no exact fixed point at a dilute tail's top). */
 static int topology_changed(ss_problem *p, const ekm_state *s)
 {
     const double phi_dry = p->sc->numerics.phi_dry;
+    const int n = p->n;
     int changed = 0;
-    for (int j = 0; j < p->n; j++)
-        changed |= (s->phi[j] < phi_dry) != p->dry[j];
-    for (int f = 1; f < p->n; f++) {
-        changed |= (0.5 * (s->phi[f - 1] + s->phi[f]) < phi_dry) != p->dry_face[f];
+    for (int j = 0; j < n; j++)
+        changed |= p->dry[j] ? s->phi[j] >= phi_dry : s->phi[j] < phi_dry && s->phi[j] >= PHI_FRINGE;
+    for (int f = 1; f < n; f++) {
+        const int fringe = s->phi[f - 1] < PHI_FRINGE && s->phi[f] < PHI_FRINGE;
+        changed |= (0.5 * (s->phi[f - 1] + s->phi[f]) < phi_dry) != p->dry_face[f] && !fringe;
         if (p->sealed[f] && s->w[f] > 0.0) {
             p->joined[f] = 1;
             changed = 1;
@@ -738,37 +769,10 @@ static ekm_status verify(const ekm_scenario *sc, const ekm_state *sol, ekm_stead
     return rc;
 }
 
-/* Cells with phi_dry <= phi < PHI_THIN (the thin film a transient leaves
- * above a surface) join the nearest cell with material below (above when
- * none): mass kept, the cell empty.  Such a cell has no shear to heat it,
- * and its T would fall to T_floor, a state the steady equations leave
- * out. */
-static void merge_thin_cells(const ekm_scenario *sc, ekm_state *s, double phi_thin)
-{
-    const double phi_dry = sc->numerics.phi_dry;
-    const int n = s->n;
-    for (int j = 0; j < n; j++) {
-        if (!(s->phi[j] >= phi_dry && s->phi[j] < phi_thin))
-            continue;
-        int k = j - 1;
-        while (k >= 0 && s->phi[k] < phi_thin)
-            k--;
-        if (k < 0)
-            for (k = j + 1; k < n && s->phi[k] < phi_thin; k++)
-                ;
-        if (k >= n)
-            continue;
-        s->phi[k] += s->phi[j];
-        s->phi[j] = 0.0;
-        s->u[j] = s->T[j] = 0.0;
-    }
-}
-
 /* Newton from s, with new solves while the empty set changes. */
 static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep, ekm_error *err)
 {
     memset(p->joined, 0, (size_t)p->n + 1);
-    merge_thin_cells(p->sc, s, PHI_THIN);
     const int budget = rep->iterations + EKM_STEADY_ATTEMPT_ITER;
     for (int pass = 0;; pass++) {
         classify(p, s);
@@ -776,7 +780,6 @@ static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep
         if (rc == EKM_EOF && pass < MAX_RESOLVES) {
             /* the surface moved during the solve: go on from there */
             store(p, s);
-            merge_thin_cells(p->sc, s, PHI_SHRINK);
             rep->dry_resolves++;
             continue;
         }
