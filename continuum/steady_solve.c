@@ -10,6 +10,7 @@
 
 #include "bc.h"
 #include "control.h"
+#include "homogeneous.h"
 #include "model.h"
 #include "run.h"
 #include "step.h"
@@ -22,6 +23,7 @@
 #define LNT_STEP_MAX    2.0  /* largest change of ln T per iteration */
 #define STEP_CHANGE_MAX 2.0  /* largest relative change of a pseudo-time step */
 #define PHI_SCALE       0.2  /* phi change that counts as 1 in it [-] */
+#define SEED_FRACTION   1e-2 /* of a surface cell's material given to the empty cell it pushes into [-] */
 #define PHI_FRINGE      1e-6 /* the dilute fringe: empty set changes below it are left (topology_changed) [-] */
 
 /* Slots of the unknowns of cell j: U[j nv + slot]. */
@@ -713,21 +715,29 @@ static int topology_changed(ss_problem *p, const ekm_state *s)
     return changed;
 }
 
-static double rel_change(const double *a, const double *b, const double *phi_a, const double *phi_b, int n,
-                         double phi_dry, double floor)
+/* The largest change of field a -> b over the cells with at least
+ * phi_min of material in both states, over scale; *where its cell. */
+static double change_max(const double *a, const double *b, const double *phi_a, const double *phi_b, int n,
+                         double phi_min, double scale, int *where)
 {
-    double diff = 0.0, norm = 0.0;
-    int count = 0;
+    double mx = 0.0;
     for (int j = 0; j < n; j++)
-        if (phi_a[j] >= phi_dry || phi_b[j] >= phi_dry) {
-            diff += (a[j] - b[j]) * (a[j] - b[j]);
-            norm += a[j] * a[j];
-            count++;
+        if (phi_a[j] >= phi_min && phi_b[j] >= phi_min && fabs(a[j] - b[j]) / scale > mx) {
+            mx = fabs(a[j] - b[j]) / scale;
+            *where = j;
         }
-    return count ? sqrt(diff) / fmax(sqrt(norm), floor * sqrt((double)count)) : 0.0;
+    return mx;
 }
 
-/* Time steps of the real stepper from the solution must not move it. */
+/* Time steps of the real stepper from the solution must not move it: at
+ * least EKM_STEADY_VERIFY_STEPS steps at the step limit and at least
+ * EKM_STEADY_VERIFY_FLOW_TIMES times the gap over the velocity scale (at
+ * most EKM_STEADY_VERIFY_MAX_STEPS steps), then the max-norm change of
+ * each field relative to its scale in the solution below
+ * EKM_STEADY_VERIFY_TOL: phi over max phi (every cell), u over max(|u|,
+ * 1 mm/s) and T over max T (the cells with at least PHI_FRINGE of
+ * material in both states), w as the volume flux w phi_face over max phi
+ * times that velocity (every face), the gap relative. */
 static ekm_status verify(const ekm_scenario *sc, const ekm_state *sol, ekm_steady_report *rep, ekm_error *err)
 {
     ekm_state *s = ekm_state_alloc(sol->n, sc->length);
@@ -737,10 +747,22 @@ static ekm_status verify(const ekm_scenario *sc, const ekm_state *sol, ekm_stead
         ekm_step_free(st);
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory verifying the steady state");
     }
+    const int n = sol->n;
+    double phi_max = 0.0, u_max = 1e-3, T_max = 0.0;
+    for (int j = 0; j < n; j++) {
+        phi_max = fmax(phi_max, sol->phi[j]);
+        if (sol->phi[j] >= PHI_FRINGE) {
+            u_max = fmax(u_max, fabs(sol->u[j]));
+            T_max = fmax(T_max, sol->T[j]);
+        }
+    }
+    const double t_span = EKM_STEADY_VERIFY_FLOW_TIMES * n * sol->dz / u_max;
     ekm_state_copy(s, sol);
     s->t = 0.0;
     ekm_status rc = EKM_OK;
-    for (int k = 0; k < EKM_STEADY_VERIFY_STEPS && rc == EKM_OK; k++) {
+    int steps = 0;
+    while (rc == EKM_OK && steps < EKM_STEADY_VERIFY_MAX_STEPS &&
+           (steps < EKM_STEADY_VERIFY_STEPS || s->t < t_span)) {
         const double dt = ekm_control_max_dt(sc, s, NULL);
         int accepted = 0;
         rc = ekm_step_apply(st, s, dt, &accepted, err);
@@ -748,25 +770,90 @@ static ekm_status verify(const ekm_scenario *sc, const ekm_state *sol, ekm_stead
             rc = EKM_FAIL(err, EKM_ENOTSTEADY,
                           "%s: no steady state: the time stepper rejects a step from the solution: %s",
                           sc->source, st->reject_reason);
+        steps++;
     }
+    rep->verify_steps = steps;
+    rep->verify_time = s->t;
     if (rc == EKM_OK) {
-        const double phi_dry = sc->numerics.phi_dry;
-        const int n = s->n;
-        double ch = rel_change(s->phi, sol->phi, s->phi, sol->phi, n, phi_dry, 1e-3);
-        ch = fmax(ch, rel_change(s->u, sol->u, s->phi, sol->phi, n, phi_dry, 1e-4));
-        ch = fmax(ch, rel_change(s->T, sol->T, s->phi, sol->phi, n, phi_dry, 1e-8));
-        ch = fmax(ch, fabs(s->dz - sol->dz) / sol->dz);
-        rep->verify_change = ch;
-        rep->verify_time = s->t;
-        if (!(ch < EKM_STEADY_VERIFY_TOL))
+        static const char *const names[5] = {"phi", "vx", "T", "w phi", "gap"};
+        int where[5] = {0, 0, 0, 0, 0};
+        double ch[5];
+        ch[0] = change_max(s->phi, sol->phi, s->phi, sol->phi, n, 0.0, phi_max, &where[0]);
+        ch[1] = change_max(s->u, sol->u, s->phi, sol->phi, n, PHI_FRINGE, u_max, &where[1]);
+        ch[2] =
+            T_max > 0.0 ? change_max(s->T, sol->T, s->phi, sol->phi, n, PHI_FRINGE, T_max, &where[2]) : 0.0;
+        ch[3] = 0.0;
+        for (int f = 0; f <= n; f++) {
+            const double phi_face = f == 0   ? sol->phi[0]
+                                    : f == n ? sol->phi[n - 1]
+                                             : 0.5 * (sol->phi[f - 1] + sol->phi[f]);
+            const double c = fabs(s->w[f] - sol->w[f]) * phi_face / (phi_max * u_max);
+            if (c > ch[3]) {
+                ch[3] = c;
+                where[3] = f;
+            }
+        }
+        ch[4] = fabs(s->dz - sol->dz) / sol->dz;
+        int worst = 0;
+        for (int k = 0; k < 5; k++) {
+            rep->verify_field[k] = ch[k];
+            if (ch[k] > ch[worst])
+                worst = k;
+        }
+        rep->verify_change = ch[worst];
+        if (!(ch[worst] < EKM_STEADY_VERIFY_TOL))
             rc = EKM_FAIL(err, EKM_ENOTSTEADY,
                           "%s: no steady state: the time stepper moves away from the Newton solution "
-                          "(relative change %.3g > %.0e over %d steps, %.3g s)",
-                          sc->source, ch, EKM_STEADY_VERIFY_TOL, EKM_STEADY_VERIFY_STEPS, s->t);
+                          "(change of %s %.3g relative%s%d > %.0e over %d steps, %.3g s)",
+                          sc->source, names[worst], ch[worst],
+                          worst == 4   ? ""
+                          : worst == 3 ? ", face "
+                                       : ", cell ",
+                          worst == 4 ? 0 : where[worst], EKM_STEADY_VERIFY_TOL, steps, s->t);
     }
     ekm_step_free(st);
     ekm_state_free(s);
     return rc;
+}
+
+/* A surface face pushed upwards (joined): the empty cell above gets
+ * SEED_FRACTION of the material below, with its u and T (the stepper's
+ * next steps fill it so), and is a cell with material from now on. */
+static void seed_joined(ss_problem *p, ekm_state *s)
+{
+    const double phi_dry = p->sc->numerics.phi_dry;
+    for (int f = 1; f < p->n; f++) {
+        if (!p->joined[f] || !(s->phi[f] < phi_dry) || !(s->phi[f - 1] >= phi_dry / SEED_FRACTION))
+            continue;
+        const double dm = SEED_FRACTION * s->phi[f - 1];
+        s->phi[f] += dm;
+        s->phi[f - 1] -= dm;
+        s->u[f] = s->u[f - 1];
+        s->T[f] = s->T[f - 1];
+        p->joined[f] = 0;
+    }
+}
+
+/* The top of a dilute tail whose face above has material (the stepper
+ * opens it, and the tail creeps upwards through it at a rate that grows
+ * with the top cell's phi): the empty cell above gets SEED_FRACTION of
+ * the top cell's material, u and T, and is a cell with material in the
+ * next solve.  1: a cell was seeded. */
+static int extend_tail(ss_problem *p, ekm_state *s)
+{
+    const double phi_dry = p->sc->numerics.phi_dry;
+    for (int f = 1; f < p->n; f++) {
+        if (!(s->phi[f] == 0.0 && s->phi[f - 1] >= phi_dry && s->phi[f - 1] < PHI_FRINGE &&
+              0.5 * s->phi[f - 1] >= phi_dry))
+            continue;
+        const double dm = SEED_FRACTION * s->phi[f - 1];
+        s->phi[f] = dm;
+        s->phi[f - 1] -= dm;
+        s->u[f] = s->u[f - 1];
+        s->T[f] = s->T[f - 1];
+        return 1;
+    }
+    return 0;
 }
 
 /* Newton from s, with new solves while the empty set changes. */
@@ -780,6 +867,7 @@ static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep
         if (rc == EKM_EOF && pass < MAX_RESOLVES) {
             /* the surface moved during the solve: go on from there */
             store(p, s);
+            seed_joined(p, s);
             rep->dry_resolves++;
             continue;
         }
@@ -790,8 +878,9 @@ static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep
         if (rc != EKM_OK)
             return rc;
         store(p, s);
-        if (!topology_changed(p, s))
+        if (!topology_changed(p, s) && !extend_tail(p, s))
             break;
+        seed_joined(p, s);
         if (pass == MAX_RESOLVES)
             return EKM_FAIL(err, EKM_ENOTSTEADY,
                             "%s: no steady state: the set of empty cells still changes after %d solves",
@@ -804,6 +893,78 @@ static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep
                             "%s: no steady state: phi = %.9g in cell %d is outside [0, %g)", p->sc->source,
                             s->phi[j], j, p->sc->material.phi_cp);
     return EKM_OK;
+}
+
+/* mu of the steady homogeneous shear at phi (rate 1/s; 0 when none) and
+ * its P_Y (the rate matters then). */
+static double homog_mu(const ekm_scenario *sc, double phi, ekm_homog_state *h)
+{
+    ekm_error herr;
+    if (ekm_homog_shear(&sc->material, sc->variant, phi, 1.0, h, &herr) != EKM_OK)
+        return 0.0;
+    return h->mu;
+}
+
+/* The local (Bagnold) steady flow of a layer on an incline (a wall below,
+ * free top, g along the slab), with g's mass: uniform phi* where the
+ * homogeneous shear's stress ratio mu(phi*) = |g_x / g_z| (mu falls with
+ * phi, rate-free where P_Y = 0), the shear rate of the weight above,
+ * P(phi*, gdot) = rho_p phi* |g_z| (h - z) with P = P_1 gdot^2, T = T_1
+ * gdot^2 (P_1, T_1 at 1/s), u integrated from the wall's slip.  0 (s
+ * unchanged): no such state (another geometry, no root below phi_co, a
+ * yield pressure at phi*, the layer does not fit, a slip length longer
+ * than the layer). */
+static int local_guess(const ekm_scenario *sc, const ekm_state *g, ekm_state *s)
+{
+    const double g_x = ekm_scenario_gravity_x(sc), g_z = ekm_scenario_gravity_z(sc);
+    if (sc->bottom.kind != EKM_BC_WALL || sc->top.kind != EKM_BC_FREE || !(g_z < 0.0) || g_x == 0.0 ||
+        ekm_bc_rate_wall(&sc->bottom))
+        return 0;
+    const double target = fabs(g_x / g_z), phi_dry = sc->numerics.phi_dry;
+    ekm_homog_state h;
+    double lo = 1e-3, hi = sc->material.phi_co * (1.0 - 1e-9);
+    if (!(homog_mu(sc, lo, &h) > target && homog_mu(sc, hi, &h) < target && h.mu > 0.0))
+        return 0;
+    for (int k = 0; k < 60; k++) {
+        const double mid = 0.5 * (lo + hi);
+        if (homog_mu(sc, mid, &h) > target)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    const double phi_s = 0.5 * (lo + hi);
+    if (!(homog_mu(sc, phi_s, &h) > 0.0) || h.P_Y != 0.0 || !(h.P > 0.0 && h.T > 0.0))
+        return 0;
+    const int n = g->n;
+    const double dz = g->dz;
+    double mass = 0.0; /* [cells] */
+    for (int j = 0; j < n; j++)
+        mass += g->phi[j];
+    const int full = (int)floor(mass / phi_s);
+    if (full < 2 || full >= n)
+        return 0;
+    const double height = mass / phi_s * dz, weight = sc->material.rho_p * phi_s * fabs(g_z);
+    const ekm_bc_face bb = ekm_bc_evaluate(&sc->bottom, EKM_SIDE_BOTTOM, 0.0, g);
+    if (!(bb.wall_conductance * height >= 1.0))
+        return 0; /* a base slipping over more than the layer's height: no local flow */
+    ekm_state_copy(s, g);
+    /* shear rate at height z (at least that of half a cell below the top) */
+    const double sign = g_x > 0.0 ? 1.0 : -1.0;
+#define GDOT_AT(z) sqrt(weight *fmax(height - (z), 0.5 * dz) / h.P)
+    double u = bb.u_wall + sign * GDOT_AT(0.0) / bb.wall_conductance;
+    for (int j = 0; j < n; j++) {
+        const double z = (j + 0.5) * dz;
+        if (j > 0)
+            u += sign * GDOT_AT(j * dz) * dz;
+        const double phi = j < full ? phi_s : (j == full ? mass - full * phi_s : 0.0);
+        s->phi[j] = phi;
+        s->u[j] = phi >= phi_dry ? u : 0.0;
+        s->T[j] = phi >= phi_dry ? h.T * GDOT_AT(z) * GDOT_AT(z) : 0.0;
+    }
+#undef GDOT_AT
+    for (int f = 0; f <= n; f++)
+        s->w[f] = 0.0;
+    return 1;
 }
 
 /* Advance g by `span` of model time with the real time loop (run.h), no
@@ -855,6 +1016,18 @@ ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_rep
         rc = solve_from(&p, s, rep, err);
         if (rc == EKM_OK)
             rc = verify(sc, s, rep, err);
+        if (rc == EKM_ENOTSTEADY && attempt == 0 && local_guess(sc, g, s)) {
+            /* the second attempt: from the local steady flow of g's mass,
+             * which is also where the time steps towards the steady state
+             * start (not the guess: from rest the flow takes ~30 s of
+             * model time to build up) */
+            ekm_state_copy(g, s);
+            rep->attempts++;
+            rep->local_guess = 1;
+            rc = solve_from(&p, s, rep, err);
+            if (rc == EKM_OK)
+                rc = verify(sc, s, rep, err);
+        }
         if (rc != EKM_ENOTSTEADY || attempt == EKM_STEADY_ATTEMPTS - 1 ||
             rep->iterations >= EKM_STEADY_MAX_ITER)
             break;

@@ -34,10 +34,13 @@
  *
  * Converged: the scaled residual (each row over the sum of its terms'
  * magnitudes) below EKM_STEADY_RES_TOL and the last Newton update below
- * EKM_STEADY_UPDATE_TOL relative.  Verified: EKM_STEADY_VERIFY_STEPS
- * steps of ekm_step_apply at the step limit (control.h) from the solution
- * change phi, vx, T (L2, relative, as steady.h) and the gap by less than
- * EKM_STEADY_VERIFY_TOL.
+ * EKM_STEADY_UPDATE_TOL relative.  Verified: time steps of ekm_step_apply
+ * at the step limit (control.h) from the solution, at least
+ * EKM_STEADY_VERIFY_STEPS of them and at least EKM_STEADY_VERIFY_FLOW_TIMES
+ * times the gap over the velocity scale of model time, change each of
+ * phi, vx, T, the volume flux w phi and the gap by less than
+ * EKM_STEADY_VERIFY_TOL in the max norm relative to the field's scale
+ * (verify in steady_solve.c; docs/model.md "Steady solver").
  */
 #ifndef EKM_STEADY_SOLVE_H
 #define EKM_STEADY_SOLVE_H
@@ -51,26 +54,31 @@
 #define EKM_STEADY_MAX_ITER     1000 /* Newton (continuation) iterations, all attempts */
 #define EKM_STEADY_ATTEMPT_ITER 60   /* ... of one attempt */
 #define EKM_STEADY_ATTEMPTS     12   /* attempts (the first from the guess) */
-#define EKM_STEADY_WARM_SPAN0                                                                  \
-    0.25                              /* model time stepped before the second attempt, doubled \
-                                       * before each further one (at most [run] t_end in all) [s] */
-#define EKM_STEADY_RES_TOL      1e-9  /* scaled residual, max norm [-] */
-#define EKM_STEADY_UPDATE_TOL   1e-10 /* relative Newton update, max norm [-] */
-#define EKM_STEADY_VERIFY_STEPS 50    /* time steps of the verification */
-#define EKM_STEADY_VERIFY_TOL   1e-9  /* relative change over them [-] */
+#define EKM_STEADY_WARM_SPAN0                                                                       \
+    0.25                                   /* model time stepped before the second attempt, doubled \
+                                            * before each further one (at most [run] t_end in all) [s] */
+#define EKM_STEADY_RES_TOL           1e-9  /* scaled residual, max norm [-] */
+#define EKM_STEADY_UPDATE_TOL        1e-10 /* relative Newton update, max norm [-] */
+#define EKM_STEADY_VERIFY_STEPS      200   /* least time steps of the verification */
+#define EKM_STEADY_VERIFY_FLOW_TIMES 10.0  /* least model time of it, in gap / velocity scale [-] */
+#define EKM_STEADY_VERIFY_MAX_STEPS  5000  /* most time steps of it */
+#define EKM_STEADY_VERIFY_TOL        1e-9  /* max-norm relative change of each field over them [-] */
 
 typedef struct {
     FILE *progress;   /* input: NULL, or a stream for one line per Newton iteration (kept by the solve) */
     int iterations;   /* Newton iterations (all solves) */
     int dry_resolves; /* new solves after the empty set changed */
     int attempts;     /* Newton attempts (1: from the guess) */
+    int local_guess;  /* 1: an attempt started from the local (Bagnold) flow of an incline */
     double warm_time; /* model time stepped between attempts [s] */
     long warm_steps;  /* time steps taken then */
     double residual[EKM_STEADY_MAX_ITER]; /* scaled residual before each iteration [-] */
     double delta[EKM_STEADY_MAX_ITER];    /* pseudo-time step of each iteration [-] */
     double residual_final;                /* scaled residual at the solution [-] */
     double update_final;                  /* last relative Newton update [-] */
-    double verify_change;                 /* relative change over the verification steps [-] */
+    double verify_change;                 /* largest of verify_field [-] */
+    double verify_field[5];               /* max-norm relative change of phi, u, T, w phi, gap over it [-] */
+    int verify_steps;                     /* time steps of the (last) verification */
     double verify_time;                   /* model time the verification stepped [s] */
     double gap;                           /* n dz at the solution [m] */
     double wall_s;                        /* wall-clock time of the solve [s] */
