@@ -61,7 +61,7 @@
 #define EKM_STEADY_UPDATE_TOL        1e-10 /* relative Newton update, max norm [-] */
 #define EKM_STEADY_VERIFY_STEPS      200   /* least time steps of the verification */
 #define EKM_STEADY_VERIFY_FLOW_TIMES 10.0  /* least model time of it, in gap / velocity scale [-] */
-#define EKM_STEADY_VERIFY_MAX_STEPS  5000  /* most time steps of it */
+#define EKM_STEADY_VERIFY_MAX_STEPS  2000  /* most time steps of it */
 #define EKM_STEADY_VERIFY_TOL        1e-9  /* max-norm relative change of each field over them [-] */
 
 typedef struct {
