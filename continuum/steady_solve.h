@@ -22,15 +22,21 @@
  *
  * with P = P_K + P_Y, eta, lambda (harmonic means at faces) and the
  * source S of model.h at (phi, T) and the wall data of bc.h.  Unknowns per
- * cell j: the cumulative phi c_j = sum_{i<=j} phi_i (so each run's mass is
- * a one-entry row), u_j, ln T_j, and with a pressure wall a copy dz_j of the
- * cell height (rows dz_j = dz_{j+1}, the volume row dz c_{n-1} = V at the
- * top): the Jacobian is banded (kl = 3 nv - 1, ku = 2 nv - 1 with nv = 3
- * or 4 unknowns per cell), computed by finite differences with column
- * grouping (kl + ku + 1 residual evaluations) and factorised by LAPACK
- * dgbtrf.  The set of empty cells and faces is frozen from the guess and
- * checked at the end (changed: a new Newton solve from the solution, at
- * most a few times).
+ * cell j: the cumulative phi from the top c_j = sum_{i>=j} phi_i (so each
+ * run's mass is a one-entry row, and a dilute tail's phi keeps its digits),
+ * u_j relative to the guess's top wet cell, ln T_j, and with a pressure
+ * wall a copy dz_j of the cell height (rows dz_j = dz_{j+1}, the volume row
+ * dz c_0 = V at the bottom, the wall pressure at the top): the Jacobian is
+ * banded (kl = ku = 3 nv - 1 with nv = 3 or 4 unknowns per cell), computed
+ * by finite differences with column grouping (kl + ku + 1 residual
+ * evaluations) and factorised by LAPACK dgbtrf.  Every cell with phi >=
+ * phi_dry is an unknown (no film is merged away).  The set of empty cells
+ * and faces is frozen from the guess and checked at the end (changed: a
+ * new Newton solve from the solution; a dilute tail's fringe, phi < 1e-6,
+ * keeps its frozen kind, and the tail grows until the face above its top
+ * is empty).  On an incline the second attempt, and the time steps
+ * between later ones, start from the local (Bagnold) flow of the guess's
+ * mass.
  *
  * Converged: the scaled residual (each row over the sum of its terms'
  * magnitudes) below EKM_STEADY_RES_TOL and the last Newton update below
