@@ -24,6 +24,7 @@
 #define STEP_CHANGE_MAX 2.0  /* largest relative change of a pseudo-time step */
 #define PHI_SCALE       0.2  /* phi change that counts as 1 in it [-] */
 #define SEED_FRACTION   1e-2 /* of a surface cell's material given to the empty cell it pushes into [-] */
+#define POLISH_FACTOR   1e-2 /* a converged residual above this times the tolerance gets one more iteration */
 #define PHI_FRINGE      1e-6 /* the dilute fringe: empty set changes below it are left (topology_changed) [-] */
 
 /* Slots of the unknowns of cell j: U[j nv + slot]. */
@@ -42,7 +43,9 @@ typedef struct {
         *sealed; /* faces with a wet cell below and an empty one above whose w is an unknown, n + 1 */
     unsigned char *joined;    /* faces forced into their run (a sealed w pushed upwards), n + 1 */
     unsigned char *algebraic; /* rows without pseudo-mass, N */
-    double *c0;               /* cumulative phi of the guess from the top, sum_{i>=j} phi_i, n */
+    int from_top;             /* 1: the cumulative phi is summed from the top (free or fixed ends), 0: from
+                               * the base (a pressure wall: its pressure row needs the top cell's) */
+    double *c0;               /* cumulative phi of the guess (sum_{i>=j} or sum_{i<=j} phi_i), n */
     ekm_state *s;             /* scratch state for bc.c and the shear rates */
     double *dz, *P, *eta, *mu_n, *lambda, *u2, *w2; /* n each */
     double *R, *mag, *mag1, *pmass, *R1, *U, *U1, *dU, *typ, *h, *ab;
@@ -91,6 +94,7 @@ static ekm_status problem_alloc(ss_problem *p, const ekm_scenario *sc, ekm_error
     p->n = sc->cells;
     p->moving = ekm_bc_pressure_wall(&sc->top);
     p->nv = p->moving ? 4 : 3;
+    p->from_top = !p->moving;
     p->N = p->n * p->nv;
     /* rows of cell j reach cells j-2..j+2 (face rows: the w of a sealed
      * face above the next cell) */
@@ -176,6 +180,14 @@ static void rates_at(ss_problem *p, double dz, ekm_bc_face *bb, ekm_bc_face *bt)
     ekm_step_shear_rates(s, bb, bt, p->dry, p->u2, p->w2);
 }
 
+/* The cumulative phi the one of cell j sums on from (the next cell's; 0
+ * past the end), so that phi_j = c_j - cumulative_next. */
+static double cumulative_next(const ss_problem *p, const double *U, int j)
+{
+    const int k = p->from_top ? j + 1 : j - 1;
+    return k >= 0 && k < p->n ? U[(size_t)k * p->nv + SLOT_C] : 0.0;
+}
+
 /* Unpack U into the scratch state and the properties; 0: U is outside the
  * domain (phi of a wet cell outside (0, phi_cp), phi < 0, dz <= 0, not finite). */
 static int unpack(ss_problem *p, const double *U)
@@ -185,7 +197,7 @@ static int unpack(ss_problem *p, const double *U)
     const int n = p->n, nv = p->nv;
     for (int j = 0; j < n; j++) {
         const double *x = U + (size_t)j * nv;
-        const double phi = x[SLOT_C] - (j < n - 1 ? U[(size_t)(j + 1) * nv + SLOT_C] : 0.0);
+        const double phi = x[SLOT_C] - cumulative_next(p, U, j);
         p->dz[j] = p->moving ? x[SLOT_DZ] : p->dz0;
         if (!isfinite(phi) || !isfinite(x[SLOT_U]) || !isfinite(x[SLOT_T]) || !(p->dz[j] > 0.0))
             return 0;
@@ -216,12 +228,14 @@ static int unpack(ss_problem *p, const double *U)
     return 1;
 }
 
-/* 1: cell j's slot-C row is the normal momentum of the face below it (an
- * interior face with material that is not a sealed surface); else the
- * mass row of its run (the cumulative phi from the cell up is kept). */
-static int joined_below(const ss_problem *p, int j)
+/* The face whose normal momentum is cell j's slot-C row: the one below it
+ * (summed from the top) or above it (from the base), if it is an interior
+ * face with material that is not a sealed surface; 0: none, the row is
+ * the mass of its run (the cumulative phi from the cell on is kept). */
+static int joined_face(const ss_problem *p, int j)
 {
-    return j > 0 && !p->dry_face[j] && !p->sealed[j];
+    const int f = p->from_top ? j : j + 1;
+    return f > 0 && f < p->n && !p->dry_face[f] && !p->sealed[f] ? f : 0;
 }
 
 /* The steady normal momentum of interior face f (w = 0 but on sealed faces). */
@@ -257,9 +271,14 @@ static int residual(ss_problem *p, const double *U, double *R, double *mag)
             rates_at(p, dz, &bb, &bt);
             dz_rates = dz;
         }
-        /* slot C: the face below, or the mass from this cell up */
-        if (joined_below(p, j)) {
-            r[SLOT_C] = face_row(p, j, dz, &mg[SLOT_C]);
+        /* slot C: a face's normal momentum, the wall pressure or the mass
+         * from this cell on */
+        const int f_row = joined_face(p, j);
+        if (f_row) {
+            r[SLOT_C] = face_row(p, f_row, dz, &mg[SLOT_C]);
+        } else if (j == n - 1 && p->moving) {
+            r[SLOT_C] = p->P[j] - sc->top.pressure;
+            mg[SLOT_C] = fabs(p->P[j]) + sc->top.pressure;
         } else if (p->moving) {
             r[SLOT_C] = dz * x[SLOT_C] - p->dz0 * p->c0[j];
             mg[SLOT_C] = p->dz0 * (p->c0[j] + m->phi_cp);
@@ -316,8 +335,8 @@ static int residual(ss_problem *p, const double *U, double *R, double *mag)
                 r[SLOT_DZ] = x[SLOT_DZ] - U[i + nv + SLOT_DZ];
                 mg[SLOT_DZ] = p->dz0;
             } else {
-                r[SLOT_DZ] = p->P[j] - sc->top.pressure;
-                mg[SLOT_DZ] = fabs(p->P[j]) + sc->top.pressure;
+                r[SLOT_DZ] = dz * x[SLOT_C] - p->dz0 * p->c0[j];
+                mg[SLOT_DZ] = p->dz0 * (p->c0[j] + m->phi_cp);
             }
         }
     }
@@ -356,7 +375,8 @@ static void classify(ss_problem *p, const ekm_state *s)
             p->dry[j] = 0;
     }
     p->u_ref = 0.0;
-    for (int j = n - 1; j >= 0; j--) {
+    for (int k = 0; k < n; k++) {
+        const int j = p->from_top ? n - 1 - k : k;
         c += s->phi[j];
         p->c0[j] = c;
         if (!p->dry[j])
@@ -380,7 +400,7 @@ static void classify(ss_problem *p, const ekm_state *s)
         unsigned char *alg = p->algebraic + (size_t)j * nv;
         x[SLOT_C] = p->c0[j];
         t[SLOT_C] = 1.0;
-        alg[SLOT_C] = !joined_below(p, j);
+        alg[SLOT_C] = !joined_face(p, j);
         /* a cell that just became wet starts at its wet neighbour's u, T */
         const int fresh = !p->dry[j] && s->phi[j] < phi_dry && j > 0;
         x[SLOT_U] = p->dry[j] ? 0.0 : (fresh ? s->u[j - 1] : s->u[j]) - p->u_ref;
@@ -434,10 +454,11 @@ static const char *row_name(const ss_problem *p, int i)
 {
     const int j = i / p->nv, slot = i % p->nv;
     switch (slot) {
-    case SLOT_C: return p->algebraic[i] ? "mass" : "normal momentum";
+    case SLOT_C:
+        return p->algebraic[i] ? (j == p->n - 1 && p->moving ? "wall pressure" : "mass") : "normal momentum";
     case SLOT_U: return "shear momentum";
     case SLOT_T: return j > 0 && p->sealed[j] ? "surface normal momentum" : "temperature";
-    default: return j == p->n - 1 ? "wall pressure" : "gap";
+    default: return "gap";
     }
 }
 
@@ -456,10 +477,13 @@ static void pseudo_mass(ss_problem *p)
     for (int j = 0; j < n; j++) {
         const size_t i = (size_t)j * nv;
         const double dz = p->dz[j];
-        if (j > 0) {
-            const double phi_face = 0.5 * (s->phi[j - 1] + s->phi[j]);
-            const double mu = 0.5 * (p->mu_n[j - 1] + p->mu_n[j]);
-            p->pmass[i + SLOT_C] = -2.0 * mu / (fmax(phi_face, 1e-3) * dz);
+        const int f = joined_face(p, j);
+        if (f) {
+            /* the cumulative from the top grows with an upward flux, the
+             * one from the base falls */
+            const double phi_face = 0.5 * (s->phi[f - 1] + s->phi[f]);
+            const double mu = 0.5 * (p->mu_n[f - 1] + p->mu_n[f]);
+            p->pmass[i + SLOT_C] = (p->from_top ? -2.0 : 2.0) * mu / (fmax(phi_face, 1e-3) * dz);
         }
         p->pmass[i + SLOT_U] = -rho_p * s->phi[j];
         if (j > 0 && p->sealed[j])
@@ -470,8 +494,8 @@ static void pseudo_mass(ss_problem *p)
 }
 
 /* The size of a finite-difference step's column: a cumulative phi moves
- * phi of its cell and of the one below by it, so it is their distance to
- * the ends of (0, phi_cp) (wet cells; 1 phi-cell at most). */
+ * phi of its cell and of the one it is summed from by it, so it is their
+ * distance to the ends of (0, phi_cp) (wet cells; 1 phi-cell at most). */
 static double fd_scale(const ss_problem *p, int c)
 {
     if (c % p->nv != SLOT_C)
@@ -479,10 +503,12 @@ static double fd_scale(const ss_problem *p, int c)
     const int j = c / p->nv;
     const double phi_cp = p->sc->material.phi_cp;
     double room = 1.0;
-    for (int k = j > 0 ? j - 1 : 0; k <= j; k++) {
-        if (p->dry[k])
+    const int cells[2] = {j, p->from_top ? j - 1 : j + 1};
+    for (int i = 0; i < 2; i++) {
+        const int k = cells[i];
+        if (k < 0 || k >= p->n || p->dry[k])
             continue;
-        const double phi = p->U[(size_t)k * p->nv] - (k < p->n - 1 ? p->U[(size_t)(k + 1) * p->nv] : 0.0);
+        const double phi = p->U[(size_t)k * p->nv] - cumulative_next(p, p->U, k);
         room = fmin(room, fmin(phi, phi_cp - phi));
     }
     return fmax(room, 1e-12);
@@ -569,6 +595,7 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
                         p->sc->source);
     double delta = DELTA0;
     double res = norm2_scaled(p, p->R, p->mag);
+    int polished = 0;
     for (;;) {
         if (rep->iterations >= budget || rep->iterations >= EKM_STEADY_MAX_ITER) {
             int where;
@@ -647,8 +674,7 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
             if (!p->algebraic[i])
                 change = fmax(change, fabs(alpha * p->dU[i]) / fmax(fabs(p->U[i]), p->typ[i]));
         for (int j = 0; j < p->n; j++) {
-            const double dphi = alpha * (p->dU[(size_t)j * p->nv + SLOT_C] -
-                                         (j < p->n - 1 ? p->dU[(size_t)(j + 1) * p->nv + SLOT_C] : 0.0));
+            const double dphi = alpha * (p->dU[(size_t)j * p->nv + SLOT_C] - cumulative_next(p, p->dU, j));
             change = fmax(change, fabs(dphi) / PHI_SCALE);
         }
         if (change > STEP_CHANGE_MAX && delta > DELTA0 * 1e-6 && delta < DELTA_MAX) {
@@ -668,8 +694,14 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
         rep->update_final = update;
         int where;
         rep->residual_final = norm_max_scaled(p, p->R, p->mag, &where);
-        if (rep->residual_final < EKM_STEADY_RES_TOL && update < EKM_STEADY_UPDATE_TOL)
-            return EKM_OK;
+        /* converged; one more iteration (Newton's: quadratic) when the
+         * residual is not yet far below the tolerance, so that the stepper
+         * does not see it */
+        if (rep->residual_final < EKM_STEADY_RES_TOL && update < EKM_STEADY_UPDATE_TOL) {
+            if (polished || rep->residual_final < POLISH_FACTOR * EKM_STEADY_RES_TOL)
+                return EKM_OK;
+            polished = 1;
+        }
         if (surface_moves(p))
             return EKM_EOF; /* the caller re-freezes the empty set and goes on */
     }
@@ -856,10 +888,64 @@ static int extend_tail(ss_problem *p, ekm_state *s)
     return 0;
 }
 
+/* A sealed surface face with w < 0 under an empty cell that holds some
+ * material (below phi_dry): the stepper's flux w phi_upwind drains it into
+ * the cell below; it is moved there.  1: some was. */
+static int drain_sealed(const ss_problem *p, ekm_state *s)
+{
+    int moved = 0;
+    for (int f = 1; f < p->n; f++)
+        if (p->sealed[f] && s->w[f] < 0.0 && s->phi[f] > 0.0) {
+            s->phi[f - 1] += s->phi[f];
+            s->phi[f] = 0.0;
+            moved = 1;
+        }
+    return moved;
+}
+
+/* Runs of cells with material (phi >= phi_dry) whose phi stays below
+ * PHI_FRINGE and that are not joined to thicker material (a film a
+ * transient left above a surface, with empty cells between) join the
+ * nearest cell with at least PHI_FRINGE below (above when none): mass
+ * kept, the cells empty.  Such a film has no shear to heat it and falls
+ * onto the layer in the stepper; it has no steady state of its own.  A
+ * dilute tail joined to the layer below it is kept. */
+static void merge_detached_films(const ekm_scenario *sc, ekm_state *s)
+{
+    const double phi_dry = sc->numerics.phi_dry;
+    const int n = s->n;
+    for (int a = 0; a < n;) {
+        if (!(s->phi[a] >= phi_dry)) {
+            a++;
+            continue;
+        }
+        int b = a;
+        double top = s->phi[a];
+        while (b + 1 < n && s->phi[b + 1] >= phi_dry)
+            top = fmax(top, s->phi[++b]);
+        if (top < PHI_FRINGE) {
+            int k = a - 1;
+            while (k >= 0 && s->phi[k] < PHI_FRINGE)
+                k--;
+            if (k < 0)
+                for (k = b + 1; k < n && s->phi[k] < PHI_FRINGE; k++)
+                    ;
+            if (k < n)
+                for (int j = a; j <= b; j++) {
+                    s->phi[k] += s->phi[j];
+                    s->phi[j] = 0.0;
+                    s->u[j] = s->T[j] = 0.0;
+                }
+        }
+        a = b + 1;
+    }
+}
+
 /* Newton from s, with new solves while the empty set changes. */
 static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep, ekm_error *err)
 {
     memset(p->joined, 0, (size_t)p->n + 1);
+    merge_detached_films(p->sc, s);
     const int budget = rep->iterations + EKM_STEADY_ATTEMPT_ITER;
     for (int pass = 0;; pass++) {
         classify(p, s);
@@ -867,6 +953,7 @@ static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep
         if (rc == EKM_EOF && pass < MAX_RESOLVES) {
             /* the surface moved during the solve: go on from there */
             store(p, s);
+            merge_detached_films(p->sc, s);
             seed_joined(p, s);
             rep->dry_resolves++;
             continue;
@@ -878,7 +965,7 @@ static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep
         if (rc != EKM_OK)
             return rc;
         store(p, s);
-        if (!topology_changed(p, s) && !extend_tail(p, s))
+        if (!topology_changed(p, s) && !drain_sealed(p, s) && !extend_tail(p, s))
             break;
         seed_joined(p, s);
         if (pass == MAX_RESOLVES)
