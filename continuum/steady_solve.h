@@ -23,10 +23,11 @@
  * with P = P_K + P_Y, eta, lambda (harmonic means at faces) and the
  * source S of model.h at (phi, T) and the wall data of bc.h.  Unknowns per
  * cell j: the cumulative phi from the top c_j = sum_{i>=j} phi_i (so each
- * run's mass is a one-entry row, and a dilute tail's phi keeps its digits),
- * u_j relative to the guess's top wet cell, ln T_j, and with a pressure
- * wall a copy dz_j of the cell height (rows dz_j = dz_{j+1}, the volume row
- * dz c_0 = V at the bottom, the wall pressure at the top): the Jacobian is
+ * run's mass is a one-entry row, and a dilute tail's phi keeps its digits;
+ * with a pressure wall from the base, sum_{i<=j}, the top cell's row the
+ * wall pressure), u_j relative to the guess's top wet cell, ln T_j, and
+ * with a pressure wall a copy dz_j of the cell height (rows dz_j =
+ * dz_{j+1}, the volume row dz c_{n-1} = V at the top): the Jacobian is
  * banded (kl = ku = 3 nv - 1 with nv = 3 or 4 unknowns per cell), computed
  * by finite differences with column grouping (kl + ku + 1 residual
  * evaluations) and factorised by LAPACK dgbtrf.  Every cell with phi >=
