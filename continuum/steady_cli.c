@@ -126,6 +126,7 @@ static ekm_status write_output(const char *out, const ekm_scenario *sc, const ek
         {"steady.iterations", (double)rep->iterations},
         {"steady.dry_resolves", (double)rep->dry_resolves},
         {"steady.attempts", (double)rep->attempts},
+        {"steady.local_guess", (double)rep->local_guess},
         {"steady.warm_time", rep->warm_time},
         {"steady.warm_steps", (double)rep->warm_steps},
         {"steady.residual_final", rep->residual_final},

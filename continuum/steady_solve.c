@@ -25,7 +25,7 @@
 #define PHI_SCALE       0.2  /* phi change that counts as 1 in it [-] */
 #define SEED_FRACTION   1e-2 /* of a surface cell's material given to the empty cell it pushes into [-] */
 #define POLISH_FACTOR   1e-2 /* a converged residual above this times the tolerance gets one more iteration */
-#define PHI_FRINGE      1e-6 /* the dilute fringe: empty set changes below it are left (topology_changed) [-] */
+#define PHI_FRINGE      1e-6 /* the dilute fringe: its empty set changes are left (topology_changed) [-] */
 
 /* Slots of the unknowns of cell j: U[j nv + slot]. */
 enum { SLOT_C = 0, SLOT_U = 1, SLOT_T = 2, SLOT_DZ = 3 };
@@ -568,8 +568,8 @@ static double now_s(void)
  * (w > 0: the layer grows into the empty cell, which joins the run), or a
  * cell with material thinned below phi_dry (the stepper's emptiness rule:
  * it is empty from now on, keeping its mass), but the top of a dilute
- * tail (the cell below it thinner than PHI_FRINGE, see classify).  1: the frozen empty set no
- * longer fits. */
+ * tail (the cell below it thinner than PHI_FRINGE, see classify).  1: the
+ * frozen empty set no longer fits. */
 static int surface_moves(ss_problem *p)
 {
     int moves = 0;
@@ -727,8 +727,9 @@ static void store(ss_problem *p, ekm_state *s)
 /* 1: the empty set or a sealed face of the solution differs from the
  * frozen one (the faces with an upward w join their run), but in the
  * fringe: a cell with material that thinned below phi_dry, or a face
- * whose cells are both below PHI_FRINGE, keeps its frozen kind (docs/model.md: the emptiness
- * rule has no exact fixed point at a dilute tail's top). */
+ * whose cells are both below PHI_FRINGE, keeps its frozen kind
+ * (docs/model.md: the emptiness rule has no exact fixed point at a dilute
+ * tail's top). */
 static int topology_changed(ss_problem *p, const ekm_state *s)
 {
     const double phi_dry = p->sc->numerics.phi_dry;
@@ -753,11 +754,15 @@ static double change_max(const double *a, const double *b, const double *phi_a, 
                          double phi_min, double scale, int *where)
 {
     double mx = 0.0;
-    for (int j = 0; j < n; j++)
-        if (phi_a[j] >= phi_min && phi_b[j] >= phi_min && fabs(a[j] - b[j]) / scale > mx) {
-            mx = fabs(a[j] - b[j]) / scale;
+    for (int j = 0; j < n; j++) {
+        if (!(phi_a[j] >= phi_min && phi_b[j] >= phi_min))
+            continue;
+        const double c = fabs(a[j] - b[j]) / scale;
+        if (!(c <= mx)) { /* a value that is not finite counts as infinite */
+            mx = isfinite(c) ? c : INFINITY;
             *where = j;
         }
+    }
     return mx;
 }
 
@@ -788,6 +793,7 @@ static ekm_status verify(const ekm_scenario *sc, const ekm_state *sol, ekm_stead
             T_max = fmax(T_max, sol->T[j]);
         }
     }
+    phi_max = fmax(phi_max, sc->numerics.phi_dry);
     const double t_span = EKM_STEADY_VERIFY_FLOW_TIMES * n * sol->dz / u_max;
     ekm_state_copy(s, sol);
     s->t = 0.0;
@@ -820,12 +826,14 @@ static ekm_status verify(const ekm_scenario *sc, const ekm_state *sol, ekm_stead
                                     : f == n ? sol->phi[n - 1]
                                              : 0.5 * (sol->phi[f - 1] + sol->phi[f]);
             const double c = fabs(s->w[f] - sol->w[f]) * phi_face / (phi_max * u_max);
-            if (c > ch[3]) {
-                ch[3] = c;
+            if (!(c <= ch[3])) {
+                ch[3] = isfinite(c) ? c : INFINITY;
                 where[3] = f;
             }
         }
         ch[4] = fabs(s->dz - sol->dz) / sol->dz;
+        if (!isfinite(ch[4]))
+            ch[4] = INFINITY;
         int worst = 0;
         for (int k = 0; k < 5; k++) {
             rep->verify_field[k] = ch[k];
