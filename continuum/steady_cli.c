@@ -111,7 +111,7 @@ static ekm_status write_output(const char *out, const ekm_scenario *sc, const ek
     /* the time steps taken: the warm-up between Newton attempts and the
      * verification (as ekm run's stats.*, which ekmcompare reads to know an
      * ekm output) */
-    const double steps = (double)rep->warm_steps + EKM_STEADY_VERIFY_STEPS;
+    const double steps = (double)rep->warm_steps + rep->verify_steps;
     ekm_h5_writer *w = NULL;
     ekm_status st = ekm_h5_writer_open(&w, out, sc, s, err);
     if (st != EKM_OK)
@@ -126,12 +126,19 @@ static ekm_status write_output(const char *out, const ekm_scenario *sc, const ek
         {"steady.iterations", (double)rep->iterations},
         {"steady.dry_resolves", (double)rep->dry_resolves},
         {"steady.attempts", (double)rep->attempts},
+        {"steady.local_guess", (double)rep->local_guess},
         {"steady.warm_time", rep->warm_time},
         {"steady.warm_steps", (double)rep->warm_steps},
         {"steady.residual_final", rep->residual_final},
         {"steady.update_final", rep->update_final},
         {"steady.verify_change", rep->verify_change},
         {"steady.verify_time", rep->verify_time},
+        {"steady.verify_steps", (double)rep->verify_steps},
+        {"steady.verify_phi", rep->verify_field[0]},
+        {"steady.verify_vx", rep->verify_field[1]},
+        {"steady.verify_T", rep->verify_field[2]},
+        {"steady.verify_w", rep->verify_field[3]},
+        {"steady.verify_gap", rep->verify_field[4]},
         {"stats.wall_time_s", rep->wall_s},
         {"stats.steps", steps},
         {"stats.cell_updates", steps * s->n},
@@ -205,9 +212,9 @@ int ekm_steady_cli_main(int argc, char **argv)
             snprintf(gap, sizeof gap, "  gap %.9g m", rep.gap);
         printf(
             "%-20s steady  %3d Newton iterations in %d attempts (%.3g s of model time stepped, %ld steps)  "
-            "residual %.1e  verified over %d steps (change %.1e)  %5d cells%s  %.4f s  -> %s\n",
+            "residual %.1e  verified over %d steps (max change %.1e)  %5d cells%s  %.4f s  -> %s\n",
             sc.name, rep.iterations, rep.attempts, rep.warm_time, rep.warm_steps, rep.residual_final,
-            EKM_STEADY_VERIFY_STEPS, rep.verify_change, sc.cells, gap, rep.wall_s, out);
+            rep.verify_steps, rep.verify_change, sc.cells, gap, rep.wall_s, out);
     }
     ekm_state_free(s);
     ekm_scenario_free(&sc);

@@ -10,6 +10,7 @@
 
 #include "bc.h"
 #include "control.h"
+#include "homogeneous.h"
 #include "model.h"
 #include "run.h"
 #include "step.h"
@@ -22,8 +23,9 @@
 #define LNT_STEP_MAX    2.0  /* largest change of ln T per iteration */
 #define STEP_CHANGE_MAX 2.0  /* largest relative change of a pseudo-time step */
 #define PHI_SCALE       0.2  /* phi change that counts as 1 in it [-] */
-#define PHI_SHRINK      1e-3 /* a run's top cell thinner than this during a solve joins the one below [-] */
-#define PHI_THIN        1e-6 /* a thinner film joins the material below (merge_thin_cells) [-] */
+#define SEED_FRACTION   1e-2 /* of a surface cell's material given to the empty cell it pushes into [-] */
+#define POLISH_FACTOR   1e-2 /* a converged residual above this times the tolerance gets one more iteration */
+#define PHI_FRINGE      1e-6 /* the dilute fringe: its empty set changes are left (topology_changed) [-] */
 
 /* Slots of the unknowns of cell j: U[j nv + slot]. */
 enum { SLOT_C = 0, SLOT_U = 1, SLOT_T = 2, SLOT_DZ = 3 };
@@ -33,13 +35,17 @@ typedef struct {
     int n, nv, moving, N;
     int kl, ku, ldab;
     double g_x, g_z, dz0;
-    unsigned char *dry;      /* frozen empty cells, n */
+    double u_ref;       /* the u unknowns and the scratch state's u are u - u_ref (the top wet cell's u of the
+                         * guess: a dilute tail's tiny differences keep their digits) [m/s] */
+    unsigned char *dry; /* frozen empty cells, n */
     unsigned char *dry_face; /* frozen empty faces, n + 1 */
     unsigned char
         *sealed; /* faces with a wet cell below and an empty one above whose w is an unknown, n + 1 */
     unsigned char *joined;    /* faces forced into their run (a sealed w pushed upwards), n + 1 */
     unsigned char *algebraic; /* rows without pseudo-mass, N */
-    double *c0;               /* cumulative phi of the guess, n */
+    int from_top;             /* 1: the cumulative phi is summed from the top (free or fixed ends), 0: from
+                               * the base (a pressure wall: its pressure row needs the top cell's) */
+    double *c0;               /* cumulative phi of the guess (sum_{i>=j} or sum_{i<=j} phi_i), n */
     ekm_state *s;             /* scratch state for bc.c and the shear rates */
     double *dz, *P, *eta, *mu_n, *lambda, *u2, *w2; /* n each */
     double *R, *mag, *mag1, *pmass, *R1, *U, *U1, *dU, *typ, *h, *ab;
@@ -88,6 +94,7 @@ static ekm_status problem_alloc(ss_problem *p, const ekm_scenario *sc, ekm_error
     p->n = sc->cells;
     p->moving = ekm_bc_pressure_wall(&sc->top);
     p->nv = p->moving ? 4 : 3;
+    p->from_top = !p->moving;
     p->N = p->n * p->nv;
     /* rows of cell j reach cells j-2..j+2 (face rows: the w of a sealed
      * face above the next cell) */
@@ -168,7 +175,17 @@ static void rates_at(ss_problem *p, double dz, ekm_bc_face *bb, ekm_bc_face *bt)
     s->dz = dz;
     *bb = ekm_bc_evaluate(&p->sc->bottom, EKM_SIDE_BOTTOM, 0.0, s);
     *bt = ekm_bc_evaluate(&p->sc->top, EKM_SIDE_TOP, 0.0, s);
+    bb->u_wall -= p->u_ref;
+    bt->u_wall -= p->u_ref;
     ekm_step_shear_rates(s, bb, bt, p->dry, p->u2, p->w2);
+}
+
+/* The cumulative phi the one of cell j sums on from (the next cell's; 0
+ * past the end), so that phi_j = c_j - cumulative_next. */
+static double cumulative_next(const ss_problem *p, const double *U, int j)
+{
+    const int k = p->from_top ? j + 1 : j - 1;
+    return k >= 0 && k < p->n ? U[(size_t)k * p->nv + SLOT_C] : 0.0;
 }
 
 /* Unpack U into the scratch state and the properties; 0: U is outside the
@@ -180,7 +197,7 @@ static int unpack(ss_problem *p, const double *U)
     const int n = p->n, nv = p->nv;
     for (int j = 0; j < n; j++) {
         const double *x = U + (size_t)j * nv;
-        const double phi = x[SLOT_C] - (j ? U[(size_t)(j - 1) * nv + SLOT_C] : 0.0);
+        const double phi = x[SLOT_C] - cumulative_next(p, U, j);
         p->dz[j] = p->moving ? x[SLOT_DZ] : p->dz0;
         if (!isfinite(phi) || !isfinite(x[SLOT_U]) || !isfinite(x[SLOT_T]) || !(p->dz[j] > 0.0))
             return 0;
@@ -209,6 +226,16 @@ static int unpack(ss_problem *p, const double *U)
     s->w[0] = p->sc->bottom.kind == EKM_BC_FREE ? s->w[1] : 0.0;
     s->w[n] = p->sc->top.kind == EKM_BC_FREE ? s->w[n - 1] : 0.0;
     return 1;
+}
+
+/* The face whose normal momentum is cell j's slot-C row: the one below it
+ * (summed from the top) or above it (from the base), if it is an interior
+ * face with material that is not a sealed surface; 0: none, the row is
+ * the mass of its run (the cumulative phi from the cell on is kept). */
+static int joined_face(const ss_problem *p, int j)
+{
+    const int f = p->from_top ? j : j + 1;
+    return f > 0 && f < p->n && !p->dry_face[f] && !p->sealed[f] ? f : 0;
 }
 
 /* The steady normal momentum of interior face f (w = 0 but on sealed faces). */
@@ -244,9 +271,11 @@ static int residual(ss_problem *p, const double *U, double *R, double *mag)
             rates_at(p, dz, &bb, &bt);
             dz_rates = dz;
         }
-        /* slot C: the face above, or the mass up to this cell */
-        if (j < n - 1 && !p->dry_face[j + 1] && !p->sealed[j + 1]) {
-            r[SLOT_C] = face_row(p, j + 1, dz, &mg[SLOT_C]);
+        /* slot C: a face's normal momentum, the wall pressure or the mass
+         * from this cell on */
+        const int f_row = joined_face(p, j);
+        if (f_row) {
+            r[SLOT_C] = face_row(p, f_row, dz, &mg[SLOT_C]);
         } else if (j == n - 1 && p->moving) {
             r[SLOT_C] = p->P[j] - sc->top.pressure;
             mg[SLOT_C] = fabs(p->P[j]) + sc->top.pressure;
@@ -338,11 +367,26 @@ static void classify(ss_problem *p, const ekm_state *s)
         u_scale = fmax(u_scale, fabs(sc->top.velocity + sc->top.shear_rate * n * s->dz));
     for (int j = 0; j < n; j++) {
         p->dry[j] = s->phi[j] < phi_dry;
+        /* the top of a dilute tail: a cell with some material above a
+         * thinner one joined by a face with material is filled by the
+         * stepper (it creeps up, docs/model.md): it has material */
+        if (p->dry[j] && j > 0 && s->phi[j] > 0.0 && !p->dry[j - 1] && s->phi[j - 1] < PHI_FRINGE &&
+            0.5 * (s->phi[j - 1] + s->phi[j]) >= phi_dry)
+            p->dry[j] = 0;
+    }
+    p->u_ref = 0.0;
+    for (int k = 0; k < n; k++) {
+        const int j = p->from_top ? n - 1 - k : k;
         c += s->phi[j];
         p->c0[j] = c;
         if (!p->dry[j])
             u_scale = fmax(u_scale, fabs(s->u[j]));
     }
+    for (int j = n - 1; j >= 0; j--)
+        if (!p->dry[j] && s->phi[j] >= phi_dry) {
+            p->u_ref = s->u[j];
+            break;
+        }
     /* the speed gravity along the slab gives over the height */
     u_scale = fmax(u_scale, sqrt(fabs(p->g_x) * n * s->dz));
     u_scale = fmax(u_scale, 1e-3);
@@ -356,8 +400,10 @@ static void classify(ss_problem *p, const ekm_state *s)
         unsigned char *alg = p->algebraic + (size_t)j * nv;
         x[SLOT_C] = p->c0[j];
         t[SLOT_C] = 1.0;
-        alg[SLOT_C] = !(j < n - 1 && !p->dry_face[j + 1] && !p->sealed[j + 1]);
-        x[SLOT_U] = p->dry[j] ? 0.0 : s->u[j];
+        alg[SLOT_C] = !joined_face(p, j);
+        /* a cell that just became wet starts at its wet neighbour's u, T */
+        const int fresh = !p->dry[j] && s->phi[j] < phi_dry && j > 0;
+        x[SLOT_U] = p->dry[j] ? 0.0 : (fresh ? s->u[j - 1] : s->u[j]) - p->u_ref;
         t[SLOT_U] = u_scale;
         alg[SLOT_U] = p->dry[j];
         if (j > 0 && p->sealed[j]) {
@@ -369,8 +415,7 @@ static void classify(ss_problem *p, const ekm_state *s)
             t[SLOT_T] = 1.0;
             alg[SLOT_T] = 1;
         } else {
-            /* a cell that just became wet starts at its wet neighbour's T */
-            double T = s->T[j];
+            double T = fresh ? s->T[j - 1] : s->T[j];
             if (!(T > 0.0))
                 T = j > 0 && s->T[j - 1] > 0.0 ? s->T[j - 1] : fmax(sc->T_init, sc->numerics.T_floor);
             x[SLOT_T] = log(fmax(T, sc->numerics.T_floor));
@@ -432,10 +477,13 @@ static void pseudo_mass(ss_problem *p)
     for (int j = 0; j < n; j++) {
         const size_t i = (size_t)j * nv;
         const double dz = p->dz[j];
-        if (j < n - 1) {
-            const double phi_face = 0.5 * (s->phi[j] + s->phi[j + 1]);
-            const double mu = 0.5 * (p->mu_n[j] + p->mu_n[j + 1]);
-            p->pmass[i + SLOT_C] = 2.0 * mu / (fmax(phi_face, 1e-3) * dz);
+        const int f = joined_face(p, j);
+        if (f) {
+            /* the cumulative from the top grows with an upward flux, the
+             * one from the base falls */
+            const double phi_face = 0.5 * (s->phi[f - 1] + s->phi[f]);
+            const double mu = 0.5 * (p->mu_n[f - 1] + p->mu_n[f]);
+            p->pmass[i + SLOT_C] = (p->from_top ? -2.0 : 2.0) * mu / (fmax(phi_face, 1e-3) * dz);
         }
         p->pmass[i + SLOT_U] = -rho_p * s->phi[j];
         if (j > 0 && p->sealed[j])
@@ -446,8 +494,8 @@ static void pseudo_mass(ss_problem *p)
 }
 
 /* The size of a finite-difference step's column: a cumulative phi moves
- * phi of its cell and the next by it, so it is their distance to the ends
- * of (0, phi_cp) (wet cells; 1 phi-cell at most). */
+ * phi of its cell and of the one it is summed from by it, so it is their
+ * distance to the ends of (0, phi_cp) (wet cells; 1 phi-cell at most). */
 static double fd_scale(const ss_problem *p, int c)
 {
     if (c % p->nv != SLOT_C)
@@ -455,10 +503,12 @@ static double fd_scale(const ss_problem *p, int c)
     const int j = c / p->nv;
     const double phi_cp = p->sc->material.phi_cp;
     double room = 1.0;
-    for (int k = j; k <= j + 1 && k < p->n; k++) {
-        if (p->dry[k])
+    const int cells[2] = {j, p->from_top ? j - 1 : j + 1};
+    for (int i = 0; i < 2; i++) {
+        const int k = cells[i];
+        if (k < 0 || k >= p->n || p->dry[k])
             continue;
-        const double phi = p->U[(size_t)k * p->nv] - (k ? p->U[(size_t)(k - 1) * p->nv] : 0.0);
+        const double phi = p->U[(size_t)k * p->nv] - cumulative_next(p, p->U, k);
         room = fmin(room, fmin(phi, phi_cp - phi));
     }
     return fmax(room, 1e-12);
@@ -515,19 +565,21 @@ static double now_s(void)
 }
 
 /* At the accepted iterate p->U (unpacked): a surface face pushed upwards
- * (w > 0: the layer grows into the empty cell, which joins the run), or
- * the top cell of a run thinned below PHI_SHRINK (it will be merged into
- * the cell below).  1: the frozen empty set no longer fits. */
+ * (w > 0: the layer grows into the empty cell, which joins the run), or a
+ * cell with material thinned below phi_dry (the stepper's emptiness rule:
+ * it is empty from now on, keeping its mass), but the top of a dilute
+ * tail (the cell below it thinner than PHI_FRINGE, see classify).  1: the
+ * frozen empty set no longer fits. */
 static int surface_moves(ss_problem *p)
 {
     int moves = 0;
     const ekm_state *s = p->s;
-    for (int f = 1; f < p->n; f++) {
+    for (int f = 1; f < p->n; f++)
         if (p->sealed[f] && s->w[f] > 0.0)
             moves = p->joined[f] = 1;
-        if (p->sealed[f] && s->phi[f - 1] < PHI_SHRINK)
+    for (int j = 0; j < p->n; j++)
+        if (!p->dry[j] && s->phi[j] < p->sc->numerics.phi_dry && !(j > 0 && s->phi[j - 1] < PHI_FRINGE))
             moves = 1;
-    }
     return moves;
 }
 
@@ -543,6 +595,7 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
                         p->sc->source);
     double delta = DELTA0;
     double res = norm2_scaled(p, p->R, p->mag);
+    int polished = 0;
     for (;;) {
         if (rep->iterations >= budget || rep->iterations >= EKM_STEADY_MAX_ITER) {
             int where;
@@ -621,8 +674,7 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
             if (!p->algebraic[i])
                 change = fmax(change, fabs(alpha * p->dU[i]) / fmax(fabs(p->U[i]), p->typ[i]));
         for (int j = 0; j < p->n; j++) {
-            const double dphi = alpha * (p->dU[(size_t)j * p->nv + SLOT_C] -
-                                         (j ? p->dU[(size_t)(j - 1) * p->nv + SLOT_C] : 0.0));
+            const double dphi = alpha * (p->dU[(size_t)j * p->nv + SLOT_C] - cumulative_next(p, p->dU, j));
             change = fmax(change, fabs(dphi) / PHI_SCALE);
         }
         if (change > STEP_CHANGE_MAX && delta > DELTA0 * 1e-6 && delta < DELTA_MAX) {
@@ -642,8 +694,14 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
         rep->update_final = update;
         int where;
         rep->residual_final = norm_max_scaled(p, p->R, p->mag, &where);
-        if (rep->residual_final < EKM_STEADY_RES_TOL && update < EKM_STEADY_UPDATE_TOL)
-            return EKM_OK;
+        /* converged; one more iteration (Newton's: quadratic) when the
+         * residual is not yet far below the tolerance, so that the stepper
+         * does not see it */
+        if (rep->residual_final < EKM_STEADY_RES_TOL && update < EKM_STEADY_UPDATE_TOL) {
+            if (polished || rep->residual_final < POLISH_FACTOR * EKM_STEADY_RES_TOL)
+                return EKM_OK;
+            polished = 1;
+        }
         if (surface_moves(p))
             return EKM_EOF; /* the caller re-freezes the empty set and goes on */
     }
@@ -658,22 +716,30 @@ static void store(ss_problem *p, ekm_state *s)
     for (int j = 0; j < n; j++) {
         s->z[j] = (j + 0.5) * s->dz;
         s->phi[j] = p->s->phi[j];
-        s->u[j] = p->s->u[j];
-        s->T[j] = p->s->T[j];
+        /* the stepper's emptiness rule: no u, T below phi_dry */
+        const int empty = p->dry[j] || s->phi[j] < p->sc->numerics.phi_dry;
+        s->u[j] = empty ? 0.0 : p->s->u[j] + p->u_ref;
+        s->T[j] = empty ? 0.0 : p->s->T[j];
     }
     memcpy(s->w, p->s->w, ((size_t)n + 1) * sizeof *s->w);
 }
 
 /* 1: the empty set or a sealed face of the solution differs from the
- * frozen one (the faces with an upward w join their run). */
+ * frozen one (the faces with an upward w join their run), but in the
+ * fringe: a cell with material that thinned below phi_dry, or a face
+ * whose cells are both below PHI_FRINGE, keeps its frozen kind
+ * (docs/model.md: the emptiness rule has no exact fixed point at a dilute
+ * tail's top). */
 static int topology_changed(ss_problem *p, const ekm_state *s)
 {
     const double phi_dry = p->sc->numerics.phi_dry;
+    const int n = p->n;
     int changed = 0;
-    for (int j = 0; j < p->n; j++)
-        changed |= (s->phi[j] < phi_dry) != p->dry[j];
-    for (int f = 1; f < p->n; f++) {
-        changed |= (0.5 * (s->phi[f - 1] + s->phi[f]) < phi_dry) != p->dry_face[f];
+    for (int j = 0; j < n; j++)
+        changed |= p->dry[j] ? s->phi[j] >= phi_dry : s->phi[j] < phi_dry && s->phi[j] >= PHI_FRINGE;
+    for (int f = 1; f < n; f++) {
+        const int fringe = s->phi[f - 1] < PHI_FRINGE && s->phi[f] < PHI_FRINGE;
+        changed |= (0.5 * (s->phi[f - 1] + s->phi[f]) < phi_dry) != p->dry_face[f] && !fringe;
         if (p->sealed[f] && s->w[f] > 0.0) {
             p->joined[f] = 1;
             changed = 1;
@@ -682,21 +748,33 @@ static int topology_changed(ss_problem *p, const ekm_state *s)
     return changed;
 }
 
-static double rel_change(const double *a, const double *b, const double *phi_a, const double *phi_b, int n,
-                         double phi_dry, double floor)
+/* The largest change of field a -> b over the cells with at least
+ * phi_min of material in both states, over scale; *where its cell. */
+static double change_max(const double *a, const double *b, const double *phi_a, const double *phi_b, int n,
+                         double phi_min, double scale, int *where)
 {
-    double diff = 0.0, norm = 0.0;
-    int count = 0;
-    for (int j = 0; j < n; j++)
-        if (phi_a[j] >= phi_dry || phi_b[j] >= phi_dry) {
-            diff += (a[j] - b[j]) * (a[j] - b[j]);
-            norm += a[j] * a[j];
-            count++;
+    double mx = 0.0;
+    for (int j = 0; j < n; j++) {
+        if (!(phi_a[j] >= phi_min && phi_b[j] >= phi_min))
+            continue;
+        const double c = fabs(a[j] - b[j]) / scale;
+        if (!(c <= mx)) { /* a value that is not finite counts as infinite */
+            mx = isfinite(c) ? c : INFINITY;
+            *where = j;
         }
-    return count ? sqrt(diff) / fmax(sqrt(norm), floor * sqrt((double)count)) : 0.0;
+    }
+    return mx;
 }
 
-/* Time steps of the real stepper from the solution must not move it. */
+/* Time steps of the real stepper from the solution must not move it: at
+ * least EKM_STEADY_VERIFY_STEPS steps at the step limit and at least
+ * EKM_STEADY_VERIFY_FLOW_TIMES times the gap over the velocity scale (at
+ * most EKM_STEADY_VERIFY_MAX_STEPS steps), then the max-norm change of
+ * each field relative to its scale in the solution below
+ * EKM_STEADY_VERIFY_TOL: phi over max phi (every cell), u over max(|u|,
+ * 1 mm/s) and T over max T (the cells with at least PHI_FRINGE of
+ * material in both states), w as the volume flux w phi_face over max phi
+ * times that velocity (every face), the gap relative. */
 static ekm_status verify(const ekm_scenario *sc, const ekm_state *sol, ekm_steady_report *rep, ekm_error *err)
 {
     ekm_state *s = ekm_state_alloc(sol->n, sc->length);
@@ -706,10 +784,23 @@ static ekm_status verify(const ekm_scenario *sc, const ekm_state *sol, ekm_stead
         ekm_step_free(st);
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory verifying the steady state");
     }
+    const int n = sol->n;
+    double phi_max = 0.0, u_max = 1e-3, T_max = 0.0;
+    for (int j = 0; j < n; j++) {
+        phi_max = fmax(phi_max, sol->phi[j]);
+        if (sol->phi[j] >= PHI_FRINGE) {
+            u_max = fmax(u_max, fabs(sol->u[j]));
+            T_max = fmax(T_max, sol->T[j]);
+        }
+    }
+    phi_max = fmax(phi_max, sc->numerics.phi_dry);
+    const double t_span = EKM_STEADY_VERIFY_FLOW_TIMES * n * sol->dz / u_max;
     ekm_state_copy(s, sol);
     s->t = 0.0;
     ekm_status rc = EKM_OK;
-    for (int k = 0; k < EKM_STEADY_VERIFY_STEPS && rc == EKM_OK; k++) {
+    int steps = 0;
+    while (rc == EKM_OK && steps < EKM_STEADY_VERIFY_MAX_STEPS &&
+           (steps < EKM_STEADY_VERIFY_STEPS || s->t < t_span)) {
         const double dt = ekm_control_max_dt(sc, s, NULL);
         int accepted = 0;
         rc = ekm_step_apply(st, s, dt, &accepted, err);
@@ -717,50 +808,144 @@ static ekm_status verify(const ekm_scenario *sc, const ekm_state *sol, ekm_stead
             rc = EKM_FAIL(err, EKM_ENOTSTEADY,
                           "%s: no steady state: the time stepper rejects a step from the solution: %s",
                           sc->source, st->reject_reason);
+        steps++;
     }
+    rep->verify_steps = steps;
+    rep->verify_time = s->t;
     if (rc == EKM_OK) {
-        const double phi_dry = sc->numerics.phi_dry;
-        const int n = s->n;
-        double ch = rel_change(s->phi, sol->phi, s->phi, sol->phi, n, phi_dry, 1e-3);
-        ch = fmax(ch, rel_change(s->u, sol->u, s->phi, sol->phi, n, phi_dry, 1e-4));
-        ch = fmax(ch, rel_change(s->T, sol->T, s->phi, sol->phi, n, phi_dry, 1e-8));
-        ch = fmax(ch, fabs(s->dz - sol->dz) / sol->dz);
-        rep->verify_change = ch;
-        rep->verify_time = s->t;
-        if (!(ch < EKM_STEADY_VERIFY_TOL))
+        static const char *const names[5] = {"phi", "vx", "T", "w phi", "gap"};
+        int where[5] = {0, 0, 0, 0, 0};
+        double ch[5];
+        ch[0] = change_max(s->phi, sol->phi, s->phi, sol->phi, n, 0.0, phi_max, &where[0]);
+        ch[1] = change_max(s->u, sol->u, s->phi, sol->phi, n, PHI_FRINGE, u_max, &where[1]);
+        ch[2] =
+            T_max > 0.0 ? change_max(s->T, sol->T, s->phi, sol->phi, n, PHI_FRINGE, T_max, &where[2]) : 0.0;
+        ch[3] = 0.0;
+        for (int f = 0; f <= n; f++) {
+            const double phi_face = f == 0   ? sol->phi[0]
+                                    : f == n ? sol->phi[n - 1]
+                                             : 0.5 * (sol->phi[f - 1] + sol->phi[f]);
+            const double c = fabs(s->w[f] - sol->w[f]) * phi_face / (phi_max * u_max);
+            if (!(c <= ch[3])) {
+                ch[3] = isfinite(c) ? c : INFINITY;
+                where[3] = f;
+            }
+        }
+        ch[4] = fabs(s->dz - sol->dz) / sol->dz;
+        if (!isfinite(ch[4]))
+            ch[4] = INFINITY;
+        int worst = 0;
+        for (int k = 0; k < 5; k++) {
+            rep->verify_field[k] = ch[k];
+            if (ch[k] > ch[worst])
+                worst = k;
+        }
+        rep->verify_change = ch[worst];
+        if (!(ch[worst] < EKM_STEADY_VERIFY_TOL))
             rc = EKM_FAIL(err, EKM_ENOTSTEADY,
                           "%s: no steady state: the time stepper moves away from the Newton solution "
-                          "(relative change %.3g > %.0e over %d steps, %.3g s)",
-                          sc->source, ch, EKM_STEADY_VERIFY_TOL, EKM_STEADY_VERIFY_STEPS, s->t);
+                          "(change of %s %.3g relative%s%d > %.0e over %d steps, %.3g s)",
+                          sc->source, names[worst], ch[worst],
+                          worst == 4   ? ""
+                          : worst == 3 ? ", face "
+                                       : ", cell ",
+                          worst == 4 ? 0 : where[worst], EKM_STEADY_VERIFY_TOL, steps, s->t);
     }
     ekm_step_free(st);
     ekm_state_free(s);
     return rc;
 }
 
-/* Cells with phi_dry <= phi < PHI_THIN (the thin film a transient leaves
- * above a surface) join the nearest cell with material below (above when
- * none): mass kept, the cell empty.  Such a cell has no shear to heat it,
- * and its T would fall to T_floor, a state the steady equations leave
- * out. */
-static void merge_thin_cells(const ekm_scenario *sc, ekm_state *s, double phi_thin)
+/* A surface face pushed upwards (joined): the empty cell above gets
+ * SEED_FRACTION of the material below, with its u and T (the stepper's
+ * next steps fill it so), and is a cell with material from now on. */
+static void seed_joined(ss_problem *p, ekm_state *s)
+{
+    const double phi_dry = p->sc->numerics.phi_dry;
+    for (int f = 1; f < p->n; f++) {
+        if (!p->joined[f] || !(s->phi[f] < phi_dry) || !(s->phi[f - 1] >= phi_dry / SEED_FRACTION))
+            continue;
+        const double dm = SEED_FRACTION * s->phi[f - 1];
+        s->phi[f] += dm;
+        s->phi[f - 1] -= dm;
+        s->u[f] = s->u[f - 1];
+        s->T[f] = s->T[f - 1];
+        p->joined[f] = 0;
+    }
+}
+
+/* The top of a dilute tail whose face above has material (the stepper
+ * opens it, and the tail creeps upwards through it at a rate that grows
+ * with the top cell's phi): the empty cell above gets SEED_FRACTION of
+ * the top cell's material, u and T, and is a cell with material in the
+ * next solve.  1: a cell was seeded. */
+static int extend_tail(ss_problem *p, ekm_state *s)
+{
+    const double phi_dry = p->sc->numerics.phi_dry;
+    for (int f = 1; f < p->n; f++) {
+        if (!(s->phi[f] == 0.0 && s->phi[f - 1] >= phi_dry && s->phi[f - 1] < PHI_FRINGE &&
+              0.5 * s->phi[f - 1] >= phi_dry))
+            continue;
+        const double dm = SEED_FRACTION * s->phi[f - 1];
+        s->phi[f] = dm;
+        s->phi[f - 1] -= dm;
+        s->u[f] = s->u[f - 1];
+        s->T[f] = s->T[f - 1];
+        return 1;
+    }
+    return 0;
+}
+
+/* A sealed surface face with w < 0 under an empty cell that holds some
+ * material (below phi_dry): the stepper's flux w phi_upwind drains it into
+ * the cell below; it is moved there.  1: some was. */
+static int drain_sealed(const ss_problem *p, ekm_state *s)
+{
+    int moved = 0;
+    for (int f = 1; f < p->n; f++)
+        if (p->sealed[f] && s->w[f] < 0.0 && s->phi[f] > 0.0) {
+            s->phi[f - 1] += s->phi[f];
+            s->phi[f] = 0.0;
+            moved = 1;
+        }
+    return moved;
+}
+
+/* Runs of cells with material (phi >= phi_dry) whose phi stays below
+ * PHI_FRINGE and that are not joined to thicker material (a film a
+ * transient left above a surface, with empty cells between) join the
+ * nearest cell with at least PHI_FRINGE below (above when none): mass
+ * kept, the cells empty.  Such a film has no shear to heat it and falls
+ * onto the layer in the stepper; it has no steady state of its own.  A
+ * dilute tail joined to the layer below it is kept. */
+static void merge_detached_films(const ekm_scenario *sc, ekm_state *s)
 {
     const double phi_dry = sc->numerics.phi_dry;
     const int n = s->n;
-    for (int j = 0; j < n; j++) {
-        if (!(s->phi[j] >= phi_dry && s->phi[j] < phi_thin))
+    for (int a = 0; a < n;) {
+        if (!(s->phi[a] >= phi_dry)) {
+            a++;
             continue;
-        int k = j - 1;
-        while (k >= 0 && s->phi[k] < phi_thin)
-            k--;
-        if (k < 0)
-            for (k = j + 1; k < n && s->phi[k] < phi_thin; k++)
-                ;
-        if (k >= n)
-            continue;
-        s->phi[k] += s->phi[j];
-        s->phi[j] = 0.0;
-        s->u[j] = s->T[j] = 0.0;
+        }
+        int b = a;
+        double top = s->phi[a];
+        while (b + 1 < n && s->phi[b + 1] >= phi_dry)
+            top = fmax(top, s->phi[++b]);
+        if (top < PHI_FRINGE) {
+            int k = a - 1;
+            while (k >= 0 && s->phi[k] < PHI_FRINGE)
+                k--;
+            if (k < 0)
+                for (k = b + 1; k < n && s->phi[k] < PHI_FRINGE; k++)
+                    ;
+            if (k < n)
+                for (int j = a; j <= b; j++) {
+                    s->phi[k] += s->phi[j];
+                    s->phi[j] = 0.0;
+                    s->u[j] = s->T[j] = 0.0;
+                }
+        }
+        a = b + 1;
     }
 }
 
@@ -768,7 +953,7 @@ static void merge_thin_cells(const ekm_scenario *sc, ekm_state *s, double phi_th
 static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep, ekm_error *err)
 {
     memset(p->joined, 0, (size_t)p->n + 1);
-    merge_thin_cells(p->sc, s, PHI_THIN);
+    merge_detached_films(p->sc, s);
     const int budget = rep->iterations + EKM_STEADY_ATTEMPT_ITER;
     for (int pass = 0;; pass++) {
         classify(p, s);
@@ -776,7 +961,8 @@ static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep
         if (rc == EKM_EOF && pass < MAX_RESOLVES) {
             /* the surface moved during the solve: go on from there */
             store(p, s);
-            merge_thin_cells(p->sc, s, PHI_SHRINK);
+            merge_detached_films(p->sc, s);
+            seed_joined(p, s);
             rep->dry_resolves++;
             continue;
         }
@@ -787,8 +973,9 @@ static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep
         if (rc != EKM_OK)
             return rc;
         store(p, s);
-        if (!topology_changed(p, s))
+        if (!topology_changed(p, s) && !drain_sealed(p, s) && !extend_tail(p, s))
             break;
+        seed_joined(p, s);
         if (pass == MAX_RESOLVES)
             return EKM_FAIL(err, EKM_ENOTSTEADY,
                             "%s: no steady state: the set of empty cells still changes after %d solves",
@@ -801,6 +988,78 @@ static ekm_status solve_from(ss_problem *p, ekm_state *s, ekm_steady_report *rep
                             "%s: no steady state: phi = %.9g in cell %d is outside [0, %g)", p->sc->source,
                             s->phi[j], j, p->sc->material.phi_cp);
     return EKM_OK;
+}
+
+/* mu of the steady homogeneous shear at phi (rate 1/s; 0 when none) and
+ * its P_Y (the rate matters then). */
+static double homog_mu(const ekm_scenario *sc, double phi, ekm_homog_state *h)
+{
+    ekm_error herr;
+    if (ekm_homog_shear(&sc->material, sc->variant, phi, 1.0, h, &herr) != EKM_OK)
+        return 0.0;
+    return h->mu;
+}
+
+/* The local (Bagnold) steady flow of a layer on an incline (a wall below,
+ * free top, g along the slab), with g's mass: uniform phi* where the
+ * homogeneous shear's stress ratio mu(phi*) = |g_x / g_z| (mu falls with
+ * phi, rate-free where P_Y = 0), the shear rate of the weight above,
+ * P(phi*, gdot) = rho_p phi* |g_z| (h - z) with P = P_1 gdot^2, T = T_1
+ * gdot^2 (P_1, T_1 at 1/s), u integrated from the wall's slip.  0 (s
+ * unchanged): no such state (another geometry, no root below phi_co, a
+ * yield pressure at phi*, the layer does not fit, a slip length longer
+ * than the layer). */
+static int local_guess(const ekm_scenario *sc, const ekm_state *g, ekm_state *s)
+{
+    const double g_x = ekm_scenario_gravity_x(sc), g_z = ekm_scenario_gravity_z(sc);
+    if (sc->bottom.kind != EKM_BC_WALL || sc->top.kind != EKM_BC_FREE || !(g_z < 0.0) || g_x == 0.0 ||
+        ekm_bc_rate_wall(&sc->bottom))
+        return 0;
+    const double target = fabs(g_x / g_z), phi_dry = sc->numerics.phi_dry;
+    ekm_homog_state h;
+    double lo = 1e-3, hi = sc->material.phi_co * (1.0 - 1e-9);
+    if (!(homog_mu(sc, lo, &h) > target && homog_mu(sc, hi, &h) < target && h.mu > 0.0))
+        return 0;
+    for (int k = 0; k < 60; k++) {
+        const double mid = 0.5 * (lo + hi);
+        if (homog_mu(sc, mid, &h) > target)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    const double phi_s = 0.5 * (lo + hi);
+    if (!(homog_mu(sc, phi_s, &h) > 0.0) || h.P_Y != 0.0 || !(h.P > 0.0 && h.T > 0.0))
+        return 0;
+    const int n = g->n;
+    const double dz = g->dz;
+    double mass = 0.0; /* [cells] */
+    for (int j = 0; j < n; j++)
+        mass += g->phi[j];
+    const int full = (int)floor(mass / phi_s);
+    if (full < 2 || full >= n)
+        return 0;
+    const double height = mass / phi_s * dz, weight = sc->material.rho_p * phi_s * fabs(g_z);
+    const ekm_bc_face bb = ekm_bc_evaluate(&sc->bottom, EKM_SIDE_BOTTOM, 0.0, g);
+    if (!(bb.wall_conductance * height >= 1.0))
+        return 0; /* a base slipping over more than the layer's height: no local flow */
+    ekm_state_copy(s, g);
+    /* shear rate at height z (at least that of half a cell below the top) */
+    const double sign = g_x > 0.0 ? 1.0 : -1.0;
+#define GDOT_AT(z) sqrt(weight *fmax(height - (z), 0.5 * dz) / h.P)
+    double u = bb.u_wall + sign * GDOT_AT(0.0) / bb.wall_conductance;
+    for (int j = 0; j < n; j++) {
+        const double z = (j + 0.5) * dz;
+        if (j > 0)
+            u += sign * GDOT_AT(j * dz) * dz;
+        const double phi = j < full ? phi_s : (j == full ? mass - full * phi_s : 0.0);
+        s->phi[j] = phi;
+        s->u[j] = phi >= phi_dry ? u : 0.0;
+        s->T[j] = phi >= phi_dry ? h.T * GDOT_AT(z) * GDOT_AT(z) : 0.0;
+    }
+#undef GDOT_AT
+    for (int f = 0; f <= n; f++)
+        s->w[f] = 0.0;
+    return 1;
 }
 
 /* Advance g by `span` of model time with the real time loop (run.h), no
@@ -852,6 +1111,18 @@ ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_rep
         rc = solve_from(&p, s, rep, err);
         if (rc == EKM_OK)
             rc = verify(sc, s, rep, err);
+        if (rc == EKM_ENOTSTEADY && attempt == 0 && local_guess(sc, g, s)) {
+            /* the second attempt: from the local steady flow of g's mass,
+             * which is also where the time steps towards the steady state
+             * start (not the guess: from rest the flow takes ~30 s of
+             * model time to build up) */
+            ekm_state_copy(g, s);
+            rep->attempts++;
+            rep->local_guess = 1;
+            rc = solve_from(&p, s, rep, err);
+            if (rc == EKM_OK)
+                rc = verify(sc, s, rep, err);
+        }
         if (rc != EKM_ENOTSTEADY || attempt == EKM_STEADY_ATTEMPTS - 1 ||
             rep->iterations >= EKM_STEADY_MAX_ITER)
             break;

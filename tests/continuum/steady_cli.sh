@@ -56,8 +56,40 @@ n = int(a["steady.iterations"])
 assert len(a["steady.residual"]) == n and len(a["steady.delta"]) == n and n >= 1
 assert a["steady.residual_final"] < 1e-9 and a["steady.verify_change"] < 1e-9
 assert abs(f["gap"][0] - a["gap_final"]) < 1e-15 and a["stats.wall_time_s"] > 0
+# the verification: max-norm change of each field, >= 200 steps, counted in stats.steps
+fields = [a["steady.verify_" + k] for k in ("phi", "vx", "T", "w", "gap")]
+assert max(fields) == a["steady.verify_change"] and all(0 <= x < 1e-9 for x in fields), fields
+assert a["steady.verify_steps"] >= 200 and a["steady.verify_time"] > 0
+assert a["stats.steps"] == a["steady.warm_steps"] + a["steady.verify_steps"]
 EOF
 check "output layout and report attributes" $? "see above"
+steps=$(/usr/bin/python3 -c "import h5py; print(int(h5py.File('ssp.h5').attrs['steady.verify_steps']))")
+grep -qE "^simple_shear_p +steady .* verified over $steps steps \(max change [0-9.e+-]+\)" out.txt
+check "summary line names the verification's steps" $? "$(cat out.txt)"
+
+# the chute at 26 degrees: a dilute tail above the dense flow (phi < 1e-6
+# in its top cells), every cell with material has u and T, empty ones none
+"$ekm" steady "$S/chute.ini" --set gravity.angle=26 -o c26.h5 --quiet 2> err.txt
+rc=$?
+check "chute at 26 degrees solves" $rc "exit $rc: $(cat err.txt)"
+/usr/bin/python3 - c26.h5 <<'EOF'
+import sys, h5py, numpy as np
+f = h5py.File(sys.argv[1], "r")
+phi, u, T = f["phi"][0], f["vx"][0], f["T"][0]
+wet = phi >= 1e-9
+assert np.sum((phi > 1e-9) & (phi < 1e-6)) >= 2, phi
+assert np.all(T[wet] > 0) and np.all(u[wet] > 0) and np.all(T[~wet] == 0) and np.all(u[~wet] == 0)
+EOF
+check "chute at 26 degrees: the dilute tail, u and T where there is material" $? "see above"
+
+# no steady state: nothing on stdout that looks like a solution, no output,
+# the last stderr line the reason (before it only progress lines)
+rm -f out.h5
+"$ekm" steady "$S/chute.ini" --set bottom.slip_length=1e30 --set run.t_end=1 -o out.h5 > out.txt 2> err.txt
+rc=$?
+[ "$rc" -eq 6 ] && [ ! -s out.txt ] && [ ! -e out.h5 ] && tail -1 err.txt | grep -q ": no steady state: " &&
+    [ "$(grep -vc "^ekm steady: chute: attempt [0-9]* iteration" err.txt)" -eq 1 ]
+check "no steady state: exit 6, no summary line, no output" $? "exit $rc: $(cat out.txt) $(tail -2 err.txt)"
 
 # --from an output on the same grid: converges at once
 "$ekm" steady "$S/simple_shear_p.ini" --from ssp.h5 -o again.h5 --quiet 2> err.txt
