@@ -488,13 +488,16 @@ static ekm_status sweep_of(const ekm_scenario *s, sweep_kind *kind, ekm_error *e
             continue;
         char from[600];
         entry_from(s, e, from, sizeof from);
-        if (*kind != SWEEP_NONE && sweep_family(tk->sweep) != sweep_family(*kind))
+        if (*kind != SWEEP_NONE && sweep_family(tk->sweep) != sweep_family(*kind)) {
+            const int pile = tk->sweep == SWEEP_SOURCE || *kind == SWEEP_SOURCE;
             return EKM_FAIL(err, EKM_EINPUT,
                             "%s: [dem] %s: a key of the %s sweep, but [dem] %s is one of the %s sweep: "
                             "expected the keys of one sweep only (inclined flow: t_settle t_flow angles; "
-                            "simple shear: strain rates, and phis or pressures; sand pile: pile_mass "
-                            "pour_rate pour_speed pour_height source_widths)",
-                            from, e->name + 4, sweep_family_name(tk->sweep), first, sweep_family_name(*kind));
+                            "simple shear: strain rates, and phis or pressures%s)",
+                            from, e->name + 4, sweep_family_name(tk->sweep), first, sweep_family_name(*kind),
+                            pile ? "; sand pile: pile_mass pour_rate pour_speed pour_height source_widths"
+                                 : "");
+        }
         if ((tk->sweep == SWEEP_PHI_RATE && *kind == SWEEP_P_RATE) ||
             (tk->sweep == SWEEP_P_RATE && *kind == SWEEP_PHI_RATE))
             return EKM_FAIL(err, EKM_EINPUT,
