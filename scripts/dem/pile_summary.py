@@ -15,8 +15,11 @@ and the dump contract of docs/dem.md "Sand pile":
                  z + radius of the grains in 2 d wide x bins; the bins whose
                  h is between 0.2 and 0.8 of the pile's height H)
   height         H, the largest h [m]
-  toe_margin     distance from the outermost pile grain to the nearer end
-                 of the floor (x = 0 or lx) [m]
+  toe_left, toe_right  the pile's extent [m]: the outer edges of the run of
+                 2 d bins about the centre whose h is at least d
+  toe_margin     distance from the pile's extent to the nearer end of the
+                 floor (x = 0 or lx) [m]
+  strays         pile grains outside that extent (bounced off the floor)
   p_centre_over_max  base pressure p(x) = -(sum fz of the floor grains in
                  an x bin) / (bin width * box y period), bins of 4 d centred
                  on the pile's centre of mass, folded about it: p of the
@@ -113,8 +116,14 @@ def summarise(run):
     right = sorted(b for b in top if b > 0)
     al = flank_angle([b * w for b in left], [top[b] for b in left], height)
     ar = flank_angle([b * w for b in right], [top[b] for b in right], height)
-    xs = [float(r[ic["x"]]) for r in grains]
-    toe = min(min(xs) - bx[0], bx[1] - max(xs))
+    lo = hi = 0
+    while top.get(lo - 1, 0.0) >= d:
+        lo -= 1
+    while top.get(hi + 1, 0.0) >= d:
+        hi += 1
+    toe_l, toe_r = xc + (lo - 0.5) * w, xc + (hi + 0.5) * w
+    toe = min(toe_l - bx[0], bx[1] - toe_r)
+    strays = sum(1 for r in grains if not toe_l <= float(r[ic["x"]]) <= toe_r)
     # base pressure, 4 d bins about xc, folded
     pw = 4 * d
     p = {}
@@ -131,7 +140,7 @@ def summarise(run):
         "weight": mass * g, "base_force": base, "base_over_weight": base / (mass * g),
         "angle_left": al, "angle_right": ar,
         "angle": None if al is None or ar is None else 0.5 * (al + ar),
-        "height": height, "toe_margin": toe, "box_lx": lx, "box_ly": ly,
+        "height": height, "toe_left": toe_l, "toe_right": toe_r, "toe_margin": toe, "strays": strays, "box_lx": lx, "box_ly": ly,
         "p_centre_over_max": prof.get(0, 0.0) / pmax if pmax > 0 else None,
     }
 
@@ -162,7 +171,7 @@ def ensemble(root, out):
     for (e, s, pt), rs in sorted(groups.items()):
         row = {"engine": e, "size": s, "point": pt, "seeds": len(rs)}
         for k in ("angle", "angle_left", "angle_right", "base_over_weight", "base_force", "weight",
-                  "height", "toe_margin", "p_centre_over_max", "wall_time_s"):
+                  "height", "toe_margin", "strays", "p_centre_over_max", "wall_time_s"):
             m, se, n = mean_se([r[k] for r in rs])
             row[k] = m
             row[k + "_se"] = se
