@@ -115,6 +115,8 @@ static int cmd_run(int argc, char **argv)
     ekm_scenario sc;
     st = ekm_scenario_load_material(&sc, ini, material, sets, n_sets, &err);
     free(sets);
+    if (st == EKM_OK)
+        st = ekm_scenario_require_1d(&sc, &err);
     if (st != EKM_OK) {
         ekm_scenario_free(&sc);
         return fail(&err, st);

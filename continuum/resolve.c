@@ -23,7 +23,14 @@ typedef enum {
 /* The sweep a [dem] key belongs to: its keys make the scenario one.
  * SWEEP_SHEAR: a key of both simple-shear sweeps (phis x rates, or
  * pressures x rates); without phis or pressures it is the phi sweep. */
-typedef enum { SWEEP_NONE = 0, SWEEP_THETA, SWEEP_SHEAR, SWEEP_PHI_RATE, SWEEP_P_RATE } sweep_kind;
+typedef enum {
+    SWEEP_NONE = 0,
+    SWEEP_THETA,
+    SWEEP_SHEAR,
+    SWEEP_PHI_RATE,
+    SWEEP_P_RATE,
+    SWEEP_SOURCE
+} sweep_kind;
 
 typedef struct {
     const char *section;
@@ -64,6 +71,13 @@ static const tool_key TOOL_KEYS[] = {
     {"dem", "rates", TYPE_NUMBERS, NULL, NULL, SWEEP_SHEAR},      /* default: the walls' rate */
     {"dem", "p_gain", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
     {"dem", "dump_strain", TYPE_NUMBER, NULL, NULL, SWEEP_NONE}, /* per point dump_every of a shear sweep */
+    /* the sand pile: poured from a source of each width over the floor */
+    {"dem", "pile_mass", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},
+    {"dem", "pour_rate", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},
+    {"dem", "pour_speed", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},
+    {"dem", "pour_height", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},
+    {"dem", "source_widths", TYPE_NUMBERS, NULL, NULL, SWEEP_SOURCE},
+    {"dem", "seeds", TYPE_INTEGER, NULL, NULL, SWEEP_NONE}, /* ensemble size (scripts/dem/ensemble.sh) */
     {"dem", "timeout", TYPE_INTEGER, NULL, "900", SWEEP_NONE},
     {"dem", "require_steady", TYPE_FLAG, NULL, "0", SWEEP_NONE},
     {"dem", "steady_tol", TYPE_NUMBER, NULL, "0.05", SWEEP_NONE},
@@ -299,6 +313,11 @@ static const char *dem_range(const char *base, const char *value)
         {"wall_damping", "a damping rate >= 0 [1/s]", 0, HUGE_VAL, 0, 1},
         {"strain", "a strain > 0", 0, HUGE_VAL, 1, 1},
         {"p_gain", "a gain > 0", 0, HUGE_VAL, 1, 1},
+        {"pile_mass", "a mass > 0 [kg]", 0, HUGE_VAL, 1, 1},
+        {"pour_rate", "a mass rate > 0 [kg/s]", 0, HUGE_VAL, 1, 1},
+        {"pour_speed", "a speed > 0 [m/s]", 0, HUGE_VAL, 1, 1},
+        {"pour_height", "a height > 0 [d]", 0, HUGE_VAL, 1, 1},
+        {"seeds", "an ensemble size >= 1", 1, HUGE_VAL, 0, 1},
     };
     for (size_t i = 0; i < sizeof R / sizeof R[0]; i++)
         if (strcmp(R[i].key, base) == 0) {
@@ -438,10 +457,23 @@ static int section_given(const ekm_scenario *s, const char *section)
     return 0;
 }
 
+/* The family of a sweep, for the one-sweep-only rule, and its name. */
+static int sweep_family(sweep_kind k)
+{
+    return k == SWEEP_THETA ? 1 : k == SWEEP_SOURCE ? 3 : k == SWEEP_NONE ? 0 : 2;
+}
+
+static const char *sweep_family_name(sweep_kind k)
+{
+    return k == SWEEP_THETA ? "inclined-flow" : k == SWEEP_SOURCE ? "sand-pile" : "simple-shear";
+}
+
 /* Which sweep the scenario's [dem] keys (any variant) make it: an inclined
  * flow (t_settle t_flow angles: over the angles), a simple shear at fixed
  * volume (strain rates phis: over phis x rates), a simple shear at fixed
- * pressure (strain rates pressures: over pressures x rates), or none. */
+ * pressure (strain rates pressures: over pressures x rates), a sand pile
+ * (pile_mass pour_rate pour_speed pour_height source_widths: over the
+ * source widths), or none. */
 static ekm_status sweep_of(const ekm_scenario *s, sweep_kind *kind, ekm_error *err)
 {
     *kind = SWEEP_NONE;
@@ -456,13 +488,16 @@ static ekm_status sweep_of(const ekm_scenario *s, sweep_kind *kind, ekm_error *e
             continue;
         char from[600];
         entry_from(s, e, from, sizeof from);
-        if (*kind != SWEEP_NONE && (tk->sweep == SWEEP_THETA) != (*kind == SWEEP_THETA))
+        if (*kind != SWEEP_NONE && sweep_family(tk->sweep) != sweep_family(*kind)) {
+            const int pile = tk->sweep == SWEEP_SOURCE || *kind == SWEEP_SOURCE;
             return EKM_FAIL(err, EKM_EINPUT,
                             "%s: [dem] %s: a key of the %s sweep, but [dem] %s is one of the %s sweep: "
                             "expected the keys of one sweep only (inclined flow: t_settle t_flow angles; "
-                            "simple shear: strain rates, and phis or pressures)",
-                            from, e->name + 4, tk->sweep == SWEEP_THETA ? "inclined-flow" : "simple-shear",
-                            first, *kind == SWEEP_THETA ? "inclined-flow" : "simple-shear");
+                            "simple shear: strain rates, and phis or pressures%s)",
+                            from, e->name + 4, sweep_family_name(tk->sweep), first, sweep_family_name(*kind),
+                            pile ? "; sand pile: pile_mass pour_rate pour_speed pour_height source_widths"
+                                 : "");
+        }
         if ((tk->sweep == SWEEP_PHI_RATE && *kind == SWEEP_P_RATE) ||
             (tk->sweep == SWEEP_P_RATE && *kind == SWEEP_PHI_RATE))
             return EKM_FAIL(err, EKM_EINPUT,
@@ -725,6 +760,29 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
                 }
                 snprintf(p->set[p->n_sets++], sizeof p->set[0], "bottom.velocity=%.10g", -v);
             }
+    } else if (sweep == SWEEP_SOURCE) {
+        const ekm_resolve_key *widths = ekm_resolve_find(r, "dem.source_widths");
+        if (!widths)
+            st = EKM_FAIL(err, EKM_EINPUT,
+                          "%s: [dem] source_widths: missing for this engine and size (a sand pile needs "
+                          "the widths of its sources [d])",
+                          s->source);
+        if (st == EKM_OK)
+            st = split_list(widths, &a[0], err);
+        if (st == EKM_OK)
+            st = check_sweep_items(s, r, widths, &a[0], 0.0, 0.0, "source widths > 0 [d]", err);
+        for (size_t i = 0; i < a[0].n && st == EKM_OK; i++) {
+            ekm_resolve_point *p = add_point(r, err);
+            if (!p) {
+                st = EKM_ENOMEM;
+                break;
+            }
+            if (a[0].n > 1)
+                snprintf(p->tag, sizeof p->tag, "source%s", a[0].item[i]);
+            p->n_vars = 1;
+            snprintf(p->var_name[0], sizeof p->var_name[0], "source_width");
+            snprintf(p->var_value[0], sizeof p->var_value[0], "%s", a[0].item[i]);
+        }
     } else if (sweep == SWEEP_P_RATE) {
         st = EKM_FAIL(err, EKM_EINPUT,
                       "%s: [dem] pressures: missing for this engine and size (only other variants are given; "

@@ -74,6 +74,9 @@ static const key_spec KEYS[] = {
     {"model", "variant", KEY_STRING, 0, 0, 0, NULL},
     {"domain", "length", KEY_DOUBLE, SC(length), 0, 1, NULL},
     {"domain", "cells", KEY_INT, SC(cells), 0, 1, NULL},
+    {"domain", "width", KEY_DOUBLE, SC(width), 0, 0, NULL},
+    {"domain", "cells_x", KEY_INT, SC(cells_x), 0, 0, NULL},
+    {"domain", "periodic_x", KEY_INT, SC(periodic_x), 0, 0, NULL},
     {"gravity", "magnitude", KEY_DOUBLE, SC(gravity), 0, 0, NULL},
     {"gravity", "angle", KEY_DOUBLE, SC(angle_deg), 0, 0, NULL},
     {"gravity", "angle_rate", KEY_DOUBLE, SC(angle_rate), 0, 0, NULL},
@@ -130,6 +133,9 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->angle_deg = 0.0;
     s->T_init = 0.0;
     s->layer_height = INFINITY;
+    s->width = NAN; /* the 1D column: no x extent */
+    s->cells_x = 1;
+    s->periodic_x = 0;
     s->bottom.kind = s->top.kind = EKM_BC_WALL;
     s->bottom.t_stop = s->top.t_stop = INFINITY;
     s->bottom.w_return = s->top.w_return = NAN; /* piston: -w */
@@ -688,6 +694,21 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     }
     RANGE(s->length > 0.0, "domain", "length", "a length > 0 [m]", s->length);
     RANGE(s->cells >= 1 && s->cells <= 10000000, "domain", "cells", "an integer in [1, 1e7]", s->cells);
+    /* the 2D domain: width, cells_x and periodic_x only with a width */
+    if (given(c, "domain", "width"))
+        RANGE(s->width > 0.0, "domain", "width", "a width > 0 [m]", s->width);
+    RANGE(s->cells_x >= 1 && s->cells_x <= 10000000, "domain", "cells_x", "an integer in [1, 1e7]",
+          s->cells_x);
+    RANGE(s->periodic_x == 0 || s->periodic_x == 1, "domain", "periodic_x", "0 or 1", s->periodic_x);
+    for (int k = 0; k < 2; k++) {
+        const char *key = k == 0 ? "cells_x" : "periodic_x";
+        if (given(c, "domain", key) && !given(c, "domain", "width")) {
+            char w_[600];
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: [domain] %s: needs [domain] width (the 2D domain's x extent [m])",
+                            where(c, "domain", key, w_, sizeof w_), key);
+        }
+    }
     RANGE(s->gravity >= 0.0, "gravity", "magnitude", "a number >= 0 [m/s^2]", s->gravity);
     RANGE(fabs(s->angle_deg) <= 180.0, "gravity", "angle", "an angle in [-180, 180] degrees", s->angle_deg);
     RANGE(s->phi_init >= 0.0 && s->phi_init < s->material.phi_cp, "initial", "phi",
@@ -1004,6 +1025,9 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
         return 0;
     if (bc && strcmp(ks->key, "velocity") == 0 && ekm_bc_rate_wall(bc))
         return 0; /* not a key: the speed follows the gap */
+    if (strcmp(ks->section, "domain") == 0 &&
+        (strcmp(ks->key, "cells_x") == 0 || strcmp(ks->key, "periodic_x") == 0) && !isfinite(s->width))
+        return 0; /* keys of a 2D domain only (a width given) */
     if (strcmp(ks->key, "variant") == 0)
         snprintf(value, size, "%s", s->variant == EKM_VARIANT_THESIS ? "thesis" : "full");
     else if (strcmp(ks->key, "convection") == 0)
@@ -1025,6 +1049,22 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
     else
         snprintf(value, size, "%s", base + ks->offset);
     return 1;
+}
+
+ekm_status ekm_scenario_require_1d(const ekm_scenario *s, ekm_error *err)
+{
+    if (s->cells_x <= 1)
+        return EKM_OK;
+    const ekm_entry *e = ekm_scenario_entry_find(s->entries, s->n_entries, "domain.cells_x");
+    char from[600];
+    if (e && e->origin == EKM_FROM_SET)
+        snprintf(from, sizeof from, "--set domain.cells_x");
+    else
+        snprintf(from, sizeof from, "%s:%d", s->source, e ? e->line : 0);
+    return EKM_FAIL(err, EKM_EUNAVAILABLE,
+                    "%s: [domain] cells_x = %d: the 2D solver is not built yet (issue 14); ekm solves the 1D "
+                    "column only (cells_x = 1)",
+                    from, s->cells_x);
 }
 
 double ekm_scenario_angle_at(const ekm_scenario *s, double t)

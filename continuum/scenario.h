@@ -129,6 +129,9 @@ typedef struct {
     ekm_variant variant;
     double length;          /* domain height, z in [0, length] [m] */
     int cells;              /* number of finite-volume cells */
+    double width;           /* 2D domain: width, x in [0, width] [m]; NAN: not given (the 1D column) */
+    int cells_x;            /* 2D domain: cells along x; 1: the 1D column (the only case ekm solves) */
+    int periodic_x;         /* 2D domain: 1: periodic in x; 0: walls at x = 0 and x = width */
     double gravity;         /* magnitude G [m/s^2] */
     double angle_deg;       /* tilt of gravity in the x-z plane [deg]: g = G (sin a, -cos a) */
     double angle_rate;      /* the tilt grows at this rate after angle_start [deg/s] */
@@ -203,6 +206,11 @@ void ekm_scenario_free(ekm_scenario *s);
 size_t ekm_scenario_key_count(void);
 void ekm_scenario_key_name(size_t i, const char **section, const char **key);
 int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_t size);
+
+/* EKM_OK when ekm can solve the scenario's domain, the 1D column
+ * ([domain] cells_x = 1); else EKM_EUNAVAILABLE: the 2D solver (issue 14)
+ * is not built yet. */
+ekm_status ekm_scenario_require_1d(const ekm_scenario *s, ekm_error *err);
 
 /* The entry named "section.key" in list (n entries), or NULL. */
 const ekm_entry *ekm_scenario_entry_find(const ekm_entry *list, size_t n, const char *name);

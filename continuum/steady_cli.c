@@ -183,6 +183,8 @@ int ekm_steady_cli_main(int argc, char **argv)
     st = ekm_scenario_load_material(&sc, ini, material, sets, n_sets, &err);
     free(sets);
     if (st == EKM_OK)
+        st = ekm_scenario_require_1d(&sc, &err);
+    if (st == EKM_OK)
         st = ekm_steady_supported(&sc, &err);
     if (st != EKM_OK) {
         ekm_scenario_free(&sc);

@@ -8,7 +8,7 @@
 # Output: runs/<scenario>/<engine>-<size>[/<point>]/ (dumps, log, deck,
 # vars.txt, run.json). DEMSET overrides [dem] keys for one run.
 
-DEM_SCENARIOS := filling shear_cell simple_shear simple_shear_p chute
+DEM_SCENARIOS := filling shear_cell simple_shear simple_shear_p chute sandpile
 DEM_ENGINES   := liggghts lammps
 DEM_SIZE       = $(or $(SIZE),smoke)
 DEM_FLAGS      = $(if $(filter 1,$(FORCE)),-f) -n $(or $(NP),1) $(foreach s,$(DEMSET),-s $(s))

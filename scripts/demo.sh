@@ -14,6 +14,9 @@ mkdir -p "$out"
 echo "== 1. ekm: every continuum scenario -> runs/demo/continuum/"
 for ini in "$root"/scenarios/*.ini; do
   name=$(basename "$ini" .ini)
+  # a 2D domain (cells_x > 1: the sand pile) waits for the 2D solver (issue 14)
+  nx=$("$root/$build/continuum/ekm" scenario "$ini" --json | jq -r '.keys["domain.cells_x"].value // "1"')
+  if [ "$nx" != 1 ]; then echo "$name: 2D ($nx cells along x): no 2D solver yet, skipped"; continue; fi
   "$root/$build/continuum/ekm" run "$ini" -o "$out/$name.h5"
 done
 echo

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # check_run.sh: assert that a finished DEM case is complete and usable.
 #
-#   scripts/dem/check_run.sh [--filling | --pressure] DIR
+#   scripts/dem/check_run.sh [--filling | --sandpile | --pressure] DIR
 #
 # Checks: run.json has status "ok"; every dump is what the run recorded
 # in run.json "dumps" (frames, bytes, sha256: not changed after the run);
@@ -13,7 +13,13 @@
 # scenario's target rho phi |w| A t_stop to 1%, and the bed is at rest
 # (kinetic energy per unit mass below [dem] rest_ke, as the scenario reader
 # resolves it for the run's scenario file, engine and size: `ekm scenario
-# ... --json`, EKM= names the binary). With --pressure (simple_shear_p) the
+# ... --json`, EKM= names the binary). With --sandpile the same mass and
+# rest checks against the target [dem] pile_mass, and the dump contract of
+# docs/dem.md "Sand pile": atoms.dump has the columns of dumps.inc plus
+# fx fy fz, in that order; in its last frame the floor grains (type 2) are
+# still (v = 0: not time-integrated), and the force on them,
+# -(sum of their fz), equals the weight g * (mass of the pile grains,
+# type 1) to 1%. With --pressure (simple_shear_p) the
 # barostat: the mean normal stress Pzz over the last half of monitor.txt
 # equals the target `pressure` of vars.txt within 3 block standard errors
 # (monitor_stats.sh). Exit status (docs/exit-codes.md):
@@ -21,18 +27,20 @@
 # 2 a file is there but not as expected (status not ok, a dump that
 # differs from its run.json record, too few frames, a
 # missing column or EKMDEM_MASS marker, no [dem] rest_ke, no pressure in
-# vars.txt, no v_Pzz column in monitor.txt); 4 the filling mass balance or
-# rest check, or the barostat check, fails; 7 ekm not built. The first
+# vars.txt, no v_Pzz column in monitor.txt, a sand-pile dump without the
+# contract's columns); 4 the filling or sand-pile mass balance or rest
+# check, the floor force or still floor, or the barostat check, fails; 7 ekm not built. The first
 # failing kind of check gives the status.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-filling=0; pressure=0
+filling=0; pressure=0; sandpile=0
 case ${1:-} in
   --filling) filling=1; shift ;;
+  --sandpile) filling=1; sandpile=1; shift ;;
   --pressure) pressure=1; shift ;;
 esac
-[ $# -eq 1 ] || { echo "usage: check_run.sh [--filling | --pressure] DIR" >&2; exit 1; }
+[ $# -eq 1 ] || { echo "usage: check_run.sh [--filling | --sandpile | --pressure] DIR" >&2; exit 1; }
 dir=$1; fail=0
 # bad STATUS MESSAGE: report a failed check; the first one's status wins
 bad() { echo "check_run: $dir: $2" >&2; [ $fail -ne 0 ] || fail=$1; }
@@ -67,17 +75,41 @@ if [ $filling -eq 1 ]; then
              --size "$(jq -r .size "$dir/run.json")" --json) || exit
   rest=$(jq -r '.keys["dem.rest_ke"].value // empty' <<< "$resolved")
   [ -n "$rest" ] || { bad 2 "$ini: [dem] rest_ke: missing key"; exit "$fail"; }
-  echo "$line" | awk -v rest="$rest" -v dir="$dir" '{
+  what=filling; [ $sandpile -eq 1 ] && what=sandpile
+  echo "$line" | awk -v rest="$rest" -v dir="$dir" -v what="$what" '{
     for (i = 2; i < NF; i += 2) v[$i] = $(i + 1)
     t = v["target"]; ins = v["inserted"]; fin = v["final"]; ke = v["ke_per_mass"]
     e1 = (fin - ins) / ins; if (e1 < 0) e1 = -e1
     e2 = (fin - t) / t;     if (e2 < 0) e2 = -e2
-    printf "filling mass: target %.6g kg, inserted %.6g kg, final %.6g kg (vs target %.3f%%), ke/mass %.3g J/kg (limit %s)\n", t, ins, fin, 100 * e2, ke, rest
+    printf "%s mass: target %.6g kg, inserted %.6g kg, final %.6g kg (vs target %.3f%%), ke/mass %.3g J/kg (limit %s)\n", what, t, ins, fin, 100 * e2, ke, rest
     f = 0
     if (e1 > 1e-9) { print "check_run: " dir ": mass lost after insertion" > "/dev/stderr"; f = 1 }
-    if (e2 > 0.01) { print "check_run: " dir ": final mass differs from the inflow target by more than 1%" > "/dev/stderr"; f = 1 }
-    if (ke + 0 > rest + 0) { print "check_run: " dir ": bed not at rest" > "/dev/stderr"; f = 1 }
+    if (e2 > 0.01) { print "check_run: " dir ": final mass differs from the " (what == "sandpile" ? "pile_mass" : "inflow") " target by more than 1%" > "/dev/stderr"; f = 1 }
+    if (ke + 0 > rest + 0) { print "check_run: " dir ": " (what == "sandpile" ? "pile" : "bed") " not at rest" > "/dev/stderr"; f = 1 }
     exit f }' || { [ $fail -ne 0 ] || fail=4; }
+fi
+if [ $sandpile -eq 1 ] && [ -s "$dir/atoms.dump" ]; then
+  # the dump contract: dumps.inc's columns plus fx fy fz
+  want="$(sed -n 's/^dump *da .* atoms\.dump \(.*\)$/\1/p' "$root/dem_inputs/$(jq -r .engine "$dir/run.json")/dumps.inc") fx fy fz"
+  have=$(grep -m1 '^ITEM: ATOMS' "$dir/atoms.dump" | sed 's/^ITEM: ATOMS //; s/ *$//')
+  [ "$have" = "$want" ] || { bad 2 "atoms.dump: columns '$have', expected '$want' (docs/dem.md \"Sand pile\")"; exit "$fail"; }
+  g=$(awk '$1 == "g" { print $3 }' "$dir/vars.txt")
+  [ -n "$g" ] || { bad 2 "no g in vars.txt"; exit "$fail"; }
+  # the last frame: floor still, its force the pile's weight
+  awk -v g="$g" -v dir="$dir" '
+    /^ITEM: TIMESTEP/ { getline step; nf = 0; fz = 0; m = 0; moving = 0; nfl = 0; next }
+    /^ITEM: ATOMS/ { for (i = 3; i <= NF; i++) c[$i] = i - 2; inatoms = 1; next }
+    /^ITEM:/ { inatoms = 0; next }
+    inatoms {
+      if ($c["type"] == 2) { nfl++; fz += $c["fz"]; if ($c["vx"] != 0 || $c["vy"] != 0 || $c["vz"] != 0) moving++ }
+      else if ($c["type"] == 1) m += $c["mass"] }
+    END {
+      w = g * m; e = (-fz - w) / w; if (e < 0) e = -e
+      printf "sandpile floor: step %d, %d floor grains (%d moving), force on the floor %.6g N, weight of the pile %.6g N (%.4f%%)\n", step, nfl, moving, -fz, w, 100 * e
+      f = 0
+      if (moving > 0) { print "check_run: " dir ": floor grains moved (they must not be time-integrated)" > "/dev/stderr"; f = 1 }
+      if (!(e <= 0.01)) { print "check_run: " dir ": the force on the floor differs from the weight of the pile by more than 1%" > "/dev/stderr"; f = 1 }
+      exit f }' "$dir/atoms.dump" || { [ $fail -ne 0 ] || fail=4; }
 fi
 if [ $pressure -eq 1 ]; then
   target=$(awk '$1 == "pressure" { print $3 }' "$dir/vars.txt")

@@ -218,6 +218,19 @@ case $scen in
     addk strain dem.strain
     addk p_gain dem.p_gain
     pointvars=(pressure rate) ;;
+  sandpile)
+    need dem.ly dem.pour_height
+    num ly "${K[dem.ly]}"; num pour_height "${K[dem.pour_height]}"
+    addv ly "$(calc "${K[dem.ly]} * $d")"
+    addk lx domain.width
+    addk lz domain.length
+    addk g gravity.magnitude
+    addk m_pile dem.pile_mass
+    addk q_pour dem.pour_rate
+    addk v_pour dem.pour_speed
+    addv h_pour "$(calc "${K[dem.pour_height]} * $d")"
+    addk t_end dem.t_end
+    pointvars=(source_width) ;;
   *) die "no variable mapping for scenario '$scen' (see docs/dem.md)" ;;
 esac
 [ "$point_dump" = true ] && pointvars+=(dump_every)

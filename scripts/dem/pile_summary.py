@@ -1,0 +1,199 @@
+#!/usr/bin/python3
+"""pile_summary.py: the scalars of finished sand-pile runs, from their dumps.
+
+    scripts/dem/pile_summary.py RUN_DIR...                 one JSON object per run
+    scripts/dem/pile_summary.py --ensemble ROOT -o OUT     the ensemble table
+
+A RUN_DIR is a finished case of scripts/dem/run.sh sandpile (run.json,
+vars.txt, atoms.dump). From the last frame of atoms.dump (the pile at rest)
+and the dump contract of docs/dem.md "Sand pile":
+  weight         g * (mass of the pile grains, type 1) [N]
+  base_force     -(sum of fz over the floor grains, type 2) [N]
+  base_over_weight
+  angle_left, angle_right, angle   pile angle [deg]: a straight line fitted
+                 to the surface height h(x) of each flank (h: the top
+                 z + radius of the grains in 2 d wide x bins; the bins whose
+                 h is between 0.2 and 0.8 of the pile's height H)
+  height         H, the largest h [m]
+  toe_left, toe_right  the pile's extent [m]: the outer edges of the run of
+                 2 d bins about the centre whose h is at least d
+  toe_margin     distance from the pile's extent to the nearer end of the
+                 floor (x = 0 or lx) [m]
+  strays         pile grains outside that extent (bounced off the floor)
+  p_centre_over_max  base pressure p(x) = -(sum fz of the floor grains in
+                 an x bin) / (bin width * box y period), bins of 4 d centred
+                 on the pile's centre of mass, folded about it: p of the
+                 central bin over the largest p
+--ensemble ROOT: every ROOT/seed<k>/sandpile/<engine>-<size>/<point>/ that
+finished (status ok), summarised; OUT gets the per-run rows and, per engine,
+size and point, the mean and standard error over the seeds (SE = sd/sqrt(n)).
+Exit status: 0 ok, 1 usage, 2 a dump without the contract's columns, 3 a
+file missing.
+"""
+import glob
+import json
+import math
+import os
+import sys
+
+
+def fail(code, msg):
+    print("pile_summary: " + msg, file=sys.stderr)
+    sys.exit(code)
+
+
+def last_frame(path):
+    """(box y period, box x bounds, columns, rows) of the last frame."""
+    frame = None
+    with open(path) as f:
+        lines = iter(f)
+        for line in lines:
+            if not line.startswith("ITEM: TIMESTEP"):
+                continue
+            step = int(next(lines))
+            head = next(lines)
+            while not head.startswith("ITEM: NUMBER OF ATOMS"):
+                head = next(lines)
+            n = int(next(lines))
+            next(lines)  # ITEM: BOX BOUNDS
+            bx = [float(v) for v in next(lines).split()[:2]]
+            by = [float(v) for v in next(lines).split()[:2]]
+            next(lines)
+            cols = next(lines).split()[2:]
+            rows = [next(lines).split() for _ in range(n)]
+            frame = (step, by[1] - by[0], bx, cols, rows)
+    if frame is None:
+        fail(2, path + ": no frame")
+    return frame
+
+
+def vars_of(run):
+    out = {}
+    with open(os.path.join(run, "vars.txt")) as f:
+        for line in f:
+            k, _, v = line.partition("=")
+            out[k.strip()] = float(v)
+    return out
+
+
+def flank_angle(xs, hs, height):
+    pts = [(x, h) for x, h in zip(xs, hs) if 0.2 * height <= h <= 0.8 * height]
+    if len(pts) < 3:
+        return None
+    n = len(pts)
+    mx = sum(p[0] for p in pts) / n
+    mh = sum(p[1] for p in pts) / n
+    sxx = sum((p[0] - mx) ** 2 for p in pts)
+    sxh = sum((p[0] - mx) * (p[1] - mh) for p in pts)
+    return math.degrees(math.atan(abs(sxh / sxx)))
+
+
+def summarise(run):
+    for f in ("run.json", "vars.txt", "atoms.dump"):
+        if not os.path.exists(os.path.join(run, f)):
+            fail(3, "%s: no %s" % (run, f))
+    rj = json.load(open(os.path.join(run, "run.json")))
+    v = vars_of(run)
+    step, ly, bx, cols, rows = last_frame(os.path.join(run, "atoms.dump"))
+    for c in ("type", "x", "z", "radius", "mass", "fz"):
+        if c not in cols:
+            fail(2, "%s/atoms.dump: no column %s (docs/dem.md 'Sand pile')" % (run, c))
+    ic = {c: cols.index(c) for c in cols}
+    d, g, lx = v["d"], v["g"], bx[1] - bx[0]
+    grains = [r for r in rows if r[ic["type"]] == "1"]
+    floor = [r for r in rows if r[ic["type"]] == "2"]
+    mass = sum(float(r[ic["mass"]]) for r in grains)
+    xc = sum(float(r[ic["mass"]]) * float(r[ic["x"]]) for r in grains) / mass
+    base = -sum(float(r[ic["fz"]]) for r in floor)
+    # surface height in 2 d bins
+    w = 2 * d
+    top = {}
+    for r in grains:
+        b = math.floor((float(r[ic["x"]]) - xc) / w + 0.5)
+        top[b] = max(top.get(b, 0.0), float(r[ic["z"]]) + float(r[ic["radius"]]))
+    height = max(top.values())
+    left = sorted(b for b in top if b < 0)
+    right = sorted(b for b in top if b > 0)
+    al = flank_angle([b * w for b in left], [top[b] for b in left], height)
+    ar = flank_angle([b * w for b in right], [top[b] for b in right], height)
+    lo = hi = 0
+    while top.get(lo - 1, 0.0) >= d:
+        lo -= 1
+    while top.get(hi + 1, 0.0) >= d:
+        hi += 1
+    toe_l, toe_r = xc + (lo - 0.5) * w, xc + (hi + 0.5) * w
+    toe = min(toe_l - bx[0], bx[1] - toe_r)
+    strays = sum(1 for r in grains if not toe_l <= float(r[ic["x"]]) <= toe_r)
+    # base pressure, 4 d bins about xc, folded
+    pw = 4 * d
+    p = {}
+    for r in floor:
+        b = abs(math.floor((float(r[ic["x"]]) - xc) / pw + 0.5))
+        p[b] = p.get(b, 0.0) - float(r[ic["fz"]])
+    prof = {b: p[b] / ((pw if b == 0 else 2 * pw) * ly) for b in p}
+    pmax = max(prof.values())
+    return {
+        "run": run, "engine": rj["engine"], "size": rj["size"], "point": rj["point"],
+        "seed": int(v["seed"]), "source_width_d": v.get("source_width"),
+        "status": rj["status"], "wall_time_s": rj["wall_time_s"], "particles": rj["particles"],
+        "step": step, "n_grains": len(grains), "n_floor": len(floor), "mass": mass,
+        "weight": mass * g, "base_force": base, "base_over_weight": base / (mass * g),
+        "angle_left": al, "angle_right": ar,
+        "angle": None if al is None or ar is None else 0.5 * (al + ar),
+        "height": height, "toe_left": toe_l, "toe_right": toe_r, "toe_margin": toe, "strays": strays, "box_lx": lx, "box_ly": ly,
+        "p_centre_over_max": prof.get(0, 0.0) / pmax if pmax > 0 else None,
+    }
+
+
+def mean_se(vals):
+    vals = [x for x in vals if x is not None]
+    n = len(vals)
+    if n == 0:
+        return None, None, 0
+    m = sum(vals) / n
+    if n < 2:
+        return m, None, n
+    sd = math.sqrt(sum((x - m) ** 2 for x in vals) / (n - 1))
+    return m, sd / math.sqrt(n), n
+
+
+def ensemble(root, out):
+    runs = sorted(glob.glob(os.path.join(root, "seed*", "sandpile", "*-*", "*", "run.json")))
+    rows = []
+    for rj in runs:
+        run = os.path.dirname(rj)
+        if json.load(open(rj)).get("status") == "ok":
+            rows.append(summarise(run))
+    groups = {}
+    for r in rows:
+        groups.setdefault((r["engine"], r["size"], r["point"]), []).append(r)
+    table = []
+    for (e, s, pt), rs in sorted(groups.items()):
+        row = {"engine": e, "size": s, "point": pt, "seeds": len(rs)}
+        for k in ("angle", "angle_left", "angle_right", "base_over_weight", "base_force", "weight",
+                  "height", "toe_margin", "strays", "p_centre_over_max", "wall_time_s"):
+            m, se, n = mean_se([r[k] for r in rs])
+            row[k] = m
+            row[k + "_se"] = se
+        table.append(row)
+    for r in rows:
+        r["run"] = os.path.relpath(r["run"], root)
+    with open(out, "w") as f:
+        json.dump({"root": root, "groups": table, "runs": rows}, f, indent=1)
+        f.write("\n")
+
+
+def main(argv):
+    if len(argv) >= 2 and argv[1] == "--ensemble":
+        if len(argv) != 5 or argv[3] != "-o":
+            fail(1, "usage: pile_summary.py --ensemble ROOT -o OUT.json")
+        ensemble(argv[2], argv[4])
+        return
+    if len(argv) < 2 or argv[1].startswith("-"):
+        fail(1, "usage: pile_summary.py RUN_DIR... | --ensemble ROOT -o OUT.json")
+    for run in argv[1:]:
+        print(json.dumps(summarise(run)))
+
+
+if __name__ == "__main__":
+    main(sys.argv)
