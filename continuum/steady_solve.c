@@ -598,13 +598,17 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
     int polished = 0;
     for (;;) {
         if (rep->iterations >= budget || rep->iterations >= EKM_STEADY_MAX_ITER) {
+            /* converged already (polished = 1: the next one would have
+             * been the polishing iteration): no budget left for it */
+            if (polished)
+                return EKM_OK;
             int where;
             const double mx = norm_max_scaled(p, p->R, p->mag, &where);
             return EKM_FAIL(err, EKM_ENOTSTEADY,
                             "%s: no steady state: Newton did not converge in %d iterations (scaled residual "
                             "%.3g, largest %.3g in the %s of cell %d, last update %.3g)",
-                            p->sc->source, EKM_STEADY_ATTEMPT_ITER, res, mx, row_name(p, where),
-                            where / p->nv, rep->update_final);
+                            p->sc->source, rep->iterations, res, mx, row_name(p, where), where / p->nv,
+                            rep->update_final);
         }
         const int it = rep->iterations++;
         rep->residual[it] = res;

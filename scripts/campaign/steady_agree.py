@@ -49,6 +49,9 @@ def main():
                 raise KeyError("/phi: %s cells vs %s" % (phi_a.shape, phi_b.shape))
             support_phi = SUPPORT * float(np.max(phi_b))
             support = (phi_a >= support_phi) & (phi_b >= support_phi)
+            if not support.any():
+                print("disagree: no cell has material (phi >= %g) in both states" % support_phi)
+                return 1
             for n in names:
                 x, y = last(a, n), last(b, n)
                 if x.shape != y.shape:

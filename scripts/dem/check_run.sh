@@ -95,20 +95,38 @@ if [ $sandpile -eq 1 ] && [ -s "$dir/atoms.dump" ]; then
   [ "$have" = "$want" ] || { bad 2 "atoms.dump: columns '$have', expected '$want' (docs/dem.md \"Sand pile\")"; exit "$fail"; }
   g=$(awk '$1 == "g" { print $3 }' "$dir/vars.txt")
   [ -n "$g" ] || { bad 2 "no g in vars.txt"; exit "$fail"; }
-  # the last frame: floor still, its force the pile's weight
+  # the last frame: floor still, its force the pile's weight, and no force
+  # on a floor grain no pile grain touches (none low enough, z < 3 of the
+  # largest radii above the floor's top, within two largest diameters in
+  # x, periodic): floor-floor contacts excluded (the jittered floor grains
+  # overlap; their pairwise forces would cancel in the sum)
   awk -v g="$g" -v dir="$dir" '
-    /^ITEM: TIMESTEP/ { getline step; nf = 0; fz = 0; m = 0; moving = 0; nfl = 0; next }
+    /^ITEM: TIMESTEP/ { getline step; nf = 0; fz = 0; m = 0; moving = 0; nfl = 0; nlow = 0; rmax = 0; next }
+    /^ITEM: BOX BOUNDS/ { getline; lx = $2 - $1; next }
     /^ITEM: ATOMS/ { for (i = 3; i <= NF; i++) c[$i] = i - 2; inatoms = 1; next }
     /^ITEM:/ { inatoms = 0; next }
     inatoms {
-      if ($c["type"] == 2) { nfl++; fz += $c["fz"]; if ($c["vx"] != 0 || $c["vy"] != 0 || $c["vz"] != 0) moving++ }
-      else if ($c["type"] == 1) m += $c["mass"] }
+      if ($c["type"] == 2) { nfl++; fx_[nfl] = $c["x"]; fz_[nfl] = $c["fz"]; fz += $c["fz"]; if ($c["vx"] != 0 || $c["vy"] != 0 || $c["vz"] != 0) moving++; if ($c["radius"] > rmax) rmax = $c["radius"] }
+      else if ($c["type"] == 1) { m += $c["mass"]; nlow++; px[nlow] = $c["x"]; pz[nlow] = $c["z"]; if ($c["radius"] > rmax) rmax = $c["radius"] } }
     END {
       w = g * m; e = (-fz - w) / w; if (e < 0) e = -e
-      printf "sandpile floor: step %d, %d floor grains (%d moving), force on the floor %.6g N, weight of the pile %.6g N (%.4f%%)\n", step, nfl, moving, -fz, w, 100 * e
+      n = 0
+      for (k = 1; k <= nlow; k++) if (pz[k] < 3 * rmax) { n++; lowx[n] = px[k] }
+      free = 0; loaded = 0
+      for (k = 1; k <= nfl; k++) {
+        touched = 0
+        for (q = 1; q <= n && !touched; q++) {
+          dx = fx_[k] - lowx[q]; if (dx < 0) dx = -dx; if (lx > 0 && dx > lx / 2) dx = lx - dx
+          if (dx < 4 * rmax) touched = 1
+        }
+        if (!touched) { free++; if (fz_[k] != 0) loaded++ }
+      }
+      printf "sandpile floor: step %d, %d floor grains (%d moving), force on the floor %.6g N, weight of the pile %.6g N (%.4f%%); %d floor grains no pile grain touches, %d of them with a force\n", step, nfl, moving, -fz, w, 100 * e, free, loaded
       f = 0
       if (moving > 0) { print "check_run: " dir ": floor grains moved (they must not be time-integrated)" > "/dev/stderr"; f = 1 }
       if (!(e <= 0.01)) { print "check_run: " dir ": the force on the floor differs from the weight of the pile by more than 1%" > "/dev/stderr"; f = 1 }
+      if (free == 0) print "check_run: " dir ": note: every floor grain is under the pile, the floor-floor exclusion is not checked" > "/dev/stderr"
+      if (loaded > 0) { print "check_run: " dir ": " loaded " floor grains no pile grain touches carry a force (floor-floor contacts must be excluded)" > "/dev/stderr"; f = 1 }
       exit f }' "$dir/atoms.dump" || { [ $fail -ne 0 ] || fail=4; }
 fi
 if [ $pressure -eq 1 ]; then
