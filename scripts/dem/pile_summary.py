@@ -103,6 +103,8 @@ def summarise(run):
     grains = [r for r in rows if r[ic["type"]] == "1"]
     floor = [r for r in rows if r[ic["type"]] == "2"]
     mass = sum(float(r[ic["mass"]]) for r in grains)
+    if not grains or not mass > 0:
+        fail(2, "%s/atoms.dump: the last frame has no pile grains (type 1)" % run)
     xc = sum(float(r[ic["mass"]]) * float(r[ic["x"]]) for r in grains) / mass
     base = -sum(float(r[ic["fz"]]) for r in floor)
     # surface height in 2 d bins
@@ -178,9 +180,16 @@ def ensemble(root, out):
         table.append(row)
     for r in rows:
         r["run"] = os.path.relpath(r["run"], root)
-    with open(out, "w") as f:
-        json.dump({"root": root, "groups": table, "runs": rows}, f, indent=1)
-        f.write("\n")
+    tmp = "%s.tmp.%d" % (out, os.getpid())
+    try:
+        with open(tmp, "w") as f:
+            json.dump({"root": root, "groups": table, "runs": rows}, f, indent=1)
+            f.write("\n")
+        os.replace(tmp, out)  # atomic: no partial OUT.json
+    except OSError as e:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        fail(3, "%s: cannot write: %s" % (out, e.strerror))
 
 
 def main(argv):
