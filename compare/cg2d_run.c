@@ -11,6 +11,7 @@
 #include "cg2d.h"
 #include "cg2d_output.h"
 #include "cg_input.h"
+#include "window.h"
 #include "kernel.h"
 #include "stats.h"
 #include "steady.h"
@@ -45,36 +46,12 @@ typedef struct {
 
 static void results_free(cg2d_results *r)
 {
-    free(r->t);
-    free(r->nsnap);
-    for (int f = 0; f < CG2D_NFIELD; f++) {
-        free(r->f[f]);
-        free(r->se[f]);
-    }
+    cg_series_free(r->t, r->nsnap, r->f, r->se, CG2D_NFIELD);
 }
 
 static ekm_status results_grow(cg2d_results *r, ekm_error *err)
 {
-    if (r->nt < r->cap)
-        return EKM_OK;
-    size_t c = r->cap ? 2 * r->cap : 4;
-    double *p = realloc(r->t, c * sizeof *p);
-    if (!p)
-        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    r->t = p;
-    if (!(p = realloc(r->nsnap, c * sizeof *p)))
-        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    r->nsnap = p;
-    for (int f = 0; f < CG2D_NFIELD; f++) {
-        if (!(p = realloc(r->f[f], c * r->ncell * sizeof *p)))
-            return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-        r->f[f] = p;
-        if (!(p = realloc(r->se[f], c * r->ncell * sizeof *p)))
-            return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-        r->se[f] = p;
-    }
-    r->cap = c;
-    return EKM_OK;
+    return cg_series_grow(&r->t, &r->nsnap, r->f, r->se, CG2D_NFIELD, r->ncell, r->nt, &r->cap, 4, err);
 }
 
 /* One axis of the grid from the box (lo, hi, periodic) or --range. */

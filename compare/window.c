@@ -35,38 +35,49 @@ void cg_window_add(cg_window *fz, const double *prim)
     cg_blocks_add(fz->b, prim);
 }
 
+void cg_series_free(double *t, double *nsnap, double **f, double **se, int nfield)
+{
+    free(t);
+    free(nsnap);
+    for (int k = 0; k < nfield; k++) {
+        free(f[k]);
+        free(se[k]);
+    }
+}
+
+ekm_status cg_series_grow(double **t, double **nsnap, double **f, double **se, int nfield, size_t n,
+                          size_t nt, size_t *cap, size_t first, ekm_error *err)
+{
+    if (nt < *cap)
+        return EKM_OK;
+    size_t c = *cap ? 2 * *cap : first;
+    double *p = realloc(*t, c * sizeof *p);
+    if (!p)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    *t = p;
+    if (!(p = realloc(*nsnap, c * sizeof *p)))
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    *nsnap = p;
+    for (int k = 0; k < nfield; k++) {
+        if (!(p = realloc(f[k], c * n * sizeof *p)))
+            return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+        f[k] = p;
+        if (!(p = realloc(se[k], c * n * sizeof *p)))
+            return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+        se[k] = p;
+    }
+    *cap = c;
+    return EKM_OK;
+}
+
 void cg_window_results_free(cg_window_results *r)
 {
-    free(r->t);
-    free(r->nsnap);
-    for (int f = 0; f < CG_NFIELD; f++) {
-        free(r->f[f]);
-        free(r->se[f]);
-    }
+    cg_series_free(r->t, r->nsnap, r->f, r->se, CG_NFIELD);
 }
 
 static ekm_status results_grow(cg_window_results *r, ekm_error *err)
 {
-    if (r->nt < r->cap)
-        return EKM_OK;
-    size_t c = r->cap ? 2 * r->cap : 8;
-    double *p = realloc(r->t, c * sizeof *p);
-    if (!p)
-        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    r->t = p;
-    if (!(p = realloc(r->nsnap, c * sizeof *p)))
-        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    r->nsnap = p;
-    for (int f = 0; f < CG_NFIELD; f++) {
-        if (!(p = realloc(r->f[f], c * r->n * sizeof *p)))
-            return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-        r->f[f] = p;
-        if (!(p = realloc(r->se[f], c * r->n * sizeof *p)))
-            return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-        r->se[f] = p;
-    }
-    r->cap = c;
-    return EKM_OK;
+    return cg_series_grow(&r->t, &r->nsnap, r->f, r->se, CG_NFIELD, r->n, r->nt, &r->cap, 8, err);
 }
 
 ekm_status cg_window_finish(cg_window *fz, cg_window_results *r, double t_mid, double d, double rho_p,

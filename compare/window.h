@@ -26,6 +26,15 @@ typedef struct {
     double *se[CG_NFIELD]; /* nt x n standard errors */
 } cg_window_results;
 
+/* A growing series of windows, shared by the 1D and the 2D results: the
+ * window times t, snapshots per window nsnap and nfield fields and their
+ * SEs of n values each per window.  Grows the arrays (doubling, from
+ * first) so that one more window fits; *cap is updated. */
+ekm_status cg_series_grow(double **t, double **nsnap, double **f, double **se, int nfield, size_t n,
+                          size_t nt, size_t *cap, size_t first, ekm_error *err);
+/* Frees what cg_series_grow allocated. */
+void cg_series_free(double *t, double *nsnap, double **f, double **se, int nfield);
+
 /* The open window. */
 typedef struct {
     const cg_grid *g;
