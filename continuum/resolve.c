@@ -655,6 +655,29 @@ static ekm_resolve_point *add_point(ekm_resolved *r, ekm_error *err)
     return p;
 }
 
+/* One point per item of a one-variable sweep: tag PREFIX<item> (none for a
+ * single item), the variable VAR = item and, with KEY, the EKM set
+ * KEY=item. */
+static ekm_status add_list_points(ekm_resolved *r, const item_list *items, const char *prefix,
+                                  const char *var, const char *key, ekm_error *err)
+{
+    for (size_t i = 0; i < items->n; i++) {
+        ekm_resolve_point *p = add_point(r, err);
+        if (!p)
+            return EKM_ENOMEM;
+        if (items->n > 1)
+            snprintf(p->tag, sizeof p->tag, "%s%s", prefix, items->item[i]);
+        p->n_vars = 1;
+        snprintf(p->var_name[0], sizeof p->var_name[0], "%s", var);
+        snprintf(p->var_value[0], sizeof p->var_value[0], "%s", items->item[i]);
+        if (key) {
+            p->n_sets = 1;
+            snprintf(p->set[0], sizeof p->set[0], "%s=%s", key, items->item[i]);
+        }
+    }
+    return EKM_OK;
+}
+
 /* The dump_every of a shear point with [dem] dump_strain: one frame every
  * dump_strain of shear, int(dump_strain / (rate dt) + 0.5) steps, at least
  * 1 (the arithmetic of the awk line run.sh had). */
@@ -697,20 +720,8 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
     ekm_status st = EKM_OK;
     if (sweep == SWEEP_THETA && angles) {
         st = split_list(angles, &a[0], err);
-        for (size_t i = 0; i < a[0].n && st == EKM_OK; i++) {
-            ekm_resolve_point *p = add_point(r, err);
-            if (!p) {
-                st = EKM_ENOMEM;
-                break;
-            }
-            if (a[0].n > 1)
-                snprintf(p->tag, sizeof p->tag, "theta%s", a[0].item[i]);
-            p->n_vars = 1;
-            snprintf(p->var_name[0], sizeof p->var_name[0], "theta");
-            snprintf(p->var_value[0], sizeof p->var_value[0], "%s", a[0].item[i]);
-            p->n_sets = 1;
-            snprintf(p->set[0], sizeof p->set[0], "gravity.angle=%s", a[0].item[i]);
-        }
+        if (st == EKM_OK)
+            st = add_list_points(r, &a[0], "theta", "theta", "gravity.angle", err);
     } else if ((sweep == SWEEP_PHI_RATE && phis && rates) || (sweep == SWEEP_P_RATE && pressures && rates)) {
         const int by_p = sweep == SWEEP_P_RATE;
         st = split_list(by_p ? pressures : phis, &a[0], err);
@@ -771,18 +782,8 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
             st = split_list(widths, &a[0], err);
         if (st == EKM_OK)
             st = check_sweep_items(s, r, widths, &a[0], 0.0, 0.0, "source widths > 0 [d]", err);
-        for (size_t i = 0; i < a[0].n && st == EKM_OK; i++) {
-            ekm_resolve_point *p = add_point(r, err);
-            if (!p) {
-                st = EKM_ENOMEM;
-                break;
-            }
-            if (a[0].n > 1)
-                snprintf(p->tag, sizeof p->tag, "source%s", a[0].item[i]);
-            p->n_vars = 1;
-            snprintf(p->var_name[0], sizeof p->var_name[0], "source_width");
-            snprintf(p->var_value[0], sizeof p->var_value[0], "%s", a[0].item[i]);
-        }
+        if (st == EKM_OK)
+            st = add_list_points(r, &a[0], "source", "source_width", NULL, err);
     } else if (sweep == SWEEP_P_RATE) {
         st = EKM_FAIL(err, EKM_EINPUT,
                       "%s: [dem] pressures: missing for this engine and size (only other variants are given; "
