@@ -161,6 +161,23 @@ ekm_source_coeffs ekm_temperature_source_coeffs_gY(const ekm_material *m, ekm_va
     return c;
 }
 
+ekm_source_coeffs ekm_temperature_source_coeffs_plane(const ekm_material *m, ekm_variant v, double phi, double g,
+                                                      double Y, double shear2, double exx, double ezz)
+{
+    const double div = exx + ezz;
+    const double d2 = div * div;
+    double s2 = shear2;
+    if (v != EKM_VARIANT_THESIS)
+        s2 += 2.0 * (exx * exx + ezz * ezz - d2 / 3.0);
+    /* eta = rho_p g eta0 (a + nu Y/a), zeta = rho_p g zeta0 (a + Y/a), a = sqrt(T) */
+    ekm_source_coeffs c;
+    c.k_heat_a = m->rho_p * g * 2.0 / 3.0 * (m->eta0 * s2 + m->zeta0 * d2);
+    c.k_heat_y = m->rho_p * g * 2.0 / 3.0 * Y * (m->nu * m->eta0 * s2 + m->zeta0 * d2);
+    c.k_diss = m->rho_p * g * phi * m->eps0;
+    c.nuY = m->nu * Y;
+    return c;
+}
+
 double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v, double phi, double u2, double w2)
 {
     if (!(phi > 0.0))

@@ -93,6 +93,7 @@ typedef struct {
     double Y;      /* yield temperature [m^2/s^2] */
     double eta;    /* shear viscosity [Pa s] */
     double mu_n;   /* normal viscosity of sigma_zz [Pa s] */
+    double zeta;   /* bulk viscosity [Pa s] */
     double lambda; /* heat conductivity [kg/(m s)] */
     double P;      /* equilibrium pressure P_K + P_Y [Pa] */
 } ekm_cell_properties;
@@ -114,8 +115,36 @@ static inline ekm_cell_properties ekm_cell_properties_at(const ekm_material *m, 
     c.lambda = rg * m->lambda0 * (a + Ya);
     const double k_eta = v == EKM_VARIANT_THESIS ? 0.0 : 4.0 / 3.0; /* thesis: mu_n = zeta exactly */
     c.mu_n = k_eta * c.eta + zeta;
+    c.zeta = zeta;
     c.P = rg * (phi * T + m->T0 * excess);
     return c;
+}
+
+/* The normal stresses of plane strain (x, z in the plane, y out of it;
+ * v_y = 0) at a flowing cell with the rates exx = dvx/dx, ezz = dvz/dz
+ * [1/s], div = exx + ezz:
+ *   full:   sigma_ii = -(P_K + P_Y) + 2 eta (e_ii - div/3) + zeta div
+ *   thesis: sigma_ii = -(P_K + P_Y) + zeta div   (no deviatoric normal part,
+ *           as the 1D variant: mu_n = zeta)
+ * (i = x, z, y with e_yy = 0); the shear stress is eta (dvx/dz + dvz/dx)
+ * in both.  With exx = 0 this is ekm_stress_slab's sigma_zz. */
+typedef struct {
+    double sxx, szz, syy; /* [Pa], negative in compression */
+    double P;             /* -(sxx + szz + syy)/3 = P_K + P_Y - zeta div [Pa] */
+} ekm_plane_stress;
+
+static inline ekm_plane_stress ekm_stress_plane(const ekm_cell_properties *c, ekm_variant v, double exx,
+                                                double ezz)
+{
+    const double div = exx + ezz;
+    const double two_eta = v == EKM_VARIANT_THESIS ? 0.0 : 2.0 * c->eta;
+    const double iso = -c->P + (c->zeta - two_eta / 3.0) * div;
+    ekm_plane_stress s;
+    s.sxx = iso + two_eta * exx;
+    s.szz = iso + two_eta * ezz;
+    s.syy = iso;
+    s.P = c->P - c->zeta * div;
+    return s;
 }
 
 /* du_dz = u', dw_dz = w' [1/s]. */
@@ -144,6 +173,17 @@ ekm_source_coeffs ekm_temperature_source_coeffs(const ekm_material *m, ekm_varia
  * (ekm_cell_properties_at), which it does not recompute. */
 ekm_source_coeffs ekm_temperature_source_coeffs_gY(const ekm_material *m, ekm_variant v, double phi, double g,
                                                    double Y, double u2, double w2);
+
+/* Temperature source coefficients (ekm_source_coeffs) of plane strain at a
+ * cell with density factor g and yield temperature Y of phi: the viscous
+ * heating sigma_visc : kappa = eta s2 + zeta div^2 with
+ *   full:   s2 = shear2 + 2 (exx^2 + ezz^2 - div^2/3)
+ *   thesis: s2 = shear2
+ * (shear2 = (dvx/dz + dvz/dx)^2 [1/s^2]; exx, ezz [1/s]).  With exx = 0,
+ * shear2 = u'^2 and ezz = w' it equals ekm_temperature_source_coeffs_gY
+ * (u2, w2) to round-off (test_model). */
+ekm_source_coeffs ekm_temperature_source_coeffs_plane(const ekm_material *m, ekm_variant v, double phi, double g,
+                                                      double Y, double shear2, double exx, double ezz);
 
 /* S(T) and dS/dT from precomputed coefficients (T > 0). */
 static inline double ekm_source_eval(const ekm_source_coeffs *c, double T, double *dS_dT)

@@ -1,0 +1,1089 @@
+/* solver2d.c: the 2D EKM on DMStag + TS + SNES (solver2d.h). */
+#include "solver2d.h"
+
+#include <math.h>
+#include <petscdmda.h>
+#include <petscdmstag.h>
+#include <petscts.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "model.h"
+
+/* Boundary data of one end (bottom or top) at one time. */
+typedef struct {
+    ekm_bc_kind kind;   /* wall, free or inflow (closed inflow: wall) */
+    double w;           /* prescribed vz [m/s] (wall 0, inflow w) */
+    double phi_in;      /* entering phi (inflow) [-] */
+    double u_in, T_in;  /* entering vx [m/s] and T [m^2/s^2] (inflow) */
+    double u_wall;      /* wall: tangential speed [m/s] */
+    double conductance; /* wall: 1/(dz/2 + slip_length) [1/m]; 0 otherwise */
+} end_data;
+
+struct ekm2d_solver {
+    const ekm_scenario *sc;
+    MPI_Comm comm;
+    DM dm;
+    TS ts;
+    Vec U;             /* the solution (global) */
+    Vec U_start;       /* the solution at the start of the current step (global) */
+    Vec row_scale;     /* 1 / magnitude of each row's terms at the start of the step (global) */
+    Vec dry_local;     /* local: slot phi of element = 1 when the cell is empty for this step */
+    Mat J;
+    int nx, nz;        /* cells */
+    double dx, dz;     /* cell sizes [m] */
+    int periodic;      /* 1: periodic in x */
+    double g_x, g_z;   /* gravity [m/s^2] */
+    PetscInt s_phi, s_T, s_vx, s_vz; /* slots in the local arrays */
+    /* ghosted box of this rank (element indices) and the per-cell properties there */
+    PetscInt gx0, gz0, gnx, gnz;
+    ekm_cell_properties *prop; /* gnx * gnz */
+    unsigned char *wet;        /* gnx * gnz: the cell exists and is not empty this step */
+    double *mag;               /* NULL, or local: the magnitude of each row's terms (scaling pass) */
+    double t_step;             /* time at the start of the step [s] */
+    long steps, rejected, newton;
+    double dt_failed;          /* > 0: a step was tried below dt_min, this long [s] */
+    double mass_in;            /* [kg/m] */
+    double mass_initial;       /* [kg/m] */
+};
+
+/* The most negative phi an accepted step may leave in an empty cell: the
+ * round-off of Newton's converged iterate (the discrete upwind equations
+ * themselves keep phi >= 0). */
+#define EKM2D_PHI_ROUNDOFF 1e-13
+
+#define PCALL(call)                                                                                         \
+    do {                                                                                                    \
+        PetscErrorCode pcall_rc_ = (call);                                                                  \
+        if (pcall_rc_)                                                                                      \
+            return pcall_rc_;                                                                               \
+    } while (0)
+
+/* ---- boundaries ---------------------------------------------------------------------------------- */
+
+static end_data end_at(const ekm_scenario *sc, const ekm_bc *bc, double t, double dz)
+{
+    end_data e = {0};
+    e.kind = bc->kind;
+    if (bc->kind == EKM_BC_INFLOW && t >= bc->t_stop)
+        e.kind = EKM_BC_WALL; /* closed: a resting wall */
+    if (e.kind == EKM_BC_WALL) {
+        e.u_wall = bc->kind == EKM_BC_WALL ? bc->velocity : 0.0;
+        e.conductance = 1.0 / (0.5 * dz + (bc->kind == EKM_BC_WALL ? bc->slip_length : 0.0));
+    } else if (e.kind == EKM_BC_INFLOW) {
+        e.w = bc->w;
+        e.phi_in = bc->phi;
+        e.u_in = bc->u;
+        e.T_in = bc->T;
+    }
+    (void)sc;
+    return e;
+}
+
+ekm_status ekm2d_supported(const ekm_scenario *sc, ekm_error *err)
+{
+    const char *src = sc->source;
+    if (!(sc->cells_x >= 2))
+        return EKM_FAIL(err, EKM_EINPUT, "%s: [domain] cells_x = %d: the 2D solver needs cells_x >= 2", src,
+                        sc->cells_x);
+    if (sc->cells < 2)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: [domain] cells = %d: the 2D solver needs at least 2 cells along z",
+                        src, sc->cells);
+    if (sc->hypo.enabled)
+        return EKM_FAIL(err, EKM_EUNAVAILABLE,
+                        "%s: [hypo] enabled = 1: the solid (hypoplastic) regime is not in the 2D solver yet "
+                        "(issue 14)",
+                        src);
+    if (sc->angle_rate != 0.0)
+        return EKM_FAIL(err, EKM_EUNAVAILABLE,
+                        "%s: [gravity] angle_rate = %g: a tilting base is not in the 2D solver yet (issue 14)", src,
+                        sc->angle_rate);
+    if (sc->stop == EKM_STOP_STEADY)
+        return EKM_FAIL(err, EKM_EUNAVAILABLE,
+                        "%s: [run] stop = steady: the 2D solver stops at t_end only (issue 14)", src);
+    if (sc->numerics.convection == EKM_CONVECTION_TVD)
+        return EKM_FAIL(err, EKM_EUNAVAILABLE,
+                        "%s: [numerics] convection = tvd: the 2D solver is first-order upwind (issue 14)", src);
+    const ekm_bc *ends[2] = {&sc->bottom, &sc->top};
+    const char *names[2] = {"bottom", "top"};
+    for (int k = 0; k < 2; k++) {
+        const ekm_bc *bc = ends[k];
+        if (bc->kind != EKM_BC_WALL && bc->kind != EKM_BC_FREE && bc->kind != EKM_BC_INFLOW)
+            return EKM_FAIL(err, EKM_EUNAVAILABLE,
+                            "%s: [%s] type = %s: the 2D solver has wall, free and inflow ends (issue 14)", src,
+                            names[k], ekm_bc_kind_name(bc->kind));
+        if (bc->kind == EKM_BC_WALL && (isfinite(bc->pressure) || isfinite(bc->shear_rate)))
+            return EKM_FAIL(err, EKM_EUNAVAILABLE,
+                            "%s: [%s] pressure: a pressure-controlled wall is not in the 2D solver yet (issue 14)",
+                            src, names[k]);
+    }
+    if (sc->bottom.kind == EKM_BC_INFLOW && sc->bottom.w < 0.0)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: [bottom] w = %g: an inflow through the bottom needs w > 0 [m/s]", src,
+                        sc->bottom.w);
+    if (sc->top.kind == EKM_BC_INFLOW && sc->top.w > 0.0)
+        return EKM_FAIL(err, EKM_EINPUT, "%s: [top] w = %g: an inflow through the top needs w < 0 [m/s]", src,
+                        sc->top.w);
+    return EKM_OK;
+}
+
+/* ---- the discrete equations -------------------------------------------------------------------------- */
+
+typedef struct {
+    const PetscScalar ***u; /* the state, local */
+    end_data bottom, top;
+    const ekm2d_solver *s;
+} eval_ctx;
+
+static inline size_t cell_index(const ekm2d_solver *s, PetscInt i, PetscInt j)
+{
+    return (size_t)(j - s->gz0) * (size_t)s->gnx + (size_t)(i - s->gx0);
+}
+
+/* The cell (i, j) exists (inside the domain, or a periodic image) and is in this rank's ghosted box. */
+static inline int cell_exists(const ekm2d_solver *s, PetscInt i, PetscInt j)
+{
+    if (j < 0 || j >= s->nz || j < s->gz0 || j >= s->gz0 + s->gnz || i < s->gx0 || i >= s->gx0 + s->gnx)
+        return 0;
+    return s->periodic || (i >= 0 && i < s->nx);
+}
+
+static inline int is_wet(const ekm2d_solver *s, PetscInt i, PetscInt j)
+{
+    return cell_exists(s, i, j) && s->wet[cell_index(s, i, j)];
+}
+
+static inline double harmonic(double a, double b)
+{
+    return a + b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
+}
+
+static inline const ekm_cell_properties *props(const ekm2d_solver *s, PetscInt i, PetscInt j)
+{
+    return &s->prop[cell_index(s, i, j)];
+}
+
+/* x-face i of row j lies on a side wall (no periodic image). */
+static inline int side_face(const ekm2d_solver *s, PetscInt i)
+{
+    return !s->periodic && (i == 0 || i == s->nx);
+}
+
+/* Face volume flux through x-face (i, j) [m/s] (positive along +x). */
+static inline double flux_x(const eval_ctx *c, PetscInt i, PetscInt j)
+{
+    const ekm2d_solver *s = c->s;
+    if (side_face(s, i))
+        return 0.0;
+    const double v = c->u[j][i][s->s_vx];
+    return v * (v > 0.0 ? c->u[j][i - 1][s->s_phi] : c->u[j][i][s->s_phi]);
+}
+
+/* Face volume flux through z-face (i, j) [m/s] (positive along +z). */
+static inline double flux_z(const eval_ctx *c, PetscInt i, PetscInt j)
+{
+    const ekm2d_solver *s = c->s;
+    const double v = c->u[j][i][s->s_vz];
+    if (j == 0) {
+        if (c->bottom.kind == EKM_BC_INFLOW)
+            return c->bottom.w * c->bottom.phi_in;
+        if (c->bottom.kind == EKM_BC_FREE)
+            return v < 0.0 ? v * c->u[0][i][s->s_phi] : 0.0;
+        return 0.0;
+    }
+    if (j == s->nz) {
+        if (c->top.kind == EKM_BC_INFLOW)
+            return c->top.w * c->top.phi_in;
+        if (c->top.kind == EKM_BC_FREE)
+            return v > 0.0 ? v * c->u[j - 1][i][s->s_phi] : 0.0;
+        return 0.0;
+    }
+    return v * (v > 0.0 ? c->u[j - 1][i][s->s_phi] : c->u[j][i][s->s_phi]);
+}
+
+/* The face momentum's control volumes have the mean of the two face
+ * fluxes at their sides (the 1D solver's centre fluxes, flux.h): the
+ * upwind phi of a face next door is two cells away, so the grid's stencil
+ * is two cells wide. */
+
+/* Shear stress and rate at corner (i, j) (x-face index i, z-face index j):
+ * *rate = dvx/dz + dvz/dx [1/s], returns sigma_xz [Pa]; *has_rate = 0
+ * where the corner carries no rate (a free or inflow end, a side wall, an
+ * empty cell next to it). */
+static double corner_stress(const eval_ctx *c, PetscInt i, PetscInt j, double *rate, int *has_rate)
+{
+    const ekm2d_solver *s = c->s;
+    *rate = 0.0;
+    *has_rate = 0;
+    if (side_face(s, i))
+        return 0.0; /* frictionless side walls */
+    if (j == 0 || j == s->nz) {
+        const end_data *e = j == 0 ? &c->bottom : &c->top;
+        if (e->kind != EKM_BC_WALL)
+            return 0.0;
+        const PetscInt jc = j == 0 ? 0 : s->nz - 1;
+        const double v = c->u[jc][i][s->s_vx];
+        *rate = (j == 0 ? v - e->u_wall : e->u_wall - v) * e->conductance;
+        *has_rate = 1;
+        const double eta_w = harmonic(is_wet(s, i - 1, jc) ? props(s, i - 1, jc)->eta : 0.0,
+                                      is_wet(s, i, jc) ? props(s, i, jc)->eta : 0.0);
+        return eta_w * *rate;
+    }
+    const int wet4 = is_wet(s, i - 1, j - 1) && is_wet(s, i, j - 1) && is_wet(s, i - 1, j) && is_wet(s, i, j);
+    if (!wet4)
+        return 0.0;
+    *rate = (c->u[j][i][s->s_vx] - c->u[j - 1][i][s->s_vx]) / s->dz +
+            (c->u[j][i][s->s_vz] - c->u[j][i - 1][s->s_vz]) / s->dx;
+    *has_rate = 1;
+    const double e1 = props(s, i - 1, j - 1)->eta, e2 = props(s, i, j - 1)->eta;
+    const double e3 = props(s, i - 1, j)->eta, e4 = props(s, i, j)->eta;
+    const double eta_c = 4.0 / (1.0 / e1 + 1.0 / e2 + 1.0 / e3 + 1.0 / e4);
+    return eta_c * *rate;
+}
+
+/* Rates of strain of cell (i, j): exx, ezz [1/s]. */
+static inline void cell_rates(const eval_ctx *c, PetscInt i, PetscInt j, double *exx, double *ezz)
+{
+    const ekm2d_solver *s = c->s;
+    *exx = (c->u[j][i + 1][s->s_vx] - c->u[j][i][s->s_vx]) / s->dx;
+    *ezz = (c->u[j + 1][i][s->s_vz] - c->u[j][i][s->s_vz]) / s->dz;
+}
+
+/* Normal stresses of cell (i, j) (empty cells: none). */
+static inline ekm_plane_stress cell_stress(const eval_ctx *c, PetscInt i, PetscInt j)
+{
+    ekm_plane_stress z = {0};
+    if (!is_wet(c->s, i, j))
+        return z;
+    double exx, ezz;
+    cell_rates(c, i, j, &exx, &ezz);
+    return ekm_stress_plane(props(c->s, i, j), c->s->sc->variant, exx, ezz);
+}
+
+/* Properties of every cell of the ghosted box; 0: a non-empty cell is
+ * outside 0 < phi < phi_cp, T > 0 (or a value is not finite). */
+static int compute_properties(ekm2d_solver *s, const PetscScalar ***u, const PetscScalar ***dry)
+{
+    const ekm_material *m = &s->sc->material;
+    int ok = 1;
+    for (PetscInt j = s->gz0; j < s->gz0 + s->gnz; j++)
+        for (PetscInt i = s->gx0; i < s->gx0 + s->gnx; i++) {
+            const size_t k = cell_index(s, i, j);
+            s->wet[k] = 0;
+            if (!cell_exists(s, i, j))
+                continue;
+            const double phi = u[j][i][s->s_phi], T = u[j][i][s->s_T];
+            if (!(phi < m->phi_cp) || !isfinite(phi))
+                ok = 0;
+            /* an empty cell's phi enters only the fluxes: Newton's iterates may
+             * take it below 0 (the converged step may not: check_stage) */
+            if (dry[j][i][s->s_phi] != 0.0)
+                continue;
+            if (!(phi > 0.0 && phi < m->phi_cp && T > 0.0 && isfinite(T))) {
+                ok = 0;
+                continue;
+            }
+            s->wet[k] = 1;
+            s->prop[k] = ekm_cell_properties_at(m, s->sc->variant, phi, T);
+        }
+    return ok;
+}
+
+/* Add |term| to the row's magnitude (scaling pass only). */
+#define MAG(row, term)                                                                                      \
+    do {                                                                                                    \
+        if (mg)                                                                                             \
+            (row) += fabs(term);                                                                            \
+    } while (0)
+
+/* The residual of every owned row into f (local array); mg non-NULL: also
+ * each row's sum of term magnitudes into mg (same layout).  Rows are per
+ * unit rho_p (momentum, T) so that they compare across cells. */
+static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScalar ***f, PetscScalar ***mg,
+                          double t)
+{
+    const ekm2d_solver *s = c->s;
+    const ekm_scenario *sc = s->sc;
+    const ekm_material *m = &sc->material;
+    const double rho_p = m->rho_p, dx = s->dx, dz = s->dz;
+    const double T_floor = sc->numerics.T_floor, phi_dry = sc->numerics.phi_dry;
+    const PetscScalar ***u = c->u;
+    PetscInt x0, z0, nxl, nzl, ex, ez;
+    DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, &ex, &ez, NULL);
+    (void)t;
+    for (PetscInt j = z0; j < z0 + nzl + ez; j++)
+        for (PetscInt i = x0; i < x0 + nxl + ex; i++) {
+            const int cell = i < s->nx && j < s->nz && (s->periodic || i >= 0);
+            /* ---- cell rows: mass and temperature ---- */
+            if (cell) {
+                const double phi = u[j][i][s->s_phi], T = u[j][i][s->s_T];
+                const double Fw = flux_x(c, i, j), Fe = flux_x(c, i + 1, j);
+                const double Fs = flux_z(c, i, j), Fn = flux_z(c, i, j + 1);
+                f[j][i][s->s_phi] = ud[j][i][s->s_phi] + (Fe - Fw) / dx + (Fn - Fs) / dz;
+                if (mg)
+                    mg[j][i][s->s_phi] = fabs(ud[j][i][s->s_phi]) + (fabs(Fe) + fabs(Fw)) / dx +
+                                         (fabs(Fn) + fabs(Fs)) / dz;
+                if (!is_wet(s, i, j)) {
+                    f[j][i][s->s_T] = T - T_floor;
+                    if (mg)
+                        mg[j][i][s->s_T] = fabs(T) + T_floor;
+                } else {
+                    const ekm_cell_properties *p = props(s, i, j);
+                    double r = phi * ud[j][i][s->s_T], rm = fabs(r);
+                    /* upwind convection: what enters through each face brings its T */
+                    const double T_w = is_wet(s, i - 1, j) ? u[j][i - 1][s->s_T] : T_floor;
+                    const double T_e = is_wet(s, i + 1, j) ? u[j][i + 1][s->s_T] : T_floor;
+                    double T_s = is_wet(s, i, j - 1) ? u[j - 1][i][s->s_T] : T_floor;
+                    double T_n = is_wet(s, i, j + 1) ? u[j + 1][i][s->s_T] : T_floor;
+                    if (j == 0 && c->bottom.kind == EKM_BC_INFLOW)
+                        T_s = c->bottom.T_in;
+                    if (j == s->nz - 1 && c->top.kind == EKM_BC_INFLOW)
+                        T_n = c->top.T_in;
+                    double adv = 0.0;
+                    if (Fw > 0.0)
+                        adv += Fw * (T - T_w) / dx;
+                    if (Fe < 0.0)
+                        adv += -Fe * (T - T_e) / dx;
+                    if (Fs > 0.0)
+                        adv += Fs * (T - T_s) / dz;
+                    if (Fn < 0.0)
+                        adv += -Fn * (T - T_n) / dz;
+                    r += adv;
+                    MAG(rm, adv);
+                    /* conduction, 2/3 div(lambda grad T), per rho_p */
+                    double cond = 0.0, cond_mag = 0.0;
+                    const PetscInt nb[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+                    for (int q = 0; q < 4; q++) {
+                        const PetscInt a = nb[q][0], b = nb[q][1];
+                        if (!is_wet(s, a, b))
+                            continue;
+                        const double h2 = q < 2 ? dx * dx : dz * dz;
+                        const double term = harmonic(p->lambda, props(s, a, b)->lambda) * (u[b][a][s->s_T] - T) /
+                                            h2 * (2.0 / 3.0) / rho_p;
+                        cond += term;
+                        cond_mag += fabs(term);
+                    }
+                    r -= cond;
+                    MAG(rm, cond_mag);
+                    /* heating and dissipation: the mean squared corner shear rate */
+                    double sum2 = 0.0;
+                    int count = 0;
+                    const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
+                    for (int q = 0; q < 4; q++) {
+                        double rate;
+                        int has;
+                        (void)corner_stress(c, cn[q][0], cn[q][1], &rate, &has);
+                        if (has) {
+                            sum2 += rate * rate;
+                            count++;
+                        }
+                    }
+                    double exx, ezz;
+                    cell_rates(c, i, j, &exx, &ezz);
+                    ekm_source_coeffs src = ekm_temperature_source_coeffs_plane(
+                        m, sc->variant, phi, p->g, p->Y, count ? sum2 / count : 0.0, exx, ezz);
+                    double dS;
+                    const double S = ekm_source_eval(&src, T, &dS) / rho_p;
+                    r -= S;
+                    if (mg) {
+                        const double heat = (src.k_heat_a * sqrt(T) + src.k_heat_y / sqrt(T)) / rho_p;
+                        rm += heat + fabs(heat - S);
+                        mg[j][i][s->s_T] = rm;
+                    }
+                    f[j][i][s->s_T] = r;
+                }
+            }
+            /* ---- x-face rows (i, j): vx ---- */
+            if (j < s->nz && (i < s->nx || !s->periodic)) {
+                const double v = u[j][i][s->s_vx];
+                const double phi_f = side_face(s, i) ? 0.0 : 0.5 * (u[j][i - 1][s->s_phi] + u[j][i][s->s_phi]);
+                const int wall = side_face(s, i);
+                const int dry_face = !wall && 0.5 * ((is_wet(s, i - 1, j) ? 1.0 : 0.0) + (is_wet(s, i, j) ? 1.0 : 0.0)) == 0.0;
+                if (wall || dry_face) {
+                    f[j][i][s->s_vx] = v;
+                    if (mg)
+                        mg[j][i][s->s_vx] = fabs(v) + 1.0;
+                } else {
+                    double r = phi_f * ud[j][i][s->s_vx], rm = fabs(r);
+                    /* upwind convection with the fluxes at the control volume's sides */
+                    const double Fc_w = 0.5 * (flux_x(c, i - 1, j) + flux_x(c, i, j));
+                    const double Fc_e = 0.5 * (flux_x(c, i, j) + flux_x(c, i + 1, j));
+                    const double Fc_s = 0.5 * (flux_z(c, i - 1, j) + flux_z(c, i, j));
+                    const double Fc_n = 0.5 * (flux_z(c, i - 1, j + 1) + flux_z(c, i, j + 1));
+                    const double v_s = j > 0 ? u[j - 1][i][s->s_vx] : c->bottom.u_in;
+                    const double v_n = j < s->nz - 1 ? u[j + 1][i][s->s_vx] : c->top.u_in;
+                    double adv = 0.0;
+                    if (Fc_w > 0.0)
+                        adv += Fc_w * (v - u[j][i - 1][s->s_vx]) / dx;
+                    if (Fc_e < 0.0)
+                        adv += -Fc_e * (v - u[j][i + 1][s->s_vx]) / dx;
+                    if (Fc_s > 0.0)
+                        adv += Fc_s * (v - v_s) / dz;
+                    if (Fc_n < 0.0)
+                        adv += -Fc_n * (v - v_n) / dz;
+                    r += adv;
+                    MAG(rm, adv);
+                    const ekm_plane_stress sw = cell_stress(c, i - 1, j), se = cell_stress(c, i, j);
+                    double rate;
+                    int has;
+                    const double t_s = corner_stress(c, i, j, &rate, &has);
+                    const double t_n = corner_stress(c, i, j + 1, &rate, &has);
+                    const double div = ((se.sxx - sw.sxx) / dx + (t_n - t_s) / dz) / rho_p;
+                    const double grav = phi_f * s->g_x;
+                    r -= div + grav;
+                    if (mg)
+                        mg[j][i][s->s_vx] = rm + (fabs(se.sxx) + fabs(sw.sxx)) / dx / rho_p +
+                                            (fabs(t_n) + fabs(t_s)) / dz / rho_p + fabs(grav);
+                    f[j][i][s->s_vx] = r;
+                }
+            }
+            /* ---- z-face rows (i, j): vz ---- */
+            if (j <= s->nz && i < s->nx && (s->periodic || i >= 0)) {
+                const double v = u[j][i][s->s_vz];
+                if (j == 0 || j == s->nz) {
+                    const end_data *e = j == 0 ? &c->bottom : &c->top;
+                    if (e->kind == EKM_BC_FREE) {
+                        const double v_in = u[j == 0 ? 1 : s->nz - 1][i][s->s_vz];
+                        f[j][i][s->s_vz] = v - v_in;
+                        if (mg)
+                            mg[j][i][s->s_vz] = fabs(v) + fabs(v_in) + 1.0;
+                    } else {
+                        f[j][i][s->s_vz] = v - e->w;
+                        if (mg)
+                            mg[j][i][s->s_vz] = fabs(v) + fabs(e->w) + 1.0;
+                    }
+                } else if (!is_wet(s, i, j - 1) && !is_wet(s, i, j)) {
+                    f[j][i][s->s_vz] = v;
+                    if (mg)
+                        mg[j][i][s->s_vz] = fabs(v) + 1.0;
+                } else {
+                    const double phi_f = 0.5 * (u[j - 1][i][s->s_phi] + u[j][i][s->s_phi]);
+                    double r = phi_f * ud[j][i][s->s_vz], rm = fabs(r);
+                    const double Fc_s = 0.5 * (flux_z(c, i, j - 1) + flux_z(c, i, j));
+                    const double Fc_n = 0.5 * (flux_z(c, i, j) + flux_z(c, i, j + 1));
+                    const double Fc_w = 0.5 * (flux_x(c, i, j - 1) + flux_x(c, i, j));
+                    const double Fc_e = 0.5 * (flux_x(c, i + 1, j - 1) + flux_x(c, i + 1, j));
+                    const double v_s = j - 1 > 0 ? u[j - 1][i][s->s_vz] : c->bottom.w;
+                    const double v_n = j + 1 < s->nz ? u[j + 1][i][s->s_vz] : c->top.w;
+                    const int has_w = s->periodic || i > 0, has_e = s->periodic || i < s->nx - 1;
+                    double adv = 0.0;
+                    if (Fc_s > 0.0)
+                        adv += Fc_s * (v - v_s) / dz;
+                    if (Fc_n < 0.0)
+                        adv += -Fc_n * (v - v_n) / dz;
+                    if (Fc_w > 0.0 && has_w)
+                        adv += Fc_w * (v - u[j][i - 1][s->s_vz]) / dx;
+                    if (Fc_e < 0.0 && has_e)
+                        adv += -Fc_e * (v - u[j][i + 1][s->s_vz]) / dx;
+                    r += adv;
+                    MAG(rm, adv);
+                    const ekm_plane_stress sb = cell_stress(c, i, j - 1), sa = cell_stress(c, i, j);
+                    double rate;
+                    int has;
+                    const double t_w = corner_stress(c, i, j, &rate, &has);
+                    const double t_e = corner_stress(c, i + 1, j, &rate, &has);
+                    const double div = ((sa.szz - sb.szz) / dz + (t_e - t_w) / dx) / rho_p;
+                    const double grav = phi_f * s->g_z;
+                    r -= div + grav;
+                    if (mg)
+                        mg[j][i][s->s_vz] = rm + (fabs(sa.szz) + fabs(sb.szz)) / dz / rho_p +
+                                            (fabs(t_e) + fabs(t_w)) / dx / rho_p + fabs(grav);
+                    f[j][i][s->s_vz] = r;
+                }
+            }
+        }
+    (void)phi_dry;
+}
+
+/* TS's implicit function: F(t, U, Udot), rows scaled by row_scale. */
+static PetscErrorCode ifunction(TS ts, PetscReal t, Vec U, Vec Udot, Vec F, void *vctx)
+{
+    ekm2d_solver *s = vctx;
+    PetscReal dt_try;
+    PCALL(TSGetTimeStep(ts, &dt_try));
+    if (dt_try < s->sc->numerics.dt_min) {
+        s->dt_failed = dt_try; /* TS would retry ever shorter steps: stop (ekm2d_solver_advance) */
+        return PETSC_ERR_NOT_CONVERGED;
+    }
+    Vec Ul, Udl, Fl;
+    PCALL(DMGetLocalVector(s->dm, &Ul));
+    PCALL(DMGetLocalVector(s->dm, &Udl));
+    PCALL(DMGetLocalVector(s->dm, &Fl));
+    PCALL(DMGlobalToLocalBegin(s->dm, U, INSERT_VALUES, Ul));
+    PCALL(DMGlobalToLocalEnd(s->dm, U, INSERT_VALUES, Ul));
+    PCALL(DMGlobalToLocalBegin(s->dm, Udot, INSERT_VALUES, Udl));
+    PCALL(DMGlobalToLocalEnd(s->dm, Udot, INSERT_VALUES, Udl));
+    PCALL(VecSet(Fl, 0.0));
+    const PetscScalar ***u, ***ud, ***dry;
+    PetscScalar ***f;
+    PCALL(DMStagVecGetArrayRead(s->dm, Ul, (void *)&u));
+    PCALL(DMStagVecGetArrayRead(s->dm, Udl, (void *)&ud));
+    PCALL(DMStagVecGetArrayRead(s->dm, s->dry_local, (void *)&dry));
+    PCALL(DMStagVecGetArray(s->dm, Fl, &f));
+    const int ok = compute_properties(s, u, dry);
+    eval_ctx c = {.u = u, .s = s};
+    c.bottom = end_at(s->sc, &s->sc->bottom, s->t_step, s->dz);
+    c.top = end_at(s->sc, &s->sc->top, s->t_step, s->dz);
+    if (ok)
+        residual_rows(&c, ud, f, NULL, t);
+    PCALL(DMStagVecRestoreArrayRead(s->dm, Ul, (void *)&u));
+    PCALL(DMStagVecRestoreArrayRead(s->dm, Udl, (void *)&ud));
+    PCALL(DMStagVecRestoreArrayRead(s->dm, s->dry_local, (void *)&dry));
+    PCALL(DMStagVecRestoreArray(s->dm, Fl, &f));
+    if (!ok)
+        PCALL(VecSet(Fl, NAN)); /* outside the domain: the line search backs off */
+    PCALL(DMLocalToGlobal(s->dm, Fl, INSERT_VALUES, F));
+    PCALL(VecPointwiseMult(F, F, s->row_scale));
+    PCALL(DMRestoreLocalVector(s->dm, &Ul));
+    PCALL(DMRestoreLocalVector(s->dm, &Udl));
+    PCALL(DMRestoreLocalVector(s->dm, &Fl));
+    return 0;
+}
+
+/* Before each step: the empty cells of the step and the row scales from
+ * the state at its start; the step no longer than the convective limit. */
+static PetscErrorCode prestep(TS ts)
+{
+    ekm2d_solver *s;
+    PCALL(TSGetApplicationContext(ts, &s));
+    Vec U;
+    PetscReal t;
+    PCALL(TSGetSolution(ts, &U));
+    PCALL(TSGetTime(ts, &t));
+    s->t_step = t;
+    PCALL(VecCopy(U, s->U_start));
+    Vec Ul, Ml, Zl;
+    PCALL(DMGetLocalVector(s->dm, &Ul));
+    PCALL(DMGetLocalVector(s->dm, &Ml));
+    PCALL(DMGetLocalVector(s->dm, &Zl));
+    PCALL(DMGlobalToLocalBegin(s->dm, U, INSERT_VALUES, Ul));
+    PCALL(DMGlobalToLocalEnd(s->dm, U, INSERT_VALUES, Ul));
+    /* empty cells: phi < phi_dry */
+    PetscScalar ***dry;
+    const PetscScalar ***u, ***zero;
+    PCALL(VecSet(s->dry_local, 0.0));
+    PCALL(DMStagVecGetArray(s->dm, s->dry_local, &dry));
+    PCALL(DMStagVecGetArrayRead(s->dm, Ul, (void *)&u));
+    double vmax_x = 0.0, vmax_z = 0.0;
+    for (PetscInt j = s->gz0; j < s->gz0 + s->gnz; j++)
+        for (PetscInt i = s->gx0; i < s->gx0 + s->gnx; i++) {
+            if (!cell_exists(s, i, j))
+                continue;
+            dry[j][i][s->s_phi] = u[j][i][s->s_phi] < s->sc->numerics.phi_dry ? 1.0 : 0.0;
+        }
+    PetscInt x0, z0, nxl, nzl, ex, ez;
+    PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, &ex, &ez, NULL));
+    /* the convective limit counts what a face carries into a cell of other
+     * content: |v| / h times the relative contrast of phi across the face
+     * (a front, an empty cell filling: 1; a uniform layer sheared along
+     * itself: 0), so that the frozen empty set of a step and the upwind
+     * transport stay accurate; the implicit scheme is stable without it */
+    for (PetscInt j = z0; j < z0 + nzl + ez; j++)
+        for (PetscInt i = x0; i < x0 + nxl + ex; i++) {
+            if (j < s->nz && !side_face(s, i) && i <= s->nx && (s->periodic || i > 0)) {
+                const double a = u[j][i - 1][s->s_phi], b = u[j][i][s->s_phi];
+                const double top = fmax(a, b);
+                if (top > 0.0)
+                    vmax_x = fmax(vmax_x, fabs(u[j][i][s->s_vx]) * fabs(a - b) / top);
+            }
+            if (i < s->nx && j > 0 && j < s->nz) {
+                const double a = u[j - 1][i][s->s_phi], b = u[j][i][s->s_phi];
+                const double top = fmax(a, b);
+                if (top > 0.0)
+                    vmax_z = fmax(vmax_z, fabs(u[j][i][s->s_vz]) * fabs(a - b) / top);
+            }
+        }
+    PCALL(DMStagVecRestoreArray(s->dm, s->dry_local, &dry));
+    /* row magnitudes at the start state (Udot = 0) */
+    PetscScalar ***mg, ***f;
+    PCALL(VecSet(Ml, 0.0));
+    PCALL(VecSet(Zl, 0.0));
+    Vec Fl;
+    PCALL(DMGetLocalVector(s->dm, &Fl));
+    PCALL(DMStagVecGetArray(s->dm, Ml, &mg));
+    PCALL(DMStagVecGetArray(s->dm, Fl, &f));
+    PCALL(DMStagVecGetArrayRead(s->dm, Zl, (void *)&zero));
+    const PetscScalar ***dry_r;
+    PCALL(DMStagVecGetArrayRead(s->dm, s->dry_local, (void *)&dry_r));
+    (void)compute_properties(s, u, dry_r);
+    eval_ctx c = {.u = u, .s = s};
+    c.bottom = end_at(s->sc, &s->sc->bottom, t, s->dz);
+    c.top = end_at(s->sc, &s->sc->top, t, s->dz);
+    residual_rows(&c, zero, f, mg, t);
+    PCALL(DMStagVecRestoreArrayRead(s->dm, s->dry_local, (void *)&dry_r));
+    PCALL(DMStagVecRestoreArrayRead(s->dm, Zl, (void *)&zero));
+    PCALL(DMStagVecRestoreArray(s->dm, Fl, &f));
+    PCALL(DMStagVecRestoreArray(s->dm, Ml, &mg));
+    PCALL(DMStagVecRestoreArrayRead(s->dm, Ul, (void *)&u));
+    PCALL(DMLocalToGlobal(s->dm, Ml, INSERT_VALUES, s->row_scale));
+    /* the time-derivative part of each row, |d/dt| ~ |value| / dt, joins the magnitude */
+    PetscReal dt;
+    PCALL(TSGetTimeStep(ts, &dt));
+    {
+        PetscScalar *scale;
+        const PetscScalar *uu;
+        PetscInt n;
+        PCALL(VecGetLocalSize(s->row_scale, &n));
+        PCALL(VecGetArray(s->row_scale, &scale));
+        PCALL(VecGetArrayRead(U, &uu));
+        for (PetscInt k = 0; k < n; k++) {
+            const double mag = scale[k] + fabs(uu[k]) / dt;
+            scale[k] = mag > 0.0 ? 1.0 / mag : 1.0;
+        }
+        PCALL(VecRestoreArray(s->row_scale, &scale));
+        PCALL(VecRestoreArrayRead(U, &uu));
+    }
+    PCALL(DMRestoreLocalVector(s->dm, &Fl));
+    PCALL(DMRestoreLocalVector(s->dm, &Ul));
+    PCALL(DMRestoreLocalVector(s->dm, &Ml));
+    PCALL(DMRestoreLocalVector(s->dm, &Zl));
+    /* the convective limit: what crosses a face in one step at most cfl of a cell */
+    double lim[2] = {vmax_x / s->dx, vmax_z / s->dz}, glob[2];
+    MPI_Allreduce(lim, glob, 2, MPI_DOUBLE, MPI_MAX, s->comm);
+    const double rate = fmax(glob[0], glob[1]);
+    if (rate > 0.0) {
+        const double dt_cfl = s->sc->numerics.cfl / rate;
+        if (dt > dt_cfl)
+            PCALL(TSSetTimeStep(ts, dt_cfl));
+    }
+    return 0;
+}
+
+/* After each step: the mass that entered through the boundaries (the flux
+ * of the accepted state times the step: the backward-Euler balance). */
+static PetscErrorCode poststep(TS ts)
+{
+    ekm2d_solver *s;
+    PCALL(TSGetApplicationContext(ts, &s));
+    PetscReal t, dt;
+    PCALL(TSGetTime(ts, &t));
+    PCALL(TSGetTimeStep(ts, &dt));
+    (void)t;
+    s->steps++;
+    /* the inflow's flux is prescribed: rho_p phi_in |w| over the inlet per unit depth */
+    const double dt_step = t - s->t_step;
+    const ekm_material *m = &s->sc->material;
+    const end_data b = end_at(s->sc, &s->sc->bottom, s->t_step, s->dz);
+    const end_data tp = end_at(s->sc, &s->sc->top, s->t_step, s->dz);
+    const double width = s->nx * s->dx;
+    if (b.kind == EKM_BC_INFLOW)
+        s->mass_in += m->rho_p * b.phi_in * b.w * width * dt_step;
+    if (tp.kind == EKM_BC_INFLOW)
+        s->mass_in += -m->rho_p * tp.phi_in * tp.w * width * dt_step;
+    return 0;
+}
+
+/* A step's new state is accepted only if no cell closed more than
+ * phi_step_max of its gap to phi_cp (the 1D solver's rule, step.h): then
+ * phi_cp - phi >= (1 - phi_step_max) (phi_cp - phi_old) > 0 holds. */
+static PetscErrorCode check_stage(TS ts, PetscReal t, Vec U, PetscBool *accept)
+{
+    (void)t;
+    ekm2d_solver *s;
+    PCALL(TSGetApplicationContext(ts, &s));
+    const double phi_cp = s->sc->material.phi_cp, keep = 1.0 - s->sc->numerics.phi_step_max;
+    int ok = 1;
+    Vec Ul, U0l;
+    const PetscScalar ***a, ***b;
+    PCALL(DMGetLocalVector(s->dm, &Ul));
+    PCALL(DMGetLocalVector(s->dm, &U0l));
+    PCALL(DMGlobalToLocal(s->dm, U, INSERT_VALUES, Ul));
+    PCALL(DMGlobalToLocal(s->dm, s->U_start, INSERT_VALUES, U0l));
+    PCALL(DMStagVecGetArrayRead(s->dm, Ul, (void *)&a));
+    PCALL(DMStagVecGetArrayRead(s->dm, U0l, (void *)&b));
+    PetscInt x0, z0, nxl, nzl;
+    PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, NULL, NULL, NULL));
+    for (PetscInt j = z0; j < z0 + nzl && ok; j++)
+        for (PetscInt i = x0; i < x0 + nxl && ok; i++) {
+            const double phi = a[j][i][s->s_phi], phi0 = b[j][i][s->s_phi];
+            if (!(phi >= -EKM2D_PHI_ROUNDOFF && phi_cp - phi >= keep * (phi_cp - phi0)))
+                ok = 0;
+        }
+    PCALL(DMStagVecRestoreArrayRead(s->dm, Ul, (void *)&a));
+    PCALL(DMStagVecRestoreArrayRead(s->dm, U0l, (void *)&b));
+    PCALL(DMRestoreLocalVector(s->dm, &Ul));
+    PCALL(DMRestoreLocalVector(s->dm, &U0l));
+    int all;
+    MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, s->comm);
+    *accept = all ? PETSC_TRUE : PETSC_FALSE;
+    return 0;
+}
+
+/* ---- creation and the run -------------------------------------------------------------------------- */
+
+static ekm_status petsc_fail(ekm_error *err, PetscErrorCode rc, const char *what)
+{
+    const char *text = NULL;
+    PetscErrorMessage(rc, &text, NULL);
+    return EKM_FAIL(err, EKM_EINTERNAL, "2D solver: %s failed (PETSc error %d: %s)", what, (int)rc,
+                    text ? text : "?");
+}
+
+#define TRY(call, what)                                                                                     \
+    do {                                                                                                    \
+        PetscErrorCode try_rc_ = (call);                                                                    \
+        if (try_rc_) {                                                                                      \
+            ekm2d_solver_destroy(s);                                                                        \
+            return petsc_fail(err, try_rc_, what);                                                          \
+        }                                                                                                   \
+    } while (0)
+
+static PetscErrorCode initial_state(ekm2d_solver *s, const ekm_state *init)
+{
+    const ekm_scenario *sc = s->sc;
+    Vec Ul;
+    PetscScalar ***u;
+    PCALL(DMGetLocalVector(s->dm, &Ul));
+    PCALL(VecSet(Ul, 0.0));
+    PCALL(DMStagVecGetArray(s->dm, Ul, &u));
+    PetscInt x0, z0, nxl, nzl, ex, ez;
+    PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, &ex, &ez, NULL));
+    const double dz = s->dz, phi_dry = sc->numerics.phi_dry;
+    for (PetscInt j = z0; j < z0 + nzl + ez; j++)
+        for (PetscInt i = x0; i < x0 + nxl + ex; i++) {
+            if (init) {
+                /* every column the 1D state (w on the faces, u at the centres) */
+                if (j < s->nz && i < s->nx) {
+                    const double phi = init->phi[j];
+                    u[j][i][s->s_phi] = phi;
+                    u[j][i][s->s_T] = phi >= phi_dry ? fmax(init->T[j], sc->numerics.T_floor) : sc->numerics.T_floor;
+                }
+                if (j < s->nz)
+                    u[j][i][s->s_vx] = side_face(s, i) ? 0.0 : init->u[j];
+                u[j][i][s->s_vz] = init->w[j];
+                continue;
+            }
+            if (j < s->nz && i < s->nx) {
+                const double lo = j * dz, hi = (j + 1) * dz;
+                const double cover = sc->layer_height >= hi   ? 1.0
+                                     : sc->layer_height <= lo ? 0.0
+                                                              : (sc->layer_height - lo) / dz;
+                const double phi = sc->phi_init * cover;
+                u[j][i][s->s_phi] = phi;
+                u[j][i][s->s_T] = phi > phi_dry ? sc->T_init : sc->numerics.T_floor;
+            }
+            if (j < s->nz) {
+                const int wet = sc->phi_init * (sc->layer_height > j * dz ? 1.0 : 0.0) > phi_dry;
+                const double z = (j + 0.5) * dz;
+                u[j][i][s->s_vx] = wet && !side_face(s, i) ? sc->u_init + sc->shear_rate_init * z : 0.0;
+            }
+            u[j][i][s->s_vz] = 0.0;
+        }
+    PCALL(DMStagVecRestoreArray(s->dm, Ul, &u));
+    PCALL(DMLocalToGlobal(s->dm, Ul, INSERT_VALUES, s->U));
+    PCALL(DMRestoreLocalVector(s->dm, &Ul));
+    return 0;
+}
+
+static PetscErrorCode total_mass(ekm2d_solver *s, Vec U, double *mass, double *phi_max)
+{
+    Vec Ul;
+    const PetscScalar ***u;
+    PCALL(DMGetLocalVector(s->dm, &Ul));
+    PCALL(DMGlobalToLocal(s->dm, U, INSERT_VALUES, Ul));
+    PCALL(DMStagVecGetArrayRead(s->dm, Ul, (void *)&u));
+    PetscInt x0, z0, nxl, nzl;
+    PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, NULL, NULL, NULL));
+    double loc[2] = {0.0, 0.0}, glob[2];
+    for (PetscInt j = z0; j < z0 + nzl; j++)
+        for (PetscInt i = x0; i < x0 + nxl; i++) {
+            loc[0] += u[j][i][s->s_phi];
+            loc[1] = fmax(loc[1], u[j][i][s->s_phi]);
+        }
+    PCALL(DMStagVecRestoreArrayRead(s->dm, Ul, (void *)&u));
+    PCALL(DMRestoreLocalVector(s->dm, &Ul));
+    MPI_Allreduce(&loc[0], &glob[0], 1, MPI_DOUBLE, MPI_SUM, s->comm);
+    MPI_Allreduce(&loc[1], &glob[1], 1, MPI_DOUBLE, MPI_MAX, s->comm);
+    *mass = s->sc->material.rho_p * glob[0] * s->dx * s->dz;
+    *phi_max = glob[1];
+    return 0;
+}
+
+static PetscErrorCode count_newton(TS ts, PetscInt step, PetscReal t, Vec U, void *vctx)
+{
+    (void)step;
+    (void)t;
+    (void)U;
+    ekm2d_solver *s = vctx;
+    SNES snes;
+    PetscInt its;
+    PCALL(TSGetSNES(ts, &snes));
+    PCALL(SNESGetIterationNumber(snes, &its));
+    s->newton += its;
+    return 0;
+}
+
+ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_state *init, ekm2d_solver **out,
+                               ekm_error *err)
+{
+    *out = NULL;
+    ekm_status st = ekm2d_supported(sc, err);
+    if (st != EKM_OK)
+        return st;
+    if (init && (init->n != sc->cells || fabs(init->n * init->dz - sc->length) > 1e-12 * sc->length))
+        return EKM_FAIL(err, EKM_EINPUT, "%s: the 1D initial state has %d cells over %g m, the scenario %d over %g m",
+                        sc->source, init->n, init->n * init->dz, sc->cells, sc->length);
+    ekm2d_solver *s = calloc(1, sizeof *s);
+    if (!s)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D solver)");
+    s->sc = sc;
+    s->comm = comm;
+    s->nx = sc->cells_x;
+    s->nz = sc->cells;
+    s->dx = sc->width / sc->cells_x;
+    s->dz = sc->length / sc->cells;
+    s->periodic = sc->periodic_x;
+    s->g_x = ekm_scenario_gravity_x(sc);
+    s->g_z = ekm_scenario_gravity_z(sc);
+    TRY(DMStagCreate2d(comm, s->periodic ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, s->nx, s->nz,
+                       PETSC_DECIDE, PETSC_DECIDE, 0, 1, 2, DMSTAG_STENCIL_BOX, 2, NULL, NULL, &s->dm),
+        "DMStagCreate2d");
+    TRY(DMSetFromOptions(s->dm), "DMSetFromOptions");
+    TRY(DMSetUp(s->dm), "DMSetUp");
+    TRY(DMStagSetUniformCoordinatesProduct(s->dm, 0.0, sc->width, 0.0, sc->length, 0.0, 0.0),
+        "DMStagSetUniformCoordinatesProduct");
+    TRY(DMStagGetLocationSlot(s->dm, DMSTAG_ELEMENT, 0, &s->s_phi), "DMStagGetLocationSlot");
+    TRY(DMStagGetLocationSlot(s->dm, DMSTAG_ELEMENT, 1, &s->s_T), "DMStagGetLocationSlot");
+    TRY(DMStagGetLocationSlot(s->dm, DMSTAG_LEFT, 0, &s->s_vx), "DMStagGetLocationSlot");
+    TRY(DMStagGetLocationSlot(s->dm, DMSTAG_DOWN, 0, &s->s_vz), "DMStagGetLocationSlot");
+    TRY(DMStagGetGhostCorners(s->dm, &s->gx0, &s->gz0, NULL, &s->gnx, &s->gnz, NULL), "DMStagGetGhostCorners");
+    s->prop = calloc((size_t)s->gnx * (size_t)s->gnz, sizeof *s->prop);
+    s->wet = calloc((size_t)s->gnx * (size_t)s->gnz, 1);
+    if (!s->prop || !s->wet) {
+        ekm2d_solver_destroy(s);
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D solver, %d x %d cells)", sc->cells_x, sc->cells);
+    }
+    TRY(DMCreateGlobalVector(s->dm, &s->U), "DMCreateGlobalVector");
+    TRY(VecDuplicate(s->U, &s->U_start), "VecDuplicate");
+    TRY(VecDuplicate(s->U, &s->row_scale), "VecDuplicate");
+    TRY(VecSet(s->row_scale, 1.0), "VecSet");
+    TRY(DMCreateLocalVector(s->dm, &s->dry_local), "DMCreateLocalVector");
+    TRY(VecSet(s->dry_local, 0.0), "VecSet");
+    TRY(initial_state(s, init), "initial state");
+    double phi_max;
+    TRY(total_mass(s, s->U, &s->mass_initial, &phi_max), "mass");
+
+    TRY(TSCreate(comm, &s->ts), "TSCreate");
+    TRY(TSSetDM(s->ts, s->dm), "TSSetDM");
+    TRY(TSSetApplicationContext(s->ts, s), "TSSetApplicationContext");
+    TRY(TSSetType(s->ts, TSBDF), "TSSetType");
+    TRY(TSBDFSetOrder(s->ts, 1), "TSBDFSetOrder");
+    TRY(TSSetIFunction(s->ts, NULL, ifunction, s), "TSSetIFunction");
+    TRY(DMSetMatType(s->dm, MATAIJ), "DMSetMatType");
+    TRY(DMCreateMatrix(s->dm, &s->J), "DMCreateMatrix");
+    TRY(TSSetIJacobian(s->ts, s->J, s->J, TSComputeIJacobianDefaultColor, NULL), "TSSetIJacobian");
+    TRY(TSSetPreStep(s->ts, prestep), "TSSetPreStep");
+    TRY(TSSetPostStep(s->ts, poststep), "TSSetPostStep");
+    TRY(TSMonitorSet(s->ts, count_newton, s, NULL), "TSMonitorSet");
+    TRY(TSSetMaxSNESFailures(s->ts, -1), "TSSetMaxSNESFailures");
+    TRY(TSSetMaxStepRejections(s->ts, -1), "TSSetMaxStepRejections");
+    TRY(TSSetExactFinalTime(s->ts, TS_EXACTFINALTIME_MATCHSTEP), "TSSetExactFinalTime");
+    TRY(TSSetTime(s->ts, 0.0), "TSSetTime");
+    const double dt0 = fmin(sc->numerics.dt_max, fmin(1e-4, sc->output_dt));
+    TRY(TSSetTimeStep(s->ts, dt0), "TSSetTimeStep");
+    TRY(TSSetTolerances(s->ts, 1e-4, NULL, 1e-3, NULL), "TSSetTolerances");
+    TSAdapt adapt;
+    TRY(TSGetAdapt(s->ts, &adapt), "TSGetAdapt");
+    TRY(TSAdaptSetType(adapt, TSADAPTBASIC), "TSAdaptSetType");
+    TRY(TSAdaptSetStepLimits(adapt, sc->numerics.dt_min, sc->numerics.dt_max), "TSAdaptSetStepLimits");
+    SNES snes;
+    TRY(TSGetSNES(s->ts, &snes), "TSGetSNES");
+    TRY(TSSetFunctionDomainError(s->ts, check_stage), "TSSetFunctionDomainError");
+    TRY(SNESSetTolerances(snes, 1e-12, 1e-12, 1e-14, 50, 100000), "SNESSetTolerances");
+    KSP ksp;
+    PC pc;
+    TRY(SNESGetKSP(snes, &ksp), "SNESGetKSP");
+    TRY(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+    TRY(KSPGetPC(ksp, &pc), "KSPGetPC");
+    TRY(PCSetType(pc, PCLU), "PCSetType");
+    int size;
+    MPI_Comm_size(comm, &size);
+    if (size > 1)
+        TRY(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+    TRY(TSSetFromOptions(s->ts), "TSSetFromOptions");
+    *out = s;
+    return EKM_OK;
+}
+
+void ekm2d_solver_destroy(ekm2d_solver *s)
+{
+    if (!s)
+        return;
+    TSDestroy(&s->ts);
+    MatDestroy(&s->J);
+    VecDestroy(&s->U);
+    VecDestroy(&s->U_start);
+    VecDestroy(&s->row_scale);
+    VecDestroy(&s->dry_local);
+    DMDestroy(&s->dm);
+    free(s->prop);
+    free(s->wet);
+    free(s);
+}
+
+ekm_status ekm2d_solver_advance(ekm2d_solver *s, double t_to, ekm_error *err)
+{
+    PetscReal t;
+    TSGetTime(s->ts, &t);
+    if (!(t_to > t))
+        return EKM_OK;
+    PetscErrorCode rc = TSSetMaxTime(s->ts, t_to);
+    if (!rc)
+        rc = TSSetMaxSteps(s->ts, PETSC_MAX_INT);
+    if (!rc)
+        rc = TSSolve(s->ts, s->U);
+    if (rc && s->dt_failed > 0.0) {
+        TSGetTime(s->ts, &t);
+        return EKM_FAIL(err, EKM_ENUMERIC,
+                        "%s: the 2D solver stopped at t = %.9g s: the step fell to %.3g s, below dt_min = %g s "
+                        "(Newton did not converge, or a step would close more than phi_step_max of the gap to "
+                        "phi_cp)",
+                        s->sc->source, t, s->dt_failed, s->sc->numerics.dt_min);
+    }
+    if (rc)
+        return petsc_fail(err, rc, "TSSolve");
+    TSConvergedReason reason;
+    TSGetConvergedReason(s->ts, &reason);
+    PetscInt rej;
+    TSGetStepRejections(s->ts, &rej);
+    s->rejected = rej; /* TS counts over its lifetime */
+    TSGetTime(s->ts, &t);
+    if (reason < 0) {
+        PetscReal dt;
+        TSGetTimeStep(s->ts, &dt);
+        return EKM_FAIL(err, EKM_ENUMERIC,
+                        "%s: the 2D solver stopped at t = %.9g s (TS: %s, last step %.3g s; dt_min %.3g s)",
+                        s->sc->source, t, TSConvergedReasons[reason], dt, s->sc->numerics.dt_min);
+    }
+    if (fabs(t - t_to) > 1e-9 * fmax(1.0, fabs(t_to)))
+        return EKM_FAIL(err, EKM_ENUMERIC, "%s: the 2D solver stopped at t = %.9g s before %.9g s", s->sc->source, t,
+                        t_to);
+    return EKM_OK;
+}
+
+/* Cell-centred output fields of the local cells into the natural-order
+ * vector fields (one dof per cell, nfields dofs per cell). */
+static PetscErrorCode local_fields(ekm2d_solver *s, DM dmf, Vec nat)
+{
+    const ekm_scenario *sc = s->sc;
+    Vec Ul;
+    const PetscScalar ***u, ***dry;
+    PCALL(DMGetLocalVector(s->dm, &Ul));
+    PCALL(DMGlobalToLocal(s->dm, s->U, INSERT_VALUES, Ul));
+    PCALL(DMStagVecGetArrayRead(s->dm, Ul, (void *)&u));
+    /* the output classifies cells by the state itself */
+    Vec dryl;
+    PetscScalar ***dw;
+    PCALL(DMGetLocalVector(s->dm, &dryl));
+    PCALL(VecSet(dryl, 0.0));
+    PCALL(DMStagVecGetArray(s->dm, dryl, &dw));
+    for (PetscInt j = s->gz0; j < s->gz0 + s->gnz; j++)
+        for (PetscInt i = s->gx0; i < s->gx0 + s->gnx; i++)
+            if (cell_exists(s, i, j))
+                dw[j][i][s->s_phi] = u[j][i][s->s_phi] < sc->numerics.phi_dry ? 1.0 : 0.0;
+    PCALL(DMStagVecRestoreArray(s->dm, dryl, &dw));
+    PCALL(DMStagVecGetArrayRead(s->dm, dryl, (void *)&dry));
+    (void)compute_properties(s, u, dry);
+    eval_ctx c = {.u = u, .s = s};
+    PetscReal t;
+    PCALL(TSGetTime(s->ts, &t));
+    c.bottom = end_at(sc, &sc->bottom, t, s->dz);
+    c.top = end_at(sc, &sc->top, t, s->dz);
+    PetscScalar ***o;
+    PCALL(DMStagVecGetArray(dmf, nat, &o));
+    PetscInt x0, z0, nxl, nzl;
+    PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, NULL, NULL, NULL));
+    for (PetscInt j = z0; j < z0 + nzl; j++)
+        for (PetscInt i = x0; i < x0 + nxl; i++) {
+            PetscScalar *v = o[j][i];
+            const int wet = is_wet(s, i, j);
+            v[EKM2D_PHI] = u[j][i][s->s_phi];
+            v[EKM2D_VX] = wet ? 0.5 * (u[j][i][s->s_vx] + u[j][i + 1][s->s_vx]) : 0.0;
+            v[EKM2D_VZ] = wet ? 0.5 * (u[j][i][s->s_vz] + u[j + 1][i][s->s_vz]) : 0.0;
+            v[EKM2D_T] = wet ? u[j][i][s->s_T] : 0.0;
+            const ekm_plane_stress st = cell_stress(&c, i, j);
+            v[EKM2D_P] = wet ? st.P : 0.0;
+            v[EKM2D_SXX] = st.sxx;
+            v[EKM2D_SZZ] = st.szz;
+            double rate, sxz = 0.0;
+            int has;
+            if (wet) {
+                sxz = 0.25 * (corner_stress(&c, i, j, &rate, &has) + corner_stress(&c, i + 1, j, &rate, &has) +
+                              corner_stress(&c, i, j + 1, &rate, &has) + corner_stress(&c, i + 1, j + 1, &rate, &has));
+            }
+            v[EKM2D_SXZ] = sxz;
+            v[EKM2D_REGIME] = !wet ? 0.0 : u[j][i][s->s_phi] <= sc->material.phi_co ? 1.0 : 2.0;
+        }
+    PCALL(DMStagVecRestoreArray(dmf, nat, &o));
+    PCALL(DMStagVecRestoreArrayRead(s->dm, dryl, (void *)&dry));
+    PCALL(DMRestoreLocalVector(s->dm, &dryl));
+    PCALL(DMStagVecRestoreArrayRead(s->dm, Ul, (void *)&u));
+    PCALL(DMRestoreLocalVector(s->dm, &Ul));
+    return 0;
+}
+
+static PetscErrorCode gather_fields(ekm2d_solver *s, double *const fields[EKM2D_NFIELDS])
+{
+    /* a cell-only DMStag with the same layout carries the output fields */
+    DM dmf;
+    PCALL(DMStagCreateCompatibleDMStag(s->dm, 0, 0, EKM2D_NFIELDS, 0, &dmf));
+    Vec loc, glob, nat, all;
+    PCALL(DMCreateLocalVector(dmf, &loc));
+    PCALL(VecSet(loc, 0.0));
+    PCALL(local_fields(s, dmf, loc));
+    PCALL(DMCreateGlobalVector(dmf, &glob));
+    PCALL(DMLocalToGlobal(dmf, loc, INSERT_VALUES, glob));
+    /* to the natural (x fastest, then z) order on rank 0 */
+    DM da;
+    PCALL(DMStagVecSplitToDMDA(dmf, glob, DMSTAG_ELEMENT, -EKM2D_NFIELDS, &da, &nat));
+    Vec natural;
+    PCALL(DMDACreateNaturalVector(da, &natural));
+    PCALL(DMDAGlobalToNaturalBegin(da, nat, INSERT_VALUES, natural));
+    PCALL(DMDAGlobalToNaturalEnd(da, nat, INSERT_VALUES, natural));
+    VecScatter sc0;
+    PCALL(VecScatterCreateToZero(natural, &sc0, &all));
+    PCALL(VecScatterBegin(sc0, natural, all, INSERT_VALUES, SCATTER_FORWARD));
+    PCALL(VecScatterEnd(sc0, natural, all, INSERT_VALUES, SCATTER_FORWARD));
+    int rank;
+    MPI_Comm_rank(s->comm, &rank);
+    if (rank == 0) {
+        const PetscScalar *a;
+        PCALL(VecGetArrayRead(all, &a));
+        const size_t ncell = (size_t)s->nx * (size_t)s->nz;
+        for (size_t k = 0; k < ncell; k++)
+            for (int q = 0; q < EKM2D_NFIELDS; q++)
+                fields[q][k] = a[k * EKM2D_NFIELDS + (size_t)q];
+        PCALL(VecRestoreArrayRead(all, &a));
+    }
+    PCALL(VecScatterDestroy(&sc0));
+    PCALL(VecDestroy(&all));
+    PCALL(VecDestroy(&natural));
+    PCALL(VecDestroy(&nat));
+    PCALL(DMDestroy(&da));
+    PCALL(VecDestroy(&glob));
+    PCALL(VecDestroy(&loc));
+    PCALL(DMDestroy(&dmf));
+    return 0;
+}
+
+ekm_status ekm2d_solver_fields(ekm2d_solver *s, double *const fields[EKM2D_NFIELDS], ekm_error *err)
+{
+    PetscErrorCode rc = gather_fields(s, fields);
+    return rc ? petsc_fail(err, rc, "gathering the output fields") : EKM_OK;
+}
+
+void ekm2d_solver_stats(ekm2d_solver *s, ekm2d_stats *out)
+{
+    PetscReal t;
+    TSGetTime(s->ts, &t);
+    out->t = t;
+    out->steps = s->steps;
+    out->rejected = s->rejected;
+    out->newton = s->newton;
+    double mass = NAN, phi_max = NAN;
+    total_mass(s, s->U, &mass, &phi_max);
+    out->mass = mass;
+    out->mass_in = s->mass_in;
+    out->phi_max = phi_max;
+    out->cell_updates = (double)s->steps * s->nx * s->nz;
+    (void)s->mass_initial;
+}

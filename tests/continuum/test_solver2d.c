@@ -1,0 +1,299 @@
+/* test_solver2d: the 2D solver (continuum/twod/solver2d.h) against the 1D
+ * solver, its mass balance and its independence of the rank count.
+ *
+ *   test_solver2d SOURCE_DIR CASE [REF.bin]     (under mpirun -np N for "ranks")
+ *
+ * CASE
+ *   shear     simple_shear (walls at -0.1 and +0.1 m/s, phi 0.55) on 2 x 20
+ *             cells, periodic in x, from rest to t = 30 s: every cell's phi,
+ *             vx and T within 1e-6 (relative to the profile's largest value)
+ *             of `ekm steady` in 1D on the same 20 cells; mass drift < 1e-12.
+ *   chute     chute (24 degrees, free top, vacuum above the layer): the 1D
+ *             steady state of `ekm steady` put in every column of a 2 x 60
+ *             periodic box with gravity tilted; after 1 s of model time
+ *             phi, vx and T within 1e-6 of it (the rotated problem: the 2D
+ *             discrete steady equations are the 1D ones).
+ *   inflow    a periodic 2 x 40 box filled through its top (phi 0.05 at
+ *             -1 m/s) for 0.02 s: mass gained = mass entered to 1e-12.
+ *   ranks     a 6 x 12 box with side walls and gravity tilted by 10 degrees
+ *             (the layer starts to slide towards a wall: a 2D flow) for
+ *             0.005 s; writes the fields to REF.bin when it does not exist,
+ *             else every field within 1e-10 of REF.bin's (scaled by the
+ *             field's largest value): run first on 1 rank, then 2 and 4.
+ * Exit 0 on success; prints the measured numbers.
+ */
+#include <math.h>
+#include <petscsys.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "scenario.h"
+#include "solver2d.h"
+#include "state.h"
+#include "steady_solve.h"
+
+static int rank0(void)
+{
+    int r;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &r);
+    return r == 0;
+}
+
+#define FAILF(...)                                                                                          \
+    do {                                                                                                    \
+        if (rank0())                                                                                        \
+            fprintf(stderr, "FAIL: " __VA_ARGS__);                                                          \
+        return 1;                                                                                           \
+    } while (0)
+
+static int load(const char *src, const char *name, const char *const *sets, size_t n, ekm_scenario *sc)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/scenarios/%s.ini", src, name);
+    ekm_error err = {0};
+    if (ekm_scenario_load(sc, path, sets, n, &err) != EKM_OK) {
+        fprintf(stderr, "FAIL: %s\n", err.message);
+        return 1;
+    }
+    return 0;
+}
+
+/* The 1D steady state of the scenario name with sets (the 1D domain). */
+static ekm_state *steady_1d(const char *src, const char *name, const char *const *sets, size_t n)
+{
+    ekm_scenario sc;
+    if (load(src, name, sets, n, &sc))
+        return NULL;
+    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
+    ekm_state_init(s, &sc);
+    ekm_error err = {0};
+    ekm_steady_report rep = {0};
+    if (ekm_steady_solve(&sc, s, &rep, &err) != EKM_OK) {
+        fprintf(stderr, "FAIL: 1D steady: %s\n", err.message);
+        ekm_state_free(s);
+        s = NULL;
+    }
+    ekm_scenario_free(&sc);
+    return s;
+}
+
+typedef struct {
+    ekm_scenario sc;
+    ekm2d_solver *sol;
+    double *buf, *f[EKM2D_NFIELDS];
+    size_t ncell;
+} run2d;
+
+static int run_open(run2d *r, const char *src, const char *name, const char *const *sets, size_t n,
+                    const ekm_state *init)
+{
+    memset(r, 0, sizeof *r);
+    if (load(src, name, sets, n, &r->sc))
+        return 1;
+    ekm_error err = {0};
+    if (ekm2d_solver_create(&r->sc, PETSC_COMM_WORLD, init, &r->sol, &err) != EKM_OK)
+        FAILF("%s\n", err.message);
+    r->ncell = (size_t)r->sc.cells * (size_t)r->sc.cells_x;
+    r->buf = calloc(r->ncell * EKM2D_NFIELDS, sizeof *r->buf);
+    for (int k = 0; k < EKM2D_NFIELDS; k++)
+        r->f[k] = r->buf + (size_t)k * r->ncell;
+    return 0;
+}
+
+static int run_to(run2d *r, double t)
+{
+    ekm_error err = {0};
+    if (ekm2d_solver_advance(r->sol, t, &err) != EKM_OK || ekm2d_solver_fields(r->sol, r->f, &err) != EKM_OK)
+        FAILF("%s\n", err.message);
+    return 0;
+}
+
+static void run_close(run2d *r)
+{
+    ekm2d_solver_destroy(r->sol);
+    free(r->buf);
+    ekm_scenario_free(&r->sc);
+}
+
+/* Largest difference of every column's field from the 1D profile, over the profile's largest |value|. */
+static double column_error(const run2d *r, int field, const double *prof)
+{
+    double top = 0.0, worst = 0.0;
+    for (int j = 0; j < r->sc.cells; j++)
+        top = fmax(top, fabs(prof[j]));
+    for (int j = 0; j < r->sc.cells; j++)
+        for (int i = 0; i < r->sc.cells_x; i++)
+            worst = fmax(worst, fabs(r->f[field][(size_t)j * r->sc.cells_x + i] - prof[j]));
+    return top > 0.0 ? worst / top : worst;
+}
+
+static int compare_1d(const run2d *r, const ekm_state *s1, double tol, const char *what)
+{
+    if (getenv("TEST_SOLVER2D_DUMP") && rank0())
+        for (int j = 0; j < r->sc.cells; j++)
+            printf("  %2d phi %.9e %.9e  vx %.9e %.9e  T %.9e %.9e\n", j, s1->phi[j], r->f[EKM2D_PHI][(size_t)j * r->sc.cells_x],
+                   s1->u[j], r->f[EKM2D_VX][(size_t)j * r->sc.cells_x], s1->T[j], r->f[EKM2D_T][(size_t)j * r->sc.cells_x]);
+    const double e_phi = column_error(r, EKM2D_PHI, s1->phi);
+    const double e_vx = column_error(r, EKM2D_VX, s1->u);
+    /* T of empty cells is 0 in both outputs (the 1D state holds 0 there too) */
+    const double e_T = column_error(r, EKM2D_T, s1->T);
+    if (rank0())
+        printf("%s: 2D vs 1D, max relative difference phi %.2e, vx %.2e, T %.2e (tolerance %.0e)\n", what, e_phi,
+               e_vx, e_T, tol);
+    if (!(e_phi < tol && e_vx < tol && e_T < tol))
+        FAILF("%s: 2D differs from 1D\n", what);
+    return 0;
+}
+
+static int case_shear(const char *src)
+{
+    const char *sets1[] = {"run.stop=t_end"};
+    ekm_state *s1 = steady_1d(src, "simple_shear", sets1, 1);
+    if (!s1)
+        return 1;
+    const char *sets[] = {"run.stop=t_end", "domain.width=0.002", "domain.cells_x=2", "domain.periodic_x=1"};
+    run2d r;
+    int rc = run_open(&r, src, "simple_shear", sets, 4, NULL);
+    ekm2d_stats st0, st1;
+    if (!rc)
+        ekm2d_solver_stats(r.sol, &st0);
+    if (!rc)
+        rc = run_to(&r, 30.0);
+    if (!rc) {
+        ekm2d_solver_stats(r.sol, &st1);
+        const double drift = fabs(st1.mass - st0.mass) / st0.mass;
+        if (rank0())
+            printf("shear: %ld steps, %ld rejected, mass drift %.2e\n", st1.steps, st1.rejected, drift);
+        rc = compare_1d(&r, s1, 1e-6, "shear");
+        if (!rc && !(drift < 1e-12))
+            FAILF("shear: mass drift %.2e\n", drift);
+    }
+    run_close(&r);
+    ekm_state_free(s1);
+    return rc;
+}
+
+static int case_chute(const char *src)
+{
+    const char *sets1[] = {"run.stop=t_end"};
+    ekm_state *s1 = steady_1d(src, "chute", sets1, 1);
+    if (!s1)
+        return 1;
+    const char *sets[] = {"run.stop=t_end", "domain.width=0.002", "domain.cells_x=2", "domain.periodic_x=1"};
+    run2d r;
+    int rc = run_open(&r, src, "chute", sets, 4, s1);
+    if (!rc)
+        rc = run_to(&r, 1.0);
+    if (!rc) {
+        ekm2d_stats st;
+        ekm2d_solver_stats(r.sol, &st);
+        if (rank0())
+            printf("chute: %ld steps over 1 s\n", st.steps);
+        rc = compare_1d(&r, s1, 1e-6, "chute");
+    }
+    run_close(&r);
+    ekm_state_free(s1);
+    return rc;
+}
+
+static int case_inflow(const char *src)
+{
+    const char *sets[] = {"run.stop=t_end", "domain.width=0.004", "domain.cells_x=2", "domain.periodic_x=1",
+                          "domain.cells=40",  "top.t_stop=1",        "hypo.enabled=0"};
+    run2d r;
+    int rc = run_open(&r, src, "filling", sets, 7, NULL);
+    ekm2d_stats st0, st1;
+    if (!rc)
+        ekm2d_solver_stats(r.sol, &st0);
+    if (!rc)
+        rc = run_to(&r, 0.02);
+    if (!rc) {
+        ekm2d_solver_stats(r.sol, &st1);
+        const double gained = st1.mass - st0.mass;
+        const double err = fabs(gained - st1.mass_in) / st1.mass_in;
+        if (rank0())
+            printf("inflow: %ld steps, mass gained %.15g kg/m, entered %.15g kg/m, relative difference %.2e\n",
+                   st1.steps, gained, st1.mass_in, err);
+        if (!(st1.mass_in > 0.0 && err < 1e-12))
+            FAILF("inflow: mass balance %.2e\n", err);
+    }
+    run_close(&r);
+    return rc;
+}
+
+static int case_ranks(const char *src, const char *ref)
+{
+    const char *sets[] = {"run.stop=t_end",  "domain.width=0.006", "domain.cells_x=6", "domain.periodic_x=0",
+                          "domain.cells=12", "domain.length=0.012", "gravity.angle=10", "initial.layer_height=0.008"};
+    run2d r;
+    int rc = run_open(&r, src, "chute", sets, 8, NULL);
+    if (!rc)
+        rc = run_to(&r, 0.005);
+    int size;
+    MPI_Comm_size(PETSC_COMM_WORLD, &size);
+    if (!rc && rank0()) {
+        const size_t nv = r.ncell * EKM2D_NFIELDS;
+        FILE *fp = fopen(ref, "rb");
+        if (!fp) {
+            fp = fopen(ref, "wb");
+            if (!fp || fwrite(r.buf, sizeof *r.buf, nv, fp) != nv || fclose(fp))
+                FAILF("ranks: cannot write %s\n", ref);
+            double vx_max = 0.0;
+            for (size_t k = 0; k < r.ncell; k++)
+                vx_max = fmax(vx_max, fabs(r.f[EKM2D_VX][k]));
+            printf("ranks: reference written on %d rank(s) to %s (max |vx| %.3g m/s)\n", size, ref, vx_max);
+        } else {
+            double *b = malloc(nv * sizeof *b);
+            const size_t got = fread(b, sizeof *b, nv, fp);
+            fclose(fp);
+            if (got != nv)
+                FAILF("ranks: %s has %zu values, expected %zu\n", ref, got, nv);
+            double worst = 0.0;
+            for (int q = 0; q < EKM2D_NFIELDS; q++) {
+                double top = 0.0, d = 0.0;
+                for (size_t k = 0; k < r.ncell; k++) {
+                    top = fmax(top, fabs(b[q * r.ncell + k]));
+                    d = fmax(d, fabs(b[q * r.ncell + k] - r.f[q][k]));
+                }
+                worst = fmax(worst, top > 0.0 ? d / top : d);
+            }
+            free(b);
+            printf("ranks: %d ranks vs the reference, max relative difference %.2e (tolerance 1e-10)\n", size,
+                   worst);
+            if (!(worst < 1e-10))
+                FAILF("ranks: %d ranks differ from 1 rank\n", size);
+        }
+    }
+    int code = rc;
+    MPI_Bcast(&code, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+    run_close(&r);
+    return code;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 3) {
+        fprintf(stderr, "usage: test_solver2d SOURCE_DIR shear|chute|inflow|ranks [REF.bin]\n");
+        return 2;
+    }
+    char *pargv[] = {argv[0], (char *)"-no_signal_handler", NULL};
+    int pargc = 2;
+    char **pa = pargv;
+    if (PetscInitialize(&pargc, &pa, NULL, NULL))
+        return 3;
+    PetscPushErrorHandler(PetscReturnErrorHandler, NULL);
+    int rc = 2;
+    if (strcmp(argv[2], "shear") == 0)
+        rc = case_shear(argv[1]);
+    else if (strcmp(argv[2], "chute") == 0)
+        rc = case_chute(argv[1]);
+    else if (strcmp(argv[2], "inflow") == 0)
+        rc = case_inflow(argv[1]);
+    else if (strcmp(argv[2], "ranks") == 0 && argc > 3)
+        rc = case_ranks(argv[1], argv[3]);
+    PetscPopErrorHandler();
+    PetscFinalize();
+    return rc;
+}
