@@ -161,8 +161,9 @@ ekm_source_coeffs ekm_temperature_source_coeffs_gY(const ekm_material *m, ekm_va
     return c;
 }
 
-ekm_source_coeffs ekm_temperature_source_coeffs_plane(const ekm_material *m, ekm_variant v, double phi, double g,
-                                                      double Y, double shear2, double exx, double ezz)
+ekm_source_coeffs ekm_temperature_source_coeffs_plane(const ekm_material *m, ekm_variant v, double phi,
+                                                      double g, double Y, double shear2, double exx,
+                                                      double ezz)
 {
     const double div = exx + ezz;
     const double d2 = div * div;

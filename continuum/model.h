@@ -182,8 +182,9 @@ ekm_source_coeffs ekm_temperature_source_coeffs_gY(const ekm_material *m, ekm_va
  * (shear2 = (dvx/dz + dvz/dx)^2 [1/s^2]; exx, ezz [1/s]).  With exx = 0,
  * shear2 = u'^2 and ezz = w' it equals ekm_temperature_source_coeffs_gY
  * (u2, w2) to round-off (test_model). */
-ekm_source_coeffs ekm_temperature_source_coeffs_plane(const ekm_material *m, ekm_variant v, double phi, double g,
-                                                      double Y, double shear2, double exx, double ezz);
+ekm_source_coeffs ekm_temperature_source_coeffs_plane(const ekm_material *m, ekm_variant v, double phi,
+                                                      double g, double Y, double shear2, double exx,
+                                                      double ezz);
 
 /* S(T) and dS/dT from precomputed coefficients (T > 0). */
 static inline double ekm_source_eval(const ekm_source_coeffs *c, double T, double *dS_dT)

@@ -81,8 +81,8 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
             if (st == EKM_OK && opt->progress && rank == 0 && now_s() - last_progress > 0.25) {
                 last_progress = now_s();
                 const double frac = stats.t / sc->t_end, el = now_s() - started;
-                fprintf(stderr, "\r  t = %10.4g s / %.4g s  (%5.1f%%)  steps %9ld  ETA %6.0f s ", stats.t, sc->t_end,
-                        100.0 * frac, stats.steps, frac > 0.0 ? el * (1.0 - frac) / frac : 0.0);
+                fprintf(stderr, "\r  t = %10.4g s / %.4g s  (%5.1f%%)  steps %9ld  ETA %6.0f s ", stats.t,
+                        sc->t_end, 100.0 * frac, stats.steps, frac > 0.0 ? el * (1.0 - frac) / frac : 0.0);
                 fflush(stderr);
             }
         }
@@ -132,9 +132,9 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
     if (st == EKM_OK && rank == 0 && !opt->quiet)
         printf("%-20s t = %-8.4g s  %7ld steps (%ld rejected)  %d x %d cells on %d rank%s  phi_max %.4f  "
                "mass %.9g kg/m (in %.3g)  Newton/step %.2f  %.3f s  -> %s\n",
-               sc->name, stats.t, stats.steps, stats.rejected, sc->cells_x, sc->cells, ranks, ranks > 1 ? "s" : "",
-               stats.phi_max, stats.mass, stats.mass_in, stats.steps ? (double)stats.newton / stats.steps : 0.0, wall,
-               opt->out);
+               sc->name, stats.t, stats.steps, stats.rejected, sc->cells_x, sc->cells, ranks,
+               ranks > 1 ? "s" : "", stats.phi_max, stats.mass, stats.mass_in,
+               stats.steps ? (double)stats.newton / stats.steps : 0.0, wall, opt->out);
     free(buf);
     ekm2d_solver_destroy(sol);
     return st;

@@ -25,15 +25,15 @@ struct ekm2d_solver {
     MPI_Comm comm;
     DM dm;
     TS ts;
-    Vec U;             /* the solution (global) */
-    Vec U_start;       /* the solution at the start of the current step (global) */
-    Vec row_scale;     /* 1 / magnitude of each row's terms at the start of the step (global) */
-    Vec dry_local;     /* local: slot phi of element = 1 when the cell is empty for this step */
+    Vec U;         /* the solution (global) */
+    Vec U_start;   /* the solution at the start of the current step (global) */
+    Vec row_scale; /* 1 / magnitude of each row's terms at the start of the step (global) */
+    Vec dry_local; /* local: slot phi of element = 1 when the cell is empty for this step */
     Mat J;
-    int nx, nz;        /* cells */
-    double dx, dz;     /* cell sizes [m] */
-    int periodic;      /* 1: periodic in x */
-    double g_x, g_z;   /* gravity [m/s^2] */
+    int nx, nz;                      /* cells */
+    double dx, dz;                   /* cell sizes [m] */
+    int periodic;                    /* 1: periodic in x */
+    double g_x, g_z;                 /* gravity [m/s^2] */
     PetscInt s_phi, s_T, s_vx, s_vz; /* slots in the local arrays */
     /* ghosted box of this rank (element indices) and the per-cell properties there */
     PetscInt gx0, gz0, gnx, gnz;
@@ -42,9 +42,9 @@ struct ekm2d_solver {
     double *mag;               /* NULL, or local: the magnitude of each row's terms (scaling pass) */
     double t_step;             /* time at the start of the step [s] */
     long steps, rejected, newton;
-    double dt_failed;          /* > 0: a step was tried below dt_min, this long [s] */
-    double mass_in;            /* [kg/m] */
-    double mass_initial;       /* [kg/m] */
+    double dt_failed;    /* > 0: a step was tried below dt_min, this long [s] */
+    double mass_in;      /* [kg/m] */
+    double mass_initial; /* [kg/m] */
 };
 
 /* The most negative phi an accepted step may leave in an empty cell: the
@@ -52,11 +52,11 @@ struct ekm2d_solver {
  * themselves keep phi >= 0). */
 #define EKM2D_PHI_ROUNDOFF 1e-13
 
-#define PCALL(call)                                                                                         \
-    do {                                                                                                    \
-        PetscErrorCode pcall_rc_ = (call);                                                                  \
-        if (pcall_rc_)                                                                                      \
-            return pcall_rc_;                                                                               \
+#define PCALL(call)                        \
+    do {                                   \
+        PetscErrorCode pcall_rc_ = (call); \
+        if (pcall_rc_)                     \
+            return pcall_rc_;              \
     } while (0)
 
 /* ---- boundaries ---------------------------------------------------------------------------------- */
@@ -87,38 +87,43 @@ ekm_status ekm2d_supported(const ekm_scenario *sc, ekm_error *err)
         return EKM_FAIL(err, EKM_EINPUT, "%s: [domain] cells_x = %d: the 2D solver needs cells_x >= 2", src,
                         sc->cells_x);
     if (sc->cells < 2)
-        return EKM_FAIL(err, EKM_EINPUT, "%s: [domain] cells = %d: the 2D solver needs at least 2 cells along z",
-                        src, sc->cells);
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [domain] cells = %d: the 2D solver needs at least 2 cells along z", src,
+                        sc->cells);
     if (sc->hypo.enabled)
         return EKM_FAIL(err, EKM_EUNAVAILABLE,
                         "%s: [hypo] enabled = 1: the solid (hypoplastic) regime is not in the 2D solver yet "
                         "(issue 14)",
                         src);
     if (sc->angle_rate != 0.0)
-        return EKM_FAIL(err, EKM_EUNAVAILABLE,
-                        "%s: [gravity] angle_rate = %g: a tilting base is not in the 2D solver yet (issue 14)", src,
-                        sc->angle_rate);
+        return EKM_FAIL(
+            err, EKM_EUNAVAILABLE,
+            "%s: [gravity] angle_rate = %g: a tilting base is not in the 2D solver yet (issue 14)", src,
+            sc->angle_rate);
     if (sc->stop == EKM_STOP_STEADY)
         return EKM_FAIL(err, EKM_EUNAVAILABLE,
                         "%s: [run] stop = steady: the 2D solver stops at t_end only (issue 14)", src);
     if (sc->numerics.convection == EKM_CONVECTION_TVD)
         return EKM_FAIL(err, EKM_EUNAVAILABLE,
-                        "%s: [numerics] convection = tvd: the 2D solver is first-order upwind (issue 14)", src);
+                        "%s: [numerics] convection = tvd: the 2D solver is first-order upwind (issue 14)",
+                        src);
     const ekm_bc *ends[2] = {&sc->bottom, &sc->top};
     const char *names[2] = {"bottom", "top"};
     for (int k = 0; k < 2; k++) {
         const ekm_bc *bc = ends[k];
         if (bc->kind != EKM_BC_WALL && bc->kind != EKM_BC_FREE && bc->kind != EKM_BC_INFLOW)
             return EKM_FAIL(err, EKM_EUNAVAILABLE,
-                            "%s: [%s] type = %s: the 2D solver has wall, free and inflow ends (issue 14)", src,
-                            names[k], ekm_bc_kind_name(bc->kind));
+                            "%s: [%s] type = %s: the 2D solver has wall, free and inflow ends (issue 14)",
+                            src, names[k], ekm_bc_kind_name(bc->kind));
         if (bc->kind == EKM_BC_WALL && (isfinite(bc->pressure) || isfinite(bc->shear_rate)))
-            return EKM_FAIL(err, EKM_EUNAVAILABLE,
-                            "%s: [%s] pressure: a pressure-controlled wall is not in the 2D solver yet (issue 14)",
-                            src, names[k]);
+            return EKM_FAIL(
+                err, EKM_EUNAVAILABLE,
+                "%s: [%s] pressure: a pressure-controlled wall is not in the 2D solver yet (issue 14)", src,
+                names[k]);
     }
     if (sc->bottom.kind == EKM_BC_INFLOW && sc->bottom.w < 0.0)
-        return EKM_FAIL(err, EKM_EINPUT, "%s: [bottom] w = %g: an inflow through the bottom needs w > 0 [m/s]", src,
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [bottom] w = %g: an inflow through the bottom needs w > 0 [m/s]", src,
                         sc->bottom.w);
     if (sc->top.kind == EKM_BC_INFLOW && sc->top.w > 0.0)
         return EKM_FAIL(err, EKM_EINPUT, "%s: [top] w = %g: an inflow through the top needs w < 0 [m/s]", src,
@@ -289,10 +294,10 @@ static int compute_properties(ekm2d_solver *s, const PetscScalar ***u, const Pet
 }
 
 /* Add |term| to the row's magnitude (scaling pass only). */
-#define MAG(row, term)                                                                                      \
-    do {                                                                                                    \
-        if (mg)                                                                                             \
-            (row) += fabs(term);                                                                            \
+#define MAG(row, term)           \
+    do {                         \
+        if (mg)                  \
+            (row) += fabs(term); \
     } while (0)
 
 /* The residual of every owned row into f (local array); mg non-NULL: also
@@ -320,8 +325,8 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                 const double Fs = flux_z(c, i, j), Fn = flux_z(c, i, j + 1);
                 f[j][i][s->s_phi] = ud[j][i][s->s_phi] + (Fe - Fw) / dx + (Fn - Fs) / dz;
                 if (mg)
-                    mg[j][i][s->s_phi] = fabs(ud[j][i][s->s_phi]) + (fabs(Fe) + fabs(Fw)) / dx +
-                                         (fabs(Fn) + fabs(Fs)) / dz;
+                    mg[j][i][s->s_phi] =
+                        fabs(ud[j][i][s->s_phi]) + (fabs(Fe) + fabs(Fw)) / dx + (fabs(Fn) + fabs(Fs)) / dz;
                 if (!is_wet(s, i, j)) {
                     f[j][i][s->s_T] = T - T_floor;
                     if (mg)
@@ -357,8 +362,8 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                         if (!is_wet(s, a, b))
                             continue;
                         const double h2 = q < 2 ? dx * dx : dz * dz;
-                        const double term = harmonic(p->lambda, props(s, a, b)->lambda) * (u[b][a][s->s_T] - T) /
-                                            h2 * (2.0 / 3.0) / rho_p;
+                        const double term = harmonic(p->lambda, props(s, a, b)->lambda) *
+                                            (u[b][a][s->s_T] - T) / h2 * (2.0 / 3.0) / rho_p;
                         cond += term;
                         cond_mag += fabs(term);
                     }
@@ -395,9 +400,11 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
             /* ---- x-face rows (i, j): vx ---- */
             if (j < s->nz && (i < s->nx || !s->periodic)) {
                 const double v = u[j][i][s->s_vx];
-                const double phi_f = side_face(s, i) ? 0.0 : 0.5 * (u[j][i - 1][s->s_phi] + u[j][i][s->s_phi]);
+                const double phi_f =
+                    side_face(s, i) ? 0.0 : 0.5 * (u[j][i - 1][s->s_phi] + u[j][i][s->s_phi]);
                 const int wall = side_face(s, i);
-                const int dry_face = !wall && 0.5 * ((is_wet(s, i - 1, j) ? 1.0 : 0.0) + (is_wet(s, i, j) ? 1.0 : 0.0)) == 0.0;
+                const int dry_face =
+                    !wall && 0.5 * ((is_wet(s, i - 1, j) ? 1.0 : 0.0) + (is_wet(s, i, j) ? 1.0 : 0.0)) == 0.0;
                 if (wall || dry_face) {
                     f[j][i][s->s_vx] = v;
                     if (mg)
@@ -718,13 +725,13 @@ static ekm_status petsc_fail(ekm_error *err, PetscErrorCode rc, const char *what
                     text ? text : "?");
 }
 
-#define TRY(call, what)                                                                                     \
-    do {                                                                                                    \
-        PetscErrorCode try_rc_ = (call);                                                                    \
-        if (try_rc_) {                                                                                      \
-            ekm2d_solver_destroy(s);                                                                        \
-            return petsc_fail(err, try_rc_, what);                                                          \
-        }                                                                                                   \
+#define TRY(call, what)                            \
+    do {                                           \
+        PetscErrorCode try_rc_ = (call);           \
+        if (try_rc_) {                             \
+            ekm2d_solver_destroy(s);               \
+            return petsc_fail(err, try_rc_, what); \
+        }                                          \
     } while (0)
 
 static PetscErrorCode initial_state(ekm2d_solver *s, const ekm_state *init)
@@ -745,7 +752,8 @@ static PetscErrorCode initial_state(ekm2d_solver *s, const ekm_state *init)
                 if (j < s->nz && i < s->nx) {
                     const double phi = init->phi[j];
                     u[j][i][s->s_phi] = phi;
-                    u[j][i][s->s_T] = phi >= phi_dry ? fmax(init->T[j], sc->numerics.T_floor) : sc->numerics.T_floor;
+                    u[j][i][s->s_T] =
+                        phi >= phi_dry ? fmax(init->T[j], sc->numerics.T_floor) : sc->numerics.T_floor;
                 }
                 if (j < s->nz)
                     u[j][i][s->s_vx] = side_face(s, i) ? 0.0 : init->u[j];
@@ -812,15 +820,16 @@ static PetscErrorCode count_newton(TS ts, PetscInt step, PetscReal t, Vec U, voi
     return 0;
 }
 
-ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_state *init, ekm2d_solver **out,
-                               ekm_error *err)
+ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_state *init,
+                               ekm2d_solver **out, ekm_error *err)
 {
     *out = NULL;
     ekm_status st = ekm2d_supported(sc, err);
     if (st != EKM_OK)
         return st;
     if (init && (init->n != sc->cells || fabs(init->n * init->dz - sc->length) > 1e-12 * sc->length))
-        return EKM_FAIL(err, EKM_EINPUT, "%s: the 1D initial state has %d cells over %g m, the scenario %d over %g m",
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: the 1D initial state has %d cells over %g m, the scenario %d over %g m",
                         sc->source, init->n, init->n * init->dz, sc->cells, sc->length);
     ekm2d_solver *s = calloc(1, sizeof *s);
     if (!s)
@@ -834,8 +843,8 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     s->periodic = sc->periodic_x;
     s->g_x = ekm_scenario_gravity_x(sc);
     s->g_z = ekm_scenario_gravity_z(sc);
-    TRY(DMStagCreate2d(comm, s->periodic ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, s->nx, s->nz,
-                       PETSC_DECIDE, PETSC_DECIDE, 0, 1, 2, DMSTAG_STENCIL_BOX, 2, NULL, NULL, &s->dm),
+    TRY(DMStagCreate2d(comm, s->periodic ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, s->nx,
+                       s->nz, PETSC_DECIDE, PETSC_DECIDE, 0, 1, 2, DMSTAG_STENCIL_BOX, 2, NULL, NULL, &s->dm),
         "DMStagCreate2d");
     TRY(DMSetFromOptions(s->dm), "DMSetFromOptions");
     TRY(DMSetUp(s->dm), "DMSetUp");
@@ -845,7 +854,8 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     TRY(DMStagGetLocationSlot(s->dm, DMSTAG_ELEMENT, 1, &s->s_T), "DMStagGetLocationSlot");
     TRY(DMStagGetLocationSlot(s->dm, DMSTAG_LEFT, 0, &s->s_vx), "DMStagGetLocationSlot");
     TRY(DMStagGetLocationSlot(s->dm, DMSTAG_DOWN, 0, &s->s_vz), "DMStagGetLocationSlot");
-    TRY(DMStagGetGhostCorners(s->dm, &s->gx0, &s->gz0, NULL, &s->gnx, &s->gnz, NULL), "DMStagGetGhostCorners");
+    TRY(DMStagGetGhostCorners(s->dm, &s->gx0, &s->gz0, NULL, &s->gnx, &s->gnz, NULL),
+        "DMStagGetGhostCorners");
     s->prop = calloc((size_t)s->gnx * (size_t)s->gnz, sizeof *s->prop);
     s->wet = calloc((size_t)s->gnx * (size_t)s->gnz, 1);
     if (!s->prop || !s->wet) {
@@ -933,11 +943,12 @@ ekm_status ekm2d_solver_advance(ekm2d_solver *s, double t_to, ekm_error *err)
         rc = TSSolve(s->ts, s->U);
     if (rc && s->dt_failed > 0.0) {
         TSGetTime(s->ts, &t);
-        return EKM_FAIL(err, EKM_ENUMERIC,
-                        "%s: the 2D solver stopped at t = %.9g s: the step fell to %.3g s, below dt_min = %g s "
-                        "(Newton did not converge, or a step would close more than phi_step_max of the gap to "
-                        "phi_cp)",
-                        s->sc->source, t, s->dt_failed, s->sc->numerics.dt_min);
+        return EKM_FAIL(
+            err, EKM_ENUMERIC,
+            "%s: the 2D solver stopped at t = %.9g s: the step fell to %.3g s, below dt_min = %g s "
+            "(Newton did not converge, or a step would close more than phi_step_max of the gap to "
+            "phi_cp)",
+            s->sc->source, t, s->dt_failed, s->sc->numerics.dt_min);
     }
     if (rc)
         return petsc_fail(err, rc, "TSSolve");
@@ -955,8 +966,8 @@ ekm_status ekm2d_solver_advance(ekm2d_solver *s, double t_to, ekm_error *err)
                         s->sc->source, t, TSConvergedReasons[reason], dt, s->sc->numerics.dt_min);
     }
     if (fabs(t - t_to) > 1e-9 * fmax(1.0, fabs(t_to)))
-        return EKM_FAIL(err, EKM_ENUMERIC, "%s: the 2D solver stopped at t = %.9g s before %.9g s", s->sc->source, t,
-                        t_to);
+        return EKM_FAIL(err, EKM_ENUMERIC, "%s: the 2D solver stopped at t = %.9g s before %.9g s",
+                        s->sc->source, t, t_to);
     return EKM_OK;
 }
 
@@ -1007,8 +1018,10 @@ static PetscErrorCode local_fields(ekm2d_solver *s, DM dmf, Vec nat)
             double rate, sxz = 0.0;
             int has;
             if (wet) {
-                sxz = 0.25 * (corner_stress(&c, i, j, &rate, &has) + corner_stress(&c, i + 1, j, &rate, &has) +
-                              corner_stress(&c, i, j + 1, &rate, &has) + corner_stress(&c, i + 1, j + 1, &rate, &has));
+                sxz =
+                    0.25 *
+                    (corner_stress(&c, i, j, &rate, &has) + corner_stress(&c, i + 1, j, &rate, &has) +
+                     corner_stress(&c, i, j + 1, &rate, &has) + corner_stress(&c, i + 1, j + 1, &rate, &has));
             }
             v[EKM2D_SXZ] = sxz;
             v[EKM2D_REGIME] = !wet ? 0.0 : u[j][i][s->s_phi] <= sc->material.phi_co ? 1.0 : 2.0;

@@ -52,8 +52,8 @@ ekm_status ekm2d_supported(const ekm_scenario *sc, ekm_error *err);
 /* Create the solver on comm with the initial state of sc, or (init not
  * NULL) with the 1D state init (sc's cells and length) in every column;
  * PETSc options (-ts_*, -snes_*, -ksp_*, -pc_*) override its defaults. */
-ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_state *init, ekm2d_solver **out,
-                               ekm_error *err);
+ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_state *init,
+                               ekm2d_solver **out, ekm_error *err);
 void ekm2d_solver_destroy(ekm2d_solver *s);
 
 /* Advance to time t_to [s] (collective).  EKM_ENUMERIC with a diagnostic

@@ -41,11 +41,11 @@ static int rank0(void)
     return r == 0;
 }
 
-#define FAILF(...)                                                                                          \
-    do {                                                                                                    \
-        if (rank0())                                                                                        \
-            fprintf(stderr, "FAIL: " __VA_ARGS__);                                                          \
-        return 1;                                                                                           \
+#define FAILF(...)                                 \
+    do {                                           \
+        if (rank0())                               \
+            fprintf(stderr, "FAIL: " __VA_ARGS__); \
+        return 1;                                  \
     } while (0)
 
 static int load(const char *src, const char *name, const char *const *sets, size_t n, ekm_scenario *sc)
@@ -133,15 +133,17 @@ static int compare_1d(const run2d *r, const ekm_state *s1, double tol, const cha
 {
     if (getenv("TEST_SOLVER2D_DUMP") && rank0())
         for (int j = 0; j < r->sc.cells; j++)
-            printf("  %2d phi %.9e %.9e  vx %.9e %.9e  T %.9e %.9e\n", j, s1->phi[j], r->f[EKM2D_PHI][(size_t)j * r->sc.cells_x],
-                   s1->u[j], r->f[EKM2D_VX][(size_t)j * r->sc.cells_x], s1->T[j], r->f[EKM2D_T][(size_t)j * r->sc.cells_x]);
+            printf("  %2d phi %.9e %.9e  vx %.9e %.9e  T %.9e %.9e\n", j, s1->phi[j],
+                   r->f[EKM2D_PHI][(size_t)j * r->sc.cells_x], s1->u[j],
+                   r->f[EKM2D_VX][(size_t)j * r->sc.cells_x], s1->T[j],
+                   r->f[EKM2D_T][(size_t)j * r->sc.cells_x]);
     const double e_phi = column_error(r, EKM2D_PHI, s1->phi);
     const double e_vx = column_error(r, EKM2D_VX, s1->u);
     /* T of empty cells is 0 in both outputs (the 1D state holds 0 there too) */
     const double e_T = column_error(r, EKM2D_T, s1->T);
     if (rank0())
-        printf("%s: 2D vs 1D, max relative difference phi %.2e, vx %.2e, T %.2e (tolerance %.0e)\n", what, e_phi,
-               e_vx, e_T, tol);
+        printf("%s: 2D vs 1D, max relative difference phi %.2e, vx %.2e, T %.2e (tolerance %.0e)\n", what,
+               e_phi, e_vx, e_T, tol);
     if (!(e_phi < tol && e_vx < tol && e_T < tol))
         FAILF("%s: 2D differs from 1D\n", what);
     return 0;
@@ -200,8 +202,8 @@ static int case_chute(const char *src)
 
 static int case_inflow(const char *src)
 {
-    const char *sets[] = {"run.stop=t_end", "domain.width=0.004", "domain.cells_x=2", "domain.periodic_x=1",
-                          "domain.cells=40",  "top.t_stop=1",        "hypo.enabled=0"};
+    const char *sets[] = {"run.stop=t_end",  "domain.width=0.004", "domain.cells_x=2", "domain.periodic_x=1",
+                          "domain.cells=40", "top.t_stop=1",       "hypo.enabled=0"};
     run2d r;
     int rc = run_open(&r, src, "filling", sets, 7, NULL);
     ekm2d_stats st0, st1;
@@ -214,8 +216,9 @@ static int case_inflow(const char *src)
         const double gained = st1.mass - st0.mass;
         const double err = fabs(gained - st1.mass_in) / st1.mass_in;
         if (rank0())
-            printf("inflow: %ld steps, mass gained %.15g kg/m, entered %.15g kg/m, relative difference %.2e\n",
-                   st1.steps, gained, st1.mass_in, err);
+            printf(
+                "inflow: %ld steps, mass gained %.15g kg/m, entered %.15g kg/m, relative difference %.2e\n",
+                st1.steps, gained, st1.mass_in, err);
         if (!(st1.mass_in > 0.0 && err < 1e-12))
             FAILF("inflow: mass balance %.2e\n", err);
     }
@@ -225,8 +228,9 @@ static int case_inflow(const char *src)
 
 static int case_ranks(const char *src, const char *ref)
 {
-    const char *sets[] = {"run.stop=t_end",  "domain.width=0.006", "domain.cells_x=6", "domain.periodic_x=0",
-                          "domain.cells=12", "domain.length=0.012", "gravity.angle=10", "initial.layer_height=0.008"};
+    const char *sets[] = {"run.stop=t_end",      "domain.width=0.006",        "domain.cells_x=6",
+                          "domain.periodic_x=0", "domain.cells=12",           "domain.length=0.012",
+                          "gravity.angle=10",    "initial.layer_height=0.008"};
     run2d r;
     int rc = run_open(&r, src, "chute", sets, 8, NULL);
     if (!rc)
