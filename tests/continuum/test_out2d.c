@@ -252,11 +252,14 @@ static void test_layout(void **state)
     text[n] = '\0';
     fclose(fp);
     assert_non_null(strstr(text, "2D grid"));
-    assert_non_null(strstr(text, "<Grid Name=\"sandpile\" GridType=\"Collection\" CollectionType=\"Temporal\">"));
+    assert_non_null(
+        strstr(text, "<Grid Name=\"sandpile\" GridType=\"Collection\" CollectionType=\"Temporal\">"));
     assert_non_null(strstr(text, "TopologyType=\"3DCoRectMesh\" Dimensions=\"4 2 5\""));
     assert_non_null(strstr(text, "<Time Value=\"1\"/>"));
     assert_non_null(strstr(text, "run2d.h5:/xdmf/sxx/2"));
-    assert_non_null(strstr(text, "Dimensions=\"3 1 4\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">run2d.h5:/xdmf/regime/0"));
+    assert_non_null(strstr(
+        text,
+        "Dimensions=\"3 1 4\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">run2d.h5:/xdmf/regime/0"));
     assert_null(strstr(text, "frame3"));
     assert_int_equal(files_named(fx->dir, "run2d"), 2); /* the pair, no temporary */
 }
