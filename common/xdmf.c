@@ -2,6 +2,7 @@
 #include "xdmf.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -190,4 +191,28 @@ ekm_status ekm_xdmf_commit_with(ekm_h5_file *h5, const ekm_xdmf_series *s, ekm_e
     if (sidecar_st != EKM_OK && !sidecar.renamed)
         unlink(xdmf); /* the old sidecar, of the old data */
     return st != EKM_OK ? st : sidecar_st;
+}
+
+ekm_status ekm_xdmf_commit_fixed(ekm_h5_file *h5, const ekm_xdmf_series *s, double lo, double dz,
+                                 ekm_error *err)
+{
+    const size_t n = s->nt ? s->nt : 1;
+    double *los = malloc(n * sizeof *los), *dzs = malloc(n * sizeof *dzs);
+    if (!los || !dzs) {
+        free(los);
+        free(dzs);
+        ekm_h5_abort(h5);
+        return EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory writing the XDMF sidecar", s->h5_path);
+    }
+    for (size_t i = 0; i < n; i++) {
+        los[i] = lo;
+        dzs[i] = dz;
+    }
+    ekm_xdmf_series fixed = *s;
+    fixed.lo = los;
+    fixed.dz = dzs;
+    const ekm_status st = ekm_xdmf_commit_with(h5, &fixed, err);
+    free(los);
+    free(dzs);
+    return st;
 }

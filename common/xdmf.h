@@ -67,4 +67,10 @@ void ekm_xdmf_escape(FILE *fp, const char *text);
  * left (nor a temporary).  Frees h5. */
 ekm_status ekm_xdmf_commit_with(ekm_h5_file *h5, const ekm_xdmf_series *s, ekm_error *err);
 
+/* ekm_xdmf_commit_with for a grid that does not move: every frame's lower
+ * end along Z is lo and its cell size dz [m] (s->lo and s->dz are not
+ * read).  Frees h5. */
+ekm_status ekm_xdmf_commit_fixed(ekm_h5_file *h5, const ekm_xdmf_series *s, double lo, double dz,
+                                 ekm_error *err);
+
 #endif

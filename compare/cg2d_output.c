@@ -157,33 +157,17 @@ ekm_status cg2d_output_h5(const cg2d_output *st, ekm_error *err)
         fields[2 * f] = (ekm_xdmf_field){.name = cg2d_field_name(f), .is_int = 0};
         fields[2 * f + 1] = (ekm_xdmf_field){.name = se_names[f], .is_int = 0};
     }
-    double *lo = malloc(r->nt * sizeof *lo), *dz = malloc(r->nt * sizeof *dz);
-    if (!lo || !dz) {
-        free(lo);
-        free(dz);
-        ekm_h5_abort(w);
-        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    }
-    for (size_t i = 0; i < r->nt; i++) {
-        lo[i] = g->gz.lo;
-        dz[i] = g->gz.dz;
-    }
     const ekm_xdmf_series series = {.title = "ekmcompare cg --axes x,z",
                                     .h5_path = o->out,
                                     .n = g->gz.n,
                                     .nt = r->nt,
                                     .t = r->t,
-                                    .lo = lo,
-                                    .dz = dz,
                                     .fields = fields,
                                     .nfields = 2 * (size_t)nfield,
                                     .nx = g->gx.n,
                                     .x0 = g->gx.lo,
                                     .dx = g->gx.dz};
-    rc = ekm_xdmf_commit_with(w, &series, err);
-    free(lo);
-    free(dz);
-    return rc;
+    return ekm_xdmf_commit_fixed(w, &series, g->gz.lo, g->gz.dz, err);
 }
 
 ekm_status cg2d_output_csv(const cg2d_output *st, ekm_error *err)

@@ -33,18 +33,6 @@ static ekm_status commit_with_sidecar(ekm_h5_file *w, const cg_run_opts *o, cons
 {
     ekm_xdmf_field fields[2 * CG_NFIELD];
     char se_names[CG_NFIELD][64];
-    const size_t nt = r->nt ? r->nt : 1;
-    double *lo = malloc(nt * sizeof *lo), *dz = malloc(nt * sizeof *dz);
-    if (!lo || !dz) {
-        free(lo);
-        free(dz);
-        ekm_h5_abort(w);
-        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    }
-    for (size_t i = 0; i < nt; i++) {
-        lo[i] = g->lo;
-        dz[i] = g->dz;
-    }
     for (int f = 0; f < nfield; f++) {
         snprintf(se_names[f], sizeof se_names[f], "%s_se", cg_field_name(f));
         fields[2 * f] = (ekm_xdmf_field){.name = cg_field_name(f), .is_int = 0};
@@ -55,14 +43,9 @@ static ekm_status commit_with_sidecar(ekm_h5_file *w, const cg_run_opts *o, cons
                                     .n = g->n,
                                     .nt = r->nt,
                                     .t = r->t,
-                                    .lo = lo,
-                                    .dz = dz,
                                     .fields = fields,
                                     .nfields = 2 * (size_t)nfield};
-    ekm_status rc = ekm_xdmf_commit_with(w, &series, err);
-    free(lo);
-    free(dz);
-    return rc;
+    return ekm_xdmf_commit_fixed(w, &series, g->lo, g->dz, err);
 }
 
 ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,

@@ -18,7 +18,7 @@ static void default_output(const char *ini, char *out, size_t size)
     snprintf(out, size, "%.*s.h5", (int)len, base);
 }
 
-int ekm_cli_args_parse(const char *cmd, int argc, char **argv, int with_from, ekm_cli_args *a)
+int ekm_cli_args_parse(const char *cmd, int argc, char **argv, int with_from, int with_petsc, ekm_cli_args *a)
 {
     memset(a, 0, sizeof *a);
     a->sets = calloc((size_t)argc + 1, sizeof *a->sets);
@@ -27,6 +27,12 @@ int ekm_cli_args_parse(const char *cmd, int argc, char **argv, int with_from, ek
         return ekm_status_exit_code(EKM_ENOMEM);
     }
     for (int i = 0; i < argc; i++) {
+        if (with_petsc && strcmp(argv[i], "--") == 0) {
+            a->dashdash = 1;
+            a->petsc_args = argv + i + 1;
+            a->n_petsc_args = argc - i - 1;
+            break;
+        }
         if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
             a->out = argv[++i];
         else if (with_from && strcmp(argv[i], "--from") == 0 && i + 1 < argc)

@@ -42,7 +42,7 @@ static int parse_number(const char *v, double *out)
     return 1;
 }
 
-static ekm_status write_root_attributes(ekm_h5_file *file, const ekm_scenario *sc, ekm_error *err)
+ekm_status ekm_h5out_scenario_attrs(ekm_h5_file *file, const ekm_scenario *sc, ekm_error *err)
 {
     ekm_status rc = EKM_OK;
     for (size_t i = 0; i < sc->n_entries && rc == EKM_OK; i++) {
@@ -107,7 +107,7 @@ static ekm_status write_layout(ekm_h5_writer *w, const ekm_state *s, ekm_error *
         st = ekm_h5_create_series(w->file, "gap", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("gap"), NULL,
                                   err);
     if (st == EKM_OK)
-        st = write_root_attributes(w->file, w->sc, err);
+        st = ekm_h5out_scenario_attrs(w->file, w->sc, err);
     return st;
 }
 

@@ -24,6 +24,7 @@
 #ifndef EKM_H5OUT_H
 #define EKM_H5OUT_H
 
+#include "h5.h"
 #include "scenario.h"
 #include "state.h"
 #include "status.h"
@@ -44,6 +45,13 @@ ekm_status ekm_h5_writer_set_attr(ekm_h5_writer *w, const char *name, double val
 /* An array of numbers as a root attribute (ekm steady's residual history). */
 ekm_status ekm_h5_writer_set_attr_array(ekm_h5_writer *w, const char *name, const double *values, size_t n,
                                         ekm_error *err);
+/* The root attributes of a scenario's output (the 1D file's and the 2D
+ * run's, twod/out2d.h): every scenario key as "section.key" (a number when
+ * its value reads as one, else the string), gravity_x, gravity_z, variant,
+ * code_version, scenario_file, material_file (when one), scenario,
+ * created (UTC). */
+ekm_status ekm_h5out_scenario_attrs(ekm_h5_file *file, const ekm_scenario *sc, ekm_error *err);
+
 /* Close, write the XDMF sidecar, rename both into place, free w. */
 ekm_status ekm_h5_writer_commit(ekm_h5_writer *w, ekm_error *err);
 /* Close and delete the temporary file, free w (NULL is harmless). */

@@ -20,12 +20,16 @@
 #include "steady_cli.h"
 #include "step.h"
 #include "xdmf.h"
+#ifdef EKM_HAVE_2D
+#include "run2d.h"
+#endif
 
 static void usage(FILE *fp)
 {
     fprintf(fp,
             "usage: ekm run FILE.ini [-o OUT.h5] [--material FIT.ini] [--set section.key=value ...]\n"
-            "               [--quiet]\n"
+            "               [--quiet] [-- PETSc options]\n"
+            "       mpirun -np N ekm run FILE.ini ...   (a 2D scenario: [domain] cells_x > 1)\n"
             "       ekm scenario FILE.ini [--engine liggghts|lammps] [--size smoke|ref]\n"
             "                    [--point TAG] [--material FIT.ini] [--set section.key=value ...] --json\n"
             "       ekm homog FILE.ini [--material FIT.ini] [--set section.key=value ...]\n"
@@ -45,6 +49,11 @@ static void usage(FILE *fp)
             "  --set S.K=V      override key K of section S (repeatable), e.g.\n"
             "                   --set domain.cells=200 --set model.variant=thesis\n"
             "  --quiet          no progress line and no summary\n"
+            "  -- OPTIONS       the rest of the line goes to PETSc (2D runs only), e.g.\n"
+            "                   -- -ts_monitor -snes_converged_reason\n"
+            "\n"
+            "A scenario with [domain] cells_x > 1 is solved in 2D on PETSc, on the MPI\n"
+            "ranks ekm is started on (docs/output-format.md, \"2D runs\"); %s.\n"
             "\n"
             "ekm scenario prints the resolved scenario as one JSON object on stdout\n"
             "(docs/resolved-scenario.md): every key of every section with its value as\n"
@@ -74,7 +83,13 @@ static void usage(FILE *fp)
             "scenario file); 4 the solver could not continue (phi would reach phi_cp, no\n"
             "convergence); 5 internal error or out of memory; 6 no steady state; 128+N stopped by signal N\n"
             "(its temporary files removed).\n"
-            "Formats and units: README.md and docs/ of ekmbench.\n");
+            "Formats and units: README.md and docs/ of ekmbench.\n",
+#ifdef EKM_HAVE_2D
+            "this ekm has the 2D solver"
+#else
+            "this ekm has no 2D solver (" EKM_NO_2D_REASON ")"
+#endif
+    );
 }
 
 typedef struct {
@@ -93,10 +108,35 @@ static int fail(const ekm_error *err, ekm_status st)
     return ekm_status_exit_code(st);
 }
 
+/* `ekm run` on a 2D scenario ([domain] cells_x > 1): the 2D solver on
+ * every MPI rank (continuum/twod/run2d.h), its error printed by rank 0
+ * only; exit 7 when this ekm is built without it. */
+static int run_2d(const ekm_scenario *sc, const ekm_cli_args *a)
+{
+    ekm_error err = {0};
+#ifdef EKM_HAVE_2D
+    const ekm2d_run_options opt = {.out = a->out,
+                                   .quiet = a->quiet,
+                                   .progress = !a->quiet && isatty(STDERR_FILENO),
+                                   .petsc_args = a->petsc_args,
+                                   .n_petsc_args = a->n_petsc_args};
+    const ekm_status st = ekm2d_cmd_run(sc, &opt, &err);
+    if (st == EKM_OK)
+        return 0;
+    if (ekm2d_is_rank0())
+        ekm_error_print("ekm", &err);
+    return ekm_status_exit_code(st);
+#else
+    (void)a;
+    return fail(&err, ekm_scenario_require_1d(
+                          sc, "the 2D solver is not built in this ekm (" EKM_NO_2D_REASON ")", &err));
+#endif
+}
+
 static int cmd_run(int argc, char **argv)
 {
     ekm_cli_args args;
-    const int usage = ekm_cli_args_parse("run", argc, argv, 0, &args);
+    const int usage = ekm_cli_args_parse("run", argc, argv, 0, 1, &args);
     if (usage) {
         ekm_cli_args_free(&args);
         return usage;
@@ -115,11 +155,22 @@ static int cmd_run(int argc, char **argv)
     ekm_scenario sc;
     st = ekm_scenario_load_material(&sc, ini, material, sets, n_sets, &err);
     free(sets);
-    if (st == EKM_OK)
-        st = ekm_scenario_require_1d(&sc, &err);
     if (st != EKM_OK) {
         ekm_scenario_free(&sc);
         return fail(&err, st);
+    }
+    if (sc.cells_x > 1) {
+        const int code = run_2d(&sc, &args);
+        ekm_scenario_free(&sc);
+        return code;
+    }
+    if (args.dashdash) {
+        fprintf(stderr,
+                "ekm run: '--' passes PETSc options to the 2D solver, but %s is a 1D scenario ([domain] "
+                "cells_x = 1) (see ekm --help)\n",
+                ini);
+        ekm_scenario_free(&sc);
+        return ekm_status_exit_code(EKM_EUSAGE);
     }
     ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
     ekm_stepper *stepper = s ? ekm_step_alloc(&sc, &err) : NULL;

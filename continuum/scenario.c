@@ -1051,7 +1051,7 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
     return 1;
 }
 
-ekm_status ekm_scenario_require_1d(const ekm_scenario *s, ekm_error *err)
+ekm_status ekm_scenario_require_1d(const ekm_scenario *s, const char *why, ekm_error *err)
 {
     if (s->cells_x <= 1)
         return EKM_OK;
@@ -1061,10 +1061,7 @@ ekm_status ekm_scenario_require_1d(const ekm_scenario *s, ekm_error *err)
         snprintf(from, sizeof from, "--set domain.cells_x");
     else
         snprintf(from, sizeof from, "%s:%d", s->source, e ? e->line : 0);
-    return EKM_FAIL(err, EKM_EUNAVAILABLE,
-                    "%s: [domain] cells_x = %d: the 2D solver is not built yet (issue 14); ekm solves the 1D "
-                    "column only (cells_x = 1)",
-                    from, s->cells_x);
+    return EKM_FAIL(err, EKM_EUNAVAILABLE, "%s: [domain] cells_x = %d: %s", from, s->cells_x, why);
 }
 
 double ekm_scenario_angle_at(const ekm_scenario *s, double t)

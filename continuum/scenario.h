@@ -207,10 +207,12 @@ size_t ekm_scenario_key_count(void);
 void ekm_scenario_key_name(size_t i, const char **section, const char **key);
 int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_t size);
 
-/* EKM_OK when ekm can solve the scenario's domain, the 1D column
- * ([domain] cells_x = 1); else EKM_EUNAVAILABLE: the 2D solver (issue 14)
- * is not built yet. */
-ekm_status ekm_scenario_require_1d(const ekm_scenario *s, ekm_error *err);
+/* EKM_OK on the 1D column ([domain] cells_x = 1); a 2D domain is
+ * EKM_EUNAVAILABLE "WHERE: [domain] cells_x = N: WHY" (WHERE the file and
+ * line of cells_x, or --set), for what cannot solve it: ekm steady (the
+ * 1D column only) and an ekm built without the 2D solver (issue 14; `ekm
+ * run` hands a 2D scenario to it, continuum/twod/run2d.h). */
+ekm_status ekm_scenario_require_1d(const ekm_scenario *s, const char *why, ekm_error *err);
 
 /* The entry named "section.key" in list (n entries), or NULL. */
 const ekm_entry *ekm_scenario_entry_find(const ekm_entry *list, size_t n, const char *name);

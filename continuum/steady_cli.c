@@ -164,7 +164,7 @@ static ekm_status write_output(const char *out, const ekm_scenario *sc, const ek
 int ekm_steady_cli_main(int argc, char **argv)
 {
     ekm_cli_args args;
-    const int usage = ekm_cli_args_parse("steady", argc, argv, 1, &args);
+    const int usage = ekm_cli_args_parse("steady", argc, argv, 1, 0, &args);
     if (usage) {
         ekm_cli_args_free(&args);
         return usage;
@@ -183,7 +183,7 @@ int ekm_steady_cli_main(int argc, char **argv)
     st = ekm_scenario_load_material(&sc, ini, material, sets, n_sets, &err);
     free(sets);
     if (st == EKM_OK)
-        st = ekm_scenario_require_1d(&sc, &err);
+        st = ekm_scenario_require_1d(&sc, "ekm steady solves the 1D column only (cells_x = 1)", &err);
     if (st == EKM_OK)
         st = ekm_steady_supported(&sc, &err);
     if (st != EKM_OK) {

@@ -1,6 +1,7 @@
 """Run by pvpython: ParaView's three XDMF readers open the sidecar of an
-`ekmcompare cg --axes x,z` output (a 2D grid) with every [nt][nz][nx]
-field and its SE as a cell array equal to the HDF5 values (NaN where the
+`ekmcompare cg --axes x,z` output or of an ekm 2D run (a 2D grid;
+continuum/twod/out2d.h) with every [nt][nz][nx]
+field (and SE) as a cell array equal to the HDF5 values (NaN where the
 file has NaN), at the first and last time step; the mesh spans
 x_lo .. x_hi along X, lo .. hi along Z, one cell (dx) thick in Y; the
 times are /t.
@@ -36,8 +37,12 @@ def main(xdmf, path):
         failures.append("%s: no [nt][nz][nx] dataset" % path)
     nz, nx = h5[names[0]].shape[1:] if names else (0, 0)
     a = h5.attrs
-    want_bounds = (float(a["x_lo"]), float(a["x_lo"]) + nx * float(a["dx"]), 0.0, float(a["dx"]),
-                   float(a["lo"]), float(a["lo"]) + nz * float(a["dz"]))
+    if "x_lo" in a:  # ekmcompare cg --axes x,z: the grid's attributes
+        x_lo, dx, z_lo, dz = (float(a[k]) for k in ("x_lo", "dx", "lo", "dz"))
+    else:  # ekm's 2D run: uniform cells from 0, centres /x and /z
+        dx, dz = 2.0 * float(h5["x"][0]), 2.0 * float(h5["z"][0])
+        x_lo, z_lo = 0.0, 0.0
+    want_bounds = (x_lo, x_lo + nx * dx, 0.0, dx, z_lo, z_lo + nz * dz)
     for rname in READERS:
         reader = open_reader(rname, xdmf)
         reader.UpdatePipelineInformation()
