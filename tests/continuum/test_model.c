@@ -125,6 +125,46 @@ static void test_local_balance(void **state)
     assert_true(fabs(S) < 1e-9 * m8.rho_p * 32 * 0.62 * m8.eps0 * pow(T, 1.5) * 10);
 }
 
+/* The plane-strain law (the 2D solver's) reduces to the slab law when the
+ * flow is uniform in x (e_xx = 0): the heating coefficients equal
+ * ekm_temperature_source_coeffs_gY(u2, w2) and the normal stress equals
+ * ekm_stress_slab's sigma_zz and P, for both variants, below and above
+ * phi_co, to round-off (1e-13 relative); and a pure-shear plane rate
+ * (e_xx = -e_zz) heats as 2 eta (e_xx^2 + e_zz^2) + 0 div^2 (full). */
+static void test_plane_reduces_to_slab(void **state)
+{
+    (void)state;
+    ekm_material m = ekm_material_thesis();
+    m.nu = 0.7;
+    const double phis[] = {0.3, 0.59, 0.62};
+    const ekm_variant vs[] = {EKM_VARIANT_FULL, EKM_VARIANT_THESIS};
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 2; b++) {
+            const double phi = phis[a], T = 3e-3, du = 7.0, dw = -2.5;
+            const double g = ekm_g(&m, phi), Y = ekm_yield_temperature(&m, phi);
+            const ekm_source_coeffs s1 =
+                ekm_temperature_source_coeffs_gY(&m, vs[b], phi, g, Y, du * du, dw * dw);
+            const ekm_source_coeffs s2 =
+                ekm_temperature_source_coeffs_plane(&m, vs[b], phi, g, Y, du * du, 0.0, dw);
+            assert_true(fabs(s1.k_heat_a - s2.k_heat_a) <= 1e-13 * fabs(s1.k_heat_a));
+            assert_true(fabs(s1.k_heat_y - s2.k_heat_y) <= 1e-13 * fabs(s1.k_heat_y) + 1e-300);
+            assert_true(s1.k_diss == s2.k_diss && s1.nuY == s2.nuY);
+            const ekm_cell_properties c = ekm_cell_properties_at(&m, vs[b], phi, T);
+            const ekm_plane_stress ps = ekm_stress_plane(&c, vs[b], 0.0, dw);
+            const ekm_slab_stress ss = ekm_stress_slab(&m, vs[b], phi, T, du, dw);
+            assert_true(fabs(ps.szz - ss.sigma_zz) <= 1e-13 * fabs(ss.sigma_zz));
+            assert_true(fabs(ps.P - ss.P) <= 1e-13 * fabs(ss.P));
+            assert_true(fabs(-(ps.sxx + ps.szz + ps.syy) / 3.0 - ps.P) <= 1e-13 * fabs(ps.P));
+        }
+    /* pure shear e_xx = -e_zz = e: s2 = 4 e^2 (full), div = 0 */
+    const double phi = 0.5, e = 3.0;
+    const double g = ekm_g(&m, phi), Y = ekm_yield_temperature(&m, phi);
+    const ekm_source_coeffs c =
+        ekm_temperature_source_coeffs_plane(&m, EKM_VARIANT_FULL, phi, g, Y, 0.0, e, -e);
+    const double want = m.rho_p * g * 2.0 / 3.0 * m.eta0 * 4.0 * e * e;
+    assert_true(fabs(c.k_heat_a - want) <= 1e-13 * want);
+}
+
 static void test_material_check(void **state)
 {
     (void)state;
@@ -145,7 +185,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dense_state),       cmocka_unit_test(test_dilute_state),
         cmocka_unit_test(test_source_derivative), cmocka_unit_test(test_local_balance),
-        cmocka_unit_test(test_material_check),
+        cmocka_unit_test(test_material_check),    cmocka_unit_test(test_plane_reduces_to_slab),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
