@@ -17,7 +17,7 @@
  *             -1 m/s) for 0.005 s: mass gained = mass entered to 1e-12.
  *   ranks     a 6 x 12 box with side walls and gravity tilted by 10 degrees
  *             (the layer starts to slide towards a wall: a 2D flow) for
- *             0.005 s; writes the fields to REF.bin when it does not exist,
+ *             0.002 s; writes the fields to REF.bin when it does not exist,
  *             else every field within 1e-10 of REF.bin's (scaled by the
  *             field's largest value): run first on 1 rank, then 2 and 4.
  * Exit 0 on success; prints the measured numbers.
@@ -234,7 +234,7 @@ static int case_ranks(const char *src, const char *ref)
     run2d r;
     int rc = run_open(&r, src, "chute", sets, 8, NULL);
     if (!rc)
-        rc = run_to(&r, 0.005);
+        rc = run_to(&r, 0.002);
     int size;
     MPI_Comm_size(PETSC_COMM_WORLD, &size);
     if (!rc && rank0()) {
