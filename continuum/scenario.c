@@ -49,11 +49,18 @@ typedef struct {
     BC(side, u, KEY_DOUBLE, "inflow"),                 \
     BC(side, T, KEY_DOUBLE, "inflow"),                 \
     BC(side, t_stop, KEY_DOUBLE, "inflow"),            \
+    BC(side, t_start, KEY_DOUBLE, "inflow"),           \
+    BC(side, inlet_x, KEY_DOUBLE, "inflow"),           \
+    BC(side, inlet_width, KEY_DOUBLE, "inflow"),       \
     BC(side, period, KEY_DOUBLE, "piston"),            \
     BC(side, w_return, KEY_DOUBLE, "piston"),          \
     BC(side, pressure, KEY_DOUBLE, "wall"),            \
     BC(side, pressure_rate, KEY_DOUBLE, "wall"),       \
     BC(side, shear_rate, KEY_DOUBLE, "wall")
+/* the side walls of a 2D box (periodic_x = 0) */
+#define SIDE_KEYS(side)                                \
+    {#side, "type", KEY_STRING, 0, 0, 0, NULL},        \
+    BC(side, slip_length, KEY_DOUBLE, "wall")
 
 static const key_spec KEYS[] = {
     {"scenario", "name", KEY_STRING, SC(name), sizeof(((ekm_scenario *)0)->name), 0, NULL},
@@ -91,6 +98,8 @@ static const key_spec KEYS[] = {
     {"initial", "settled", KEY_INT, SC(hypo.initial_settled), 0, 0, NULL},
     BC_KEYS(bottom),
     BC_KEYS(top),
+    SIDE_KEYS(left),
+    SIDE_KEYS(right),
     {"run", "t_end", KEY_DOUBLE, SC(t_end), 0, 1, NULL},
     {"run", "output_dt", KEY_DOUBLE, SC(output_dt), 0, 0, NULL},
     {"run", "stop", KEY_STRING, 0, 0, 0, NULL},
@@ -138,10 +147,13 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->periodic_x = 0;
     s->bottom.kind = s->top.kind = EKM_BC_WALL;
     s->bottom.t_stop = s->top.t_stop = INFINITY;
-    s->bottom.w_return = s->top.w_return = NAN; /* piston: -w */
-    s->bottom.pressure = s->top.pressure = NAN; /* the wall stays put */
+    s->bottom.inlet_x = s->top.inlet_x = NAN;         /* the middle of the end (set by the reader) */
+    s->bottom.inlet_width = s->top.inlet_width = NAN; /* the whole end */
+    s->bottom.w_return = s->top.w_return = NAN;       /* piston: -w */
+    s->bottom.pressure = s->top.pressure = NAN;       /* the wall stays put */
     s->bottom.pressure_rate = s->top.pressure_rate = 1.0;
     s->bottom.shear_rate = s->top.shear_rate = NAN; /* the wall moves at its velocity */
+    s->left = s->right = s->bottom;                 /* the side walls: resting, no slip */
     s->output_dt = 0.0;                             /* not given: t_end / 100 (check_scenario) */
     s->stop = EKM_STOP_T_END;
     s->steady_tol = 1e-3;
@@ -180,7 +192,7 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
 /* The sections a file may have, ekm's (the registry's) and the other
  * tools' (15), fewer than N_SECTIONS_MAX, each name shorter than
  * SECTION_NAME_MAX. */
-#define N_SECTIONS_MAX   16
+#define N_SECTIONS_MAX   20
 #define SECTION_NAME_MAX 16
 
 typedef struct {
@@ -232,9 +244,9 @@ static int section_known(const char *section)
     return 0;
 }
 
-#define SECTION_LIST                                                                                    \
-    "scenario material model domain gravity initial bottom top run numerics hypo dem compare campaign " \
-    "figures"
+#define SECTION_LIST                                                                                      \
+    "scenario material model domain gravity initial bottom top left right run numerics hypo dem compare " \
+    "campaign figures"
 
 /* Where inih ends a name or a header: at one of chars, at an inline comment
  * (';' after a blank) or at the end (inih's find_chars_or_comment). */
@@ -514,7 +526,10 @@ static int handler(void *user, const char *section, const char *key, const char 
             return fail_once(c, EKM_EINPUT, "[%s] %s: expected 't_end' or 'steady', got '%s'", section, key,
                              value);
     } else if (strcmp(key, "type") == 0) {
-        ekm_bc *bc = strcmp(section, "bottom") == 0 ? &c->s->bottom : &c->s->top;
+        ekm_bc *bc = strcmp(section, "bottom") == 0 ? &c->s->bottom
+                     : strcmp(section, "top") == 0  ? &c->s->top
+                     : strcmp(section, "left") == 0 ? &c->s->left
+                                                    : &c->s->right;
         if (strcmp(value, "wall") == 0)
             bc->kind = EKM_BC_WALL;
         else if (strcmp(value, "inflow") == 0)
@@ -675,6 +690,83 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
     return EKM_OK;
 }
 
+/* The keys of a 2D domain's boundaries: the side walls ([left], [right]:
+ * a box with walls, not periodic in x) and an inflow's opening time and
+ * inlet segment (a domain with a width); the inlet inside its end and
+ * wide enough to hold a face centre. */
+static ekm_status check_boundaries_2d(const parse_ctx *c, ekm_scenario *s, ekm_error *err)
+{
+    char w_[600];
+    const char *sides[2] = {"left", "right"};
+    for (int k = 0; k < 2; k++)
+        for (size_t i = 0; i < N_KEYS; i++) {
+            if (strcmp(KEYS[i].section, sides[k]) != 0 || !c->seen[i])
+                continue;
+            const char *where_ = where(c, sides[k], KEYS[i].key, w_, sizeof w_);
+            if (!isfinite(s->width))
+                return EKM_FAIL(err, EKM_EINPUT,
+                                "%s: [%s] %s: needs [domain] width (the side walls of a 2D box)", where_,
+                                sides[k], KEYS[i].key);
+            if (s->periodic_x)
+                return EKM_FAIL(err, EKM_EINPUT,
+                                "%s: [%s] %s: [domain] periodic_x = 1 has no side walls (set periodic_x = 0 "
+                                "for a box with walls at x = 0 and x = width)",
+                                where_, sides[k], KEYS[i].key);
+        }
+    const ekm_bc *sw[2] = {&s->left, &s->right};
+    for (int k = 0; k < 2; k++)
+        if (sw[k]->kind != EKM_BC_WALL) {
+            char key_at[600];
+            snprintf(key_at, sizeof key_at, "%s", where(c, sides[k], "type", w_, sizeof w_));
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] type: expected wall (a side of a 2D box), got %s",
+                            key_at, sides[k], ekm_bc_kind_name(sw[k]->kind));
+        }
+    const char *ends[2] = {"bottom", "top"};
+    ekm_bc *eb[2] = {&s->bottom, &s->top};
+    const char *keys2d[3] = {"t_start", "inlet_x", "inlet_width"};
+    for (int k = 0; k < 2; k++) {
+        ekm_bc *bc = eb[k];
+        for (int q = 0; q < 3; q++)
+            if (given(c, ends[k], keys2d[q]) && !isfinite(s->width))
+                return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: needs [domain] width (a key of a 2D domain)",
+                                where(c, ends[k], keys2d[q], w_, sizeof w_), ends[k], keys2d[q]);
+        if (bc->kind != EKM_BC_INFLOW)
+            continue;
+        RANGE(bc->t_start >= 0.0 && bc->t_start < bc->t_stop, ends[k], "t_start",
+              "a time >= 0 and before t_stop [s]", bc->t_start);
+        if (given(c, ends[k], "inlet_x") && !given(c, ends[k], "inlet_width"))
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: [%s] inlet_x: needs [%s] inlet_width (the inlet segment [m])",
+                            where(c, ends[k], "inlet_x", w_, sizeof w_), ends[k], ends[k]);
+        if (!given(c, ends[k], "inlet_width"))
+            continue;
+        if (!given(c, ends[k], "inlet_x"))
+            bc->inlet_x = 0.5 * s->width; /* centred */
+        RANGE(bc->inlet_width > 0.0, ends[k], "inlet_width", "a width > 0 [m]", bc->inlet_width);
+        const double lo = bc->inlet_x - 0.5 * bc->inlet_width, hi = bc->inlet_x + 0.5 * bc->inlet_width;
+        const double slack = 1e-12 * s->width;
+        if (!(lo >= -slack && hi <= s->width + slack)) {
+            const char *key = given(c, ends[k], "inlet_x") ? "inlet_x" : "inlet_width";
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: [%s] %s: the inlet [%g, %g] m is outside the %s boundary [0, %g] m "
+                            "(inlet_x +- inlet_width/2 must lie in [0, [domain] width])",
+                            where(c, ends[k], key, w_, sizeof w_), ends[k], key, lo, hi, ends[k], s->width);
+        }
+        int faces = 0;
+        for (int i = 0; i < s->cells_x; i++) {
+            const double xc = (i + 0.5) * s->width / s->cells_x;
+            faces += xc >= lo && xc <= hi;
+        }
+        if (faces == 0)
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: [%s] inlet_width: the inlet [%g, %g] m holds no face centre of the %d cells "
+                            "along x (%g m wide): widen it or refine cells_x",
+                            where(c, ends[k], "inlet_width", w_, sizeof w_), ends[k], lo, hi, s->cells_x,
+                            s->width / s->cells_x);
+    }
+    return EKM_OK;
+}
+
 static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error *err)
 {
     const char *material_file = s->material_source[0] ? s->material_source : c->file;
@@ -802,6 +894,12 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     ekm_status st = check_bc(c, s, "bottom", &s->bottom, err);
     if (st == EKM_OK)
         st = check_bc(c, s, "top", &s->top, err);
+    if (st == EKM_OK)
+        st = check_boundaries_2d(c, s, err);
+    if (st == EKM_OK)
+        st = check_bc(c, s, "left", &s->left, err);
+    if (st == EKM_OK)
+        st = check_bc(c, s, "right", &s->right, err);
     if (st == EKM_OK && ekm_bc_rate_wall(&s->top))
         s->top.velocity = s->bottom.velocity; /* its speed at zero gap (bc.h) */
     return st;
@@ -1018,11 +1116,18 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
 {
     const key_spec *ks = &KEYS[i];
     const char *base = (const char *)s;
-    const ekm_bc *bc = strcmp(ks->section, "bottom") == 0 ? &s->bottom
-                       : strcmp(ks->section, "top") == 0  ? &s->top
-                                                          : NULL;
+    const ekm_bc *bc = strcmp(ks->section, "bottom") == 0  ? &s->bottom
+                       : strcmp(ks->section, "top") == 0   ? &s->top
+                       : strcmp(ks->section, "left") == 0  ? &s->left
+                       : strcmp(ks->section, "right") == 0 ? &s->right
+                                                           : NULL;
     if (ks->only_for_bc && !type_in(ks->only_for_bc, ekm_bc_kind_name(bc->kind)))
         return 0;
+    const int box_2d = isfinite(s->width) && s->cells_x > 1;
+    if ((strcmp(ks->section, "left") == 0 || strcmp(ks->section, "right") == 0) && (!box_2d || s->periodic_x))
+        return 0; /* the side walls of a 2D box only */
+    if (bc && (strcmp(ks->key, "t_start") == 0 || strcmp(ks->key, "inlet_x") == 0) && !isfinite(s->width))
+        return 0; /* keys of a 2D domain only */
     if (bc && strcmp(ks->key, "velocity") == 0 && ekm_bc_rate_wall(bc))
         return 0; /* not a key: the speed follows the gap */
     if (strcmp(ks->section, "domain") == 0 &&

@@ -35,6 +35,10 @@ typedef struct {
     double u;             /* inflow: tangential velocity [m/s] */
     double T;             /* inflow: granular temperature [m^2/s^2] */
     double t_stop;        /* inflow: time it closes to a resting wall [s] */
+    double t_start;       /* inflow, 2D: time it opens; a resting wall before [s] */
+    double inlet_x;       /* inflow, 2D: centre of the inlet segment [m] */
+    double inlet_width;   /* inflow, 2D: width of the inlet segment, NAN: the whole end; the end's
+                           * faces whose centres lie in it are the inlet, the rest a resting wall [m] */
     double period;        /* piston: period of the velocity program [s] */
     double w_return;      /* piston: w in the second half of each period, NAN: -w [m/s] */
     double pressure;      /* wall (top only): normal stress held on the moving wall, NAN: the wall
@@ -142,6 +146,8 @@ typedef struct {
     double shear_rate_init; /* initial du/dz: u = u_init + shear_rate z [1/s] */
     double layer_height;    /* material fills z < layer_height; vacuum above [m] */
     ekm_bc bottom, top;
+    ekm_bc left, right;   /* 2D, periodic_x = 0: the side walls at x = 0 and x = width (wall only:
+                           * slip_length; the wall rests) */
     double t_end;         /* end time [s] */
     double output_dt;     /* output interval [s] */
     ekm_stop stop;        /* [run] stop: t_end, or steady (t_end the longest run) */

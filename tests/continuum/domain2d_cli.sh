@@ -83,6 +83,45 @@ error "source width not > 0" 2 "\[dem\] source_widths: expected source widths > 
     scenario "$pile" --set "dem.source_widths=8 -1" --json
 error "sand pile and inclined flow keys together" 2 "one sweep only" \
     scenario "$pile" --set dem.angles=20 --json
+# the boundaries of a 2D box: side walls ([left], [right]) and an inflow's
+# inlet segment and opening time (docs/scenario-format.md)
+box=$src/scenarios/thesis_filling_2d.ini
+json "box: side walls resolved (no slip by default), inflow t_start 0, no inlet segment (the whole top)" \
+    '.keys["left.type"] == {"value": "wall", "from": "default"} and .keys["right.slip_length"].value == "0"
+     and .keys["top.t_start"].value == "0" and (.keys | has("top.inlet_width") | not)
+     and (.keys | has("top.inlet_x") | not)' "$box" --json
+json "box: an inlet segment, centred by default" \
+    '.keys["top.inlet_width"] == {"value": "0.01", "from": "--set"} and .keys["top.inlet_x"].value == "0.035"' \
+    "$box" --set top.inlet_width=0.01 --json
+json "periodic box: no side-wall keys" '(.keys | has("left.type") | not) and (.keys | has("right.type") | not)' \
+    "$box" --set domain.periodic_x=1 --json
+json "1D inflow: no 2D inflow keys" '(.keys | has("top.t_start") | not) and (.keys | has("top.inlet_x") | not)' \
+    "$src/scenarios/thesis_filling.ini" --json
+error "inlet outside the top boundary" 2 \
+    "--set top.inlet_x: \[top\] inlet_x: the inlet \[0.06, 0.08\] m is outside the top boundary \[0, 0.07\] m" \
+    scenario "$box" --set top.inlet_x=0.07 --set top.inlet_width=0.02 --json
+error "inlet narrower than a cell, between face centres" 2 \
+    "\[top\] inlet_width: the inlet \[.*\] m holds no face centre of the 18 cells along x" \
+    scenario "$box" --set top.inlet_x=0.0039 --set top.inlet_width=0.0001 --json
+error "inlet_x without inlet_width" 2 "\[top\] inlet_x: needs \[top\] inlet_width" \
+    scenario "$box" --set top.inlet_x=0.01 --json
+error "t_start after t_stop" 2 "\[top\] t_start: expected a time >= 0 and before t_stop \[s\], got 3" \
+    scenario "$box" --set top.t_start=3 --json
+error "t_start in 1D" 2 "\[top\] t_start: needs \[domain\] width" \
+    scenario "$src/scenarios/thesis_filling.ini" --set top.t_start=1 --json
+error "side wall on a 1D column" 2 "\[left\] slip_length: needs \[domain\] width" \
+    scenario "$chute" --set left.slip_length=0.001 --json
+error "side wall slip_length < 0" 2 "\[right\] slip_length: expected a length >= 0 \[m\], got -1" \
+    scenario "$box" --set right.slip_length=-1 --json
+error "side wall not a wall" 2 "\[left\] type: expected wall \(a side of a 2D box\), got free" \
+    scenario "$box" --set left.type=free --json
+# periodic in x with walls on the same sides, in a file: named by file and line
+sed 's/^periodic_x = 0 .*/periodic_x = 1/' "$box" > periodic_walls.ini
+printf '[left]\ntype = wall\n' >> periodic_walls.ini
+error "periodic in x with side walls" 2 \
+    "^ekm: periodic_walls.ini:$(wc -l < periodic_walls.ini): \[left\] type: \[domain\] periodic_x = 1 has no side walls" \
+    scenario periodic_walls.ini --json
+grep -q '^periodic_x = 1' periodic_walls.ini && ok "periodic_walls.ini is periodic" || bad "sed did not set periodic_x"
 
 where="sandpile.ini:$(line "$pile" cells_x): \[domain\] cells_x = 130"
 if "$ekm" --help | grep -q "this ekm has the 2D solver"; then

@@ -132,13 +132,13 @@ static const error_case EKM_ERRORS[] = {
      EKM_EINPUT,
      FILE_NAME
      ":30: [materal]: unknown section (the sections are scenario material model domain gravity initial "
-     "bottom top run numerics hypo dem compare campaign figures)"},
+     "bottom top left right run numerics hypo dem compare campaign figures)"},
     {"section in capitals",
      "[DEM]\nlx = 1",
      {NULL},
      EKM_EINPUT,
      FILE_NAME ":30: [DEM]: unknown section (the sections are scenario material model domain gravity initial "
-               "bottom top run numerics hypo dem compare campaign figures)"},
+               "bottom top left right run numerics hypo dem compare campaign figures)"},
     {"missing key", "-eps0", {NULL}, EKM_EINPUT, FILE_NAME ": [material] eps0: missing (a required key)"},
     {"value longer than allowed",
      "=name:name = " NAME_65,
@@ -602,7 +602,7 @@ static void test_syntax_allowed(void **state)
     assert_int_equal(ekm_scenario_load_texts(&sc, &t, NULL, NULL, 0, &err), EKM_EINPUT);
     assert_string_equal(err.message,
                         "mem.ini:32: [scenario2]: unknown section (the sections are scenario material "
-                        "model domain gravity initial bottom top run numerics hypo dem compare "
+                        "model domain gravity initial bottom top left right run numerics hypo dem compare "
                         "campaign figures)");
     ekm_scenario_free(&sc);
     t.size = strlen(text) - strlen("[scenario2]");
