@@ -27,14 +27,19 @@ int ekm2d_is_rank0(void)
     return rank == 0;
 }
 
-/* The next time a frame is due or the driving changes (an inflow closes). */
+/* The next time a frame is due or the driving changes (an inflow opens or closes). */
 static double next_stop(const ekm_scenario *sc, double t, double t_frame)
 {
     double next = t_frame;
     const ekm_bc *ends[2] = {&sc->bottom, &sc->top};
-    for (int k = 0; k < 2; k++)
-        if (ends[k]->kind == EKM_BC_INFLOW && ends[k]->t_stop > t * (1.0 + 1e-12) && ends[k]->t_stop < next)
-            next = ends[k]->t_stop;
+    for (int k = 0; k < 2; k++) {
+        if (ends[k]->kind != EKM_BC_INFLOW)
+            continue;
+        const double events[2] = {ends[k]->t_start, ends[k]->t_stop};
+        for (int e = 0; e < 2; e++)
+            if (events[e] > t * (1.0 + 1e-12) + 1e-300 && events[e] < next)
+                next = events[e];
+    }
     return next;
 }
 
@@ -74,10 +79,11 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
     for (size_t k = 0; st == EKM_OK && k < n_frames; k++) {
         const double t_frame = k * sc->output_dt;
         ekm2d_stats stats;
-        ekm2d_solver_stats(sol, &stats);
+        st = ekm2d_solver_stats(sol, &stats, err);
         while (st == EKM_OK && stats.t < t_frame * (1.0 - 1e-12)) {
             st = ekm2d_solver_advance(sol, next_stop(sc, stats.t, t_frame), err);
-            ekm2d_solver_stats(sol, &stats);
+            if (st == EKM_OK)
+                st = ekm2d_solver_stats(sol, &stats, err);
             if (st == EKM_OK && opt->progress && rank == 0 && now_s() - last_progress > 0.25) {
                 last_progress = now_s();
                 const double frac = stats.t / sc->t_end, el = now_s() - started;
@@ -97,11 +103,11 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
     }
     if (opt->progress && rank == 0)
         fputc('\n', stderr);
-    ekm2d_stats stats;
-    ekm2d_solver_stats(sol, &stats);
+    ekm2d_stats stats = {0};
+    if (st == EKM_OK)
+        st = ekm2d_solver_stats(sol, &stats, err);
     const double wall = now_s() - started;
     if (st == EKM_OK && rank == 0) {
-        ekm2d_stats s0 = stats;
         const struct {
             const char *name;
             double value;
@@ -114,7 +120,6 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
             {"stats.mass_final", stats.mass},
             {"stats.mass_in", stats.mass_in},
         };
-        (void)s0;
         for (size_t i = 0; i < sizeof attrs / sizeof attrs[0] && st == EKM_OK; i++)
             st = ekm2d_writer_set_attr(w, attrs[i].name, attrs[i].value, err);
         if (st == EKM_OK)

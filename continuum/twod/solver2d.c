@@ -12,12 +12,14 @@
 
 /* Boundary data of one end (bottom or top) at one time. */
 typedef struct {
-    ekm_bc_kind kind;   /* wall, free or inflow (closed inflow: wall) */
-    double w;           /* prescribed vz [m/s] (wall 0, inflow w) */
-    double phi_in;      /* entering phi (inflow) [-] */
-    double u_in, T_in;  /* entering vx [m/s] and T [m^2/s^2] (inflow) */
-    double u_wall;      /* wall: tangential speed [m/s] */
-    double conductance; /* wall: 1/(dz/2 + slip_length) [1/m]; 0 otherwise */
+    ekm_bc_kind kind;            /* wall, free or inflow (closed inflow: wall) */
+    double w;                    /* prescribed vz [m/s] (wall 0, inflow w) */
+    double phi_in;               /* entering phi (inflow) [-] */
+    double u_in, T_in;           /* entering vx [m/s] and T [m^2/s^2] (inflow) */
+    double u_wall;               /* wall: tangential speed [m/s] */
+    double conductance;          /* wall, and an inflow end's wall beside its inlet: 1/(dz/2 + slip_length)
+                                  * [1/m]; 0 otherwise */
+    PetscInt inlet_lo, inlet_hi; /* inflow: the columns of the inlet's faces, lo..hi */
 } end_data;
 
 struct ekm2d_solver {
@@ -28,13 +30,17 @@ struct ekm2d_solver {
     Vec U;         /* the solution (global) */
     Vec U_start;   /* the solution at the start of the current step (global) */
     Vec row_scale; /* 1 / magnitude of each row's terms at the start of the step (global) */
-    Vec dry_local; /* local: slot phi of element = 1 when the cell is empty for this step */
+    Vec dry_local; /* local, frozen for a step: slot phi of an element 1 when the cell is empty;
+                    * slot vx (vz) of a face the side its upwind cell lies on, +1 the lower
+                    * index (left, below), -1 the higher */
     Mat J;
-    int nx, nz;                      /* cells */
-    double dx, dz;                   /* cell sizes [m] */
-    int periodic;                    /* 1: periodic in x */
-    double g_x, g_z;                 /* gravity [m/s^2] */
-    PetscInt s_phi, s_T, s_vx, s_vz; /* slots in the local arrays */
+    int nx, nz;                        /* cells */
+    double dx, dz;                     /* cell sizes [m] */
+    int periodic;                      /* 1: periodic in x */
+    double side_conductance[2];        /* side walls x = 0, x = width: 1/(dx/2 + slip_length) [1/m] */
+    PetscInt inlet_lo[2], inlet_hi[2]; /* bottom, top inflow: the inlet's face columns (lo..hi) */
+    double g_x, g_z;                   /* gravity [m/s^2] */
+    PetscInt s_phi, s_T, s_vx, s_vz;   /* slots in the local arrays */
     /* ghosted box of this rank (element indices) and the per-cell properties there */
     PetscInt gx0, gz0, gnx, gnz;
     ekm_cell_properties *prop; /* gnx * gnz */
@@ -42,9 +48,8 @@ struct ekm2d_solver {
     double *mag;               /* NULL, or local: the magnitude of each row's terms (scaling pass) */
     double t_step;             /* time at the start of the step [s] */
     long steps, rejected, newton;
-    double dt_failed;    /* > 0: a step was tried below dt_min, this long [s] */
-    double mass_in;      /* [kg/m] */
-    double mass_initial; /* [kg/m] */
+    double dt_failed; /* > 0: a step was tried below dt_min, this long [s] */
+    double mass_in;   /* [kg/m] */
 };
 
 /* The most negative phi an accepted step may leave in an empty cell: the
@@ -61,23 +66,45 @@ struct ekm2d_solver {
 
 /* ---- boundaries ---------------------------------------------------------------------------------- */
 
-static end_data end_at(const ekm_scenario *sc, const ekm_bc *bc, double t, double dz)
+/* End `top` (0: bottom, 1: top) at time t: an inflow is open from t_start
+ * to t_stop, a resting no-slip wall otherwise; beside its inlet segment
+ * the end is a resting no-slip wall too. */
+static end_data end_at(const ekm2d_solver *s, int top, double t)
 {
+    const ekm_bc *bc = top ? &s->sc->top : &s->sc->bottom;
     end_data e = {0};
     e.kind = bc->kind;
-    if (bc->kind == EKM_BC_INFLOW && t >= bc->t_stop)
+    if (bc->kind == EKM_BC_INFLOW && (t < bc->t_start || t >= bc->t_stop))
         e.kind = EKM_BC_WALL; /* closed: a resting wall */
-    if (e.kind == EKM_BC_WALL) {
+    if (e.kind == EKM_BC_WALL || e.kind == EKM_BC_INFLOW) {
         e.u_wall = bc->kind == EKM_BC_WALL ? bc->velocity : 0.0;
-        e.conductance = 1.0 / (0.5 * dz + (bc->kind == EKM_BC_WALL ? bc->slip_length : 0.0));
-    } else if (e.kind == EKM_BC_INFLOW) {
+        e.conductance = 1.0 / (0.5 * s->dz + (bc->kind == EKM_BC_WALL ? bc->slip_length : 0.0));
+    }
+    if (e.kind == EKM_BC_INFLOW) {
         e.w = bc->w;
         e.phi_in = bc->phi;
         e.u_in = bc->u;
         e.T_in = bc->T;
+        e.inlet_lo = s->inlet_lo[top];
+        e.inlet_hi = s->inlet_hi[top];
     }
-    (void)sc;
     return e;
+}
+
+/* Face column i (a periodic image wrapped) of end e is part of an open inlet. */
+static inline int inlet_face(const ekm2d_solver *s, const end_data *e, PetscInt i)
+{
+    if (e->kind != EKM_BC_INFLOW)
+        return 0;
+    if (s->periodic)
+        i = (i % s->nx + s->nx) % s->nx;
+    return i >= e->inlet_lo && i <= e->inlet_hi;
+}
+
+/* The prescribed vz on face column i of end e [m/s]: the inflow's w on its inlet, 0 on a wall. */
+static inline double end_w(const ekm2d_solver *s, const end_data *e, PetscInt i)
+{
+    return inlet_face(s, e, i) ? e->w : 0.0;
 }
 
 ekm_status ekm2d_supported(const ekm_scenario *sc, ekm_error *err)
@@ -134,7 +161,8 @@ ekm_status ekm2d_supported(const ekm_scenario *sc, ekm_error *err)
 /* ---- the discrete equations -------------------------------------------------------------------------- */
 
 typedef struct {
-    const PetscScalar ***u; /* the state, local */
+    const PetscScalar ***u;      /* the state, local */
+    const PetscScalar ***frozen; /* dry_local's array: empty cells, upwind sides */
     end_data bottom, top;
     const ekm2d_solver *s;
 } eval_ctx;
@@ -180,7 +208,7 @@ static inline double flux_x(const eval_ctx *c, PetscInt i, PetscInt j)
     if (side_face(s, i))
         return 0.0;
     const double v = c->u[j][i][s->s_vx];
-    return v * (v > 0.0 ? c->u[j][i - 1][s->s_phi] : c->u[j][i][s->s_phi]);
+    return v * (c->frozen[j][i][s->s_vx] > 0.0 ? c->u[j][i - 1][s->s_phi] : c->u[j][i][s->s_phi]);
 }
 
 /* Face volume flux through z-face (i, j) [m/s] (positive along +z). */
@@ -190,19 +218,19 @@ static inline double flux_z(const eval_ctx *c, PetscInt i, PetscInt j)
     const double v = c->u[j][i][s->s_vz];
     if (j == 0) {
         if (c->bottom.kind == EKM_BC_INFLOW)
-            return c->bottom.w * c->bottom.phi_in;
+            return inlet_face(s, &c->bottom, i) ? c->bottom.w * c->bottom.phi_in : 0.0;
         if (c->bottom.kind == EKM_BC_FREE)
             return v < 0.0 ? v * c->u[0][i][s->s_phi] : 0.0;
         return 0.0;
     }
     if (j == s->nz) {
         if (c->top.kind == EKM_BC_INFLOW)
-            return c->top.w * c->top.phi_in;
+            return inlet_face(s, &c->top, i) ? c->top.w * c->top.phi_in : 0.0;
         if (c->top.kind == EKM_BC_FREE)
             return v > 0.0 ? v * c->u[j - 1][i][s->s_phi] : 0.0;
         return 0.0;
     }
-    return v * (v > 0.0 ? c->u[j - 1][i][s->s_phi] : c->u[j][i][s->s_phi]);
+    return v * (c->frozen[j][i][s->s_vz] > 0.0 ? c->u[j - 1][i][s->s_phi] : c->u[j][i][s->s_phi]);
 }
 
 /* The face momentum's control volumes have the mean of the two face
@@ -212,18 +240,28 @@ static inline double flux_z(const eval_ctx *c, PetscInt i, PetscInt j)
 
 /* Shear stress and rate at corner (i, j) (x-face index i, z-face index j):
  * *rate = dvx/dz + dvz/dx [1/s], returns sigma_xz [Pa]; *has_rate = 0
- * where the corner carries no rate (a free or inflow end, a side wall, an
- * empty cell next to it). */
+ * where the corner carries no rate (a free end, an inlet's face beside
+ * it, an empty cell next to it, a corner of the box). On a wall the rate
+ * is the slip rate over half a cell plus the slip length (the 1D wall's). */
 static double corner_stress(const eval_ctx *c, PetscInt i, PetscInt j, double *rate, int *has_rate)
 {
     const ekm2d_solver *s = c->s;
     *rate = 0.0;
     *has_rate = 0;
-    if (side_face(s, i))
-        return 0.0; /* frictionless side walls */
+    if (side_face(s, i)) {
+        if (j == 0 || j == s->nz)
+            return 0.0; /* a corner of the box: no velocity beside it moves */
+        const PetscInt ic = i == 0 ? 0 : s->nx - 1;
+        if (!is_wet(s, ic, j - 1) || !is_wet(s, ic, j))
+            return 0.0;
+        const double v = c->u[j][ic][s->s_vz];
+        *rate = (i == 0 ? v : -v) * s->side_conductance[i == 0 ? 0 : 1];
+        *has_rate = 1;
+        return harmonic(props(s, ic, j - 1)->eta, props(s, ic, j)->eta) * *rate;
+    }
     if (j == 0 || j == s->nz) {
         const end_data *e = j == 0 ? &c->bottom : &c->top;
-        if (e->kind != EKM_BC_WALL)
+        if (e->kind == EKM_BC_FREE || inlet_face(s, e, i - 1) || inlet_face(s, e, i))
             return 0.0;
         const PetscInt jc = j == 0 ? 0 : s->nz - 1;
         const double v = c->u[jc][i][s->s_vx];
@@ -262,6 +300,37 @@ static inline ekm_plane_stress cell_stress(const eval_ctx *c, PetscInt i, PetscI
     double exx, ezz;
     cell_rates(c, i, j, &exx, &ezz);
     return ekm_stress_plane(props(c->s, i, j), c->s->sc->variant, exx, ezz);
+}
+
+/* The data frozen for a step, from the state u at its start, into fr (a
+ * local array of the grid): the empty cells (phi < phi_dry) and each
+ * face's upwind side, the side the face velocity comes from (at rest:
+ * the fuller cell). The mass fluxes take the upwind phi from the frozen
+ * side, so that the discrete equations are smooth in the step's unknowns:
+ * with the side following the sign of v, the flux's derivative jumps at
+ * v = 0 (phi of one cell or the other), and Newton failed at the edges of
+ * a narrow stream, where a face next to an empty cell sits at v ~ 0.
+ * Within a step a velocity may turn against its frozen side; the flux is
+ * then v times the frozen side's phi, and a step that would take a cell
+ * below phi = 0 so is rejected (check_stage). */
+static void freeze_step_data(const ekm2d_solver *s, const PetscScalar ***u, PetscScalar ***fr)
+{
+    const double phi_dry = s->sc->numerics.phi_dry;
+    for (PetscInt j = s->gz0; j < s->gz0 + s->gnz; j++)
+        for (PetscInt i = s->gx0; i < s->gx0 + s->gnx; i++) {
+            if (cell_exists(s, i, j))
+                fr[j][i][s->s_phi] = u[j][i][s->s_phi] < phi_dry ? 1.0 : 0.0;
+            const int has_w = i - 1 >= s->gx0, has_s = j - 1 >= s->gz0;
+            const double vx = u[j][i][s->s_vx], vz = u[j][i][s->s_vz];
+            double side = vx > 0.0 ? 1.0 : -1.0;
+            if (vx == 0.0 && has_w && j < s->nz)
+                side = u[j][i - 1][s->s_phi] >= u[j][i][s->s_phi] ? 1.0 : -1.0;
+            fr[j][i][s->s_vx] = side;
+            side = vz > 0.0 ? 1.0 : -1.0;
+            if (vz == 0.0 && has_s && j < s->nz && j > 0)
+                side = u[j - 1][i][s->s_phi] >= u[j][i][s->s_phi] ? 1.0 : -1.0;
+            fr[j][i][s->s_vz] = side;
+        }
 }
 
 /* Properties of every cell of the ghosted box; 0: a non-empty cell is
@@ -310,7 +379,7 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
     const ekm_scenario *sc = s->sc;
     const ekm_material *m = &sc->material;
     const double rho_p = m->rho_p, dx = s->dx, dz = s->dz;
-    const double T_floor = sc->numerics.T_floor, phi_dry = sc->numerics.phi_dry;
+    const double T_floor = sc->numerics.T_floor;
     const PetscScalar ***u = c->u;
     PetscInt x0, z0, nxl, nzl, ex, ez;
     DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, &ex, &ez, NULL);
@@ -339,9 +408,9 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                     const double T_e = is_wet(s, i + 1, j) ? u[j][i + 1][s->s_T] : T_floor;
                     double T_s = is_wet(s, i, j - 1) ? u[j - 1][i][s->s_T] : T_floor;
                     double T_n = is_wet(s, i, j + 1) ? u[j + 1][i][s->s_T] : T_floor;
-                    if (j == 0 && c->bottom.kind == EKM_BC_INFLOW)
+                    if (j == 0 && inlet_face(s, &c->bottom, i))
                         T_s = c->bottom.T_in;
-                    if (j == s->nz - 1 && c->top.kind == EKM_BC_INFLOW)
+                    if (j == s->nz - 1 && inlet_face(s, &c->top, i))
                         T_n = c->top.T_in;
                     double adv = 0.0;
                     if (Fw > 0.0)
@@ -454,9 +523,10 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                         if (mg)
                             mg[j][i][s->s_vz] = fabs(v) + fabs(v_in) + 1.0;
                     } else {
-                        f[j][i][s->s_vz] = v - e->w;
+                        const double w = end_w(s, e, i);
+                        f[j][i][s->s_vz] = v - w;
                         if (mg)
-                            mg[j][i][s->s_vz] = fabs(v) + fabs(e->w) + 1.0;
+                            mg[j][i][s->s_vz] = fabs(v) + fabs(w) + 1.0;
                     }
                 } else if (!is_wet(s, i, j - 1) && !is_wet(s, i, j)) {
                     f[j][i][s->s_vz] = v;
@@ -469,8 +539,8 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                     const double Fc_n = 0.5 * (flux_z(c, i, j) + flux_z(c, i, j + 1));
                     const double Fc_w = 0.5 * (flux_x(c, i, j - 1) + flux_x(c, i, j));
                     const double Fc_e = 0.5 * (flux_x(c, i + 1, j - 1) + flux_x(c, i + 1, j));
-                    const double v_s = j - 1 > 0 ? u[j - 1][i][s->s_vz] : c->bottom.w;
-                    const double v_n = j + 1 < s->nz ? u[j + 1][i][s->s_vz] : c->top.w;
+                    const double v_s = j - 1 > 0 ? u[j - 1][i][s->s_vz] : end_w(s, &c->bottom, i);
+                    const double v_n = j + 1 < s->nz ? u[j + 1][i][s->s_vz] : end_w(s, &c->top, i);
                     const int has_w = s->periodic || i > 0, has_e = s->periodic || i < s->nx - 1;
                     double adv = 0.0;
                     if (Fc_s > 0.0)
@@ -498,7 +568,6 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                 }
             }
         }
-    (void)phi_dry;
 }
 
 /* TS's implicit function: F(t, U, Udot), rows scaled by row_scale. */
@@ -527,9 +596,9 @@ static PetscErrorCode ifunction(TS ts, PetscReal t, Vec U, Vec Udot, Vec F, void
     PCALL(DMStagVecGetArrayRead(s->dm, s->dry_local, (void *)&dry));
     PCALL(DMStagVecGetArray(s->dm, Fl, &f));
     const int ok = compute_properties(s, u, dry);
-    eval_ctx c = {.u = u, .s = s};
-    c.bottom = end_at(s->sc, &s->sc->bottom, s->t_step, s->dz);
-    c.top = end_at(s->sc, &s->sc->top, s->t_step, s->dz);
+    eval_ctx c = {.u = u, .frozen = dry, .s = s};
+    c.bottom = end_at(s, 0, s->t_step);
+    c.top = end_at(s, 1, s->t_step);
     if (ok)
         residual_rows(&c, ud, f, NULL, t);
     PCALL(DMStagVecRestoreArrayRead(s->dm, Ul, (void *)&u));
@@ -546,6 +615,48 @@ static PetscErrorCode ifunction(TS ts, PetscReal t, Vec U, Vec Udot, Vec F, void
     return 0;
 }
 
+/* A cell that joins the flow this step (phi >= phi_dry, T still the empty
+ * cells' T_floor) starts from the largest T of its wet neighbours, or the
+ * inflow's T under an open inlet: Newton from T_floor (1e-16) overshoots
+ * to T < 0 where the cell expands into its empty neighbours. An empty
+ * cell's T carries no information, so the state is unchanged otherwise. */
+static PetscErrorCode seed_joining_cells(ekm2d_solver *s, Vec U, double t)
+{
+    const double phi_dry = s->sc->numerics.phi_dry, T_floor = s->sc->numerics.T_floor;
+    const end_data bottom = end_at(s, 0, t), top = end_at(s, 1, t);
+    Vec Ul;
+    PetscScalar ***u;
+    PCALL(DMGetLocalVector(s->dm, &Ul));
+    PCALL(DMGlobalToLocal(s->dm, U, INSERT_VALUES, Ul));
+    PCALL(DMStagVecGetArray(s->dm, Ul, &u));
+    PetscInt x0, z0, nxl, nzl;
+    PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, NULL, NULL, NULL));
+    for (PetscInt j = z0; j < z0 + nzl; j++)
+        for (PetscInt i = x0; i < x0 + nxl; i++) {
+            if (!(u[j][i][s->s_phi] >= phi_dry && u[j][i][s->s_T] <= T_floor))
+                continue;
+            double T_seed = 0.0;
+            const PetscInt nb[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+            for (int q = 0; q < 4; q++) {
+                const PetscInt a = nb[q][0], b = nb[q][1];
+                if (b < 0 || b >= s->nz || (!s->periodic && (a < 0 || a >= s->nx)))
+                    continue;
+                if (u[b][a][s->s_phi] >= phi_dry)
+                    T_seed = fmax(T_seed, u[b][a][s->s_T]);
+            }
+            if (j == 0 && inlet_face(s, &bottom, i))
+                T_seed = fmax(T_seed, bottom.T_in);
+            if (j == s->nz - 1 && inlet_face(s, &top, i))
+                T_seed = fmax(T_seed, top.T_in);
+            if (T_seed > T_floor)
+                u[j][i][s->s_T] = T_seed;
+        }
+    PCALL(DMStagVecRestoreArray(s->dm, Ul, &u));
+    PCALL(DMLocalToGlobal(s->dm, Ul, INSERT_VALUES, U));
+    PCALL(DMRestoreLocalVector(s->dm, &Ul));
+    return 0;
+}
+
 /* Before each step: the empty cells of the step and the row scales from
  * the state at its start; the step no longer than the convective limit. */
 static PetscErrorCode prestep(TS ts)
@@ -557,6 +668,7 @@ static PetscErrorCode prestep(TS ts)
     PCALL(TSGetSolution(ts, &U));
     PCALL(TSGetTime(ts, &t));
     s->t_step = t;
+    PCALL(seed_joining_cells(s, U, t));
     PCALL(VecCopy(U, s->U_start));
     Vec Ul, Ml, Zl;
     PCALL(DMGetLocalVector(s->dm, &Ul));
@@ -571,12 +683,7 @@ static PetscErrorCode prestep(TS ts)
     PCALL(DMStagVecGetArray(s->dm, s->dry_local, &dry));
     PCALL(DMStagVecGetArrayRead(s->dm, Ul, (void *)&u));
     double vmax_x = 0.0, vmax_z = 0.0;
-    for (PetscInt j = s->gz0; j < s->gz0 + s->gnz; j++)
-        for (PetscInt i = s->gx0; i < s->gx0 + s->gnx; i++) {
-            if (!cell_exists(s, i, j))
-                continue;
-            dry[j][i][s->s_phi] = u[j][i][s->s_phi] < s->sc->numerics.phi_dry ? 1.0 : 0.0;
-        }
+    freeze_step_data(s, u, dry);
     PetscInt x0, z0, nxl, nzl, ex, ez;
     PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, &ex, &ez, NULL));
     /* the convective limit counts what a face carries into a cell of other
@@ -612,9 +719,9 @@ static PetscErrorCode prestep(TS ts)
     const PetscScalar ***dry_r;
     PCALL(DMStagVecGetArrayRead(s->dm, s->dry_local, (void *)&dry_r));
     (void)compute_properties(s, u, dry_r);
-    eval_ctx c = {.u = u, .s = s};
-    c.bottom = end_at(s->sc, &s->sc->bottom, t, s->dz);
-    c.top = end_at(s->sc, &s->sc->top, t, s->dz);
+    eval_ctx c = {.u = u, .frozen = dry_r, .s = s};
+    c.bottom = end_at(s, 0, t);
+    c.top = end_at(s, 1, t);
     residual_rows(&c, zero, f, mg, t);
     PCALL(DMStagVecRestoreArrayRead(s->dm, s->dry_local, (void *)&dry_r));
     PCALL(DMStagVecRestoreArrayRead(s->dm, Zl, (void *)&zero));
@@ -669,13 +776,13 @@ static PetscErrorCode poststep(TS ts)
     /* the inflow's flux is prescribed: rho_p phi_in |w| over the inlet per unit depth */
     const double dt_step = t - s->t_step;
     const ekm_material *m = &s->sc->material;
-    const end_data b = end_at(s->sc, &s->sc->bottom, s->t_step, s->dz);
-    const end_data tp = end_at(s->sc, &s->sc->top, s->t_step, s->dz);
-    const double width = s->nx * s->dx;
+    const end_data b = end_at(s, 0, s->t_step);
+    const end_data tp = end_at(s, 1, s->t_step);
     if (b.kind == EKM_BC_INFLOW)
-        s->mass_in += m->rho_p * b.phi_in * b.w * width * dt_step;
+        s->mass_in += m->rho_p * b.phi_in * b.w * (double)(b.inlet_hi - b.inlet_lo + 1) * s->dx * dt_step;
     if (tp.kind == EKM_BC_INFLOW)
-        s->mass_in += -m->rho_p * tp.phi_in * tp.w * width * dt_step;
+        s->mass_in +=
+            -m->rho_p * tp.phi_in * tp.w * (double)(tp.inlet_hi - tp.inlet_lo + 1) * s->dx * dt_step;
     return 0;
 }
 
@@ -745,6 +852,7 @@ static PetscErrorCode initial_state(ekm2d_solver *s, const ekm_state *init)
     PetscInt x0, z0, nxl, nzl, ex, ez;
     PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, &ex, &ez, NULL));
     const double dz = s->dz, phi_dry = sc->numerics.phi_dry;
+    const end_data bottom = end_at(s, 0, 0.0), top = end_at(s, 1, 0.0);
     for (PetscInt j = z0; j < z0 + nzl + ez; j++)
         for (PetscInt i = x0; i < x0 + nxl + ex; i++) {
             if (init) {
@@ -774,7 +882,8 @@ static PetscErrorCode initial_state(ekm2d_solver *s, const ekm_state *init)
                 const double z = (j + 0.5) * dz;
                 u[j][i][s->s_vx] = wet && !side_face(s, i) ? sc->u_init + sc->shear_rate_init * z : 0.0;
             }
-            u[j][i][s->s_vz] = 0.0;
+            /* the ends' prescribed vz from the start (an open inlet: its w) */
+            u[j][i][s->s_vz] = j == 0 ? end_w(s, &bottom, i) : j == s->nz ? end_w(s, &top, i) : 0.0;
         }
     PCALL(DMStagVecRestoreArray(s->dm, Ul, &u));
     PCALL(DMLocalToGlobal(s->dm, Ul, INSERT_VALUES, s->U));
@@ -843,6 +952,32 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     s->periodic = sc->periodic_x;
     s->g_x = ekm_scenario_gravity_x(sc);
     s->g_z = ekm_scenario_gravity_z(sc);
+    s->side_conductance[0] = 1.0 / (0.5 * s->dx + sc->left.slip_length);
+    s->side_conductance[1] = 1.0 / (0.5 * s->dx + sc->right.slip_length);
+    const ekm_bc *ends[2] = {&sc->bottom, &sc->top};
+    for (int k = 0; k < 2; k++) {
+        /* the inlet: the faces whose centres lie in it (the reader checked it holds one) */
+        s->inlet_lo[k] = 0;
+        s->inlet_hi[k] = s->nx - 1;
+        if (ends[k]->kind == EKM_BC_INFLOW && isfinite(ends[k]->inlet_width)) {
+            const double lo = ends[k]->inlet_x - 0.5 * ends[k]->inlet_width;
+            const double hi = ends[k]->inlet_x + 0.5 * ends[k]->inlet_width;
+            s->inlet_lo[k] = s->nx;
+            s->inlet_hi[k] = -1;
+            for (PetscInt i = 0; i < s->nx; i++) {
+                const double xc = (i + 0.5) * s->dx;
+                if (xc >= lo && xc <= hi) {
+                    s->inlet_lo[k] = i < s->inlet_lo[k] ? i : s->inlet_lo[k];
+                    s->inlet_hi[k] = i;
+                }
+            }
+            if (s->inlet_hi[k] < s->inlet_lo[k]) {
+                ekm2d_solver_destroy(s);
+                return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] inlet_width: the inlet holds no face centre",
+                                sc->source, k ? "top" : "bottom");
+            }
+        }
+    }
     TRY(DMStagCreate2d(comm, s->periodic ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, s->nx,
                        s->nz, PETSC_DECIDE, PETSC_DECIDE, 0, 1, 2, DMSTAG_STENCIL_BOX, 2, NULL, NULL, &s->dm),
         "DMStagCreate2d");
@@ -869,8 +1004,6 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     TRY(DMCreateLocalVector(s->dm, &s->dry_local), "DMCreateLocalVector");
     TRY(VecSet(s->dry_local, 0.0), "VecSet");
     TRY(initial_state(s, init), "initial state");
-    double phi_max;
-    TRY(total_mass(s, s->U, &s->mass_initial, &phi_max), "mass");
 
     TRY(TSCreate(comm, &s->ts), "TSCreate");
     TRY(TSSetDM(s->ts, s->dm), "TSSetDM");
@@ -898,7 +1031,16 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     SNES snes;
     TRY(TSGetSNES(s->ts, &snes), "TSGetSNES");
     TRY(TSSetFunctionDomainError(s->ts, check_stage), "TSSetFunctionDomainError");
-    TRY(SNESSetTolerances(snes, 1e-12, 1e-12, 1e-14, 50, 100000), "SNESSetTolerances");
+    /* Converged when the scaled rows' RMS is below 1e-11 (each row is scaled
+     * by its terms' magnitude; with 1e-12 the start-up of a tilted layer at
+     * rest finds no descent below it at t = 0), or 1e-12 of the start. No step-norm test
+     * (stol 0): with PETSc's default a line search that stalled counted as
+     * converged, and steps were accepted with residuals of 1e-4. The mass
+     * balance of a step is then exact to the phi rows' residual (the fluxes
+     * telescope for any iterate): about 1e-14 relative per step. */
+    PetscInt n_rows;
+    TRY(VecGetSize(s->U, &n_rows), "VecGetSize");
+    TRY(SNESSetTolerances(snes, 1e-11 * sqrt((double)n_rows), 1e-12, 0.0, 50, 100000), "SNESSetTolerances");
     KSP ksp;
     PC pc;
     TRY(SNESGetKSP(snes, &ksp), "SNESGetKSP");
@@ -987,18 +1129,15 @@ static PetscErrorCode local_fields(ekm2d_solver *s, DM dmf, Vec nat)
     PCALL(DMGetLocalVector(s->dm, &dryl));
     PCALL(VecSet(dryl, 0.0));
     PCALL(DMStagVecGetArray(s->dm, dryl, &dw));
-    for (PetscInt j = s->gz0; j < s->gz0 + s->gnz; j++)
-        for (PetscInt i = s->gx0; i < s->gx0 + s->gnx; i++)
-            if (cell_exists(s, i, j))
-                dw[j][i][s->s_phi] = u[j][i][s->s_phi] < sc->numerics.phi_dry ? 1.0 : 0.0;
+    freeze_step_data(s, u, dw);
     PCALL(DMStagVecRestoreArray(s->dm, dryl, &dw));
     PCALL(DMStagVecGetArrayRead(s->dm, dryl, (void *)&dry));
     (void)compute_properties(s, u, dry);
-    eval_ctx c = {.u = u, .s = s};
+    eval_ctx c = {.u = u, .frozen = dry, .s = s};
     PetscReal t;
     PCALL(TSGetTime(s->ts, &t));
-    c.bottom = end_at(sc, &sc->bottom, t, s->dz);
-    c.top = end_at(sc, &sc->top, t, s->dz);
+    c.bottom = end_at(s, 0, t);
+    c.top = end_at(s, 1, t);
     PetscScalar ***o;
     PCALL(DMStagVecGetArray(dmf, nat, &o));
     PetscInt x0, z0, nxl, nzl;
@@ -1084,19 +1223,23 @@ ekm_status ekm2d_solver_fields(ekm2d_solver *s, double *const fields[EKM2D_NFIEL
     return rc ? petsc_fail(err, rc, "gathering the output fields") : EKM_OK;
 }
 
-void ekm2d_solver_stats(ekm2d_solver *s, ekm2d_stats *out)
+ekm_status ekm2d_solver_stats(ekm2d_solver *s, ekm2d_stats *out, ekm_error *err)
 {
     PetscReal t;
-    TSGetTime(s->ts, &t);
+    PetscErrorCode rc = TSGetTime(s->ts, &t);
+    if (rc)
+        return petsc_fail(err, rc, "the solver's time");
     out->t = t;
     out->steps = s->steps;
     out->rejected = s->rejected;
     out->newton = s->newton;
     double mass = NAN, phi_max = NAN;
-    total_mass(s, s->U, &mass, &phi_max);
+    rc = total_mass(s, s->U, &mass, &phi_max);
+    if (rc)
+        return petsc_fail(err, rc, "the total mass");
     out->mass = mass;
     out->mass_in = s->mass_in;
     out->phi_max = phi_max;
     out->cell_updates = (double)s->steps * s->nx * s->nz;
-    (void)s->mass_initial;
+    return EKM_OK;
 }

@@ -75,6 +75,8 @@ typedef struct {
     double cell_updates; /* accepted steps x cells */
 } ekm2d_stats;
 
-void ekm2d_solver_stats(ekm2d_solver *s, ekm2d_stats *out);
+/* The run's statistics so far (the mass is a reduction over the ranks:
+ * collective); EKM_EINTERNAL on a PETSc error. */
+ekm_status ekm2d_solver_stats(ekm2d_solver *s, ekm2d_stats *out, ekm_error *err);
 
 #endif
