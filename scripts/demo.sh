@@ -14,9 +14,19 @@ mkdir -p "$out"
 echo "== 1. ekm: every continuum scenario -> runs/demo/continuum/"
 for ini in "$root"/scenarios/*.ini; do
   name=$(basename "$ini" .ini)
-  # a 2D domain (cells_x > 1: the sand pile) waits for the 2D solver (issue 14)
   nx=$("$root/$build/continuum/ekm" scenario "$ini" --json | jq -r '.keys["domain.cells_x"].value // "1"')
-  if [ "$nx" != 1 ]; then echo "$name: 2D ($nx cells along x): no 2D solver yet, skipped"; continue; fi
+  if [ "$nx" != 1 ]; then
+    # 2D: the box filling's first 0.02 s on a 6 x 20 grid, on 2 ranks (the
+    # whole run takes hours: docs/model.md "2D solver"); the sand pile's EKM
+    # needs the 2D solid regime (issue 14)
+    if [ "$name" != thesis_filling_2d ]; then echo "$name: 2D ($nx cells along x): skipped"; continue; fi
+    if ! "$root/$build/continuum/ekm" --help | grep -q "this ekm has the 2D solver"; then
+      echo "$name: 2D: this ekm is built without the 2D solver (docs/build.md), skipped"; continue
+    fi
+    bash "$root/tests/mpirun.sh" 2 "$root/$build/continuum/ekm" run "$ini" --set domain.cells_x=6 \
+      --set domain.cells=20 --set run.t_end=0.02 --set run.output_dt=0.01 -o "$out/${name}_small.h5"
+    continue
+  fi
   "$root/$build/continuum/ekm" run "$ini" -o "$out/$name.h5"
 done
 echo

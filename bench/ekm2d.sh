@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# bench/ekm2d.sh: the 2D EKM's speed (issue 14): cell-updates per second on
+# one core and the speed-up on 2 ranks, on the thesis's box filling
+# (scenarios/thesis_filling_2d.ini, 18 x 60 cells) over its first 0.01 s of
+# model time, from the run's own statistics (stats.cell_updates,
+# stats.wall_time_s of the output). The 2-rank run may take a different
+# step sequence (LU vs MUMPS round-off moves the adaptive steps), so the
+# speed-up compares cell-updates per second, not wall times. Targets: 1e7
+# cell-updates/s/core (goal), a 2-rank speed-up of at least 1.6x, the
+# reference sand pile to rest in under 10 min on 2 cores (no EKM sand pile
+# yet: reported as not measured). Writes $OUT/ekm2d.json (scripts/bench.sh);
+# without the 2D solver in this ekm, no rows.
+# Env: BUILD (absolute build dir), OUT (fragment dir).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+: "${BUILD:?BUILD not set}" "${OUT:?OUT not set}"
+ekm="$BUILD/continuum/ekm"
+[ -x "$ekm" ] || { echo "bench/ekm2d.sh: $ekm not built (make build)" >&2; exit 1; }
+if ! "$ekm" --help | grep -q "this ekm has the 2D solver"; then
+  echo "bench/ekm2d.sh: this ekm has no 2D solver (docs/build.md): no 2D rows" >&2
+  exit 0
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+t_window=0.01
+# rate NP: cell-updates per second of the run on NP ranks
+rate() {
+  bash "$root/tests/mpirun.sh" "$1" "$ekm" run "$root/scenarios/thesis_filling_2d.ini" --quiet \
+    --set "run.t_end=$t_window" --set "run.output_dt=$t_window" -o "$tmp/np$1.h5" >&2
+  /usr/bin/python3 - "$tmp/np$1.h5" <<'PY'
+import sys, h5py
+a = h5py.File(sys.argv[1], "r").attrs
+print("%.4g" % (float(a["stats.cell_updates"]) / float(a["stats.wall_time_s"])))
+PY
+}
+r1=$(rate 1)
+r2=$(rate 2)
+speedup=$(awk -v a="$r1" -v b="$r2" 'BEGIN { printf "%.3g", b / a }')
+st1=$(awk -v r="$r1" 'BEGIN { print (r >= 1e7 ? "met" : "missed") }')
+st2=$(awk -v s="$speedup" 'BEGIN { print (s >= 1.6 ? "met" : "missed") }')
+jq -n --argjson r1 "$r1" --argjson r2 "$r2" --argjson s "$speedup" --arg st1 "$st1" --arg st2 "$st2" \
+  --arg w "$t_window" '{
+  rows: [
+    {benchmark: "2D EKM cell-updates/s on 1 core (thesis_filling_2d, 18 x 60 cells, first \($w) s)",
+     value: $r1, unit: "cell-updates/s", target: "1e7 (goal, issue 14)", status: $st1},
+    {benchmark: "2D EKM cell-updates/s on 2 ranks (same run)", value: $r2, unit: "cell-updates/s",
+     target: null, status: "measured"},
+    {benchmark: "2D EKM speed-up on 2 ranks (cell-updates/s, 2 vs 1 rank)", value: $s, unit: "x",
+     target: ">= 1.6x (issue 14)", status: $st2},
+    {benchmark: "2D EKM reference sand pile to rest on 2 cores", value: null, unit: "s",
+     target: "< 600 s (issue 14)", status: "not measured: no EKM sand pile yet (issue 14)"}
+  ],
+  keys: {"ekm2d.cell_updates_per_s.np1": $r1, "ekm2d.cell_updates_per_s.np2": $r2, "ekm2d.speedup_np2": $s}
+}' > "$OUT/ekm2d.json"
