@@ -4,7 +4,7 @@
 # (scenarios/thesis_filling_2d.ini, 18 x 60 cells) over its first 0.01 s of
 # model time, from the run's own statistics (stats.cell_updates,
 # stats.wall_time_s of the output). The 2-rank run may take a different
-# step sequence (LU vs MUMPS round-off moves the adaptive steps), so the
+# step sequence (the round-off of the parallel assembly moves the adaptive steps), so the
 # speed-up compares cell-updates per second, not wall times. Targets: 1e7
 # cell-updates/s/core (goal), a 2-rank speed-up of at least 1.6x, the
 # reference sand pile to rest in under 10 min on 2 cores (no EKM sand pile

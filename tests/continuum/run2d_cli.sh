@@ -20,7 +20,7 @@ two_d=(--set run.stop=t_end --set run.t_end=0.02 --set run.output_dt=0.01 --set 
 for np in 1 2; do
     # steps of 1 ms (no adaptive step control: -ts_adapt_type none, the
     # convective cap alone), so both rank counts take the same steps: with
-    # TSADAPTBASIC the LU vs MUMPS round-off moves the step sequence, and
+    # TSADAPTBASIC the parallel round-off moves the step sequence, and
     # the start-up's fields differ by the time-stepping error (1e-2)
     if bash "$mpirun" "$np" "$ekm" run "$shear" "${two_d[@]}" -o "np$np.h5" -- -ts_adapt_type none -ts_dt 1e-3 \
         > "out$np.txt" 2> "err$np.txt"; then
