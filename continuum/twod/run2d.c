@@ -55,7 +55,10 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
     if (st != EKM_OK)
         return st;
     const size_t ncell = (size_t)sc->cells * (size_t)sc->cells_x;
-    const size_t n_frames = (size_t)floor(sc->t_end / sc->output_dt + 1e-9) + 1;
+    /* frames at 0, output_dt, 2 output_dt, ... and at t_end (the 1D run's frames, run.c) */
+    const double n_steps_out = floor(sc->t_end / sc->output_dt + 1e-9);
+    const int t_end_on_grid = fabs(n_steps_out * sc->output_dt - sc->t_end) <= 1e-9 * sc->t_end;
+    const size_t n_frames = (size_t)n_steps_out + 1 + (t_end_on_grid ? 0 : 1);
     double *buf = NULL;
     double *fields[EKM2D_NFIELDS] = {0};
     ekm2d_writer *w = NULL;
@@ -74,10 +77,9 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
     st = (ekm_status)code;
     if (st != EKM_OK && rank != 0)
         EKM_FAIL(err, st, "rank 0 could not open the output");
-    /* frames at 0, output_dt, 2 output_dt, ... up to t_end */
     double last_progress = started;
     for (size_t k = 0; st == EKM_OK && k < n_frames; k++) {
-        const double t_frame = k * sc->output_dt;
+        const double t_frame = fmin((double)k * sc->output_dt, sc->t_end);
         ekm2d_stats stats;
         st = ekm2d_solver_stats(sol, &stats, err);
         while (st == EKM_OK && stats.t < t_frame * (1.0 - 1e-12)) {

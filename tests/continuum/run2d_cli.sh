@@ -88,6 +88,23 @@ if "$ekm" run "$shear" "${two_d[@]}" -o petsc.h5 -- -snes_converged_reason > out
 else
     bad "PETSc option after --: $(head -c 300 err.txt) / $(head -c 300 out.txt)"
 fi
+# frames at the multiples of output_dt and at t_end, as in 1D: t_end 0.025 with output_dt 0.01
+# gives 0, 0.01, 0.02, 0.025; t_end below output_dt gives 0 and t_end
+for spec in "0.025 0,0.01,0.02,0.025" "0.004 0,0.004"; do
+    set -- $spec
+    if "$ekm" run "$shear" "${two_d[@]}" --set run.t_end="$1" --quiet -o "frames$1.h5" > out.txt 2> err.txt &&
+        "$py" - "frames$1.h5" "$2" <<'PY'
+import sys, h5py, numpy as np
+t = h5py.File(sys.argv[1], "r")["t"][:]
+want = np.array([float(v) for v in sys.argv[2].split(",")])
+sys.exit(0 if t.shape == want.shape and np.allclose(t, want, rtol=1e-9, atol=1e-12) else 1)
+PY
+    then
+        ok "t_end $1, output_dt 0.01: frames at $2 s"
+    else
+        bad "t_end $1: frames $("$py" -c "import h5py; print(h5py.File('frames$1.h5')['t'][:])" 2>&1) (want $2) $(head -c 300 err.txt)"
+    fi
+done
 
 echo "$passed passed, $failures failed"
 [ "$failures" -eq 0 ]
