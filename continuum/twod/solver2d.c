@@ -1132,6 +1132,23 @@ static PetscErrorCode count_newton(TS ts, PetscInt step, PetscReal t, Vec U, voi
     return 0;
 }
 
+/* The linear solver: LU, PETSc's own; on several ranks every rank factors
+ * the whole (small) system so (PCREDUNDANT): MUMPS' parallel LU of the
+ * same system was 14x slower than one rank's LU (docs/model.md "2D
+ * solver"). */
+static PetscErrorCode set_direct_solve(KSP ksp, int ranks)
+{
+    PC pc;
+    PCALL(KSPSetType(ksp, KSPPREONLY));
+    PCALL(KSPGetPC(ksp, &pc));
+    if (ranks == 1)
+        return PCSetType(pc, PCLU);
+    KSP inner;
+    PCALL(PCSetType(pc, PCREDUNDANT));
+    PCALL(PCRedundantGetKSP(pc, &inner));
+    return set_direct_solve(inner, 1);
+}
+
 ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_state *init,
                                ekm2d_solver **out, ekm_error *err)
 {
@@ -1259,26 +1276,10 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     TRY(SNESGetLineSearch(snes, &linesearch), "SNESGetLineSearch");
     TRY(SNESLineSearchSetType(linesearch, SNESLINESEARCHBASIC), "SNESLineSearchSetType");
     KSP ksp;
-    PC pc;
     TRY(SNESGetKSP(snes, &ksp), "SNESGetKSP");
-    TRY(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
-    TRY(KSPGetPC(ksp, &pc), "KSPGetPC");
     int size;
     MPI_Comm_size(comm, &size);
-    if (size == 1) {
-        TRY(PCSetType(pc, PCLU), "PCSetType");
-    } else {
-        /* several ranks: every rank factors the whole (small) system with
-         * PETSc's LU (PCREDUNDANT); MUMPS' parallel LU of the same system
-         * was 14x slower than one rank's LU (docs/model.md "2D solver") */
-        TRY(PCSetType(pc, PCREDUNDANT), "PCSetType");
-        KSP inner;
-        PC inner_pc;
-        TRY(PCRedundantGetKSP(pc, &inner), "PCRedundantGetKSP");
-        TRY(KSPSetType(inner, KSPPREONLY), "KSPSetType");
-        TRY(KSPGetPC(inner, &inner_pc), "KSPGetPC");
-        TRY(PCSetType(inner_pc, PCLU), "PCSetType");
-    }
+    TRY(set_direct_solve(ksp, size), "the linear solver");
     TRY(TSSetFromOptions(s->ts), "TSSetFromOptions");
     *out = s;
     return EKM_OK;
