@@ -18,10 +18,23 @@ double ekm_hypo_R(const ekm_material *m, ekm_variant v, double phi)
     return sqrt(3.0 * m->eps0 * c / (2.0 * phi));
 }
 
+static double norm_plane(const ekm_material *m, const ekm_hypo_plane_rate *r)
+{
+    const double tr = r->exx + r->ezz;
+    const double dxx = r->exx - tr / 3.0, dzz = r->ezz - tr / 3.0, dyy = -tr / 3.0;
+    const double gdot2 = dxx * dxx + dyy * dyy + dzz * dzz + 0.5 * r->gxz * r->gxz; /* kappa^D : kappa^D */
+    return sqrt(gdot2 + m->zeta0 / (2.0 * m->eta0) * tr * tr);
+}
+
 static double norm_full(const ekm_material *m, double du_dz, double dw_dz)
 {
-    const double gdot2 = 0.5 * du_dz * du_dz + 2.0 / 3.0 * dw_dz * dw_dz;
-    return sqrt(gdot2 + m->zeta0 / (2.0 * m->eta0) * dw_dz * dw_dz);
+    const ekm_hypo_plane_rate r = {0.0, dw_dz, du_dz};
+    return norm_plane(m, &r);
+}
+
+double ekm_hypo_rate_norm_plane(const ekm_material *m, const ekm_hypo_plane_rate *r)
+{
+    return norm_plane(m, r);
 }
 
 double ekm_hypo_rate_norm(const ekm_material *m, ekm_variant v, double du_dz, double dw_dz)
@@ -39,38 +52,47 @@ static double coeff_a2(const ekm_material *m, double phi)
     return sqrt(phi / (3.0 * m->eta0 * m->eps0));
 }
 
-ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s,
-                              double du_dz, double dw_dz)
+ekm_hypo_stress ekm_hypo_rate_plane(const ekm_material *m, ekm_variant v, double phi,
+                                    const ekm_hypo_stress *s, const ekm_hypo_plane_rate *r, double knorm,
+                                    double ktr)
 {
     const double A = m->A_h, B = m->B_h;
     const double f = ekm_hypo_density_factor(m, phi);
     const double PY = ekm_pressure_yield(m, phi);
-    ekm_hypo_stress r = {0};
+    const double tr = r->exx + r->ezz;
+    ekm_hypo_stress d = {0};
     if (!(PY > 0.0)) { /* loose (phi <= phi_co): no limit surface, elastic */
-        r.xz = f * B * du_dz;
-        r.zz = f * (v == EKM_VARIANT_THESIS ? A : A + 2.0 * B) * dw_dz;
-        r.xx = r.yy = v == EKM_VARIANT_THESIS ? r.zz : f * A * dw_dz;
-        return r;
+        d.xz = f * B * r->gxz;
+        d.zz = f * (v == EKM_VARIANT_THESIS ? A * tr : A * tr + 2.0 * B * r->ezz);
+        d.xx = v == EKM_VARIANT_THESIS ? d.zz : f * (A * tr + 2.0 * B * r->exx);
+        d.yy = v == EKM_VARIANT_THESIS ? d.zz : f * A * tr;
+        return d;
     }
     const double a2 = coeff_a2(m, phi);
-    const double kfull = norm_full(m, du_dz, dw_dz);
     /* Shear: the deviatoric part of the full law in both variants. */
-    r.xz = f * (B * du_dz - 2.0 * B * a2 * s->xz / PY * kfull);
+    d.xz = f * (B * r->gxz - 2.0 * B * a2 * s->xz / PY * knorm);
     if (v == EKM_VARIANT_THESIS) {
         const double R = ekm_hypo_R(m, v, phi);
-        r.zz = f * A * (dw_dz - (s->zz + PY) / (R * PY) * fabs(dw_dz));
-        r.xx = r.yy = r.zz;
-        return r;
+        d.zz = f * A * (tr - (s->zz + PY) / (R * PY) * ktr);
+        d.xx = d.yy = d.zz;
+        return d;
     }
     const double a1 = coeff_a1(m, phi);
-    const double tr = s->xx + s->yy + s->zz;
-    const double q = (tr + 3.0 * PY) / PY;
+    const double trs = s->xx + s->yy + s->zz;
+    const double q = (trs + 3.0 * PY) / PY;
     const double Niso = (3.0 * A + 2.0 * B) * a1 * q;
     const double dev = 2.0 * B * a2 / PY;
-    r.xx = f * (A * dw_dz - (Niso + dev * (s->xx - tr / 3.0)) * kfull);
-    r.yy = f * (A * dw_dz - (Niso + dev * (s->yy - tr / 3.0)) * kfull);
-    r.zz = f * ((A + 2.0 * B) * dw_dz - (Niso + dev * (s->zz - tr / 3.0)) * kfull);
-    return r;
+    d.xx = f * (A * tr + 2.0 * B * r->exx - (Niso + dev * (s->xx - trs / 3.0)) * knorm);
+    d.yy = f * (A * tr - (Niso + dev * (s->yy - trs / 3.0)) * knorm);
+    d.zz = f * (A * tr + 2.0 * B * r->ezz - (Niso + dev * (s->zz - trs / 3.0)) * knorm);
+    return d;
+}
+
+ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s,
+                              double du_dz, double dw_dz)
+{
+    const ekm_hypo_plane_rate r = {0.0, dw_dz, du_dz};
+    return ekm_hypo_rate_plane(m, v, phi, s, &r, norm_plane(m, &r), fabs(dw_dz));
 }
 
 double ekm_hypo_yield(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s)

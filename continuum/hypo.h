@@ -70,6 +70,27 @@ double ekm_hypo_rate_norm(const ekm_material *m, ekm_variant v, double du_dz, do
 ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s,
                               double du_dz, double dw_dz);
 
+/* Plane-strain rates (x, z in the plane, v_y = 0) [1/s]: exx = dvx/dx,
+ * ezz = dvz/dz, gxz = dvx/dz + dvz/dx (= 2 kappa_xz); the slab's are
+ * exx = 0, ezz = w', gxz = u'. */
+typedef struct {
+    double exx, ezz, gxz;
+} ekm_hypo_plane_rate;
+
+/* ||kappa|| [1/s] of the full variant for plane rates r:
+ * sqrt(kappa^D : kappa^D + zeta0/(2 eta0) tr(kappa)^2). */
+double ekm_hypo_rate_norm_plane(const ekm_material *m, const ekm_hypo_plane_rate *r);
+
+/* d(sigma)/dt [Pa/s] of the rate law in plane strain (the 2D solver), with
+ * the norms of its plastic part given: knorm = ||kappa|| (full norm, both
+ * variants' shear part and the full variant's normal part) and ktr =
+ * |tr kappa| (the thesis variant's normal part), so that a stepper may lag
+ * them; L : kappa takes the rates r.  ekm_hypo_rate is this with r =
+ * {0, w', u'} and its own norms. */
+ekm_hypo_stress ekm_hypo_rate_plane(const ekm_material *m, ekm_variant v, double phi,
+                                    const ekm_hypo_stress *s, const ekm_hypo_plane_rate *r, double knorm,
+                                    double ktr);
+
 /* Normalised limit-surface function f_Y (0 on the surface, < 0 inside);
  * +inf when P_Y = 0 (no solid state below phi_co). */
 double ekm_hypo_yield(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s);
