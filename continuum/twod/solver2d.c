@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fields.h"
+#include "hypo.h"
 #include "model.h"
 
 /* Boundary data of one end (bottom or top) at one time. */
@@ -50,9 +52,20 @@ struct ekm2d_solver {
     unsigned char *wet;        /* gnx * gnz: the cell exists and is not empty this step */
     double *mag;               /* NULL, or local: the magnitude of each row's terms (scaling pass) */
     double t_step;             /* time at the start of the step [s] */
+    double dt_step;            /* the step's length as it starts (the row scales) [s] */
     long steps, rejected, newton;
     double dt_failed; /* > 0: a step was tried below dt_min, this long [s] */
     double mass_in;   /* [kg/m] */
+    /* the solid (hypoplastic) regime ([hypo] enabled; docs/model.md "2D solver") */
+    int hypo;                            /* 1: on */
+    PetscInt s_sxx, s_syy, s_szz, s_sxz; /* solid stress slots [Pa] (cells; sxz: vertices) */
+    Vec regime;             /* global, persistent: slot phi of an element 1 for a solid cell, slot T
+                             * its rate at the last switch test [1/s] */
+    unsigned char *solid;   /* gnx * gnz, frozen for a step: the cell is solid */
+    double *knorm, *ktr;    /* gnx * gnz: the lagged ||kappa|| and |tr kappa| of owned cells [1/s] */
+    double *knorm_c;        /* (gnx + 1) * (gnz + 1): the lagged ||kappa|| of owned corners [1/s] */
+    double *corner_scratch; /* (gnx + 1) * (gnz + 1): the switch's corner stresses [Pa] */
+    long to_solid, to_flow; /* switches so far */
 };
 
 /* The most negative phi an accepted step may leave in an empty cell: the
@@ -123,7 +136,8 @@ ekm_status ekm2d_supported(const ekm_scenario *sc, ekm_error *err)
     if (sc->hypo.enabled)
         return EKM_FAIL(err, EKM_EUNAVAILABLE,
                         "%s: [hypo] enabled = 1: the solid (hypoplastic) regime is not in the 2D solver yet "
-                        "(issue 14)",
+                        "(issue 14; its code is in solver2d.c but a settling layer does not come to rest, "
+                        "docs/model.md)",
                         src);
     if (sc->angle_rate != 0.0)
         return EKM_FAIL(
@@ -193,6 +207,17 @@ static inline double harmonic(double a, double b)
     return a + b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
 }
 
+/* The cell (i, j) exists and is solid this step. */
+static inline int is_solid(const ekm2d_solver *s, PetscInt i, PetscInt j)
+{
+    return s->hypo && cell_exists(s, i, j) && s->solid[cell_index(s, i, j)];
+}
+
+static inline size_t corner_index(const ekm2d_solver *s, PetscInt i, PetscInt j)
+{
+    return (size_t)(j - s->gz0) * (size_t)(s->gnx + 1) + (size_t)(i - s->gx0);
+}
+
 static inline const ekm_cell_properties *props(const ekm2d_solver *s, PetscInt i, PetscInt j)
 {
     return &s->prop[cell_index(s, i, j)];
@@ -220,6 +245,12 @@ static inline int has_xface_row(const ekm2d_solver *s, PetscInt i, PetscInt j)
 static inline int has_zface_row(const ekm2d_solver *s, PetscInt i, PetscInt j)
 {
     return j <= s->nz && i < s->nx && (s->periodic || i >= 0);
+}
+
+/* ... a corner's (sxz, solid regime only) */
+static inline int has_vertex_row(const ekm2d_solver *s, PetscInt i, PetscInt j)
+{
+    return s->hypo && j <= s->nz && (i < s->nx || !s->periodic);
 }
 
 /* Face volume flux through x-face (i, j) [m/s] (positive along +x). */
@@ -259,11 +290,50 @@ static inline double flux_z(const eval_ctx *c, PetscInt i, PetscInt j)
  * upwind phi of a face next door is two cells away, so the grid's stencil
  * is two cells wide. */
 
+/* Corner (i, j) carries the solid regime's shear stress (its sxz row):
+ * it carries a rate (corner_stress) and every cell beside it that exists
+ * is solid (on a wall: the two cells beside it). */
+static int corner_is_solid(const eval_ctx *c, PetscInt i, PetscInt j)
+{
+    const ekm2d_solver *s = c->s;
+    if (!s->hypo)
+        return 0;
+    if (side_face(s, i)) {
+        if (j == 0 || j == s->nz)
+            return 0;
+        const PetscInt ic = i == 0 ? 0 : s->nx - 1;
+        return is_solid(s, ic, j - 1) && is_solid(s, ic, j);
+    }
+    if (j == 0 || j == s->nz) {
+        const end_data *e = j == 0 ? &c->bottom : &c->top;
+        if (e->kind == EKM_BC_FREE || inlet_face(s, e, i - 1) || inlet_face(s, e, i))
+            return 0;
+        const PetscInt jc = j == 0 ? 0 : s->nz - 1;
+        return is_solid(s, i - 1, jc) && is_solid(s, i, jc);
+    }
+    return is_solid(s, i - 1, j - 1) && is_solid(s, i, j - 1) && is_solid(s, i - 1, j) && is_solid(s, i, j);
+}
+
+/* The viscosity of a corner between two cells a, b of which at least one
+ * is solid: the flowing one's (a face between a flowing and a solid cell
+ * carries the flowing cell's viscosity, as in 1D: regime.h); 0 if none flows. */
+static inline double eta_beside_solid(const ekm2d_solver *s, PetscInt ia, PetscInt ja, PetscInt ib,
+                                      PetscInt jb)
+{
+    if (is_wet(s, ia, ja) && !is_solid(s, ia, ja))
+        return props(s, ia, ja)->eta;
+    if (is_wet(s, ib, jb) && !is_solid(s, ib, jb))
+        return props(s, ib, jb)->eta;
+    return 0.0;
+}
+
 /* Shear stress and rate at corner (i, j) (x-face index i, z-face index j):
  * *rate = dvx/dz + dvz/dx [1/s], returns sigma_xz [Pa]; *has_rate = 0
  * where the corner carries no rate (a free end, an inlet's face beside
  * it, an empty cell next to it, a corner of the box). On a wall the rate
- * is the slip rate over half a cell plus the slip length (the 1D wall's). */
+ * is the slip rate over half a cell plus the slip length (the 1D wall's).
+ * A solid corner (corner_is_solid) returns its state's sxz; next to a
+ * solid cell a corner takes the viscosity of its flowing cells only. */
 static double corner_stress(const eval_ctx *c, PetscInt i, PetscInt j, double *rate, int *has_rate)
 {
     const ekm2d_solver *s = c->s;
@@ -278,6 +348,9 @@ static double corner_stress(const eval_ctx *c, PetscInt i, PetscInt j, double *r
         const double v = c->u[j][ic][s->s_vz];
         *rate = (i == 0 ? v : -v) * s->side_conductance[i == 0 ? 0 : 1];
         *has_rate = 1;
+        if (is_solid(s, ic, j - 1) || is_solid(s, ic, j))
+            return corner_is_solid(c, i, j) ? c->u[j][i][s->s_sxz]
+                                            : eta_beside_solid(s, ic, j - 1, ic, j) * *rate;
         return harmonic(props(s, ic, j - 1)->eta, props(s, ic, j)->eta) * *rate;
     }
     if (j == 0 || j == s->nz) {
@@ -288,6 +361,9 @@ static double corner_stress(const eval_ctx *c, PetscInt i, PetscInt j, double *r
         const double v = c->u[jc][i][s->s_vx];
         *rate = (j == 0 ? v - e->u_wall : e->u_wall - v) * e->conductance;
         *has_rate = 1;
+        if (is_solid(s, i - 1, jc) || is_solid(s, i, jc))
+            return corner_is_solid(c, i, j) ? c->u[j][i][s->s_sxz]
+                                            : eta_beside_solid(s, i - 1, jc, i, jc) * *rate;
         const double eta_w = harmonic(is_wet(s, i - 1, jc) ? props(s, i - 1, jc)->eta : 0.0,
                                       is_wet(s, i, jc) ? props(s, i, jc)->eta : 0.0);
         return eta_w * *rate;
@@ -298,10 +374,17 @@ static double corner_stress(const eval_ctx *c, PetscInt i, PetscInt j, double *r
     *rate = (c->u[j][i][s->s_vx] - c->u[j - 1][i][s->s_vx]) / s->dz +
             (c->u[j][i][s->s_vz] - c->u[j][i - 1][s->s_vz]) / s->dx;
     *has_rate = 1;
-    const double e1 = props(s, i - 1, j - 1)->eta, e2 = props(s, i, j - 1)->eta;
-    const double e3 = props(s, i - 1, j)->eta, e4 = props(s, i, j)->eta;
-    const double eta_c = 4.0 / (1.0 / e1 + 1.0 / e2 + 1.0 / e3 + 1.0 / e4);
-    return eta_c * *rate;
+    const PetscInt cells[4][2] = {{i - 1, j - 1}, {i, j - 1}, {i - 1, j}, {i, j}};
+    double inv = 0.0;
+    int flowing = 0;
+    for (int q = 0; q < 4; q++)
+        if (!is_solid(s, cells[q][0], cells[q][1])) {
+            inv += 1.0 / props(s, cells[q][0], cells[q][1])->eta;
+            flowing++;
+        }
+    if (flowing == 0)
+        return c->u[j][i][s->s_sxz];
+    return flowing / inv * *rate; /* the harmonic mean of the flowing cells' eta */
 }
 
 /* Rates of strain of cell (i, j): exx, ezz [1/s]. */
@@ -318,6 +401,14 @@ static inline ekm_plane_stress cell_stress(const eval_ctx *c, PetscInt i, PetscI
     ekm_plane_stress z = {0};
     if (!is_wet(c->s, i, j))
         return z;
+    if (is_solid(c->s, i, j)) {
+        const PetscScalar *v = c->u[j][i];
+        z.sxx = v[c->s->s_sxx];
+        z.szz = v[c->s->s_szz];
+        z.syy = v[c->s->s_syy];
+        z.P = -(z.sxx + z.szz + z.syy) / 3.0;
+        return z;
+    }
     double exx, ezz;
     cell_rates(c, i, j, &exx, &ezz);
     return ekm_stress_plane(props(c->s, i, j), c->s->sc->variant, exx, ezz);
@@ -383,6 +474,92 @@ static int compute_properties(ekm2d_solver *s, const PetscScalar ***u, const Pet
     return ok;
 }
 
+/* The mean of the existing cells' phi beside corner (i, j) (the phi of
+ * its solid stress). */
+static double corner_phi(const ekm2d_solver *s, const PetscScalar ***u, PetscInt i, PetscInt j)
+{
+    const PetscInt cells[4][2] = {{i - 1, j - 1}, {i, j - 1}, {i - 1, j}, {i, j}};
+    double sum = 0.0;
+    int n = 0;
+    for (int q = 0; q < 4; q++) {
+        const PetscInt a = cells[q][0], b = cells[q][1];
+        if (b >= 0 && b < s->nz && cell_exists(s, a, b)) {
+            sum += u[b][a][s->s_phi];
+            n++;
+        }
+    }
+    return n ? sum / n : 0.0;
+}
+
+/* The solid stress rows of cell (i, j): in a solid cell the rate law
+ * (hypo.h, plane strain) with its plastic norms lagged at the start of the
+ * step (the 1D solver's linearly implicit step, regime.h: the equations
+ * are linear in the stress and the velocities, and a state at rest is a
+ * fixed point); elsewhere the stress is 0. */
+static void solid_cell_rows(const eval_ctx *c, PetscInt i, PetscInt j, const PetscScalar ***ud,
+                            PetscScalar ***f, PetscScalar ***mg)
+{
+    const ekm2d_solver *s = c->s;
+    const PetscScalar *v = c->u[j][i];
+    const PetscInt slot[3] = {s->s_sxx, s->s_syy, s->s_szz};
+    if (!is_solid(s, i, j)) {
+        for (int q = 0; q < 3; q++) {
+            f[j][i][slot[q]] = v[slot[q]];
+            if (mg)
+                mg[j][i][slot[q]] = fabs(v[slot[q]]) + 1.0;
+        }
+        return;
+    }
+    const size_t k = cell_index(s, i, j);
+    ekm_hypo_plane_rate r = {0.0, 0.0, 0.0};
+    cell_rates(c, i, j, &r.exx, &r.ezz);
+    const ekm_hypo_stress sg = {v[s->s_sxx], v[s->s_syy], v[s->s_szz], 0.0};
+    const ekm_hypo_stress d =
+        ekm_hypo_rate_plane(&s->sc->material, s->sc->variant, v[s->s_phi], &sg, &r, s->knorm[k], s->ktr[k]);
+    const double rate[3] = {d.xx, d.yy, d.zz};
+    for (int q = 0; q < 3; q++) {
+        f[j][i][slot[q]] = ud[j][i][slot[q]] - rate[q];
+        if (mg)
+            mg[j][i][slot[q]] = fabs(ud[j][i][slot[q]]) + fabs(rate[q]);
+    }
+}
+
+/* The sxz row of corner (i, j): the rate law's shear part at a solid
+ * corner (its phi the mean of its cells', its norm lagged), 0 elsewhere. */
+static void solid_corner_row(const eval_ctx *c, PetscInt i, PetscInt j, const PetscScalar ***ud,
+                             PetscScalar ***f, PetscScalar ***mg)
+{
+    const ekm2d_solver *s = c->s;
+    const double sxz = c->u[j][i][s->s_sxz];
+    if (!corner_is_solid(c, i, j)) {
+        f[j][i][s->s_sxz] = sxz;
+        if (mg)
+            mg[j][i][s->s_sxz] = fabs(sxz) + 1.0;
+        return;
+    }
+    ekm_hypo_plane_rate r = {0.0, 0.0, 0.0};
+    int has;
+    (void)corner_stress(c, i, j, &r.gxz, &has);
+    const ekm_hypo_stress sg = {0.0, 0.0, 0.0, sxz};
+    const ekm_hypo_stress d = ekm_hypo_rate_plane(&s->sc->material, s->sc->variant, corner_phi(s, c->u, i, j),
+                                                  &sg, &r, s->knorm_c[corner_index(s, i, j)], 0.0);
+    f[j][i][s->s_sxz] = ud[j][i][s->s_sxz] - d.xz;
+    if (mg) {
+        /* where sxz and its rate vanish (a line of symmetry, a bed at rest)
+         * the row's own terms are round-off: its scale is the normal stress
+         * of its cells over the step and their elastic rate, as theirs */
+        const PetscInt cells[4][2] = {{i - 1, j - 1}, {i, j - 1}, {i - 1, j}, {i, j}};
+        double szz = 0.0;
+        for (int q = 0; q < 4; q++)
+            if (is_solid(s, cells[q][0], cells[q][1]))
+                szz = fmax(szz, fabs(c->u[cells[q][1]][cells[q][0]][s->s_szz]));
+        const double fB =
+            ekm_hypo_density_factor(&s->sc->material, corner_phi(s, c->u, i, j)) * s->sc->material.B_h;
+        mg[j][i][s->s_sxz] =
+            fabs(ud[j][i][s->s_sxz]) + fabs(d.xz) + szz / s->dt_step + fB * s->knorm_c[corner_index(s, i, j)];
+    }
+}
+
 /* Add |term| to the row's magnitude (scaling pass only). */
 #define MAG(row, term)           \
     do {                         \
@@ -421,6 +598,11 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                     f[j][i][s->s_T] = T - T_floor;
                     if (mg)
                         mg[j][i][s->s_T] = fabs(T) + T_floor;
+                } else if (is_solid(s, i, j)) {
+                    /* a solid cell's T is not evolved; it exchanges no heat (regime.h) */
+                    f[j][i][s->s_T] = phi * ud[j][i][s->s_T];
+                    if (mg)
+                        mg[j][i][s->s_T] = fabs(f[j][i][s->s_T]);
                 } else {
                     const ekm_cell_properties *p = props(s, i, j);
                     double r = phi * ud[j][i][s->s_T], rm = fabs(r);
@@ -450,7 +632,7 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                     const PetscInt nb[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
                     for (int q = 0; q < 4; q++) {
                         const PetscInt a = nb[q][0], b = nb[q][1];
-                        if (!is_wet(s, a, b))
+                        if (!is_wet(s, a, b) || is_solid(s, a, b))
                             continue;
                         const double h2 = q < 2 ? dx * dx : dz * dz;
                         const double term = harmonic(p->lambda, props(s, a, b)->lambda) *
@@ -487,7 +669,11 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                     }
                     f[j][i][s->s_T] = r;
                 }
+                if (s->hypo)
+                    solid_cell_rows(c, i, j, ud, f, mg);
             }
+            if (has_vertex_row(s, i, j))
+                solid_corner_row(c, i, j, ud, f, mg);
             /* ---- x-face rows (i, j): vx ---- */
             if (has_xface_row(s, i, j)) {
                 const double v = u[j][i][s->s_vx];
@@ -713,16 +899,29 @@ static inline double lte_atol_per_phi(const ekm2d_solver *s, double phi)
 /* Each owned row's absolute error tolerance this step into a (local
  * array; 0: not its physical equation), from the state u and the frozen
  * wet cells (compute_properties). */
-static void row_tolerances(const ekm2d_solver *s, const PetscScalar ***u, PetscScalar ***a)
+static void row_tolerances(const eval_ctx *c, PetscScalar ***a)
 {
+    const ekm2d_solver *s = c->s;
+    const PetscScalar ***u = c->u;
+    /* a solid stress: EKM2D_LTE_ATOL of the weight of a close-packed column of the box's height */
+    const double g = sqrt(s->g_x * s->g_x + s->g_z * s->g_z);
+    const double stress_atol =
+        EKM2D_LTE_ATOL * s->sc->material.rho_p * s->sc->material.phi_cp * fmax(g, 1.0) * s->sc->length;
     PetscInt x0, z0, nxl, nzl, ex, ez;
     DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, &ex, &ez, NULL);
     for (PetscInt j = z0; j < z0 + nzl + ez; j++)
         for (PetscInt i = x0; i < x0 + nxl + ex; i++) {
             if (has_cell_rows(s, i, j)) {
                 a[j][i][s->s_phi] = EKM2D_LTE_ATOL;
-                a[j][i][s->s_T] = is_wet(s, i, j) ? lte_atol_per_phi(s, u[j][i][s->s_phi]) : 0.0;
+                a[j][i][s->s_T] =
+                    is_wet(s, i, j) && !is_solid(s, i, j) ? lte_atol_per_phi(s, u[j][i][s->s_phi]) : 0.0;
+                if (s->hypo) {
+                    const double on = is_solid(s, i, j) ? stress_atol : 0.0;
+                    a[j][i][s->s_sxx] = a[j][i][s->s_syy] = a[j][i][s->s_szz] = on;
+                }
             }
+            if (has_vertex_row(s, i, j))
+                a[j][i][s->s_sxz] = corner_is_solid(c, i, j) ? stress_atol : 0.0;
             if (has_xface_row(s, i, j)) {
                 const int on = !side_face(s, i) && (is_wet(s, i - 1, j) || is_wet(s, i, j));
                 a[j][i][s->s_vx] =
@@ -738,12 +937,12 @@ static void row_tolerances(const ekm2d_solver *s, const PetscScalar ***u, PetscS
 
 /* The rows' ages and error tolerances for the step about to start (Al: a
  * local vector to fill, Ag a global one; wet cells computed). */
-static PetscErrorCode update_lte_tolerances(ekm2d_solver *s, const PetscScalar ***u, Vec Al, Vec Ag)
+static PetscErrorCode update_lte_tolerances(ekm2d_solver *s, const eval_ctx *c, Vec Al, Vec Ag)
 {
     PetscScalar ***a;
     PCALL(VecSet(Al, 0.0));
     PCALL(DMStagVecGetArray(s->dm, Al, &a));
-    row_tolerances(s, u, a);
+    row_tolerances(c, a);
     PCALL(DMStagVecRestoreArray(s->dm, Al, &a));
     PCALL(DMLocalToGlobal(s->dm, Al, INSERT_VALUES, Ag));
     PetscScalar *age, *atol;
@@ -761,6 +960,90 @@ static PetscErrorCode update_lte_tolerances(ekm2d_solver *s, const PetscScalar *
     PCALL(VecRestoreArray(s->row_age, &age));
     PCALL(VecRestoreArrayRead(Ag, &tol));
     return 0;
+}
+
+/* The solid cells of the ghosted box from the persistent regime vector
+ * into s->solid (collective). */
+static PetscErrorCode load_solid_flags(ekm2d_solver *s)
+{
+    if (!s->hypo)
+        return 0;
+    Vec Rl;
+    const PetscScalar ***r;
+    PCALL(DMGetLocalVector(s->dm, &Rl));
+    PCALL(DMGlobalToLocal(s->dm, s->regime, INSERT_VALUES, Rl));
+    PCALL(DMStagVecGetArrayRead(s->dm, Rl, (void *)&r));
+    for (PetscInt j = s->gz0; j < s->gz0 + s->gnz; j++)
+        for (PetscInt i = s->gx0; i < s->gx0 + s->gnx; i++)
+            s->solid[cell_index(s, i, j)] = cell_exists(s, i, j) && r[j][i][s->s_phi] > 0.5;
+    PCALL(DMStagVecRestoreArrayRead(s->dm, Rl, (void *)&r));
+    PCALL(DMRestoreLocalVector(s->dm, &Rl));
+    return 0;
+}
+
+/* The rates of cell (i, j) for its solid law's norm: exx, ezz and as gxz
+ * the root mean square of its corners' shear rates (the heating's). */
+static ekm_hypo_plane_rate cell_plane_rate(const eval_ctx *c, PetscInt i, PetscInt j)
+{
+    ekm_hypo_plane_rate r;
+    cell_rates(c, i, j, &r.exx, &r.ezz);
+    double sum2 = 0.0;
+    int count = 0;
+    const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
+    for (int q = 0; q < 4; q++) {
+        double rate;
+        int has;
+        (void)corner_stress(c, cn[q][0], cn[q][1], &rate, &has);
+        if (has) {
+            sum2 += rate * rate;
+            count++;
+        }
+    }
+    r.gxz = count ? sqrt(sum2 / count) : 0.0;
+    return r;
+}
+
+/* The plastic norms of the solid law lagged at the step's start state
+ * (c: its wet cells computed, the solid flags loaded): ||kappa|| and
+ * |tr kappa| of each owned cell, ||kappa|| of each owned corner from its
+ * shear rate and the mean normal rates of its cells. */
+static void lagged_norms(const eval_ctx *c)
+{
+    ekm2d_solver *s = (ekm2d_solver *)c->s;
+    const ekm_material *m = &s->sc->material;
+    PetscInt x0, z0, nxl, nzl, ex, ez;
+    DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, &ex, &ez, NULL);
+    for (PetscInt j = z0; j < z0 + nzl + ez; j++)
+        for (PetscInt i = x0; i < x0 + nxl + ex; i++) {
+            if (has_cell_rows(s, i, j)) {
+                const ekm_hypo_plane_rate r = cell_plane_rate(c, i, j);
+                const size_t k = cell_index(s, i, j);
+                s->knorm[k] = ekm_hypo_rate_norm_plane(m, &r);
+                s->ktr[k] = fabs(r.exx + r.ezz);
+            }
+            if (!has_vertex_row(s, i, j))
+                continue;
+            ekm_hypo_plane_rate r = {0.0, 0.0, 0.0};
+            int has, n = 0;
+            (void)corner_stress(c, i, j, &r.gxz, &has);
+            const PetscInt cells[4][2] = {{i - 1, j - 1}, {i, j - 1}, {i - 1, j}, {i, j}};
+            double exx = 0.0, ezz = 0.0;
+            for (int q = 0; q < 4; q++) {
+                const PetscInt a = cells[q][0], b = cells[q][1];
+                if (b < 0 || b >= s->nz || !is_wet(s, a, b))
+                    continue;
+                double e1, e2;
+                cell_rates(c, a, b, &e1, &e2);
+                exx += e1;
+                ezz += e2;
+                n++;
+            }
+            if (n) {
+                r.exx = exx / n;
+                r.ezz = ezz / n;
+            }
+            s->knorm_c[corner_index(s, i, j)] = ekm_hypo_rate_norm_plane(m, &r);
+        }
 }
 
 /* Newton's first iterate: TSBDF's extrapolation of the last two states,
@@ -788,10 +1071,11 @@ static PetscErrorCode initial_guess(SNES snes, Vec X, void *vctx)
     PCALL(DMStagVecGetArrayRead(s->dm, Al, (void *)&age));
     PetscInt x0, z0, nxl, nzl, ex, ez;
     PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, &ex, &ez, NULL));
-    const PetscInt slots[4] = {s->s_phi, s->s_T, s->s_vx, s->s_vz};
+    const PetscInt slots[8] = {s->s_phi, s->s_T, s->s_vx, s->s_vz, s->s_sxx, s->s_syy, s->s_szz, s->s_sxz};
+    const int nslots = s->hypo ? 8 : 4;
     for (PetscInt j = z0; j < z0 + nzl + ez; j++)
         for (PetscInt i = x0; i < x0 + nxl + ex; i++)
-            for (int q = 0; q < 4; q++) {
+            for (int q = 0; q < nslots; q++) {
                 const PetscInt k = slots[q];
                 const int bad = (q == 0 && x[j][i][k] < 0.0) || (q == 1 && !(x[j][i][k] > 0.0));
                 if (bad || age[j][i][k] < EKM2D_LTE_MIN_STEPS)
@@ -872,6 +1156,10 @@ static PetscErrorCode prestep(TS ts)
     eval_ctx c = {.u = u, .frozen = dry_r, .s = s};
     c.bottom = end_at(s, 0, t);
     c.top = end_at(s, 1, t);
+    PCALL(load_solid_flags(s));
+    if (s->hypo)
+        lagged_norms(&c);
+    PCALL(TSGetTimeStep(ts, &s->dt_step));
     residual_rows(&c, zero, f, mg, t);
     /* the compression limit (the 1D solver's, control.c): with dU/dt = 0
      * the phi rows hold div(phi v) = -dphi/dt; a step should close at most
@@ -892,7 +1180,7 @@ static PetscErrorCode prestep(TS ts)
         /* the wet cells of the step (compute_properties above) set the rows' error tolerances */
         Vec Ag;
         PCALL(DMGetGlobalVector(s->dm, &Ag));
-        PCALL(update_lte_tolerances(s, u, Fl, Ag));
+        PCALL(update_lte_tolerances(s, &c, Fl, Ag));
         PCALL(DMRestoreGlobalVector(s->dm, &Ag));
     }
     PCALL(DMStagVecRestoreArrayRead(s->dm, Ul, (void *)&u));
@@ -930,6 +1218,177 @@ static PetscErrorCode prestep(TS ts)
     return 0;
 }
 
+/* The mean of the shear stresses at the four corners of cell (i, j) [Pa]
+ * (the output's), and (mean_rate non-NULL) the mean of the corners' shear
+ * rates where they carry one [1/s]. */
+static double cell_mean_shear(const eval_ctx *c, PetscInt i, PetscInt j, double *mean_rate)
+{
+    double rate, sum = 0.0, rate_sum = 0.0;
+    int has, n = 0;
+    const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
+    for (int q = 0; q < 4; q++) {
+        sum += corner_stress(c, cn[q][0], cn[q][1], &rate, &has);
+        if (has) {
+            rate_sum += rate;
+            n++;
+        }
+    }
+    if (mean_rate)
+        *mean_rate = n ? rate_sum / n : 0.0;
+    return 0.25 * sum;
+}
+
+/* After an accepted step: the switches flow <-> solid of the owned cells
+ * by the 1D solver's rules (regime.h), with the plane rates: compression
+ * is tr kappa < 0 with the cell's shear rate / sqrt 2 <= -tr kappa; rest
+ * is every rate <= rest_rate.  A cell turning solid takes its flow stress;
+ * a corner turning solid the shear stress it had as a flowing corner; a
+ * cell turning flow the quasi-static T of its rates (below phi_co: the T
+ * of its solid sigma_zz).  Writes U only when a cell switched (TS then
+ * restarts its history, TSPostStep). */
+static PetscErrorCode switch_regimes(ekm2d_solver *s, Vec U, double t)
+{
+    const ekm_scenario *sc = s->sc;
+    const ekm_material *m = &sc->material;
+    const ekm_hypo_params *h = &sc->hypo;
+    Vec Ul, Fr, Rl;
+    PetscScalar ***u, ***fr, ***rg;
+    PCALL(DMGetLocalVector(s->dm, &Ul));
+    PCALL(DMGetLocalVector(s->dm, &Fr));
+    PCALL(DMGetLocalVector(s->dm, &Rl));
+    PCALL(DMGlobalToLocal(s->dm, U, INSERT_VALUES, Ul));
+    PCALL(DMGlobalToLocal(s->dm, s->regime, INSERT_VALUES, Rl));
+    PCALL(VecSet(Fr, 0.0));
+    PCALL(DMStagVecGetArray(s->dm, Ul, &u));
+    PCALL(DMStagVecGetArray(s->dm, Fr, &fr));
+    PCALL(DMStagVecGetArray(s->dm, Rl, &rg));
+    freeze_step_data(s, (const PetscScalar ***)u, fr);
+    (void)compute_properties(s, (const PetscScalar ***)u, (const PetscScalar ***)fr);
+    eval_ctx c = {.u = (const PetscScalar ***)u, .frozen = (const PetscScalar ***)fr, .s = s};
+    c.bottom = end_at(s, 0, t);
+    c.top = end_at(s, 1, t);
+    PetscInt x0, z0, nxl, nzl, ex, ez;
+    PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, &ex, &ez, NULL));
+    /* the corners' stresses before the switch (NAN: solid, kept) */
+    for (PetscInt j = z0; j < z0 + nzl + ez; j++)
+        for (PetscInt i = x0; i < x0 + nxl + ex; i++)
+            if (has_vertex_row(s, i, j)) {
+                double rate;
+                int has;
+                s->corner_scratch[corner_index(s, i, j)] =
+                    corner_is_solid(&c, i, j) ? NAN : corner_stress(&c, i, j, &rate, &has);
+            }
+    int switched = 0;
+    for (PetscInt j = z0; j < z0 + nzl; j++)
+        for (PetscInt i = x0; i < x0 + nxl; i++) {
+            PetscScalar *v = u[j][i];
+            const double phi = v[s->s_phi];
+            const int wet = is_wet(s, i, j);
+            const ekm_hypo_plane_rate r = cell_plane_rate(&c, i, j);
+            const double tr = r.exx + r.ezz, shear = r.gxz;
+            const int at_rest =
+                fabs(r.exx) <= h->rest_rate && fabs(r.ezz) <= h->rest_rate && shear <= h->rest_rate;
+            const double rate = sqrt(r.exx * r.exx + r.ezz * r.ezz + shear * shear);
+            const double rate_before = rg[j][i][s->s_T];
+            rg[j][i][s->s_T] = rate;
+            const int compress = tr < 0.0 && shear / sqrt(2.0) <= -tr;
+            const double PY = ekm_pressure_yield(m, phi);
+            const int loose = !(PY > 0.0) || phi <= m->phi_co + h->phi_margin;
+            const double Y =
+                loose
+                    ? (j > 0 && is_solid(s, i, j - 1) ? ekm_yield_temperature(m, u[j - 1][i][s->s_phi]) : 0.0)
+                    : ekm_yield_temperature(m, phi);
+            if (is_solid(s, i, j)) {
+                const ekm_hypo_stress sig = {v[s->s_sxx], v[s->s_syy], v[s->s_szz],
+                                             cell_mean_shear(&c, i, j, NULL)};
+                const double fY =
+                    loose ? NAN : ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &sig);
+                double T_qs = sc->numerics.T_floor;
+                if (wet) {
+                    const ekm_source_coeffs src = ekm_temperature_source_coeffs_plane(
+                        m, sc->variant, phi, ekm_g(m, phi), ekm_yield_temperature(m, phi), shear * shear,
+                        r.exx, r.ezz);
+                    T_qs = fmax(ekm_source_balance(&src), sc->numerics.T_floor);
+                }
+                int go = 0;
+                if (!wet) {
+                    go = 1;
+                } else if (loose) {
+                    go = !(Y > 0.0) || sig.zz >= 0.0;
+                } else if (fY >= -h->yield_tol && !compress) {
+                    const ekm_cell_properties p = ekm_cell_properties_at(m, sc->variant, phi, T_qs);
+                    const ekm_plane_stress e = ekm_stress_plane(&p, sc->variant, r.exx, r.ezz);
+                    double mean_rate;
+                    (void)cell_mean_shear(&c, i, j, &mean_rate);
+                    const double e_xz = p.eta * mean_rate;
+                    const double jump =
+                        fmax(fmax(fabs(e.szz - sig.zz), fabs(e.sxx - sig.xx)), fabs(e_xz - sig.xz)) /
+                        fmax(fabs(sig.zz), fabs(sig.xz));
+                    go = jump <= h->jump_tol || !h->carry_over;
+                }
+                if (!go)
+                    continue;
+                if (wet && h->carry_over) {
+                    const double Tm =
+                        loose ? ekm_hypo_flow_T_for_stress(m, sc->variant, phi, r.ezz, sig.zz) : -1.0;
+                    v[s->s_T] = Tm >= 0.0 ? fmax(Tm, sc->numerics.T_floor) : T_qs;
+                }
+                rg[j][i][s->s_phi] = 0.0;
+                s->to_flow++;
+                switched = 1;
+                if (h->log)
+                    fprintf(stderr,
+                            "ekm: t = %.9g s: cell (%d, %d) solid -> flow: phi %.6f, f_Y %.3e, T := %.3e\n",
+                            t, (int)i, (int)j, phi, fY, v[s->s_T]);
+            } else if (wet && Y > 0.0 && (compress || at_rest) && v[s->s_T] < h->T_ratio * Y &&
+                       phi >= h->phi_loose) {
+                const ekm_plane_stress e = ekm_stress_plane(props(s, i, j), sc->variant, r.exx, r.ezz);
+                ekm_hypo_stress sig = {e.sxx, e.syy, e.szz, cell_mean_shear(&c, i, j, NULL)};
+                /* at rest near the limit surface only while the rates do not grow (regime.h) */
+                if (!compress && !loose && rate > rate_before &&
+                    !(ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &sig) <
+                      -10.0 * h->yield_tol))
+                    continue;
+                if (!h->carry_over) /* tests only (scenario.h) */
+                    sig.xx = sig.yy = sig.zz = -PY;
+                v[s->s_sxx] = sig.xx;
+                v[s->s_syy] = sig.yy;
+                v[s->s_szz] = sig.zz;
+                rg[j][i][s->s_phi] = 1.0;
+                s->to_solid++;
+                switched = 1;
+                if (h->log)
+                    fprintf(
+                        stderr,
+                        "ekm: t = %.9g s: cell (%d, %d) flow -> solid: phi %.6f, T %.3e, sigma_zz %.6g Pa\n",
+                        t, (int)i, (int)j, phi, v[s->s_T], sig.zz);
+            }
+        }
+    PCALL(DMStagVecRestoreArray(s->dm, Rl, &rg));
+    PCALL(DMLocalToGlobal(s->dm, Rl, INSERT_VALUES, s->regime)); /* the flags and the rates */
+    int any;
+    MPI_Allreduce(&switched, &any, 1, MPI_INT, MPI_MAX, s->comm);
+    if (any) {
+        PCALL(load_solid_flags(s));
+        /* a corner that turned solid starts from its flowing stress */
+        for (PetscInt j = z0; j < z0 + nzl + ez; j++)
+            for (PetscInt i = x0; i < x0 + nxl + ex; i++)
+                if (has_vertex_row(s, i, j)) {
+                    const double before = s->corner_scratch[corner_index(s, i, j)];
+                    if (corner_is_solid(&c, i, j) && !isnan(before))
+                        u[j][i][s->s_sxz] = before;
+                }
+    }
+    PCALL(DMStagVecRestoreArray(s->dm, Fr, &fr));
+    PCALL(DMStagVecRestoreArray(s->dm, Ul, &u));
+    if (any)
+        PCALL(DMLocalToGlobal(s->dm, Ul, INSERT_VALUES, U));
+    PCALL(DMRestoreLocalVector(s->dm, &Rl));
+    PCALL(DMRestoreLocalVector(s->dm, &Fr));
+    PCALL(DMRestoreLocalVector(s->dm, &Ul));
+    return 0;
+}
+
 /* After each step: the mass that entered through the boundaries (the flux
  * of the accepted state times the step: the backward-Euler balance). */
 static PetscErrorCode poststep(TS ts)
@@ -951,6 +1410,11 @@ static PetscErrorCode poststep(TS ts)
     if (tp.kind == EKM_BC_INFLOW)
         s->mass_in +=
             -m->rho_p * tp.phi_in * tp.w * (double)(tp.inlet_hi - tp.inlet_lo + 1) * s->dx * dt_step;
+    if (s->hypo) {
+        Vec U;
+        PCALL(TSGetSolution(ts, &U));
+        PCALL(switch_regimes(s, U, t));
+    }
     return 0;
 }
 
@@ -1102,7 +1566,8 @@ static PetscErrorCode converged_test(SNES snes, PetscInt it, PetscReal xnorm, Pe
 {
     ekm2d_solver *s = vctx;
     PCALL(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, NULL));
-    if (*reason != SNES_CONVERGED_ITERATING || it == 0)
+    /* also at the last iteration: a solve that meets this test there has converged */
+    if ((*reason != SNES_CONVERGED_ITERATING && *reason != SNES_DIVERGED_MAX_IT) || it == 0)
         return 0;
     Vec F, Fl;
     PCALL(SNESGetFunction(snes, &F, NULL, NULL));
@@ -1119,7 +1584,12 @@ static PetscErrorCode converged_test(SNES snes, PetscInt it, PetscReal xnorm, Pe
             if (has_cell_rows(s, i, j)) {
                 loc[0] += f[j][i][s->s_phi] * f[j][i][s->s_phi];
                 loc[1] = fmax(loc[1], fabs(f[j][i][s->s_T]));
+                if (s->hypo)
+                    loc[0] += f[j][i][s->s_sxx] * f[j][i][s->s_sxx] + f[j][i][s->s_syy] * f[j][i][s->s_syy] +
+                              f[j][i][s->s_szz] * f[j][i][s->s_szz];
             }
+            if (has_vertex_row(s, i, j))
+                loc[0] += f[j][i][s->s_sxz] * f[j][i][s->s_sxz];
             if (has_xface_row(s, i, j))
                 loc[0] += f[j][i][s->s_vx] * f[j][i][s->s_vx];
             if (has_zface_row(s, i, j))
@@ -1189,6 +1659,8 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     s->dx = sc->width / sc->cells_x;
     s->dz = sc->length / sc->cells;
     s->periodic = sc->periodic_x;
+    s->hypo = sc->hypo.enabled != 0;
+    s->s_sxx = s->s_syy = s->s_szz = s->s_sxz = -1;
     s->g_x = ekm_scenario_gravity_x(sc);
     s->g_z = ekm_scenario_gravity_z(sc);
     s->side_conductance[0] = 1.0 / (0.5 * s->dx + sc->left.slip_length);
@@ -1218,7 +1690,8 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
         }
     }
     TRY(DMStagCreate2d(comm, s->periodic ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, s->nx,
-                       s->nz, PETSC_DECIDE, PETSC_DECIDE, 0, 1, 2, DMSTAG_STENCIL_BOX, 2, NULL, NULL, &s->dm),
+                       s->nz, PETSC_DECIDE, PETSC_DECIDE, s->hypo ? 1 : 0, 1, s->hypo ? 5 : 2,
+                       DMSTAG_STENCIL_BOX, 2, NULL, NULL, &s->dm),
         "DMStagCreate2d");
     TRY(DMSetFromOptions(s->dm), "DMSetFromOptions");
     TRY(DMSetUp(s->dm), "DMSetUp");
@@ -1228,11 +1701,24 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     TRY(DMStagGetLocationSlot(s->dm, DMSTAG_ELEMENT, 1, &s->s_T), "DMStagGetLocationSlot");
     TRY(DMStagGetLocationSlot(s->dm, DMSTAG_LEFT, 0, &s->s_vx), "DMStagGetLocationSlot");
     TRY(DMStagGetLocationSlot(s->dm, DMSTAG_DOWN, 0, &s->s_vz), "DMStagGetLocationSlot");
+    if (s->hypo) {
+        TRY(DMStagGetLocationSlot(s->dm, DMSTAG_ELEMENT, 2, &s->s_sxx), "DMStagGetLocationSlot");
+        TRY(DMStagGetLocationSlot(s->dm, DMSTAG_ELEMENT, 3, &s->s_syy), "DMStagGetLocationSlot");
+        TRY(DMStagGetLocationSlot(s->dm, DMSTAG_ELEMENT, 4, &s->s_szz), "DMStagGetLocationSlot");
+        TRY(DMStagGetLocationSlot(s->dm, DMSTAG_DOWN_LEFT, 0, &s->s_sxz), "DMStagGetLocationSlot");
+    }
     TRY(DMStagGetGhostCorners(s->dm, &s->gx0, &s->gz0, NULL, &s->gnx, &s->gnz, NULL),
         "DMStagGetGhostCorners");
     s->prop = calloc((size_t)s->gnx * (size_t)s->gnz, sizeof *s->prop);
     s->wet = calloc((size_t)s->gnx * (size_t)s->gnz, 1);
-    if (!s->prop || !s->wet) {
+    const size_t ncell = (size_t)s->gnx * (size_t)s->gnz,
+                 ncorner = (size_t)(s->gnx + 1) * (size_t)(s->gnz + 1);
+    s->solid = calloc(ncell, 1);
+    s->knorm = calloc(ncell, sizeof *s->knorm);
+    s->ktr = calloc(ncell, sizeof *s->ktr);
+    s->knorm_c = calloc(ncorner, sizeof *s->knorm_c);
+    s->corner_scratch = calloc(ncorner, sizeof *s->corner_scratch);
+    if (!s->prop || !s->wet || !s->solid || !s->knorm || !s->ktr || !s->knorm_c || !s->corner_scratch) {
         ekm2d_solver_destroy(s);
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D solver, %d x %d cells)", sc->cells_x, sc->cells);
     }
@@ -1244,6 +1730,8 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     TRY(VecSet(s->row_age, 0.0), "VecSet");
     TRY(VecDuplicate(s->U, &s->lte_atol), "VecDuplicate");
     TRY(VecSet(s->lte_atol, EKM2D_LTE_EXCLUDED), "VecSet");
+    TRY(VecDuplicate(s->U, &s->regime), "VecDuplicate");
+    TRY(VecSet(s->regime, 0.0), "VecSet");
     TRY(DMCreateLocalVector(s->dm, &s->dry_local), "DMCreateLocalVector");
     TRY(VecSet(s->dry_local, 0.0), "VecSet");
     TRY(initial_state(s, init), "initial state");
@@ -1316,9 +1804,15 @@ void ekm2d_solver_destroy(ekm2d_solver *s)
     VecDestroy(&s->row_age);
     VecDestroy(&s->lte_atol);
     VecDestroy(&s->dry_local);
+    VecDestroy(&s->regime);
     DMDestroy(&s->dm);
     free(s->prop);
     free(s->wet);
+    free(s->solid);
+    free(s->knorm);
+    free(s->ktr);
+    free(s->knorm_c);
+    free(s->corner_scratch);
     free(s);
 }
 
@@ -1383,6 +1877,7 @@ static PetscErrorCode local_fields(ekm2d_solver *s, DM dmf, Vec nat)
     PCALL(DMStagVecRestoreArray(s->dm, dryl, &dw));
     PCALL(DMStagVecGetArrayRead(s->dm, dryl, (void *)&dry));
     (void)compute_properties(s, u, dry);
+    PCALL(load_solid_flags(s)); /* after the last step's switches */
     eval_ctx c = {.u = u, .frozen = dry, .s = s};
     PetscReal t;
     PCALL(TSGetTime(s->ts, &t));
@@ -1404,16 +1899,11 @@ static PetscErrorCode local_fields(ekm2d_solver *s, DM dmf, Vec nat)
             v[EKM2D_P] = wet ? st.P : 0.0;
             v[EKM2D_SXX] = st.sxx;
             v[EKM2D_SZZ] = st.szz;
-            double rate, sxz = 0.0;
-            int has;
-            if (wet) {
-                sxz =
-                    0.25 *
-                    (corner_stress(&c, i, j, &rate, &has) + corner_stress(&c, i + 1, j, &rate, &has) +
-                     corner_stress(&c, i, j + 1, &rate, &has) + corner_stress(&c, i + 1, j + 1, &rate, &has));
-            }
-            v[EKM2D_SXZ] = sxz;
-            v[EKM2D_REGIME] = !wet ? 0.0 : u[j][i][s->s_phi] <= sc->material.phi_co ? 1.0 : 2.0;
+            v[EKM2D_SXZ] = wet ? cell_mean_shear(&c, i, j, NULL) : 0.0;
+            v[EKM2D_REGIME] = !wet                                       ? EKM_REGIME_EMPTY
+                              : is_solid(s, i, j)                        ? EKM_REGIME_SOLID
+                              : u[j][i][s->s_phi] <= sc->material.phi_co ? EKM_REGIME_KINETIC
+                                                                         : EKM_REGIME_DENSE;
         }
     PCALL(DMStagVecRestoreArray(dmf, nat, &o));
     PCALL(DMStagVecRestoreArrayRead(s->dm, dryl, (void *)&dry));
@@ -1491,5 +1981,9 @@ ekm_status ekm2d_solver_stats(ekm2d_solver *s, ekm2d_stats *out, ekm_error *err)
     out->mass_in = s->mass_in;
     out->phi_max = phi_max;
     out->cell_updates = (double)s->steps * s->nx * s->nz;
+    long sw[2] = {s->to_solid, s->to_flow}, all[2];
+    MPI_Allreduce(sw, all, 2, MPI_LONG, MPI_SUM, s->comm);
+    out->to_solid = all[0];
+    out->to_flow = all[1];
     return EKM_OK;
 }

@@ -73,6 +73,8 @@ typedef struct {
     double mass_in;      /* net mass entered through the boundaries per unit depth [kg/m] */
     double phi_max;      /* largest phi [-] */
     double cell_updates; /* accepted steps x cells */
+    long to_solid;       /* switches flow -> solid (solid regime) */
+    long to_flow;        /* switches solid -> flow */
 } ekm2d_stats;
 
 /* The run's statistics so far (the mass is a reduction over the ranks:
