@@ -395,6 +395,25 @@ static inline void cell_rates(const eval_ctx *c, PetscInt i, PetscInt j, double 
     *ezz = (c->u[j + 1][i][s->s_vz] - c->u[j][i][s->s_vz]) / s->dz;
 }
 
+/* The mean squared shear rate of the corners of cell (i, j) that carry
+ * one [1/s^2] (0 if none does). */
+static double mean_corner_shear2(const eval_ctx *c, PetscInt i, PetscInt j)
+{
+    double sum2 = 0.0;
+    int count = 0;
+    const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
+    for (int q = 0; q < 4; q++) {
+        double rate;
+        int has;
+        (void)corner_stress(c, cn[q][0], cn[q][1], &rate, &has);
+        if (has) {
+            sum2 += rate * rate;
+            count++;
+        }
+    }
+    return count ? sum2 / count : 0.0;
+}
+
 /* Normal stresses of cell (i, j) (empty cells: none). */
 static inline ekm_plane_stress cell_stress(const eval_ctx *c, PetscInt i, PetscInt j)
 {
@@ -643,22 +662,10 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                     r -= cond;
                     MAG(rm, cond_mag);
                     /* heating and dissipation: the mean squared corner shear rate */
-                    double sum2 = 0.0;
-                    int count = 0;
-                    const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
-                    for (int q = 0; q < 4; q++) {
-                        double rate;
-                        int has;
-                        (void)corner_stress(c, cn[q][0], cn[q][1], &rate, &has);
-                        if (has) {
-                            sum2 += rate * rate;
-                            count++;
-                        }
-                    }
                     double exx, ezz;
                     cell_rates(c, i, j, &exx, &ezz);
                     ekm_source_coeffs src = ekm_temperature_source_coeffs_plane(
-                        m, sc->variant, phi, p->g, p->Y, count ? sum2 / count : 0.0, exx, ezz);
+                        m, sc->variant, phi, p->g, p->Y, mean_corner_shear2(c, i, j), exx, ezz);
                     double dS;
                     const double S = ekm_source_eval(&src, T, &dS) / rho_p;
                     r -= S;
@@ -987,19 +994,7 @@ static ekm_hypo_plane_rate cell_plane_rate(const eval_ctx *c, PetscInt i, PetscI
 {
     ekm_hypo_plane_rate r;
     cell_rates(c, i, j, &r.exx, &r.ezz);
-    double sum2 = 0.0;
-    int count = 0;
-    const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
-    for (int q = 0; q < 4; q++) {
-        double rate;
-        int has;
-        (void)corner_stress(c, cn[q][0], cn[q][1], &rate, &has);
-        if (has) {
-            sum2 += rate * rate;
-            count++;
-        }
-    }
-    r.gxz = count ? sqrt(sum2 / count) : 0.0;
+    r.gxz = sqrt(mean_corner_shear2(c, i, j));
     return r;
 }
 
