@@ -88,6 +88,41 @@ ekm_hypo_stress ekm_hypo_rate_plane(const ekm_material *m, ekm_variant v, double
     return d;
 }
 
+ekm_hypo_stress ekm_hypo_rate_plane_magnitude(const ekm_material *m, ekm_variant v, double phi,
+                                              const ekm_hypo_stress *s, const ekm_hypo_plane_rate *r,
+                                              double knorm, double ktr)
+{
+    const double A = m->A_h, B = m->B_h;
+    const double f = ekm_hypo_density_factor(m, phi);
+    const double PY = ekm_pressure_yield(m, phi);
+    const double tr = fabs(r->exx) + fabs(r->ezz); /* |A tr| with the rates' own magnitudes */
+    const double exx = fabs(r->exx), ezz = fabs(r->ezz), gxz = fabs(r->gxz);
+    ekm_hypo_stress d = {0};
+    if (!(PY > 0.0)) {
+        d.xz = f * B * gxz;
+        d.zz = f * (v == EKM_VARIANT_THESIS ? A * tr : A * tr + 2.0 * B * ezz);
+        d.xx = v == EKM_VARIANT_THESIS ? d.zz : f * (A * tr + 2.0 * B * exx);
+        d.yy = v == EKM_VARIANT_THESIS ? d.zz : f * A * tr;
+        return d;
+    }
+    const double a2 = coeff_a2(m, phi);
+    d.xz = f * (B * gxz + 2.0 * B * a2 * fabs(s->xz) / PY * knorm);
+    if (v == EKM_VARIANT_THESIS) {
+        const double R = ekm_hypo_R(m, v, phi);
+        d.zz = f * A * (tr + fabs(s->zz + PY) / (R * PY) * ktr);
+        d.xx = d.yy = d.zz;
+        return d;
+    }
+    const double a1 = coeff_a1(m, phi);
+    const double trs = s->xx + s->yy + s->zz;
+    const double Niso = (3.0 * A + 2.0 * B) * a1 * (fabs(trs) + 3.0 * PY) / PY;
+    const double dev = 2.0 * B * a2 / PY;
+    d.xx = f * (A * tr + 2.0 * B * exx + (Niso + dev * fabs(s->xx - trs / 3.0)) * knorm);
+    d.yy = f * (A * tr + (Niso + dev * fabs(s->yy - trs / 3.0)) * knorm);
+    d.zz = f * (A * tr + 2.0 * B * ezz + (Niso + dev * fabs(s->zz - trs / 3.0)) * knorm);
+    return d;
+}
+
 ekm_hypo_stress ekm_hypo_rate(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s,
                               double du_dz, double dw_dz)
 {

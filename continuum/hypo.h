@@ -91,6 +91,14 @@ ekm_hypo_stress ekm_hypo_rate_plane(const ekm_material *m, ekm_variant v, double
                                     const ekm_hypo_stress *s, const ekm_hypo_plane_rate *r, double knorm,
                                     double ktr);
 
+/* The sum of the magnitudes of the terms of ekm_hypo_rate_plane, per
+ * component [Pa/s] (same arguments): the scale of a stepper's residual of
+ * the law, whose terms cancel where the stress is in equilibrium with the
+ * rates (a bed at rest), so that |d(sigma)/dt| is no scale there. */
+ekm_hypo_stress ekm_hypo_rate_plane_magnitude(const ekm_material *m, ekm_variant v, double phi,
+                                              const ekm_hypo_stress *s, const ekm_hypo_plane_rate *r,
+                                              double knorm, double ktr);
+
 /* Normalised limit-surface function f_Y (0 on the surface, < 0 inside);
  * +inf when P_Y = 0 (no solid state below phi_co). */
 double ekm_hypo_yield(const ekm_material *m, ekm_variant v, double phi, const ekm_hypo_stress *s);
