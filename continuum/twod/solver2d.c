@@ -133,12 +133,6 @@ ekm_status ekm2d_supported(const ekm_scenario *sc, ekm_error *err)
         return EKM_FAIL(err, EKM_EINPUT,
                         "%s: [domain] cells = %d: the 2D solver needs at least 2 cells along z", src,
                         sc->cells);
-    if (sc->hypo.enabled)
-        return EKM_FAIL(err, EKM_EUNAVAILABLE,
-                        "%s: [hypo] enabled = 1: the solid (hypoplastic) regime is not in the 2D solver yet "
-                        "(issue 14; its code is in solver2d.c but a settling layer does not come to rest, "
-                        "docs/model.md)",
-                        src);
     if (sc->angle_rate != 0.0)
         return EKM_FAIL(
             err, EKM_EUNAVAILABLE,
@@ -510,6 +504,75 @@ static double corner_phi(const ekm2d_solver *s, const PetscScalar ***u, PetscInt
     return n ? sum / n : 0.0;
 }
 
+/* The heating and dissipation of flowing cell (i, j) (properties p):
+ * the mean squared corner shear rate and the normal rates. */
+static ekm_source_coeffs temperature_source(const eval_ctx *c, PetscInt i, PetscInt j,
+                                            const ekm_cell_properties *p)
+{
+    const ekm2d_solver *s = c->s;
+    double exx, ezz;
+    cell_rates(c, i, j, &exx, &ezz);
+    return ekm_temperature_source_coeffs_plane(&s->sc->material, s->sc->variant, c->u[j][i][s->s_phi], p->g,
+                                               p->Y, mean_corner_shear2(c, i, j), exx, ezz);
+}
+
+/* The temperature row of flowing wet cell (i, j) per rho_p, with the
+ * cell's T, dT/dt and conductivity lambda given (the neighbours' from the
+ * state): phi dT/dt + upwind convection - conduction - source.  mag
+ * non-NULL: the sum of its terms' magnitudes there. */
+static double temperature_row(const eval_ctx *c, PetscInt i, PetscInt j, double T, double dT_dt,
+                              double lambda, const ekm_source_coeffs *src, double *mag)
+{
+    const ekm2d_solver *s = c->s;
+    const PetscScalar ***u = c->u;
+    const double rho_p = s->sc->material.rho_p, dx = s->dx, dz = s->dz;
+    const double T_floor = s->sc->numerics.T_floor;
+    const double Fw = flux_x(c, i, j), Fe = flux_x(c, i + 1, j);
+    const double Fs = flux_z(c, i, j), Fn = flux_z(c, i, j + 1);
+    double r = u[j][i][s->s_phi] * dT_dt, rm = fabs(r);
+    /* upwind convection: what enters through each face brings its T */
+    const double T_w = is_wet(s, i - 1, j) ? u[j][i - 1][s->s_T] : T_floor;
+    const double T_e = is_wet(s, i + 1, j) ? u[j][i + 1][s->s_T] : T_floor;
+    double T_s = is_wet(s, i, j - 1) ? u[j - 1][i][s->s_T] : T_floor;
+    double T_n = is_wet(s, i, j + 1) ? u[j + 1][i][s->s_T] : T_floor;
+    if (j == 0 && inlet_face(s, &c->bottom, i))
+        T_s = c->bottom.T_in;
+    if (j == s->nz - 1 && inlet_face(s, &c->top, i))
+        T_n = c->top.T_in;
+    /* the faces whose upwind side (frozen for the step) is the neighbour */
+    double adv = 0.0;
+    if (c->frozen[j][i][s->s_vx] > 0.0)
+        adv += Fw * (T - T_w) / dx;
+    if (c->frozen[j][i + 1][s->s_vx] < 0.0)
+        adv += -Fe * (T - T_e) / dx;
+    if (c->frozen[j][i][s->s_vz] > 0.0)
+        adv += Fs * (T - T_s) / dz;
+    if (c->frozen[j + 1][i][s->s_vz] < 0.0)
+        adv += -Fn * (T - T_n) / dz;
+    r += adv;
+    rm += fabs(adv);
+    /* conduction, 2/3 div(lambda grad T), per rho_p */
+    const PetscInt nb[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+    for (int q = 0; q < 4; q++) {
+        const PetscInt a = nb[q][0], b = nb[q][1];
+        if (!is_wet(s, a, b) || is_solid(s, a, b))
+            continue;
+        const double h2 = q < 2 ? dx * dx : dz * dz;
+        const double term =
+            harmonic(lambda, props(s, a, b)->lambda) * (u[b][a][s->s_T] - T) / h2 * (2.0 / 3.0) / rho_p;
+        r -= term;
+        rm += fabs(term);
+    }
+    double dS;
+    const double S = ekm_source_eval(src, T, &dS) / rho_p;
+    r -= S;
+    if (mag) {
+        const double heat = (src->k_heat_a * sqrt(T) + src->k_heat_y / sqrt(T)) / rho_p;
+        *mag = rm + heat + fabs(heat - S);
+    }
+    return r;
+}
+
 /* The solid stress rows of cell (i, j): in a solid cell the rate law
  * (hypo.h, plane strain) with its plastic norms lagged at the start of the
  * step (the 1D solver's linearly implicit step, regime.h: the equations
@@ -536,10 +599,15 @@ static void solid_cell_rows(const eval_ctx *c, PetscInt i, PetscInt j, const Pet
     const ekm_hypo_stress d =
         ekm_hypo_rate_plane(&s->sc->material, s->sc->variant, v[s->s_phi], &sg, &r, s->knorm[k], s->ktr[k]);
     const double rate[3] = {d.xx, d.yy, d.zz};
+    ekm_hypo_stress dm = {0};
+    if (mg)
+        dm = ekm_hypo_rate_plane_magnitude(&s->sc->material, s->sc->variant, v[s->s_phi], &sg, &r,
+                                           s->knorm[k], s->ktr[k]);
+    const double mag[3] = {dm.xx, dm.yy, dm.zz};
     for (int q = 0; q < 3; q++) {
         f[j][i][slot[q]] = ud[j][i][slot[q]] - rate[q];
         if (mg)
-            mg[j][i][slot[q]] = fabs(ud[j][i][slot[q]]) + fabs(rate[q]);
+            mg[j][i][slot[q]] = fabs(ud[j][i][slot[q]]) + mag[q];
     }
 }
 
@@ -624,57 +692,9 @@ static void residual_rows(const eval_ctx *c, const PetscScalar ***ud, PetscScala
                         mg[j][i][s->s_T] = fabs(f[j][i][s->s_T]);
                 } else {
                     const ekm_cell_properties *p = props(s, i, j);
-                    double r = phi * ud[j][i][s->s_T], rm = fabs(r);
-                    /* upwind convection: what enters through each face brings its T */
-                    const double T_w = is_wet(s, i - 1, j) ? u[j][i - 1][s->s_T] : T_floor;
-                    const double T_e = is_wet(s, i + 1, j) ? u[j][i + 1][s->s_T] : T_floor;
-                    double T_s = is_wet(s, i, j - 1) ? u[j - 1][i][s->s_T] : T_floor;
-                    double T_n = is_wet(s, i, j + 1) ? u[j + 1][i][s->s_T] : T_floor;
-                    if (j == 0 && inlet_face(s, &c->bottom, i))
-                        T_s = c->bottom.T_in;
-                    if (j == s->nz - 1 && inlet_face(s, &c->top, i))
-                        T_n = c->top.T_in;
-                    /* the faces whose upwind side (frozen for the step) is the neighbour */
-                    double adv = 0.0;
-                    if (c->frozen[j][i][s->s_vx] > 0.0)
-                        adv += Fw * (T - T_w) / dx;
-                    if (c->frozen[j][i + 1][s->s_vx] < 0.0)
-                        adv += -Fe * (T - T_e) / dx;
-                    if (c->frozen[j][i][s->s_vz] > 0.0)
-                        adv += Fs * (T - T_s) / dz;
-                    if (c->frozen[j + 1][i][s->s_vz] < 0.0)
-                        adv += -Fn * (T - T_n) / dz;
-                    r += adv;
-                    MAG(rm, adv);
-                    /* conduction, 2/3 div(lambda grad T), per rho_p */
-                    double cond = 0.0, cond_mag = 0.0;
-                    const PetscInt nb[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
-                    for (int q = 0; q < 4; q++) {
-                        const PetscInt a = nb[q][0], b = nb[q][1];
-                        if (!is_wet(s, a, b) || is_solid(s, a, b))
-                            continue;
-                        const double h2 = q < 2 ? dx * dx : dz * dz;
-                        const double term = harmonic(p->lambda, props(s, a, b)->lambda) *
-                                            (u[b][a][s->s_T] - T) / h2 * (2.0 / 3.0) / rho_p;
-                        cond += term;
-                        cond_mag += fabs(term);
-                    }
-                    r -= cond;
-                    MAG(rm, cond_mag);
-                    /* heating and dissipation: the mean squared corner shear rate */
-                    double exx, ezz;
-                    cell_rates(c, i, j, &exx, &ezz);
-                    ekm_source_coeffs src = ekm_temperature_source_coeffs_plane(
-                        m, sc->variant, phi, p->g, p->Y, mean_corner_shear2(c, i, j), exx, ezz);
-                    double dS;
-                    const double S = ekm_source_eval(&src, T, &dS) / rho_p;
-                    r -= S;
-                    if (mg) {
-                        const double heat = (src.k_heat_a * sqrt(T) + src.k_heat_y / sqrt(T)) / rho_p;
-                        rm += heat + fabs(heat - S);
-                        mg[j][i][s->s_T] = rm;
-                    }
-                    f[j][i][s->s_T] = r;
+                    const ekm_source_coeffs src = temperature_source(c, i, j, p);
+                    f[j][i][s->s_T] = temperature_row(c, i, j, T, ud[j][i][s->s_T], p->lambda, &src,
+                                                      mg ? &mg[j][i][s->s_T] : NULL);
                 }
                 if (s->hypo)
                     solid_cell_rows(c, i, j, ud, f, mg);
@@ -1633,6 +1653,40 @@ static PetscErrorCode set_direct_solve(KSP ksp, int ranks)
     return set_direct_solve(inner, 1);
 }
 
+/* The Jacobian by finite differences over a coloring of its nonzeros
+ * (PETSc's TSComputeIJacobianDefaultColor, which takes the coloring
+ * composed on the matrix, made here as it makes it), each column perturbed relative to its own value (type
+ * "ds"; -mat_fd_type still overrides). PETSc's default ("wp") perturbs
+ * every column by one h = 1.5e-8 sqrt(1 + ||U||): with stresses of
+ * hundreds of Pa in U a T of 1e-10 m^2/s^2 was moved by 1e-6, its column
+ * missed the source's derivative, and Newton converged only linearly in
+ * the T rows of cold dense cells (docs/model.md "2D solver"). */
+static PetscErrorCode ijacobian(TS ts, PetscReal t, Vec U, Vec Udot, PetscReal shift, Mat J, Mat B, void *ctx)
+{
+    MatFDColoring color;
+    PCALL(PetscObjectQuery((PetscObject)B, "TSMatFDColoring", (PetscObject *)&color));
+    if (!color) { /* the first call (the matrix is assembled by then) */
+        ISColoring iscoloring;
+        MatColoring mc; /* of the matrix's nonzeros: DMStag has no coloring of its own */
+        PCALL(MatColoringCreate(B, &mc));
+        PCALL(MatColoringSetDistance(mc, 2));
+        PCALL(MatColoringSetType(mc, MATCOLORINGSL));
+        PCALL(MatColoringSetFromOptions(mc));
+        PCALL(MatColoringApply(mc, &iscoloring));
+        PCALL(MatColoringDestroy(&mc));
+        PCALL(MatFDColoringCreate(B, iscoloring, &color));
+        PCALL(MatFDColoringSetFunction(color, (PetscErrorCode(*)(void))(void (*)(void))SNESTSFormFunction,
+                                       (void *)ts));
+        PCALL(MatFDColoringSetType(color, MATMFFD_DS));
+        PCALL(MatFDColoringSetFromOptions(color));
+        PCALL(MatFDColoringSetUp(B, iscoloring, color));
+        PCALL(ISColoringDestroy(&iscoloring));
+        PCALL(PetscObjectCompose((PetscObject)B, "TSMatFDColoring", (PetscObject)color));
+        PCALL(PetscObjectDereference((PetscObject)color));
+    }
+    return TSComputeIJacobianDefaultColor(ts, t, U, Udot, shift, J, B, ctx);
+}
+
 ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_state *init,
                                ekm2d_solver **out, ekm_error *err)
 {
@@ -1739,7 +1793,7 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     TRY(TSSetIFunction(s->ts, NULL, ifunction, s), "TSSetIFunction");
     TRY(DMSetMatType(s->dm, MATAIJ), "DMSetMatType");
     TRY(DMCreateMatrix(s->dm, &s->J), "DMCreateMatrix");
-    TRY(TSSetIJacobian(s->ts, s->J, s->J, TSComputeIJacobianDefaultColor, NULL), "TSSetIJacobian");
+    TRY(TSSetIJacobian(s->ts, s->J, s->J, ijacobian, NULL), "TSSetIJacobian");
     TRY(TSSetPreStep(s->ts, prestep), "TSSetPreStep");
     TRY(TSSetPostStep(s->ts, poststep), "TSSetPostStep");
     TRY(TSMonitorSet(s->ts, count_newton, s, NULL), "TSMonitorSet");

@@ -76,8 +76,6 @@ error() {
         ok "$name"
     fi
 }
-error "solid regime in 2D: exit 7" 7 '\[hypo\] enabled = 1: .*not in the 2D solver yet' \
-    run "$src/scenarios/filling.ini" --set domain.width=0.01 --set domain.cells_x=2
 error "stop = steady in 2D: exit 7" 7 '\[run\] stop = steady: the 2D solver stops at t_end only' \
     run "$src/scenarios/simple_shear.ini" --set domain.width=0.01 --set domain.cells_x=2
 error "pressure wall in 2D: exit 7" 7 '\[top\] pressure: .*not in the 2D solver yet' \

@@ -25,6 +25,15 @@
  *             stresses' of the largest P; vx and sxz odd, the rest even; both
  *             side walls, the inlet centred), and the top row outside the
  *             inlet's columns empty (phi < phi_dry).
+ *   settled   tests/continuum/data/settled_layer_2d.ini with the solid regime
+ *             on 2 x 20 cells, periodic in x: a layer 40 mm deep at phi
+ *             0.61 settles under its weight; at t = 0.5 s the lower 15 of
+ *             its 16 cells are solid in every column (the surface cell at
+ *             phi_co + 4e-4 flows, a dilute cell above it), every solid
+ *             cell at rest (|vx|, |vz| < 1e-9 m/s), and each column's
+ *             normal stress on the floor (sigma_zz of its first cell minus
+ *             the weight of that cell's lower half) equals the column's
+ *             weight to 1e-6 (numbers: the test's output).
  *   ranks     a 6 x 12 box with side walls and gravity tilted by 10 degrees
  *             (the layer starts to slide towards a wall: a 2D flow) for
  *             0.002 s; writes the fields to REF.bin when it does not exist,
@@ -39,6 +48,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "fields.h"
 #include "scenario.h"
 #include "solver2d.h"
 #include "state.h"
@@ -61,7 +71,10 @@ static int rank0(void)
 static int load(const char *src, const char *name, const char *const *sets, size_t n, ekm_scenario *sc)
 {
     char path[1024];
-    snprintf(path, sizeof path, "%s/scenarios/%s.ini", src, name);
+    if (strchr(name, '/')) /* a file of the source tree */
+        snprintf(path, sizeof path, "%s/%s", src, name);
+    else
+        snprintf(path, sizeof path, "%s/scenarios/%s.ini", src, name);
     ekm_error err = {0};
     if (ekm_scenario_load(sc, path, sets, n, &err) != EKM_OK) {
         fprintf(stderr, "FAIL: %s\n", err.message);
@@ -220,6 +233,55 @@ static int case_chute(const char *src)
     return rc;
 }
 
+static int case_settled(const char *src)
+{
+    const char *sets[] = {"domain.periodic_x=1", "domain.cells_x=2", "domain.width=0.01"};
+    run2d r;
+    int rc = run_open(&r, src, "tests/continuum/data/settled_layer_2d.ini", sets, 3, NULL);
+    if (!rc)
+        rc = run_to(&r, 0.5);
+    if (rc) {
+        run_close(&r);
+        return rc;
+    }
+    const ekm_material *m = &r.sc.material;
+    const int nx = r.sc.cells_x, nz = r.sc.cells;
+    const double dz = r.sc.length / nz, g = r.sc.gravity;
+    double v_max = 0.0, err_max = 0.0;
+    int solid = 0, bed_min = nz;
+    for (int i = 0; i < nx; i++) {
+        double weight = 0.0;
+        int bed = 0; /* solid cells from the floor up */
+        while (bed < nz && r.f[EKM2D_REGIME][(size_t)bed * nx + i] == EKM_REGIME_SOLID)
+            bed++;
+        bed_min = bed < bed_min ? bed : bed_min;
+        for (int j = 0; j < nz; j++) {
+            const size_t k = (size_t)j * nx + i;
+            weight += m->rho_p * r.f[EKM2D_PHI][k] * g * dz;
+            if (r.f[EKM2D_REGIME][k] == EKM_REGIME_SOLID) {
+                solid++;
+                v_max = fmax(v_max, fmax(fabs(r.f[EKM2D_VX][k]), fabs(r.f[EKM2D_VZ][k])));
+            }
+        }
+        const double floor_stress = -r.f[EKM2D_SZZ][i] + 0.5 * m->rho_p * r.f[EKM2D_PHI][i] * g * dz;
+        err_max = fmax(err_max, fabs(floor_stress - weight) / weight);
+    }
+    if (rank0())
+        printf("settled: %d solid cells, bed of %d cells in every column; max |v| of solid cells %.2e m/s "
+               "(tolerance 1e-9); floor stress vs the column's weight: max relative difference %.2e "
+               "(tolerance 1e-6)\n",
+               solid, bed_min, v_max, err_max);
+    if (bed_min < 15)
+        rc = 1,
+        fprintf(stderr, "FAIL: settled: the solid bed has %d cells (expected 15 of the 16 wet)\n", bed_min);
+    if (!(v_max < 1e-9))
+        rc = 1, fprintf(stderr, "FAIL: settled: the bed is not at rest\n");
+    if (!(err_max < 1e-6))
+        rc = 1, fprintf(stderr, "FAIL: settled: the floor does not carry the weight\n");
+    run_close(&r);
+    return rc;
+}
+
 static int case_inflow(const char *src)
 {
     const char *sets[] = {"run.stop=t_end",  "domain.width=0.004", "domain.cells_x=2", "domain.periodic_x=1",
@@ -363,7 +425,7 @@ static int case_ranks(const char *src, const char *ref)
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: test_solver2d SOURCE_DIR shear|chute|inflow|inlet|ranks [REF.bin]\n");
+        fprintf(stderr, "usage: test_solver2d SOURCE_DIR shear|chute|inflow|inlet|settled|ranks [REF.bin]\n");
         return 2;
     }
     char *pargv[] = {argv[0], (char *)"-no_signal_handler", NULL};
@@ -381,6 +443,8 @@ int main(int argc, char **argv)
         rc = case_inflow(argv[1]);
     else if (strcmp(argv[2], "inlet") == 0)
         rc = case_inlet(argv[1]);
+    else if (strcmp(argv[2], "settled") == 0)
+        rc = case_settled(argv[1]);
     else if (strcmp(argv[2], "ranks") == 0 && argc > 3)
         rc = case_ranks(argv[1], argv[3]);
     PetscPopErrorHandler();
