@@ -58,15 +58,29 @@ class ArgParser(argparse.ArgumentParser):
         self.exit(USAGE, "%s: %s\n" % (self.prog, message))
 
 
-def on_signal(signum, _frame):
+class SignalStop:
     """A signal ends the program as an exception, so that the `finally`
-    clauses remove the temporaries; the status is the shell's 128+N."""
-    raise SystemExit(128 + signum)
+    clauses remove the temporaries; the status is the shell's 128+N. The
+    signal is also recorded: an exception raised while Python runs a
+    finalizer (__del__, a weakref callback) is printed and dropped, so
+    `check` raises it again before anything is committed."""
+
+    def __init__(self):
+        self.signum = 0
+
+    def __call__(self, signum, _frame):
+        self.signum = signum
+        raise SystemExit(128 + signum)
+
+    def check(self):
+        if self.signum:
+            raise SystemExit(128 + self.signum)
 
 
 def main(argv=None):
+    stop = SignalStop()
     for sig in (signal.SIGTERM, signal.SIGHUP, signal.SIGINT):
-        signal.signal(sig, on_signal)
+        signal.signal(sig, stop)
     ap = ArgParser(prog=C.PROG, description="Paper figures of a campaign results folder.")
     ap.add_argument("--size", choices=("smoke", "ref"), required=True, help="campaign size")
     ap.add_argument("--ekm", default=C.default_ekm(),
@@ -105,7 +119,7 @@ def main(argv=None):
     outdir = os.path.join(a.res, "figures")
     try:
         return draw(outdir, scenarios, [ps.name for ps in sets], rheo, matrix,
-                    (profiles, spacetime, rheology, calibration, cost))
+                    (profiles, spacetime, rheology, calibration, cost), stop)
     except C.InputError as e:
         print("%s: %s" % (C.PROG, e), file=sys.stderr)
         return e.status
@@ -115,8 +129,9 @@ def main(argv=None):
         return C.IO_ERROR
 
 
-def draw(outdir, scenarios, set_names, rheo, matrix, modules):
-    """Every figure into outdir, then the listing figures.txt."""
+def draw(outdir, scenarios, set_names, rheo, matrix, modules, stop):
+    """Every figure into outdir, then the listing figures.txt (not after a
+    signal: stop.check())."""
     profiles, spacetime, rheology, calibration, cost = modules
     listing = os.path.join(outdir, "figures.txt")
     previous = []
@@ -136,6 +151,7 @@ def draw(outdir, scenarios, set_names, rheo, matrix, modules):
         old = os.path.join(outdir, b)
         if b not in now and b.endswith((".pdf", ".png")) and os.path.isfile(old):
             os.remove(old)
+    stop.check()
     w.finish()
     print("%s: %d files in %s (listed in figures.txt)" % (C.PROG, len(w.written), outdir))
     return 0

@@ -280,8 +280,10 @@ def exit_codes(src, work):
         if os.path.isdir(figdir) and any(f.endswith(".png") for f in os.listdir(figdir)):
             break
         time.sleep(0.05)
+    running = proc.poll() is None
     proc.terminate()
     _, err = proc.communicate()
+    check(running, "SIGTERM: make_figures.py ended (status %d) before the signal" % proc.returncode)
     check(proc.returncode == 143, "SIGTERM: exit status %d, expected 143 (%s)" % (proc.returncode, err))
     left = tmp_files(figdir)
     check(not left, "SIGTERM: temporaries left: %s" % left)
