@@ -1,4 +1,5 @@
 #include "regime.h"
+#include "switching.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -203,15 +204,13 @@ void ekm_regime_switch(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
         const double phi = s->phi[j];
         const double dw = (s->w[j + 1] - s->w[j]) / s->dz;
         const double du_abs = sqrt(st->u2[j]);
-        const int at_rest = fabs(dw) <= h->rest_rate && du_abs <= h->rest_rate;
-        const double rate = sqrt(st->u2[j] + dw * dw), rate_before = s->rate_prev[j];
-        s->rate_prev[j] = rate;
-        const int compress = dw < 0.0 && du_abs / sqrt(2.0) <= -dw;
+        const ekm_switch_rates r = ekm_switch_rates_of(h, 0.0, dw, du_abs);
+        const double rate_before = s->rate_prev[j];
+        s->rate_prev[j] = r.rate;
         const double PY = ekm_pressure_yield(m, phi);
-        const int loose = !(PY > 0.0) || phi <= m->phi_co + h->phi_margin;
-        /* a loose cell rests on a solid one: it takes the yield temperature of that one */
-        const double Y = loose ? (j > 0 && s->solid[j - 1] ? ekm_yield_temperature(m, s->phi[j - 1]) : 0.0)
-                               : ekm_yield_temperature(m, phi);
+        const int loose = ekm_switch_loose(m, h, phi);
+        const double Y = ekm_switch_yield_temperature(m, loose, phi, j > 0 && s->solid[j - 1],
+                                                      j > 0 ? s->phi[j - 1] : 0.0);
         if (s->solid[j]) {
             const ekm_hypo_stress sig = {s->sxx[j], s->syy[j], s->szz[j], 0.5 * (s->sxz[j] + s->sxz[j + 1])};
             const double fY =
@@ -222,33 +221,23 @@ void ekm_regime_switch(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
                            : fmax(ekm_temperature_local_balance(m, sc->variant, phi, st->u2[j], dw * dw),
                                   sc->numerics.T_floor);
             double jump = 0.0;
-            int go;
-            const char *why;
-            if (st->dry[j]) {
-                go = 1;
-                why = "empty";
-            } else if (loose) {
-                go = !(Y > 0.0) || sig.zz >= 0.0;
-                why = "loose cell unloaded";
-            } else {
-                go = 0;
-                why = "limit surface";
-                if (fY >= -h->yield_tol && !compress) {
-                    ekm_hypo_stress e = ekm_hypo_from_flow(m, sc->variant, phi, T, 0.0, dw);
-                    e.xz = flow_cell_shear(st, s, bb, bt, j,
-                                           ekm_transport_coefficients(m, sc->variant, phi, T).eta);
-                    jump = fmax(fabs(e.zz - sig.zz), fabs(e.xz - sig.xz)) / fmax(fabs(sig.zz), fabs(sig.xz));
-                    go = jump <= h->jump_tol || !h->carry_over;
-                }
+            const ekm_switch_verdict verdict = ekm_switch_to_flow(h, !st->dry[j], loose, Y, sig.zz, fY, &r);
+            const char *why = st->dry[j] ? "empty" : loose ? "loose cell unloaded" : "limit surface";
+            int go = verdict == EKM_SWITCH_GO;
+            if (verdict == EKM_SWITCH_CHECK) {
+                ekm_hypo_stress e = ekm_hypo_from_flow(m, sc->variant, phi, T, 0.0, dw);
+                e.xz =
+                    flow_cell_shear(st, s, bb, bt, j, ekm_transport_coefficients(m, sc->variant, phi, T).eta);
+                jump = fmax(fabs(e.zz - sig.zz), fabs(e.xz - sig.xz)) / fmax(fabs(sig.zz), fabs(sig.xz));
+                go = ekm_switch_jump_passes(h, jump);
             }
             if (!go)
                 continue;
             if (!st->dry[j]) {
                 if (h->carry_over) {
                     /* no limit surface below phi_co: T from stress continuity */
-                    const double Tm =
-                        loose ? ekm_hypo_flow_T_for_stress(m, sc->variant, phi, dw, sig.zz) : -1.0;
-                    s->T[j] = Tm >= 0.0 ? fmax(Tm, sc->numerics.T_floor) : T;
+                    s->T[j] = ekm_switch_flow_temperature(m, sc->variant, loose, phi, dw, sig.zz, T,
+                                                          sc->numerics.T_floor);
                     eta[j] = ekm_transport_coefficients(m, sc->variant, phi, s->T[j]).eta;
                 }
                 if (!loose) {
@@ -270,18 +259,16 @@ void ekm_regime_switch(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
                         "ekm: t = %.9g s: cell %d (z = %.6g m) solid -> flow (%s): phi %.6f, f_Y %.3e, "
                         "w' %.3e, |u'| %.3e 1/s, sigma_zz %.6g Pa, sigma_xz %.6g Pa, T := %.3e, jump %.2e\n",
                         s->t, j, s->z[j], why, phi, fY, dw, du_abs, sig.zz, sig.xz, s->T[j], jump);
-        } else if (!st->dry[j] && Y > 0.0 && (compress || at_rest) && s->T[j] < h->T_ratio * Y &&
-                   phi >= h->phi_loose) {
+        } else {
+            const ekm_switch_verdict verdict =
+                ekm_switch_to_solid(h, !st->dry[j], loose, Y, s->T[j], phi, &r, rate_before);
+            if (verdict == EKM_SWITCH_STAY)
+                continue;
             ekm_hypo_stress e = ekm_hypo_from_flow(m, sc->variant, phi, s->T[j], 0.0, dw);
-            /* At rest (not compressing) near the limit surface (f_Y >= -10
-             * yield_tol) only while the rates do not grow: a cell that has
-             * just failed under a growing load flows quasi-statically on the
-             * surface at tiny, growing rates; turned solid it would fail again
-             * at once, step after step.  One that comes to rest decelerates. */
-            if (!compress && !loose && rate > rate_before) {
+            if (verdict == EKM_SWITCH_CHECK) {
                 e.xz = 0.5 * (s->sxz[j] + s->sxz[j + 1]);
-                if (!(ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &e) <
-                      -10.0 * h->yield_tol))
+                if (!ekm_switch_inside_passes(
+                        h, ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &e)))
                     continue;
             }
             if (!h->carry_over) /* tests only (scenario.h) */

@@ -13,20 +13,9 @@
  * neighbour's stress (zero gradient).  A face between a flowing and a solid
  * cell carries the flowing cell's viscosity (ekm_face_viscosity).
  *
- * Switching (phase 9, thresholds in [hypo], docs/model.md):
- *   flow -> solid  phi > phi_co + phi_margin, T < T_ratio Y, and the cell
- *                  compresses (w' < 0, |u'|/sqrt2 <= |w'|) or rests
- *                  (|w'|, |u'| <= rest_rate; near the limit surface,
- *                  f_Y >= -10 yield_tol, only while its rates do not grow:
- *                  ekm_state's rate_prev);
- *                  stress := the EKM stress
- *   solid -> flow  phi <= phi_co, or f_Y >= -yield_tol while the rate is
- *                  not compression-dominated and the cell's stress equals
- *                  its flow stress (output definitions, fields.h) at the
- *                  quasi-static T of the current rates within jump_tol;
- *                  T := that quasi-static T (below phi_co, where the solid
- *                  has no limit surface: the T that gives the solid's
- *                  sigma_zz, ekm_hypo_flow_T_for_stress)
+ * Switching (phase 9): the rules of switching.h, shared with the 2D
+ * solver. A cell turning solid takes the EKM stress; one turning flow the
+ * quasi-static T of its current rates (ekm_switch_flow_temperature).
  * The switch counts and the first failure are kept in the stepper
  * (to_solid, to_flow, jump_max, fail_*).
  */

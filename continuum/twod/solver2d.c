@@ -11,6 +11,7 @@
 #include "fields.h"
 #include "hypo.h"
 #include "model.h"
+#include "switching.h"
 
 /* Boundary data of one end (bottom or top) at one time. */
 typedef struct {
@@ -1254,13 +1255,12 @@ static double cell_mean_shear(const eval_ctx *c, PetscInt i, PetscInt j, double 
 }
 
 /* After an accepted step: the switches flow <-> solid of the owned cells
- * by the 1D solver's rules (regime.h), with the plane rates: compression
- * is tr kappa < 0 with the cell's shear rate / sqrt 2 <= -tr kappa; rest
- * is every rate <= rest_rate.  A cell turning solid takes its flow stress;
- * a corner turning solid the shear stress it had as a flowing corner; a
- * cell turning flow the quasi-static T of its rates (below phi_co: the T
- * of its solid sigma_zz).  Writes U only when a cell switched (TS then
- * restarts its history, TSPostStep). */
+ * by the rules of switching.h (the 1D solver's), with the plane rates.  A
+ * cell turning solid takes its flow stress; a corner turning solid the
+ * shear stress it had as a flowing corner; a cell turning flow the
+ * quasi-static T of its rates (below phi_co: the T of its solid sigma_zz).
+ * Writes U only when a cell switched (TS then restarts its history,
+ * TSPostStep). */
 static PetscErrorCode switch_regimes(ekm2d_solver *s, Vec U, double t)
 {
     const ekm_scenario *sc = s->sc;
@@ -1300,19 +1300,15 @@ static PetscErrorCode switch_regimes(ekm2d_solver *s, Vec U, double t)
             const double phi = v[s->s_phi];
             const int wet = is_wet(s, i, j);
             const ekm_hypo_plane_rate r = cell_plane_rate(&c, i, j);
-            const double tr = r.exx + r.ezz, shear = r.gxz;
-            const int at_rest =
-                fabs(r.exx) <= h->rest_rate && fabs(r.ezz) <= h->rest_rate && shear <= h->rest_rate;
-            const double rate = sqrt(r.exx * r.exx + r.ezz * r.ezz + shear * shear);
+            const double shear = r.gxz;
+            const ekm_switch_rates sr = ekm_switch_rates_of(h, r.exx, r.ezz, shear);
             const double rate_before = rg[j][i][s->s_T];
-            rg[j][i][s->s_T] = rate;
-            const int compress = tr < 0.0 && shear / sqrt(2.0) <= -tr;
+            rg[j][i][s->s_T] = sr.rate;
             const double PY = ekm_pressure_yield(m, phi);
-            const int loose = !(PY > 0.0) || phi <= m->phi_co + h->phi_margin;
-            const double Y =
-                loose
-                    ? (j > 0 && is_solid(s, i, j - 1) ? ekm_yield_temperature(m, u[j - 1][i][s->s_phi]) : 0.0)
-                    : ekm_yield_temperature(m, phi);
+            const int loose = ekm_switch_loose(m, h, phi);
+            const int below_solid = j > 0 && is_solid(s, i, j - 1);
+            const double Y = ekm_switch_yield_temperature(m, loose, phi, below_solid,
+                                                          below_solid ? u[j - 1][i][s->s_phi] : 0.0);
             if (is_solid(s, i, j)) {
                 const ekm_hypo_stress sig = {v[s->s_sxx], v[s->s_syy], v[s->s_szz],
                                              cell_mean_shear(&c, i, j, NULL)};
@@ -1325,12 +1321,9 @@ static PetscErrorCode switch_regimes(ekm2d_solver *s, Vec U, double t)
                         r.exx, r.ezz);
                     T_qs = fmax(ekm_source_balance(&src), sc->numerics.T_floor);
                 }
-                int go = 0;
-                if (!wet) {
-                    go = 1;
-                } else if (loose) {
-                    go = !(Y > 0.0) || sig.zz >= 0.0;
-                } else if (fY >= -h->yield_tol && !compress) {
+                const ekm_switch_verdict verdict = ekm_switch_to_flow(h, wet, loose, Y, sig.zz, fY, &sr);
+                int go = verdict == EKM_SWITCH_GO;
+                if (verdict == EKM_SWITCH_CHECK) {
                     const ekm_cell_properties p = ekm_cell_properties_at(m, sc->variant, phi, T_qs);
                     const ekm_plane_stress e = ekm_stress_plane(&p, sc->variant, r.exx, r.ezz);
                     double mean_rate;
@@ -1339,15 +1332,13 @@ static PetscErrorCode switch_regimes(ekm2d_solver *s, Vec U, double t)
                     const double jump =
                         fmax(fmax(fabs(e.szz - sig.zz), fabs(e.sxx - sig.xx)), fabs(e_xz - sig.xz)) /
                         fmax(fabs(sig.zz), fabs(sig.xz));
-                    go = jump <= h->jump_tol || !h->carry_over;
+                    go = ekm_switch_jump_passes(h, jump);
                 }
                 if (!go)
                     continue;
-                if (wet && h->carry_over) {
-                    const double Tm =
-                        loose ? ekm_hypo_flow_T_for_stress(m, sc->variant, phi, r.ezz, sig.zz) : -1.0;
-                    v[s->s_T] = Tm >= 0.0 ? fmax(Tm, sc->numerics.T_floor) : T_qs;
-                }
+                if (wet && h->carry_over)
+                    v[s->s_T] = ekm_switch_flow_temperature(m, sc->variant, loose, phi, r.ezz, sig.zz, T_qs,
+                                                            sc->numerics.T_floor);
                 rg[j][i][s->s_phi] = 0.0;
                 s->to_flow++;
                 switched = 1;
@@ -1355,14 +1346,16 @@ static PetscErrorCode switch_regimes(ekm2d_solver *s, Vec U, double t)
                     fprintf(stderr,
                             "ekm: t = %.9g s: cell (%d, %d) solid -> flow: phi %.6f, f_Y %.3e, T := %.3e\n",
                             t, (int)i, (int)j, phi, fY, v[s->s_T]);
-            } else if (wet && Y > 0.0 && (compress || at_rest) && v[s->s_T] < h->T_ratio * Y &&
-                       phi >= h->phi_loose) {
+            } else {
+                const ekm_switch_verdict verdict =
+                    ekm_switch_to_solid(h, wet, loose, Y, v[s->s_T], phi, &sr, rate_before);
+                if (verdict == EKM_SWITCH_STAY)
+                    continue;
                 const ekm_plane_stress e = ekm_stress_plane(props(s, i, j), sc->variant, r.exx, r.ezz);
                 ekm_hypo_stress sig = {e.sxx, e.syy, e.szz, cell_mean_shear(&c, i, j, NULL)};
-                /* at rest near the limit surface only while the rates do not grow (regime.h) */
-                if (!compress && !loose && rate > rate_before &&
-                    !(ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &sig) <
-                      -10.0 * h->yield_tol))
+                if (verdict == EKM_SWITCH_CHECK &&
+                    !ekm_switch_inside_passes(
+                        h, ekm_hypo_yield(m, sc->variant, ekm_scenario_law_phi(sc, phi), &sig)))
                     continue;
                 if (!h->carry_over) /* tests only (scenario.h) */
                     sig.xx = sig.yy = sig.zz = -PY;
