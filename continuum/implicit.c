@@ -18,7 +18,8 @@ ekm_implicit_work *ekm_implicit_alloc(int n)
     wk->rhs = calloc(m, sizeof(double));
     wk->x = calloc(m, sizeof(double));
     wk->aux = calloc(m, sizeof(double));
-    if (!wk->diag || !wk->sub || !wk->sup || !wk->rhs || !wk->x || !wk->aux) {
+    wk->update = calloc(m, sizeof(double));
+    if (!wk->diag || !wk->sub || !wk->sup || !wk->rhs || !wk->x || !wk->aux || !wk->update) {
         ekm_implicit_free(wk);
         return NULL;
     }
@@ -35,6 +36,7 @@ void ekm_implicit_free(ekm_implicit_work *wk)
     free(wk->rhs);
     free(wk->x);
     free(wk->aux);
+    free(wk->update);
     free(wk);
 }
 
@@ -343,12 +345,16 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
         ekm_status st = solve_in(wk, n, spd, wk->x, "temperature", err);
         if (st != EKM_OK)
             return st;
-        /* Newton converges quadratically: once every relative update
-         * |dT|/T is below sqrt(tol), the remaining error (~ update^2) is
-         * below tol (tested as |dT| < sqrt(tol) T, without a division). */
+        /* Newton converges quadratically: once a cell's relative update
+         * |dT|/T is below sqrt(tol), its remaining error (~ update^2) is
+         * below tol; from the second iteration on, the error estimated
+         * with the contraction measured, |dT_k|^3 / |dT_{k-1}|^2 (an
+         * update that did not shrink fails it), also counts (both tested
+         * without a division). */
         const double limit = fmax(tol, sqrt(tol));
         int converged = !restarted;
         double finite = 0.0; /* 0, or NaN once an update is not finite */
+        double *update = wk->update;
         for (int j = 0; j < n; j++) {
             const double Tj = T[j];
             /* Newton safeguard: never step to or below zero; approach the
@@ -358,7 +364,9 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
             Tn = Tn < T_floor ? T_floor : Tn;
             const double d = fabs(Tn - Tj);
             const int wet = !dry[j];
-            converged &= !wet || d < limit * Tn;
+            const double d_prev = it > 1 ? update[j] : 0.0;
+            update[j] = d;
+            converged &= !wet || d < limit * Tn || (d <= d_prev && d * d * d < tol * Tn * d_prev * d_prev);
             finite += wet ? 0.0 * d : 0.0;
             T[j] = wet ? Tn : 0.0;
         }

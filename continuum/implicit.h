@@ -25,6 +25,7 @@ typedef struct {
     int n;                              /* cells */
     double *diag, *sub, *sup, *rhs, *x; /* the system and its solution, n + 1 each */
     double *aux;                        /* face conductances of the temperature solve, n + 1 */
+    double *update; /* |dT| of each cell in the last Newton iteration of the temperature solve, n + 1 */
 } ekm_implicit_work;
 
 ekm_implicit_work *ekm_implicit_alloc(int n);
@@ -97,8 +98,13 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
  * coefficients of each cell (model.h); T holds the initial guess on entry
  * and the solution on success.  Where the source relaxes much faster than
  * dt (quasi-static beds), the guess is replaced by the local balance
- * S(T) = 0.  Returns EKM_ENUMERIC when Newton does not converge in
- * newton_max iterations (the caller retries with a smaller step). */
+ * S(T) = 0.  A cell has converged when its error after the iteration,
+ * estimated from Newton's quadratic convergence, is below tol relative:
+ * |dT_k| < sqrt(tol) T (error ~ dT_k^2), or, once the updates contract,
+ * |dT_k|^3 / |dT_{k-1}|^2 < tol T (error ~ C dT_k^2 with C ~ |dT_k| /
+ * |dT_{k-1}|^2 measured).  Returns EKM_ENUMERIC when Newton does not
+ * converge in newton_max iterations (the caller retries with a smaller
+ * step). */
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz, double rho_p,
                                     const double *phi, const double *rhoT_star, const double *lambda,
                                     const ekm_source_coeffs *src, const unsigned char *dry, double T_floor,

@@ -63,6 +63,7 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->phi_coupled = calloc(f, sizeof(double));
     st->g_cell = calloc(c, sizeof(double));
     st->Y_cell = calloc(c, sizeof(double));
+    st->T_change = calloc(c, sizeof(double));
     st->fail_time = -1.0;
     st->fail_cell = -1;
     st->moving = ekm_bc_pressure_wall(&sc->top);
@@ -71,7 +72,7 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
         !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face || !st->wk || !st->backup || !st->hyp ||
         !st->u2_old || !st->dw_old || !st->du_face_old || !st->kface || !st->t0face || !st->solid_face ||
         !st->dry_T || !st->T_keep || !st->rhs_face0 || !st->dP_dphi || !st->phi_coupled || !st->g_cell ||
-        !st->Y_cell) {
+        !st->Y_cell || !st->T_change) {
         ekm_step_free(st);
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
         return NULL;
@@ -126,6 +127,7 @@ void ekm_step_free(ekm_stepper *st)
     free(st->phi_coupled);
     free(st->g_cell);
     free(st->Y_cell);
+    free(st->T_change);
     free(st);
 }
 
@@ -466,11 +468,22 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
     if (n_solid)
         ekm_regime_finish(st, s, bb, bt);
     ekm_step_shear_rates(s, bb, bt, st->dry, st->u2, st->w2);
+    /* The first Newton iterate: T* plus the change the last step made,
+     * scaled to this dt (heating, dissipation and conduction change
+     * slowly from step to step: near a steady state the guess is then
+     * within Newton's tolerance and one iteration confirms it), at least
+     * a tenth of T* (a step after a sudden change: Newton's safeguards
+     * take it from there as from T*). */
+    const double change_scale = st->dt_change > 0.0 ? dt / st->dt_change : 0.0;
+    const double T_floor = sc->numerics.T_floor;
     for (int j = 0; j < n; j++) {
         st->dry_T[j] = st->dry[j] || (n_solid && s->solid[j]);
-        s->T[j] = st->T_star[j]; /* the first Newton iterate */
-        if (st->dry[j])
+        const double guess = st->T_star[j] + change_scale * st->T_change[j];
+        s->T[j] = max2(max2(guess, 0.1 * st->T_star[j]), T_floor);
+        if (st->dry[j]) {
+            s->T[j] = 0.0;
             continue;
+        }
         st->src[j] = ekm_temperature_source_coeffs_gY(m, sc->variant, s->phi[j], st->g_cell[j], st->Y_cell[j],
                                                       st->u2[j], st->w2[j]);
     }
@@ -481,6 +494,9 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
                  serr.message);
         return 0;
     }
+    for (int j = 0; j < n; j++)
+        st->T_change[j] = st->dry_T[j] ? 0.0 : s->T[j] - st->T_star[j];
+    st->dt_change = dt;
     for (int j = 0; j < n; j++) {
         if (st->dry[j])
             s->u[j] = 0.0;

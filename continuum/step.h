@@ -93,6 +93,9 @@ typedef struct {
     double *dP_dphi;         /* dP/dphi at (phi*, T*) [Pa], n */
     double *phi_coupled;     /* phi the next mass update carries through each face [-], n+1 */
     double *g_cell, *Y_cell; /* density factor g [-] and yield temperature Y [m^2/s^2] at phi*, n */
+    /* the first Newton iterate of the temperature (phase 7) */
+    double *T_change; /* T - T* of each cell in the last step that solved it [m^2/s^2] (0: none), n */
+    double dt_change; /* that step's dt [s] (0: none yet) */
 } ekm_stepper;
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err);
