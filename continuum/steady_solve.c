@@ -15,17 +15,22 @@
 #include "run.h"
 #include "step.h"
 
-#define MAX_RESOLVES    60   /* new solves after the empty set changed */
-#define FD_EPS          1e-8 /* relative finite-difference step of the Jacobian */
-#define DELTA0          1e-4 /* first pseudo-time step [s] */
-#define DELTA_MAX       1e20 /* [s]: beyond it the iteration is Newton's */
-#define W_TYP           1e-4 /* velocity scale of a sealed face's w [m/s] */
-#define LNT_STEP_MAX    2.0  /* largest change of ln T per iteration */
-#define STEP_CHANGE_MAX 2.0  /* largest relative change of a pseudo-time step */
-#define PHI_SCALE       0.2  /* phi change that counts as 1 in it [-] */
-#define SEED_FRACTION   1e-2 /* of a surface cell's material given to the empty cell it pushes into [-] */
-#define POLISH_FACTOR   1e-2 /* a converged residual above this times the tolerance gets one more iteration */
-#define PHI_FRINGE      1e-6 /* the dilute fringe: its empty set changes are left (topology_changed) [-] */
+#define MAX_RESOLVES       60   /* new solves after the empty set changed */
+#define FD_EPS             1e-8 /* relative finite-difference step of the Jacobian */
+#define DELTA0             1e-4 /* first pseudo-time step [s] */
+#define DELTA_MAX          1e20 /* [s]: beyond it the iteration is Newton's */
+#define W_TYP              1e-4 /* velocity scale of a sealed face's w [m/s] */
+#define LNT_STEP_MAX       2.0  /* largest change of ln T per iteration */
+#define STEP_CHANGE_MAX    2.0  /* largest relative change of a pseudo-time step */
+#define PHI_SCALE          0.2  /* phi change that counts as 1 in it [-] */
+#define SEED_FRACTION      1e-2 /* of a surface cell's material given to the empty cell it pushes into [-] */
+#define POLISH_FACTOR      1e-2 /* a converged residual above this times the tolerance gets one more iteration */
+#define PHI_FRINGE         1e-6 /* the dilute fringe: its empty set changes are left (topology_changed) [-] */
+#define STALL_ITER         8    /* a stall: this many iterations ... */
+#define STALL_RES          1.01 /* ... within this factor of scaled residual ... */
+#define STALL_DELTA        64.0 /* ... while the pseudo-time step grew by at least this factor; or ... */
+#define STALL_NEWTON_DELTA 1e6  /* ... with every pseudo-time step above this [s] ... */
+#define STALL_PROGRESS     0.9 /* ... the residual fell by less than this factor over STALL_ITER iterations */
 
 /* Slots of the unknowns of cell j: U[j nv + slot]. */
 enum { SLOT_C = 0, SLOT_U = 1, SLOT_T = 2, SLOT_DZ = 3 };
@@ -596,7 +601,36 @@ static ekm_status newton(ss_problem *p, ekm_steady_report *rep, int budget, ekm_
     double delta = DELTA0;
     double res = norm2_scaled(p, p->R, p->mag);
     int polished = 0;
+    const int first = rep->iterations;
     for (;;) {
+        /* A stall: the continuation marches (the pseudo-time step grows:
+         * the steps change the state little) but the residual stays where
+         * it is, a stationary point of the continuation that is no root;
+         * or the pseudo-time step is past every relaxation time (Newton's
+         * own iteration) and the residual does not fall by STALL_PROGRESS
+         * in STALL_ITER iterations (the chute with the fit's set at 26
+         * degrees wandered between 0.515 and 0.529 from iteration 25 to
+         * 60 with delta from 1e3 to 6e12 s).  The attempt ends now rather
+         * than at its budget, the time steps take over. */
+        const int last = rep->iterations - 1;
+        if (last - first >= STALL_ITER) {
+            const int from = last - STALL_ITER;
+            double lo = rep->residual[last], hi = lo, delta_lo = rep->delta[last];
+            for (int k = from; k < last; k++) {
+                lo = fmin(lo, rep->residual[k]);
+                hi = fmax(hi, rep->residual[k]);
+                delta_lo = fmin(delta_lo, rep->delta[k]);
+            }
+            const int flat = hi < STALL_RES * lo && rep->delta[last] >= STALL_DELTA * rep->delta[from];
+            const int no_progress =
+                delta_lo >= STALL_NEWTON_DELTA && rep->residual[last] > STALL_PROGRESS * rep->residual[from];
+            if (flat || no_progress)
+                return EKM_FAIL(
+                    err, EKM_ENOTSTEADY,
+                    "%s: no steady state: Newton stalled at scaled residual %.3g (from %.3g over %d "
+                    "iterations, the pseudo-time step from %.3g s to %.3g s)",
+                    p->sc->source, res, rep->residual[from], STALL_ITER, rep->delta[from], rep->delta[last]);
+        }
         if (rep->iterations >= budget || rep->iterations >= EKM_STEADY_MAX_ITER) {
             /* converged already (polished = 1: the next one would have
              * been the polishing iteration): no budget left for it */
@@ -1066,6 +1100,72 @@ static int local_guess(const ekm_scenario *sc, const ekm_state *g, ekm_state *s)
     return 1;
 }
 
+/* The homogeneous steady shear between two walls without gravity (plane
+ * Couette flow, walls moving at their velocities, adiabatic): uniform phi,
+ * T and shear rate, u linear through the slip of both walls, w = 0, with
+ * g's mass; on a gap held at [top] pressure p the phi whose homogeneous
+ * shear has P(phi, gdot(phi)) = p (the gap L = mass / phi, the rate
+ * gdot = U / (L + b_bottom + b_top), b the slip lengths: P rises with phi
+ * on both counts, bisection), on a fixed gap the guess's mean phi.  0 (s
+ * unchanged): another geometry (gravity, a free end, inflow, a rate-driven
+ * wall), walls at the same speed, no root below phi_cp. */
+static int couette_guess(const ekm_scenario *sc, const ekm_state *g, ekm_state *s)
+{
+    const ekm_bc *b = &sc->bottom, *t = &sc->top;
+    if (b->kind != EKM_BC_WALL || t->kind != EKM_BC_WALL || ekm_bc_rate_wall(b) || ekm_bc_rate_wall(t) ||
+        ekm_scenario_gravity_x(sc) != 0.0 || ekm_scenario_gravity_z(sc) != 0.0 || sc->angle_rate != 0.0)
+        return 0;
+    const double U = t->velocity - b->velocity;
+    if (!(fabs(U) > 0.0))
+        return 0;
+    const int n = g->n;
+    double mass = 0.0; /* sum phi dz [m] */
+    for (int j = 0; j < n; j++)
+        mass += g->phi[j] * g->dz;
+    const double slip = b->slip_length + t->slip_length, phi_cp = sc->material.phi_cp;
+    const int pressure = ekm_bc_pressure_wall(t);
+    ekm_homog_state h;
+    ekm_error herr;
+#define GDOT_OF(phi) (fabs(U) / (mass / (phi) + slip))
+    double phi = mass / (n * g->dz);
+    if (pressure) {
+        double lo = 1e-6, hi = phi_cp * (1.0 - 1e-12);
+        if (!(mass / hi < sc->length * 1e3))
+            return 0;
+        if (ekm_homog_shear(&sc->material, sc->variant, hi, GDOT_OF(hi), &h, &herr) != EKM_OK ||
+            !(h.P > t->pressure))
+            return 0;
+        for (int k = 0; k < 80; k++) {
+            const double mid = 0.5 * (lo + hi);
+            if (ekm_homog_shear(&sc->material, sc->variant, mid, GDOT_OF(mid), &h, &herr) == EKM_OK &&
+                h.P > t->pressure)
+                hi = mid;
+            else
+                lo = mid;
+        }
+        phi = 0.5 * (lo + hi);
+    }
+    if (!(phi > 0.0 && phi < phi_cp) ||
+        ekm_homog_shear(&sc->material, sc->variant, phi, GDOT_OF(phi), &h, &herr) != EKM_OK || !(h.T > 0.0))
+        return 0;
+    const double gdot = GDOT_OF(phi) * (U > 0.0 ? 1.0 : -1.0);
+#undef GDOT_OF
+    ekm_state_copy(s, g);
+    if (pressure) {
+        s->dz = mass / phi / n;
+        for (int j = 0; j < n; j++)
+            s->z[j] = (j + 0.5) * s->dz;
+    }
+    for (int j = 0; j < n; j++) {
+        s->phi[j] = phi;
+        s->u[j] = b->velocity + gdot * (b->slip_length + (j + 0.5) * s->dz);
+        s->T[j] = h.T;
+    }
+    for (int f = 0; f <= n; f++)
+        s->w[f] = 0.0;
+    return 1;
+}
+
 /* Advance g by `span` of model time with the real time loop (run.h), no
  * output. */
 static ekm_status warm_up(ekm_scenario *sc_warm, ekm_stepper *st, ekm_state *g, double span, ekm_error *err)
@@ -1109,7 +1209,20 @@ ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_rep
     const double t_saved = s->t;
     const long steps_saved = s->steps;
     double span = EKM_STEADY_WARM_SPAN0, warmed = 0.0;
-    for (int attempt = 0;; attempt++) {
+    /* Plane Couette flow: its steady state is the homogeneous shear (no
+     * gravity, adiabatic walls), where Newton starts first; should the
+     * stepper not keep it (a shear band), the attempts below go on from
+     * the guess. */
+    int done = 0;
+    if (couette_guess(sc, g, s)) {
+        rep->attempts++;
+        rep->local_guess = 2;
+        rc = solve_from(&p, s, rep, err);
+        if (rc == EKM_OK)
+            rc = verify(sc, s, rep, err);
+        done = rc != EKM_ENOTSTEADY;
+    }
+    for (int attempt = 0; !done; attempt++) {
         ekm_state_copy(s, g);
         rep->attempts++;
         rc = solve_from(&p, s, rep, err);

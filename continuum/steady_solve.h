@@ -76,7 +76,8 @@ typedef struct {
     int iterations;   /* Newton iterations (all solves) */
     int dry_resolves; /* new solves after the empty set changed */
     int attempts;     /* Newton attempts (1: from the guess) */
-    int local_guess;  /* 1: an attempt started from the local (Bagnold) flow of an incline */
+    int local_guess;  /* 1: an attempt started from the local (Bagnold) flow of an incline, 2: from the
+                       * homogeneous shear of plane Couette flow (the first attempt) */
     double warm_time; /* model time stepped between attempts [s] */
     long warm_steps;  /* time steps taken then */
     double residual[EKM_STEADY_MAX_ITER]; /* scaled residual before each iteration [-] */

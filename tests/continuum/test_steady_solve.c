@@ -120,6 +120,39 @@ static void test_couette_pressure(void **state)
     case_free(&c);
 }
 
+/* the shear cell (plane Couette flow at a held pressure, walls with their
+ * slip, the wall speed given): its first attempt starts from the
+ * homogeneous shear, which Newton confirms (local_guess = 2, at most 3
+ * iterations); the state is uniform, its P(phi, gdot) is the wall's
+ * pressure, u is linear through both walls' slip, and the mass is kept */
+static void test_couette_slip_pressure(void **state)
+{
+    (void)state;
+    steady_case c;
+    solve_ok(&c, "scenarios/shear_cell.ini", NULL, 0);
+    assert_int_equal(c.rep.local_guess, 2);
+    assert_int_equal(c.rep.attempts, 1);
+    assert_true(c.rep.iterations <= 3);
+    const ekm_state *s = c.s;
+    const int n = s->n;
+    const double gdot = (s->u[n - 1] - s->u[0]) / ((n - 1) * s->dz);
+    const double b_bottom = c.sc.bottom.slip_length, b_top = c.sc.top.slip_length;
+    assert_true(fabs(gdot * (n * s->dz + b_bottom + b_top) / (c.sc.top.velocity - c.sc.bottom.velocity) -
+                     1.0) < 1e-8);
+    ekm_homog_state h;
+    ekm_error err;
+    assert_int_equal(ekm_homog_shear(&c.sc.material, c.sc.variant, s->phi[0], gdot, &h, &err), EKM_OK);
+    assert_true(fabs(h.P / c.sc.top.pressure - 1.0) < 1e-8);
+    for (int j = 0; j < n; j++) {
+        assert_true(fabs(s->phi[j] / s->phi[0] - 1.0) < 1e-8);
+        assert_true(fabs(s->u[j] - (c.sc.bottom.velocity + gdot * (b_bottom + s->z[j]))) <
+                    1e-8 * c.sc.top.velocity);
+        assert_true(fabs(s->T[j] / h.T - 1.0) < 1e-8);
+    }
+    assert_true(fabs(s->phi[0] * c.rep.gap / (c.sc.phi_init * c.sc.length) - 1.0) < 1e-12);
+    case_free(&c);
+}
+
 /* ---- the chute: the stress ratio is tan(theta) at every depth ----
  * Discrete closed form: the shear stress at each face inside the layer
  * (harmonic face eta times the face gradient) equals tan(theta) times the
@@ -238,6 +271,30 @@ static void test_agrees_calibrated_chute(void **state)
     agree2("scenarios/chute.ini", "gravity.angle=24", CHUTE_FIT_ETA0);
 }
 
+/* A stall ends an attempt before its budget: with the fit's set at 26
+ * degrees the first attempt (from rest) wanders between scaled residuals
+ * of 0.515 and 0.529 while the pseudo-time step grows from 1e3 s to 6e12
+ * s; it ends 8 iterations after that step passed 1e6 s (the next attempt
+ * starts at the first pseudo-time step again, 1e-4 s), not at its 60, and
+ * the solve still converges (stepped from there). */
+static void test_stall_ends_attempt(void **state)
+{
+    (void)state;
+    const char *sets[] = {"gravity.angle=26", CHUTE_FIT_ETA0};
+    steady_case c;
+    solve_ok(&c, "scenarios/chute.ini", sets, 2);
+    int next = 1;
+    while (next < c.rep.iterations && c.rep.delta[next] > 1e-4 * (1.0 + 1e-12))
+        next++;
+    printf("  first attempt: %d iterations, residual %.3g at its end; %d in all\n", next,
+           c.rep.residual[next - 1], c.rep.iterations);
+    assert_true(next < 50);
+    assert_true(c.rep.delta[next - 1] >= 1e6);
+    assert_true(c.rep.residual[next - 1] > 0.1);
+    assert_true(c.rep.attempts >= 2);
+    case_free(&c);
+}
+
 /* ---- the stepper does not move the solution ---- */
 
 static void test_stepper_keeps_solution(void **state)
@@ -313,10 +370,12 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_couette),
         cmocka_unit_test(test_couette_pressure),
+        cmocka_unit_test(test_couette_slip_pressure),
         cmocka_unit_test(test_chute_stress_ratio),
         cmocka_unit_test(test_agrees_with_time_stepping),
         cmocka_unit_test(test_agrees_calibrated_chute),
         cmocka_unit_test(test_stepper_keeps_solution),
+        cmocka_unit_test(test_stall_ends_attempt),
         cmocka_unit_test(test_no_steady_state),
         cmocka_unit_test(test_unsupported),
     };
