@@ -30,15 +30,19 @@ struct ekm2d_solver {
     MPI_Comm comm;
     DM dm;
     TS ts;
-    Vec U;         /* the solution (global) */
-    Vec U_start;   /* the solution at the start of the current step (global) */
-    Vec row_scale; /* 1 / magnitude of each row's terms at the start of the step (global) */
-    Vec row_age;   /* global: how many steps in a row (this one included) each row has been its
-                    * physical equation, not an empty cell's or a dry face's placeholder */
-    Vec lte_atol;  /* global: the step error's absolute tolerance of each row (TSSetTolerances) */
-    Vec dry_local; /* local, frozen for a step: slot phi of an element 1 when the cell is empty;
-                    * slot vx (vz) of a face the side its upwind cell lies on, +1 the lower
-                    * index (left, below), -1 the higher */
+    Vec U;            /* the solution (global) */
+    Vec U_start;      /* the solution at the start of the current step (global) */
+    Vec row_scale;    /* 1 / magnitude of each row's terms at the start of the step (global) */
+    Vec row_mag;      /* global: those magnitudes without the time derivative's |U_start| / dt */
+    double row_dt;    /* the step the row scales are for [s] (0: none yet) */
+    Vec row_age;      /* global: how many steps in a row (this one included) each row has been its
+                       * physical equation, not an empty cell's or a dry face's placeholder */
+    Vec lte_atol;     /* global: the step error's absolute tolerance of each row (TSSetTolerances) */
+    Vec T_unit;       /* global: T_ref at the temperature slots, 1 elsewhere: U holds T / T_ref */
+    Vec T_unit_local; /* the same, local */
+    Vec dry_local;    /* local, frozen for a step: slot phi of an element 1 when the cell is empty;
+                       * slot vx (vz) of a face the side its upwind cell lies on, +1 the lower
+                       * index (left, below), -1 the higher */
     Mat J;
     int nx, nz;                        /* cells */
     double dx, dz;                     /* cell sizes [m] */
@@ -80,6 +84,27 @@ struct ekm2d_solver {
         if (pcall_rc_)                     \
             return pcall_rc_;              \
     } while (0)
+
+/* The temperature unknowns are T / T_ref with T_ref = [numerics] T_floor,
+ * so that every wet cell's unknown is >= 1: the finite-difference Jacobian
+ * (MatFDColoring) steps each column by a relative 1.5e-8 of its value only
+ * above umin = 1.5e-6 (one threshold for all columns), and a cold bed's T
+ * (1e-15..1e-11 in the thesis filling) was stepped by more than itself,
+ * leaving Newton linear (docs/model.md "2D solver"). The linear scaling
+ * changes neither the equations nor backward Euler; the physics code sees
+ * T itself: every local copy of U is brought to T on the way in
+ * (to_physical) and back on the way out (to_unknowns). */
+static PetscErrorCode to_physical(const ekm2d_solver *s, Vec local)
+{
+    return VecPointwiseMult(local, local, s->T_unit_local);
+}
+
+static PetscErrorCode to_unknowns(const ekm2d_solver *s, Vec local)
+{
+    return VecPointwiseDivide(local, local, s->T_unit_local);
+}
+
+static PetscErrorCode update_row_scale(ekm2d_solver *s, double dt);
 
 /* ---- boundaries ---------------------------------------------------------------------------------- */
 
@@ -816,6 +841,8 @@ static PetscErrorCode ifunction(TS ts, PetscReal t, Vec U, Vec Udot, Vec F, void
         s->dt_failed = dt_try; /* TS would retry ever shorter steps: stop (ekm2d_solver_advance) */
         return PETSC_ERR_NOT_CONVERGED;
     }
+    if (dt_try != s->row_dt)
+        PCALL(update_row_scale(s, dt_try));
     Vec Ul, Udl, Fl;
     PCALL(DMGetLocalVector(s->dm, &Ul));
     PCALL(DMGetLocalVector(s->dm, &Udl));
@@ -824,6 +851,8 @@ static PetscErrorCode ifunction(TS ts, PetscReal t, Vec U, Vec Udot, Vec F, void
     PCALL(DMGlobalToLocalEnd(s->dm, U, INSERT_VALUES, Ul));
     PCALL(DMGlobalToLocalBegin(s->dm, Udot, INSERT_VALUES, Udl));
     PCALL(DMGlobalToLocalEnd(s->dm, Udot, INSERT_VALUES, Udl));
+    PCALL(to_physical(s, Ul));
+    PCALL(to_physical(s, Udl));
     PCALL(VecSet(Fl, 0.0));
     const PetscScalar ***u, ***ud, ***dry;
     PetscScalar ***f;
@@ -864,6 +893,7 @@ static PetscErrorCode seed_joining_cells(ekm2d_solver *s, Vec U, double t)
     PetscScalar ***u;
     PCALL(DMGetLocalVector(s->dm, &Ul));
     PCALL(DMGlobalToLocal(s->dm, U, INSERT_VALUES, Ul));
+    PCALL(to_physical(s, Ul));
     PCALL(DMStagVecGetArray(s->dm, Ul, &u));
     PetscInt x0, z0, nxl, nzl;
     PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, NULL, NULL, NULL));
@@ -894,8 +924,10 @@ static PetscErrorCode seed_joining_cells(ekm2d_solver *s, Vec U, double t)
     /* writing U makes TS restart its step history (TSPreStep sees the change): only when a cell joined */
     int any;
     MPI_Allreduce(&seeded, &any, 1, MPI_INT, MPI_MAX, s->comm);
-    if (any)
+    if (any) {
+        PCALL(to_unknowns(s, Ul));
         PCALL(DMLocalToGlobal(s->dm, Ul, INSERT_VALUES, U));
+    }
     PCALL(DMRestoreLocalVector(s->dm, &Ul));
     return 0;
 }
@@ -973,6 +1005,7 @@ static PetscErrorCode update_lte_tolerances(ekm2d_solver *s, const eval_ctx *c, 
     row_tolerances(c, a);
     PCALL(DMStagVecRestoreArray(s->dm, Al, &a));
     PCALL(DMLocalToGlobal(s->dm, Al, INSERT_VALUES, Ag));
+    PCALL(VecPointwiseDivide(Ag, Ag, s->T_unit)); /* the error is measured on the unknowns (T / T_ref) */
     PetscScalar *age, *atol;
     const PetscScalar *tol;
     PetscInt n;
@@ -1107,6 +1140,37 @@ static PetscErrorCode initial_guess(SNES snes, Vec X, void *vctx)
     return 0;
 }
 
+/* The row scales of a step of length dt: 1 / (the magnitude of the row's
+ * terms at the start of the step + the time derivative's |U_start| / dt,
+ * in the row's units: T itself for the T rows). Computed again when TS
+ * retries the step shorter (ifunction): with the scale of the first try a
+ * phi row's round-off, eps phi / dt, grew past the tolerance as dt fell,
+ * and no retry could converge (the thesis filling at 1.52 s: 2-cycles at
+ * a scaled residual of 5e-10 at dt = 1e-6 s after a failure at 4.5e-4 s). */
+static PetscErrorCode update_row_scale(ekm2d_solver *s, double dt)
+{
+    Vec Up;
+    PCALL(DMGetGlobalVector(s->dm, &Up));
+    PCALL(VecPointwiseMult(Up, s->U_start, s->T_unit));
+    PetscScalar *scale;
+    const PetscScalar *uu, *mag;
+    PetscInt n;
+    PCALL(VecGetLocalSize(s->row_scale, &n));
+    PCALL(VecGetArray(s->row_scale, &scale));
+    PCALL(VecGetArrayRead(s->row_mag, &mag));
+    PCALL(VecGetArrayRead(Up, &uu));
+    for (PetscInt k = 0; k < n; k++) {
+        const double m = mag[k] + fabs(uu[k]) / dt;
+        scale[k] = m > 0.0 ? 1.0 / m : 1.0;
+    }
+    PCALL(VecRestoreArray(s->row_scale, &scale));
+    PCALL(VecRestoreArrayRead(s->row_mag, &mag));
+    PCALL(VecRestoreArrayRead(Up, &uu));
+    PCALL(DMRestoreGlobalVector(s->dm, &Up));
+    s->row_dt = dt;
+    return 0;
+}
+
 /* Before each step: the empty cells of the step and the row scales from
  * the state at its start; the step no longer than the convective limit. */
 static PetscErrorCode prestep(TS ts)
@@ -1126,6 +1190,7 @@ static PetscErrorCode prestep(TS ts)
     PCALL(DMGetLocalVector(s->dm, &Zl));
     PCALL(DMGlobalToLocalBegin(s->dm, U, INSERT_VALUES, Ul));
     PCALL(DMGlobalToLocalEnd(s->dm, U, INSERT_VALUES, Ul));
+    PCALL(to_physical(s, Ul));
     /* empty cells: phi < phi_dry */
     PetscScalar ***dry;
     const PetscScalar ***u, ***zero;
@@ -1200,24 +1265,10 @@ static PetscErrorCode prestep(TS ts)
         PCALL(DMRestoreGlobalVector(s->dm, &Ag));
     }
     PCALL(DMStagVecRestoreArrayRead(s->dm, Ul, (void *)&u));
-    PCALL(DMLocalToGlobal(s->dm, Ml, INSERT_VALUES, s->row_scale));
-    /* the time-derivative part of each row, |d/dt| ~ |value| / dt, joins the magnitude */
+    PCALL(DMLocalToGlobal(s->dm, Ml, INSERT_VALUES, s->row_mag));
     PetscReal dt;
     PCALL(TSGetTimeStep(ts, &dt));
-    {
-        PetscScalar *scale;
-        const PetscScalar *uu;
-        PetscInt n;
-        PCALL(VecGetLocalSize(s->row_scale, &n));
-        PCALL(VecGetArray(s->row_scale, &scale));
-        PCALL(VecGetArrayRead(U, &uu));
-        for (PetscInt k = 0; k < n; k++) {
-            const double mag = scale[k] + fabs(uu[k]) / dt;
-            scale[k] = mag > 0.0 ? 1.0 / mag : 1.0;
-        }
-        PCALL(VecRestoreArray(s->row_scale, &scale));
-        PCALL(VecRestoreArrayRead(U, &uu));
-    }
+    PCALL(update_row_scale(s, dt));
     PCALL(DMRestoreLocalVector(s->dm, &Fl));
     PCALL(DMRestoreLocalVector(s->dm, &Ul));
     PCALL(DMRestoreLocalVector(s->dm, &Ml));
@@ -1272,6 +1323,7 @@ static PetscErrorCode switch_regimes(ekm2d_solver *s, Vec U, double t)
     PCALL(DMGetLocalVector(s->dm, &Fr));
     PCALL(DMGetLocalVector(s->dm, &Rl));
     PCALL(DMGlobalToLocal(s->dm, U, INSERT_VALUES, Ul));
+    PCALL(to_physical(s, Ul));
     PCALL(DMGlobalToLocal(s->dm, s->regime, INSERT_VALUES, Rl));
     PCALL(VecSet(Fr, 0.0));
     PCALL(DMStagVecGetArray(s->dm, Ul, &u));
@@ -1389,8 +1441,10 @@ static PetscErrorCode switch_regimes(ekm2d_solver *s, Vec U, double t)
     }
     PCALL(DMStagVecRestoreArray(s->dm, Fr, &fr));
     PCALL(DMStagVecRestoreArray(s->dm, Ul, &u));
-    if (any)
+    if (any) {
+        PCALL(to_unknowns(s, Ul));
         PCALL(DMLocalToGlobal(s->dm, Ul, INSERT_VALUES, U));
+    }
     PCALL(DMRestoreLocalVector(s->dm, &Rl));
     PCALL(DMRestoreLocalVector(s->dm, &Fr));
     PCALL(DMRestoreLocalVector(s->dm, &Ul));
@@ -1462,6 +1516,61 @@ static PetscErrorCode check_stage(TS ts, PetscReal t, Vec U, PetscBool *accept)
     return 0;
 }
 
+/* Newton's step kept inside the domain the residual is defined on (full
+ * steps otherwise: SNESLINESEARCHBASIC): the iterate X - Y has every cell
+ * below phi_cp and every wet cell (not frozen empty) at phi > 0 and T > 0;
+ * a step that would leave it is shortened to EKM2D_DOMAIN_FRACTION of the
+ * way to the boundary (the fraction-to-the-boundary rule of interior-point
+ * Newton methods), so that the next iterate is defined instead of a NaN
+ * residual that ends the solve (the thesis filling at 1.52 s: nine
+ * retries of the step, each DIVERGED_FNORM_NAN at the first iteration). */
+#define EKM2D_DOMAIN_FRACTION 0.9
+
+static PetscErrorCode keep_in_domain(SNESLineSearch ls, Vec X, Vec Y, PetscBool *changed, void *vctx)
+{
+    (void)ls;
+    ekm2d_solver *s = vctx;
+    const double phi_cp = s->sc->material.phi_cp;
+    const PetscScalar ***x, ***y, ***dry;
+    Vec Xl, Yl;
+    PCALL(DMGetLocalVector(s->dm, &Xl));
+    PCALL(DMGetLocalVector(s->dm, &Yl));
+    PCALL(DMGlobalToLocal(s->dm, X, INSERT_VALUES, Xl));
+    PCALL(DMGlobalToLocal(s->dm, Y, INSERT_VALUES, Yl));
+    PCALL(DMStagVecGetArrayRead(s->dm, Xl, (void *)&x));
+    PCALL(DMStagVecGetArrayRead(s->dm, Yl, (void *)&y));
+    PCALL(DMStagVecGetArrayRead(s->dm, s->dry_local, (void *)&dry));
+    PetscInt x0, z0, nxl, nzl;
+    PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, NULL, NULL, NULL));
+    double alpha = 1.0; /* the iterate is X - alpha Y */
+    for (PetscInt j = z0; j < z0 + nzl; j++)
+        for (PetscInt i = x0; i < x0 + nxl; i++) {
+            const double phi = x[j][i][s->s_phi], dphi = y[j][i][s->s_phi];
+            if (phi - dphi >= phi_cp && -dphi > 0.0)
+                alpha = fmin(alpha, EKM2D_DOMAIN_FRACTION * (phi_cp - phi) / -dphi);
+            if (dry[j][i][s->s_phi] != 0.0)
+                continue;
+            const double T = x[j][i][s->s_T], dT = y[j][i][s->s_T];
+            if (phi - dphi <= 0.0 && dphi > 0.0)
+                alpha = fmin(alpha, EKM2D_DOMAIN_FRACTION * phi / dphi);
+            if (T - dT <= 0.0 && dT > 0.0)
+                alpha = fmin(alpha, EKM2D_DOMAIN_FRACTION * T / dT);
+        }
+    PCALL(DMStagVecRestoreArrayRead(s->dm, s->dry_local, (void *)&dry));
+    PCALL(DMStagVecRestoreArrayRead(s->dm, Yl, (void *)&y));
+    PCALL(DMStagVecRestoreArrayRead(s->dm, Xl, (void *)&x));
+    PCALL(DMRestoreLocalVector(s->dm, &Yl));
+    PCALL(DMRestoreLocalVector(s->dm, &Xl));
+    double all;
+    MPI_Allreduce(&alpha, &all, 1, MPI_DOUBLE, MPI_MIN, s->comm);
+    *changed = PETSC_FALSE;
+    if (all < 1.0 && all > 0.0) {
+        PCALL(VecScale(Y, all));
+        *changed = PETSC_TRUE;
+    }
+    return 0;
+}
+
 /* ---- creation and the run -------------------------------------------------------------------------- */
 
 static ekm_status petsc_fail(ekm_error *err, PetscErrorCode rc, const char *what)
@@ -1480,6 +1589,20 @@ static ekm_status petsc_fail(ekm_error *err, PetscErrorCode rc, const char *what
             return petsc_fail(err, try_rc_, what); \
         }                                          \
     } while (0)
+
+/* T_unit(_local): T_ref = T_floor at every element's T slot, 1 elsewhere. */
+static PetscErrorCode fill_T_unit(ekm2d_solver *s)
+{
+    PetscScalar ***a;
+    PCALL(VecSet(s->T_unit_local, 1.0));
+    PCALL(DMStagVecGetArray(s->dm, s->T_unit_local, &a));
+    for (PetscInt j = s->gz0; j < s->gz0 + s->gnz; j++)
+        for (PetscInt i = s->gx0; i < s->gx0 + s->gnx; i++)
+            a[j][i][s->s_T] = s->sc->numerics.T_floor;
+    PCALL(DMStagVecRestoreArray(s->dm, s->T_unit_local, &a));
+    PCALL(DMLocalToGlobal(s->dm, s->T_unit_local, INSERT_VALUES, s->T_unit));
+    return 0;
+}
 
 static PetscErrorCode initial_state(ekm2d_solver *s, const ekm_state *init)
 {
@@ -1526,6 +1649,7 @@ static PetscErrorCode initial_state(ekm2d_solver *s, const ekm_state *init)
             u[j][i][s->s_vz] = j == 0 ? end_w(s, &bottom, i) : j == s->nz ? end_w(s, &top, i) : 0.0;
         }
     PCALL(DMStagVecRestoreArray(s->dm, Ul, &u));
+    PCALL(to_unknowns(s, Ul));
     PCALL(DMLocalToGlobal(s->dm, Ul, INSERT_VALUES, s->U));
     PCALL(DMRestoreLocalVector(s->dm, &Ul));
     return 0;
@@ -1638,8 +1762,16 @@ static PetscErrorCode set_direct_solve(KSP ksp, int ranks)
     PC pc;
     PCALL(KSPSetType(ksp, KSPPREONLY));
     PCALL(KSPGetPC(ksp, &pc));
-    if (ranks == 1)
-        return PCSetType(pc, PCLU);
+    if (ranks == 1) {
+        PCALL(PCSetType(pc, PCLU));
+        /* PETSc's LU counts a pivot below 100 eps of its row's sum as
+         * zero; the temperature columns are scaled by T_ref = T_floor (the
+         * unknowns are T / T_ref), so a warm cell's T pivot is that small
+         * beside the row's phi and velocity entries. Elimination without
+         * row interchanges does not depend on the scale of a column (every
+         * entry of the column scales alike): only an exact zero counts. */
+        return PCFactorSetZeroPivot(pc, 1e-300);
+    }
     KSP inner;
     PCALL(PCSetType(pc, PCREDUNDANT));
     PCALL(PCRedundantGetKSP(pc, &inner));
@@ -1768,6 +1900,8 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     TRY(VecDuplicate(s->U, &s->U_start), "VecDuplicate");
     TRY(VecDuplicate(s->U, &s->row_scale), "VecDuplicate");
     TRY(VecSet(s->row_scale, 1.0), "VecSet");
+    TRY(VecDuplicate(s->U, &s->row_mag), "VecDuplicate");
+    TRY(VecSet(s->row_mag, 0.0), "VecSet");
     TRY(VecDuplicate(s->U, &s->row_age), "VecDuplicate");
     TRY(VecSet(s->row_age, 0.0), "VecSet");
     TRY(VecDuplicate(s->U, &s->lte_atol), "VecDuplicate");
@@ -1776,6 +1910,9 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     TRY(VecSet(s->regime, 0.0), "VecSet");
     TRY(DMCreateLocalVector(s->dm, &s->dry_local), "DMCreateLocalVector");
     TRY(VecSet(s->dry_local, 0.0), "VecSet");
+    TRY(DMCreateLocalVector(s->dm, &s->T_unit_local), "DMCreateLocalVector");
+    TRY(VecDuplicate(s->U, &s->T_unit), "VecDuplicate");
+    TRY(fill_T_unit(s), "the temperature scale");
     TRY(initial_state(s, init), "initial state");
 
     TRY(TSCreate(comm, &s->ts), "TSCreate");
@@ -1824,6 +1961,7 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     SNESLineSearch linesearch;
     TRY(SNESGetLineSearch(snes, &linesearch), "SNESGetLineSearch");
     TRY(SNESLineSearchSetType(linesearch, SNESLINESEARCHBASIC), "SNESLineSearchSetType");
+    TRY(SNESLineSearchSetPreCheck(linesearch, keep_in_domain, s), "SNESLineSearchSetPreCheck");
     KSP ksp;
     TRY(SNESGetKSP(snes, &ksp), "SNESGetKSP");
     int size;
@@ -1843,8 +1981,11 @@ void ekm2d_solver_destroy(ekm2d_solver *s)
     VecDestroy(&s->U);
     VecDestroy(&s->U_start);
     VecDestroy(&s->row_scale);
+    VecDestroy(&s->row_mag);
     VecDestroy(&s->row_age);
     VecDestroy(&s->lte_atol);
+    VecDestroy(&s->T_unit);
+    VecDestroy(&s->T_unit_local);
     VecDestroy(&s->dry_local);
     VecDestroy(&s->regime);
     DMDestroy(&s->dm);
@@ -1908,6 +2049,7 @@ static PetscErrorCode local_fields(ekm2d_solver *s, DM dmf, Vec nat)
     const PetscScalar ***u, ***dry;
     PCALL(DMGetLocalVector(s->dm, &Ul));
     PCALL(DMGlobalToLocal(s->dm, s->U, INSERT_VALUES, Ul));
+    PCALL(to_physical(s, Ul));
     PCALL(DMStagVecGetArrayRead(s->dm, Ul, (void *)&u));
     /* the output classifies cells by the state itself */
     Vec dryl;
