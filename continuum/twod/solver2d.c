@@ -880,11 +880,17 @@ static PetscErrorCode ifunction(TS ts, PetscReal t, Vec U, Vec Udot, Vec F, void
     return 0;
 }
 
-/* A cell that joins the flow this step (phi >= phi_dry, T still the empty
- * cells' T_floor) starts from the largest T of its wet neighbours, or the
+/* A cell that joins the flow this step (empty in the step before, by its
+ * frozen flag, and now phi >= phi_dry: its T is still the empty cells'
+ * T_floor) starts from the largest T of its wet neighbours, or the
  * inflow's T under an open inlet: Newton from T_floor (1e-16) overshoots
  * to T < 0 where the cell expands into its empty neighbours. An empty
- * cell's T carries no information, so the state is unchanged otherwise. */
+ * cell's T carries no information, so the state is unchanged otherwise.
+ * (Until 2026-12-04 a cell counted as joining when its T was <= T_floor:
+ * a cold bed's quasi-static T falls below T_floor, 6e-17 in the thesis
+ * filling's bottom row at 1.77 s, and was reset to its neighbours' 9e-15
+ * before every step, which then took 10 Newton iterations and stalled the
+ * run at dt = 2.5e-6 s.) */
 static PetscErrorCode seed_joining_cells(ekm2d_solver *s, Vec U, double t)
 {
     const double phi_dry = s->sc->numerics.phi_dry, T_floor = s->sc->numerics.T_floor;
@@ -895,12 +901,15 @@ static PetscErrorCode seed_joining_cells(ekm2d_solver *s, Vec U, double t)
     PCALL(DMGlobalToLocal(s->dm, U, INSERT_VALUES, Ul));
     PCALL(to_physical(s, Ul));
     PCALL(DMStagVecGetArray(s->dm, Ul, &u));
+    const PetscScalar **
+        *was_dry; /* the frozen flags of the step before (prestep freezes this step's after) */
+    PCALL(DMStagVecGetArrayRead(s->dm, s->dry_local, (void *)&was_dry));
     PetscInt x0, z0, nxl, nzl;
     PCALL(DMStagGetCorners(s->dm, &x0, &z0, NULL, &nxl, &nzl, NULL, NULL, NULL, NULL));
     int seeded = 0;
     for (PetscInt j = z0; j < z0 + nzl; j++)
         for (PetscInt i = x0; i < x0 + nxl; i++) {
-            if (!(u[j][i][s->s_phi] >= phi_dry && u[j][i][s->s_T] <= T_floor))
+            if (!(u[j][i][s->s_phi] >= phi_dry && was_dry[j][i][s->s_phi] != 0.0))
                 continue;
             double T_seed = 0.0;
             const PetscInt nb[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
@@ -920,6 +929,7 @@ static PetscErrorCode seed_joining_cells(ekm2d_solver *s, Vec U, double t)
                 seeded = 1;
             }
         }
+    PCALL(DMStagVecRestoreArrayRead(s->dm, s->dry_local, (void *)&was_dry));
     PCALL(DMStagVecRestoreArray(s->dm, Ul, &u));
     /* writing U makes TS restart its step history (TSPreStep sees the change): only when a cell joined */
     int any;
