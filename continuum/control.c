@@ -128,6 +128,12 @@ static double acoustic_dt(const ekm_scenario *sc, const ekm_state *s, double spe
 
 double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_limit *why)
 {
+    return ekm_control_max_dt_known(sc, s, NULL, why);
+}
+
+double ekm_control_max_dt_known(const ekm_scenario *sc, const ekm_state *s, const ekm_thermal_known *known,
+                                ekm_dt_limit *why)
+{
     const int implicit = sc->numerics.normal_coupling == EKM_COUPLING_IMPLICIT;
     const wave_speed_max w = wave_speeds(sc, s, !implicit);
     /* Compression limit: predicted dphi/dt = -phi dw/dz must not close more
@@ -176,7 +182,8 @@ double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_lim
      * g at nu = 1) at most thermal_relax_step.  A cold dense bed (P_Y >>
      * P_K) is not limited: its pressure does not depend on T. */
     if (implicit) {
-        const thermal_rate_max th = thermal_rate(sc, s);
+        const thermal_rate_max th =
+            known ? (thermal_rate_max){known->rate, known->cell} : thermal_rate(sc, s);
         if (th.rate > 0.0 && sc->numerics.thermal_relax_step / th.rate < lim.dt_s)
             lim = (ekm_dt_limit){"thermal relaxation", th.cell, sc->numerics.thermal_relax_step / th.rate};
     }

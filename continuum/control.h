@@ -43,6 +43,17 @@ typedef struct {
  * *why (may be NULL) says which limit it was and which cell set it. */
 double ekm_control_max_dt(const ekm_scenario *sc, const ekm_state *s, ekm_dt_limit *why);
 
+/* The same with the thermal relaxation rate of s already known (the
+ * stepper's end-of-step check computed it on this state: step.h
+ * end_rate_*), rate and cell as ekm_control_thermal_rate returns them;
+ * known = NULL: computed here. */
+typedef struct {
+    double rate; /* [1/s] */
+    int cell;
+} ekm_thermal_known;
+double ekm_control_max_dt_known(const ekm_scenario *sc, const ekm_state *s, const ekm_thermal_known *known,
+                                ekm_dt_limit *why);
+
 /* The acoustic step cfl dz / max(|w| + c) over the flowing cells (c the
  * EKM sound speed, model.h): the limit of the explicit coupling, whatever
  * [numerics] normal_coupling says (for the diagnostics and the step-count

@@ -76,7 +76,9 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
     while (!is_steady && s->t < sc->t_end * (1.0 - 1e-14)) {
         const double t_next_out = fmin(sc->t_end, (frame + 1) * sc->output_dt);
         ekm_dt_limit limit;
-        double dt = fmin(ekm_control_max_dt(sc, s, &limit), 1.5 * dt_prev);
+        const ekm_thermal_known known = {st->end_rate, st->end_rate_cell};
+        const int rate_known = st->end_rate_valid && st->end_rate_step == s->steps;
+        double dt = fmin(ekm_control_max_dt_known(sc, s, rate_known ? &known : NULL, &limit), 1.5 * dt_prev);
         if (!(limit.dt_s >= sc->numerics.dt_min)) { /* NaN too */
             rc = step_limit_failure(sc, s, &limit, err);
             goto done;

@@ -533,6 +533,7 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
                         "%s: t = %.9g s: time step dt = %g s is not a positive finite number", st->sc->source,
                         s->t, dt);
     *accepted = 1;
+    st->end_rate_valid = 0;
     ekm_state_copy_step(st->backup, s, st->moving, st->sc->hypo.enabled);
 
     /* 1. boundaries (and, with solid cells, their lagged rates) */
@@ -568,9 +569,14 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
      * cold cell (a shear start-up) is otherwise longer than the pressure's
      * relaxation time it creates (docs/model.md "Implicit pressure
      * coupling") */
-    if (st->sc->numerics.normal_coupling == EKM_COUPLING_IMPLICIT) {
+    int end_cell = -1;
+    double end_rate = 0.0;
+    const int implicit = st->sc->numerics.normal_coupling == EKM_COUPLING_IMPLICIT;
+    if (implicit) {
         int cell = -1;
         const double rate = ekm_control_thermal_rate(st->sc, s, &cell);
+        end_rate = rate;
+        end_cell = cell;
         if (dt * rate > EKM_THERMAL_END_FACTOR * st->sc->numerics.thermal_relax_step) {
             snprintf(st->reject_reason, sizeof st->reject_reason,
                      "t = %.9g s, dt = %.3g s: the thermal relaxation rate at the end of the step, %.3g 1/s "
@@ -583,8 +589,15 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     s->t += dt;
     s->steps++;
     /* 9. regimes */
+    const long switches = st->to_solid + st->to_flow;
     if (st->sc->hypo.enabled)
         ekm_regime_switch(st, s, &bb, &bt);
     st->newton_iterations = iterations;
+    /* the rate of the check holds for the next step's limit unless a cell
+     * switched (solid cells have none) */
+    st->end_rate_valid = implicit && st->to_solid + st->to_flow == switches;
+    st->end_rate_step = s->steps;
+    st->end_rate = end_rate;
+    st->end_rate_cell = end_cell;
     return EKM_OK;
 }

@@ -96,6 +96,12 @@ typedef struct {
     /* the first Newton iterate of the temperature (phase 7) */
     double *T_change; /* T - T* of each cell in the last step that solved it [m^2/s^2] (0: none), n */
     double dt_change; /* that step's dt [s] (0: none yet) */
+    /* the thermal relaxation rate of the state the last accepted step left
+     * (its end-of-step check), for the next step's limit (run.c) */
+    int end_rate_valid; /* 1: rate and cell are those of the state after step end_rate_step */
+    long end_rate_step; /* s->steps after that step */
+    double end_rate;    /* [1/s] */
+    int end_rate_cell;
 } ekm_stepper;
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err);
