@@ -144,6 +144,21 @@ static int stats(run2d *r, ekm2d_stats *st)
     return 0;
 }
 
+/* Open `name` with sets, take its stats, run it to t, take them again: 0
+ * or the first failure (the run is open either way: run_close). */
+static int run_span(run2d *r, const char *src, const char *name, const char *const *sets, size_t n,
+                    const ekm_state *init, double t, ekm2d_stats *st0, ekm2d_stats *st1)
+{
+    int rc = run_open(r, src, name, sets, n, init);
+    if (!rc)
+        rc = stats(r, st0);
+    if (!rc)
+        rc = run_to(r, t);
+    if (!rc)
+        rc = stats(r, st1);
+    return rc;
+}
+
 static void run_close(run2d *r)
 {
     ekm2d_solver_destroy(r->sol);
@@ -191,14 +206,8 @@ static int case_shear(const char *src)
         return 1;
     const char *sets[] = {"run.stop=t_end", "domain.width=0.002", "domain.cells_x=2", "domain.periodic_x=1"};
     run2d r;
-    int rc = run_open(&r, src, "simple_shear", sets, 4, NULL);
     ekm2d_stats st0, st1;
-    if (!rc)
-        rc = stats(&r, &st0);
-    if (!rc)
-        rc = run_to(&r, 30.0);
-    if (!rc)
-        rc = stats(&r, &st1);
+    int rc = run_span(&r, src, "simple_shear", sets, 4, NULL, 30.0, &st0, &st1);
     if (!rc) {
         const double drift = fabs(st1.mass - st0.mass) / st0.mass;
         if (rank0())
@@ -291,14 +300,8 @@ static int case_inflow(const char *src)
     const char *sets[] = {"run.stop=t_end",  "domain.width=0.004", "domain.cells_x=2", "domain.periodic_x=1",
                           "domain.cells=40", "top.t_stop=1",       "hypo.enabled=0"};
     run2d r;
-    int rc = run_open(&r, src, "filling", sets, 7, NULL);
     ekm2d_stats st0, st1;
-    if (!rc)
-        rc = stats(&r, &st0);
-    if (!rc)
-        rc = run_to(&r, 0.005);
-    if (!rc)
-        rc = stats(&r, &st1);
+    int rc = run_span(&r, src, "filling", sets, 7, NULL, 0.005, &st0, &st1);
     if (!rc) {
         const double gained = st1.mass - st0.mass;
         const double err = fabs(gained - st1.mass_in) / st1.mass_in;
@@ -313,20 +316,17 @@ static int case_inflow(const char *src)
     return rc;
 }
 
+/* filling through a 5 mm inlet in the middle of the top of an 8 x 40 box 20 mm wide (inlet, jet) */
+static const char *const INLET_SETS[] = {"run.stop=t_end",      "domain.width=0.02", "domain.cells_x=8",
+                                         "domain.periodic_x=0", "domain.cells=40",   "top.t_stop=1",
+                                         "hypo.enabled=0",      "top.inlet_x=0.01",  "top.inlet_width=0.005"};
+
 static int case_inlet(const char *src)
 {
-    const char *sets[] = {"run.stop=t_end",      "domain.width=0.02", "domain.cells_x=8",
-                          "domain.periodic_x=0", "domain.cells=40",   "top.t_stop=1",
-                          "hypo.enabled=0",      "top.inlet_x=0.01",  "top.inlet_width=0.005"};
+    const char *const *sets = INLET_SETS;
     run2d r;
-    int rc = run_open(&r, src, "filling", sets, 9, NULL);
     ekm2d_stats st0, st1;
-    if (!rc)
-        rc = stats(&r, &st0);
-    if (!rc)
-        rc = run_to(&r, 5e-4);
-    if (!rc)
-        rc = stats(&r, &st1);
+    int rc = run_span(&r, src, "filling", sets, 9, NULL, 5e-4, &st0, &st1);
     if (!rc && rank0()) {
         const int nx = r.sc.cells_x, nz = r.sc.cells;
         const double gained = st1.mass - st0.mass;
@@ -383,19 +383,11 @@ static int case_inlet(const char *src)
  * the entered mass the inlet's flux times the time to 1e-12. */
 static int case_jet(const char *src)
 {
-    const char *sets[] = {"run.stop=t_end",      "domain.width=0.02", "domain.cells_x=8",
-                          "domain.periodic_x=0", "domain.cells=40",   "top.t_stop=1",
-                          "hypo.enabled=0",      "top.inlet_x=0.01",  "top.inlet_width=0.005"};
+    const char *const *sets = INLET_SETS;
     const double t_to = 0.02;
     run2d r;
-    int rc = run_open(&r, src, "filling", sets, 9, NULL);
     ekm2d_stats st0, st1;
-    if (!rc)
-        rc = stats(&r, &st0);
-    if (!rc)
-        rc = run_to(&r, t_to);
-    if (!rc)
-        rc = stats(&r, &st1);
+    int rc = run_span(&r, src, "filling", sets, 9, NULL, t_to, &st0, &st1);
     if (!rc && rank0()) {
         const double gained = st1.mass - st0.mass;
         const double expect = r.sc.material.rho_p * 0.05 * 1.0 * 2 * (0.02 / r.sc.cells_x) * t_to;
