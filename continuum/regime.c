@@ -1,5 +1,4 @@
 #include "regime.h"
-#include "switching.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -7,6 +6,7 @@
 
 #include "fields.h"
 #include "hypo.h"
+#include "switching.h"
 
 /* The rates the solid step lags its norm ||kappa|| on: u'^2 and w' at
  * cells, u' at faces. */
