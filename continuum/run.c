@@ -72,6 +72,11 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
     double last_progress = started;
     long frame = 0;
     /* the run starts (the load is applied) like a change of the driving */
+    /* a run does not depend on what the stepper did before it (a stepper
+     * reused by the steady solver's warm-ups or a fit's evaluations): no
+     * first-iterate history (step.h T_change), no kept thermal rate */
+    st->dt_change = 0.0;
+    st->end_rate_valid = 0;
     double dt_prev = ekm_control_restart_dt(sc, s) / 1.5;
     while (!is_steady && s->t < sc->t_end * (1.0 - 1e-14)) {
         const double t_next_out = fmin(sc->t_end, (frame + 1) * sc->output_dt);
