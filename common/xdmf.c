@@ -18,6 +18,28 @@ void ekm_xdmf_path(const char *h5_path, char *out, size_t size)
         snprintf(out, size, "%s.xdmf", h5_path);
 }
 
+static const char *base_name(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
+ekm_status ekm_xdmf_check_name(const char *h5_path, const char *opt, ekm_error *err)
+{
+    const unsigned char *base = (const unsigned char *)base_name(h5_path);
+    for (const unsigned char *s = base; *s;) {
+        unsigned int cp = 0;
+        const size_t len = *s < 0x80 ? 1 : ekm_utf8_sequence(s, &cp);
+        if (*s < 0x20 || *s == 0x7F || len == 0 || cp == 0xFFFE || cp == 0xFFFF)
+            return EKM_FAIL(err, EKM_EUSAGE,
+                            "%s: expected an output name its XDMF sidecar can name (UTF-8 without control "
+                            "characters), got byte 0x%02X at byte %zu of the name",
+                            opt, (unsigned)*s, (size_t)(s - base) + 1);
+        s += len;
+    }
+    return EKM_OK;
+}
+
 void ekm_xdmf_escape(FILE *fp, const char *text)
 {
     const unsigned char *s = (const unsigned char *)text;
@@ -44,12 +66,6 @@ void ekm_xdmf_escape(FILE *fp, const char *text)
         }
         s++;
     }
-}
-
-static const char *base_name(const char *path)
-{
-    const char *slash = strrchr(path, '/');
-    return slash ? slash + 1 : path;
 }
 
 ekm_status ekm_xdmf_add_views(ekm_h5_file *f, const ekm_xdmf_series *s, ekm_error *err)

@@ -52,6 +52,13 @@ typedef struct {
  * ".xdmf" appended). */
 void ekm_xdmf_path(const char *h5_path, char *out, size_t size);
 
+/* EKM_EUSAGE unless the sidecar can name the HDF5 file h5_path: its base
+ * name must be valid UTF-8 without control characters (bytes below 0x20,
+ * 0x7F), which XML 1.0 cannot hold and ekm_xdmf_escape would replace by
+ * '?', naming a file that does not exist.  opt is the option that gave the
+ * path ("-o"), for the message. */
+ekm_status ekm_xdmf_check_name(const char *h5_path, const char *opt, ekm_error *err);
+
 /* The row views /xdmf/FIELD/I of every field and frame, in f. */
 ekm_status ekm_xdmf_add_views(ekm_h5_file *f, const ekm_xdmf_series *s, ekm_error *err);
 

@@ -88,6 +88,8 @@ ekm_status cg_run_refuse_inputs(const cg_run_opts *o, ekm_error *err)
         in[o->ninputs + i] = o->pairs[i];
     ekm_status rc = EKM_OK;
     if (o->out)
+        rc = ekm_xdmf_check_name(o->out, "-o", err);
+    if (!rc && o->out)
         rc = ekm_atomic_check_target(o->out, err);
     if (!rc && o->csv)
         rc = ekm_atomic_check_target(o->csv, err);

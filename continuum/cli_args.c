@@ -76,7 +76,9 @@ ekm_status ekm_cli_args_check_outputs(const ekm_cli_args *a, ekm_error *err)
         inputs[n++] = a->material;
     if (a->from)
         inputs[n++] = a->from;
-    ekm_status st = ekm_atomic_check_target(a->out, err);
+    ekm_status st = ekm_xdmf_check_name(a->out, "-o", err);
+    if (st == EKM_OK)
+        st = ekm_atomic_check_target(a->out, err);
     if (st == EKM_OK)
         st = ekm_atomic_refuse_input(a->out, inputs, n, err);
     if (st == EKM_OK)

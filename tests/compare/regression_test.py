@@ -3,7 +3,10 @@
 
 usage: regression_test.py EKMCOMPARE ROOT WORKDIR
 
-For every results/**/score_*.json under ROOT, rerun `ekmcompare score` on the
+For every committed results/**/score_*.json under ROOT (what `git ls-files
+results` lists: the smoke campaign of `make demo` writes results/smoke/, which
+is not committed and not a reference, and a user's own runs are not either;
+outside a git checkout, every score file but results/smoke/'s), rerun `ekmcompare score` on the
 committed inputs it names (dem, ekm) with the options recorded in it
 (options.fields, options.ekm_time, options.shift_m, options.support,
 options.scalars) into a temporary file under WORKDIR, and assert that
@@ -47,6 +50,18 @@ def same_to_printed(printed, value):
     return "%.*g" % (d, float(value)) == "%.*g" % (d, float(printed))
 
 
+def committed_score_files(root):
+    """The committed results/**/score_*.json, relative to root."""
+    git = subprocess.run(["git", "-C", str(root), "ls-files", "-z", "--", "results"],
+                         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+    if git.returncode == 0:
+        names = [n.decode() for n in git.stdout.split(b"\0") if n]
+        return sorted(n for n in names if n.startswith("results/") and Path(n).name.startswith("score_")
+                      and n.endswith(".json") and (root / n).is_file())
+    return sorted(p.relative_to(root).as_posix() for p in root.glob("results/**/score_*.json")
+                  if not p.relative_to(root).as_posix().startswith("results/smoke/"))
+
+
 def main():
     if len(sys.argv) != 4:
         sys.exit("usage: regression_test.py EKMCOMPARE ROOT WORKDIR")
@@ -57,7 +72,7 @@ def main():
     rescored_scalars = {}  # score file -> new scalars
     rescored_run = {}  # score file -> its model_run (the EKM's steadiness)
     offsets = {}  # score file -> free-surface offset [d]
-    files = sorted(p.relative_to(root).as_posix() for p in root.glob("results/**/score_*.json"))
+    files = committed_score_files(root)
     if not files:
         sys.exit(f"regression_test.py: no results/**/score_*.json under {root}")
     for rel in files:

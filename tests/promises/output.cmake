@@ -37,6 +37,13 @@ ekm_promise_test(no_silent_values xdmf_name_escaped
   COMMAND bash ${EKM_PROMISE_OUT}/xdmf_escaped.sh $<TARGET_FILE:ekm> ${CMAKE_SOURCE_DIR}
           ${EKM_PROMISE_OUT_WORK}/xdmf_name_escaped TIMEOUT 60)
 
+# An output name the XDMF sidecar cannot name: refused before the run.
+foreach(tool ekm cg)
+  ekm_promise_test(clear_errors xdmf_output_name_${tool}
+    COMMAND bash ${EKM_PROMISE_OUT}/xdmf_output_name.sh ${tool} $<TARGET_FILE:ekm> $<TARGET_FILE:ekmcompare>
+            ${CMAKE_SOURCE_DIR} ${EKM_PROMISE_OUT_WORK}/xdmf_output_name_${tool} TIMEOUT 60)
+endforeach()
+
 # ParaView (label paraview; skipped without pvpython).
 foreach(kind ekm cg)
   foreach(what readers plot_over_line)
