@@ -1,0 +1,108 @@
+/* grid2d.h: the 2D grid of the semi-implicit step (step2d.h): geometry,
+ * the PETSc DMStag layouts and the data of the two ends (walls, free
+ * surfaces, inflows through inlet segments).
+ *
+ * nx x nz cells of dx = width/nx by dz = length/nz [m]; x periodic or
+ * bounded by side walls at x = 0 and x = width, z bounded by the bottom
+ * (z = 0) and top (z = length) ends of the scenario ([bottom], [top]).
+ *
+ *   dm    the state: phi [-] and T [m^2/s^2] at the cell centres
+ *         (DMSTAG_ELEMENT), vx [m/s] on the x-faces (DMSTAG_LEFT), vz [m/s]
+ *         on the z-faces (DMSTAG_DOWN); box stencil of width 2 (the face
+ *         momentum's convection reaches two cells: flux.h)
+ *   dmv   the velocity system's unknowns: vx and vz on the faces
+ *   dmt   the temperature system's unknowns: T at the cell centres
+ *
+ * Each column of cells is the 1D solver's grid (state.h): cell (i, j)
+ * spans [i dx, (i+1) dx] x [j dz, (j+1) dz]; x-face (i, j) is its left
+ * face, z-face (i, j) its bottom face; corner (i, j) its lower left corner.
+ * A state uniform in x is the 1D state in every column: vx of the x-faces
+ * of row j is the 1D u_j, vz of the z-faces of row j the 1D w_j.
+ */
+#ifndef EKM2D_GRID2D_H
+#define EKM2D_GRID2D_H
+
+#include <petscdmstag.h>
+
+#include "scenario.h"
+#include "status.h"
+
+typedef struct {
+    const ekm_scenario *sc;
+    MPI_Comm comm;
+    int nx, nz;                      /* cells along x and z */
+    double dx, dz;                   /* cell sizes [m] */
+    int periodic;                    /* 1: periodic in x */
+    double side_conductance[2];      /* side walls x = 0, x = width: 1/(dx/2 + slip_length) [1/m] */
+    PetscInt inlet_lo[2];            /* bottom, top: the inlet's first face column */
+    PetscInt inlet_hi[2];            /* bottom, top: its last face column */
+    DM dm, dmv, dmt;                 /* state, velocity unknowns, temperature unknowns */
+    PetscInt s_phi, s_T, s_vx, s_vz; /* slots of dm's arrays */
+    PetscInt v_vx, v_vz;             /* slots of dmv's arrays */
+    PetscInt t_T;                    /* slot of dmt's arrays */
+    PetscInt x0, z0, nxl, nzl;       /* this rank's cells: x0 .. x0 + nxl - 1, z0 .. z0 + nzl - 1 */
+    PetscInt gx0, gz0, gnx, gnz;     /* its ghosted box (dm's ghost corners, extra face points included) */
+} ekm2d_grid;
+
+/* The data of one end (bottom or top) at one time. */
+typedef struct {
+    ekm_bc_kind kind;  /* wall, free or inflow (an inflow outside [t_start, t_stop): wall) */
+    double w;          /* inflow: the inlet faces' vz [m/s] */
+    double phi_in;     /* inflow: the entering phi [-] */
+    double u_in, T_in; /* inflow: the entering vx [m/s] and T [m^2/s^2] */
+    double u_wall;     /* wall: tangential speed [m/s] */
+    double
+        conductance;   /* wall (also an inflow end beside its inlet): 1/(dz/2 + slip_length) [1/m]; free: 0 */
+    PetscInt inlet_lo; /* inflow: its face columns lo .. hi */
+    PetscInt inlet_hi;
+} ekm2d_end;
+
+/* The grid of sc on comm (collective).  EKM_EINPUT: an inlet that holds
+ * no face centre; EKM_EINTERNAL: a PETSc error. */
+ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *g, ekm_error *err);
+void ekm2d_grid_destroy(ekm2d_grid *g);
+
+/* End `top` (0: bottom, 1: top) at time t [s]. */
+ekm2d_end ekm2d_grid_end(const ekm2d_grid *g, int top, double t);
+
+/* Face column i (a periodic image wrapped) of end e is an open inlet face. */
+static inline int ekm2d_inlet_face(const ekm2d_grid *g, const ekm2d_end *e, PetscInt i)
+{
+    if (e->kind != EKM_BC_INFLOW)
+        return 0;
+    if (g->periodic)
+        i = (i % g->nx + g->nx) % g->nx;
+    return i >= e->inlet_lo && i <= e->inlet_hi;
+}
+
+/* Cell (i, j) exists (in the domain, or a periodic image). */
+static inline int ekm2d_cell_exists(const ekm2d_grid *g, PetscInt i, PetscInt j)
+{
+    return j >= 0 && j < g->nz && (g->periodic || (i >= 0 && i < g->nx));
+}
+
+/* (i, j) lies in this rank's ghosted box. */
+static inline int ekm2d_in_box(const ekm2d_grid *g, PetscInt i, PetscInt j)
+{
+    return i >= g->gx0 && i < g->gx0 + g->gnx && j >= g->gz0 && j < g->gz0 + g->gnz;
+}
+
+/* x-face column i lies on a side wall (no periodic image). */
+static inline int ekm2d_side_face(const ekm2d_grid *g, PetscInt i)
+{
+    return !g->periodic && (i == 0 || i == g->nx);
+}
+
+/* Index of point (i, j) of the ghosted box in a work array of
+ * ekm2d_grid_box_size() entries (cells, faces and corners alike). */
+static inline size_t ekm2d_box_index(const ekm2d_grid *g, PetscInt i, PetscInt j)
+{
+    return (size_t)(j - g->gz0) * (size_t)(g->gnx + 1) + (size_t)(i - g->gx0);
+}
+
+static inline size_t ekm2d_grid_box_size(const ekm2d_grid *g)
+{
+    return (size_t)(g->gnx + 1) * (size_t)(g->gnz + 1);
+}
+
+#endif

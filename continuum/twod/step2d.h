@@ -1,0 +1,71 @@
+/* step2d.h: one semi-implicit time step of the EKM in 2D (x horizontal, z
+ * vertical, plane strain), the 1D solver's step (step.h) in two
+ * dimensions, phase by phase (docs/model.md "2D solver"):
+ *
+ *   1. boundaries   the ends' face velocities at the start of the step
+ *                   (grid2d.h), gravity at its end
+ *   2. mass         explicit, conservative: face volume fluxes F = v phi_up
+ *                   (upwind by the sign of v), phi* = phi - dt div F; a
+ *                   step that takes a cell below 0 or closes more than
+ *                   phi_step_max of its gap to phi_cp is rejected
+ *   3. convection   rho T and the face momenta with the same fluxes (the
+ *                   face momenta by the mean fluxes of their control
+ *                   volumes' sides, as flux.h's centre fluxes)
+ *   4. properties   at (phi*, T*): empty cells (phi* < phi_dry), eta, zeta,
+ *                   lambda, P, K = dP/dphi (model.h)
+ *   5. velocity     vx and vz together, one linear system (velocity2d.h):
+ *                   backward-Euler viscous stresses and the pressure
+ *                   linearised in the next mass update
+ *   6. temperature  Newton on the 5-point system (temperature2d.h)
+ *   7. accept       a finite state; the thermal relaxation limit at the end
+ *                   of the step (control.h's rule)
+ *
+ * Flow regimes only for now (the solid regime runs on the fully implicit
+ * solver, solver2d.h).  A state uniform in x takes the 1D step's values.
+ */
+#ifndef EKM2D_STEP2D_H
+#define EKM2D_STEP2D_H
+
+#include <mpi.h>
+
+#include "scenario.h"
+#include "state.h"
+#include "status.h"
+
+typedef struct ekm2d_step ekm2d_step;
+
+/* What the semi-implicit step cannot run yet: EKM_EUNAVAILABLE naming the key. */
+ekm_status ekm2d_step_supported(const ekm_scenario *sc, ekm_error *err);
+
+/* The stepper of sc on comm (collective), its state the scenario's initial
+ * state (init NULL) or the 1D state init in every column. */
+ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_state *init, ekm2d_step **out,
+                             ekm_error *err);
+void ekm2d_step_destroy(ekm2d_step *st);
+
+/* Advance by dt [s] (collective).  *accepted = 0: the step was rejected
+ * (the state is the one before it; ekm2d_step_reason says why) and should
+ * be retried shorter; a status other than EKM_OK is an error. */
+ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error *err);
+
+/* Why the last step was rejected. */
+const char *ekm2d_step_reason(const ekm2d_step *st);
+
+/* Column i of the state into the 1D state out (n = cells along z), on
+ * every rank (collective): phi, T, u = vx of the column's left x-faces,
+ * w = vz of its z-faces. */
+ekm_status ekm2d_step_column(ekm2d_step *st, int i, ekm_state *out, ekm_error *err);
+
+typedef struct {
+    double t;       /* model time [s] */
+    long steps;     /* accepted steps */
+    long rejected;  /* rejected steps */
+    double mass;    /* sum rho_p phi dx dz [kg/m] */
+    double mass_in; /* net mass entered through the ends [kg/m] */
+    int newton;     /* temperature Newton iterations of the last step */
+} ekm2d_step_info;
+
+/* Statistics (collective: the mass is a reduction). */
+ekm_status ekm2d_step_stats(ekm2d_step *st, ekm2d_step_info *out, ekm_error *err);
+
+#endif

@@ -1,0 +1,83 @@
+/* step2d_impl.h: the semi-implicit 2D stepper's data, shared by its phases
+ * (step2d.c: the step; velocity2d.c: the velocity system; temperature2d.c:
+ * the temperature Newton).  Not a public header.
+ *
+ * Work arrays span this rank's ghosted box (grid2d.h, ekm2d_box_index):
+ * a cell's entry is at its (i, j), an x-face's and a z-face's at theirs,
+ * a corner's at its lower left cell's.  A phase fills them wherever its
+ * inputs are in the box (the state's ghosts are two cells wide), so that
+ * every row this rank owns finds its neighbours' values.
+ */
+#ifndef EKM2D_STEP2D_IMPL_H
+#define EKM2D_STEP2D_IMPL_H
+
+#include <petscksp.h>
+
+#include "grid2d.h"
+#include "model.h"
+#include "step2d.h"
+
+struct ekm2d_step {
+    ekm2d_grid g;
+    const ekm_scenario *sc;
+    Vec U;      /* the state (global, dm) */
+    Vec U_back; /* the state at the start of the step */
+    Vec Ul;     /* local (ghosted) copy of U during a step */
+    Vec W, Wl;  /* a global and a local vector of dm for exchanges */
+    Mat A;      /* the velocity system (dmv) */
+    Vec V, Vb;  /* its solution and right-hand side (global, dmv) */
+    Vec Vl;     /* the solution, local */
+    KSP ksp_v;
+    Mat J;      /* the temperature Newton's Jacobian (dmt) */
+    Vec dT, R;  /* its update and the negative residual (global, dmt) */
+    Vec Tn, Tl; /* the iterate (global) and its local copy */
+    Vec Rl;     /* a local vector of dmt (the residual, then the update) */
+    KSP ksp_t;
+    /* box arrays */
+    double *Fx, *Fz;           /* face volume fluxes of the step [m/s] (x-faces, z-faces) */
+    double *phi_new;           /* phi* after the mass update [-] */
+    double *rhoT;              /* (rho T)* after convection [kg/(m s^2)] */
+    double *T_star;            /* T* [m^2/s^2] (0: empty) */
+    ekm_cell_properties *prop; /* at (phi*, T*) (zeros: empty) */
+    unsigned char *dry;        /* cells: phi* < phi_dry */
+    double *K;                 /* dP/dphi at (phi*, T*) [Pa] (0: empty) */
+    double *rhs_x, *rhs_z;     /* the momentum equations' known parts [kg/(m^2 s)] (faces) */
+    double *pu_x, *pu_z;       /* phi the next mass update carries through each face (coupling) [-] */
+    double *T_it;              /* the temperature iterate [m^2/s^2] */
+    double *T_lin;             /* where an iteration linearises (T_it, or a cell's restart) [m^2/s^2] */
+    double *T_change;          /* T - T* of the last step (the first Newton iterate) */
+    double *upd;               /* |dT| of the last Newton iteration */
+    ekm_source_coeffs *src;    /* the temperature source of each cell */
+    double dt_change;          /* the step of T_change [s] (0: none) */
+    /* the step */
+    ekm2d_end bottom, top; /* the ends at the start of the step */
+    double g_x, g_z;       /* gravity [m/s^2] */
+    double t;              /* [s] */
+    long steps, rejected;
+    double mass_in; /* [kg/m] */
+    int newton;     /* iterations of the last temperature solve */
+    char reason[600];
+};
+
+/* Access to a box array at (i, j). */
+#define BOX(st, arr, i, j) ((st)->arr[ekm2d_box_index(&(st)->g, (i), (j))])
+
+/* Phase 5: assemble and solve the velocity system; the new vx, vz into
+ * u's face slots (u: dm's local array, ghosts included after the
+ * solve).  1: solved; 0: the solve failed (st->reason), the step is
+ * rejected; -1: an error (err). */
+int ekm2d_velocity_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_error *err);
+
+/* Phase 6: the temperature of the step by Newton into u's T slots
+ * (ghosts included).  1, 0 (not converged: st->reason), -1 (err). */
+int ekm2d_temperature_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_error *err);
+
+/* Shear rate dvx/dz + dvz/dx at corner (i, j) [1/s] of the velocities in
+ * u and its viscosity [Pa s] (the harmonic mean of its wet cells' eta; on
+ * a wall the slip rate over dz/2 + slip_length): *has = 0 where the
+ * corner carries none (a free end, beside an inlet face or an empty cell,
+ * the box's corners). */
+double ekm2d_corner_rate(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j, double *eta,
+                         int *has);
+
+#endif
