@@ -4,7 +4,10 @@
 # line each, into runs/demo/continuum/), then (2) the smoke validation
 # campaign (make campaign SIZE=smoke: DEM in both engines, coarse-graining,
 # EKM, scores) ending with the score table and the figures in
-# results/smoke/.
+# results/smoke/; then (3) a one-screen summary (scripts/campaign/
+# demo_summary.py: where the results are, what to open first, headline
+# numbers from results/smoke/scores.json), which fails the demo when the
+# campaign left no readable score table.
 # usage: scripts/demo.sh BUILD_DIR   (called by make demo after deps and build)
 set -euo pipefail
 build=${1:-build}
@@ -32,8 +35,5 @@ done
 echo
 echo "== 2. the smoke validation campaign (make campaign SIZE=smoke) -> results/smoke/"
 make -s -C "$root" campaign SIZE=smoke BUILD="$build" JOBS="${JOBS:-2}" -j "${JOBS:-2}"
-figs=$root/results/smoke/figures/figures.txt
-if [ -s "$figs" ]; then
-  echo
-  echo "figures ($(wc -l < "$figs")) in results/smoke/figures/, e.g. $(grep -m1 'png$' "$figs")"
-fi
+cd "$root"
+/usr/bin/python3 -B scripts/campaign/demo_summary.py results/smoke runs/demo/continuum
