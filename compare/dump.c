@@ -607,11 +607,21 @@ static int item_starts(const char *item, const char *word, const char **rest)
     return 1;
 }
 
-/* The value line after an ITEM: line; returns 1, or 0 (EOF or error in rc). */
+/* A line without its newline is the last of a file cut short: the engines
+ * end every line with one, and what is left of it may still parse (a value
+ * 0.0123 cut to 0.01), so it is never used. */
+#define CUT_LINE "last line cut short"
+
+/* The value line after an ITEM: line; returns 1, or 0 (EOF, a line cut
+ * short, or an error in rc). */
 static int value_line(cg_dump *d, char **line, ekm_status *rc, ekm_error *err)
 {
-    if (text_line(d, line, rc, err))
-        return 1;
+    if (text_line(d, line, rc, err)) {
+        if (!d->last_no_newline)
+            return 1;
+        *rc = mark_truncated(d, CUT_LINE);
+        return 0;
+    }
     if (*rc == EKM_OK)
         *rc = mark_truncated(d, "end of file inside the header");
     return 0;
@@ -695,6 +705,8 @@ static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
             snprintf(what, sizeof what, "end of file after %lld of %lld atoms", (long long)i, (long long)n);
             return mark_truncated(d, what);
         }
+        if (d->last_no_newline)
+            return mark_truncated(d, CUT_LINE);
         if ((size_t)i >= s->cap && (rc = grow_rows(s, (size_t)i + 1, nsel, d->path, err)))
             return rc;
         double *row = s->data + (size_t)i * nsel;
@@ -705,8 +717,6 @@ static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
         for (size_t c = 0; c < ncols; c++) {
             p = skip_blank(p);
             if (!*p) {
-                if (d->eof && d->last_no_newline && d->pos == d->end)
-                    return mark_truncated(d, "last line cut short");
                 return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: expected %zu columns, got %zu", d->path, d->lineno,
                                 ncols, c);
             }
@@ -715,8 +725,6 @@ static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
                 const char *tok = p;
                 int pr = parse_number(&p, &row[j]);
                 if (pr) {
-                    if (d->eof && d->last_no_newline && d->pos == d->end)
-                        return mark_truncated(d, "last line cut short");
                     const char *q = tok;
                     while (!is_end(*q))
                         q++;
@@ -765,6 +773,8 @@ static ekm_status text_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
         }
         if (!started && *skip_blank(line) == '\0')
             continue;
+        if (d->last_no_newline)
+            return mark_truncated(d, CUT_LINE);
         if (!started) {
             s->has_time = 0;
             s->time = 0.0;

@@ -22,7 +22,9 @@
  * Errors name the input and its line ("run.dump:120: ..."; binary files name
  * the byte offset, "run.bin:@4096: ..."). A snapshot cut short by the end of
  * the file (a killed run) is not an error: cg_dump_next returns EKM_EOF and
- * sets `truncated` and `warning`.
+ * sets `truncated` and `warning`. A text dump's last line without its
+ * newline is cut short, even when what is left of it parses (0.0123 cut to
+ * 0.01): the engines end every line with one.
  */
 #ifndef CG_DUMP_H
 #define CG_DUMP_H

@@ -255,6 +255,38 @@ static void test_value_checks(void **state)
                        ":8:3: ITEM: BOX BOUNDS: expected 2 finite numbers");
 }
 
+/* A last line without its newline is cut short, also when what is left of
+ * it parses (the last value 1.25 cut to 1.2, or only the newline gone): the
+ * snapshot is skipped as truncated, the earlier one kept. */
+static void test_cut_last_line(void **state)
+{
+    (void)state;
+#define SNAP HDR "ITEM: ATOMS x y z vx vy vz mass\n0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 0 0 0 1.25\n"
+    static const char full[] = SNAP SNAP;
+#undef SNAP
+    const size_t len = sizeof full - 1;
+    const struct {
+        size_t cut; /* bytes cut off the end */
+        size_t n;   /* complete snapshots */
+        int trunc;  /* 1: the last one skipped */
+    } cases[] = {{0, 2, 0}, {1, 1, 1}, {2, 1, 1}, {3, 1, 1}};
+    for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+        char path[512], text[sizeof full];
+        memcpy(text, full, len - cases[c].cut);
+        text[len - cases[c].cut] = '\0';
+        tmp_path(path, sizeof path, "cut_line.dump");
+        assert_int_equal(write_text(path, text), 0);
+        cg_snapshot s = {0};
+        ekm_error err;
+        size_t n;
+        int tr;
+        assert_int_equal(read_all(path, &n, &s, &err, &tr), EKM_EOF);
+        assert_int_equal(n, cases[c].n);
+        assert_int_equal(tr, cases[c].trunc);
+        cg_snapshot_free(&s);
+    }
+}
+
 static void test_bad_inputs(void **state)
 {
     (void)state;
@@ -342,6 +374,7 @@ int main(void)
         cmocka_unit_test(test_lammps_time_and_gzip),
         cmocka_unit_test(test_triclinic),
         cmocka_unit_test(test_truncated),
+        cmocka_unit_test(test_cut_last_line),
         cmocka_unit_test(test_formats_agree),
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_value_checks),

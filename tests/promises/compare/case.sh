@@ -109,6 +109,28 @@ cut_dump_expect_snapshots)
     absent a.h5
     run 0 "" -- "$ekmc" cg full.dump -o a.h5 --expect-snapshots 2 "${cgopts[@]}"
     [ -s a.h5 ] || fail "no output with the expected count" ;;
+dump_cut_inside_number)
+    # a dump cut inside the last number of its last snapshot ("0.000468..."
+    # cut to "0.0004680"), or only its final newline gone: what is left
+    # parses, and the cut snapshot was used (2 of 2 snapshots). A last line
+    # without its newline is cut short: skipped with the warning, an error
+    # with --expect-snapshots; also read through a pipe
+    head -c -4 "$dump" >a.dump
+    head -c -1 "$dump" >b.dump
+    for f in a.dump b.dump; do
+        "$ekmc" cg $f -o a.h5 --rho-p 2500 --dt 1e-5 >out.txt 2>err.txt || fail "$f: exit $?: $(cat err.txt)"
+        grep -qF "warning: $f:34: truncated snapshot (last line cut short): skipped, earlier snapshots kept" \
+            err.txt || fail "$f: no truncation warning: $(cat err.txt)"
+        grep -qF "1 of 1 snapshots" err.txt || fail "$f: expected the one complete snapshot: $(cat err.txt)"
+        rm -f a.h5
+        run 2 "$f:34: truncated snapshot (last line cut short): expected 2 complete snapshots (--expect-snapshots)" -- \
+            "$ekmc" cg $f -o a.h5 --expect-snapshots 2 "${cgopts[@]}"
+        absent a.h5
+    done
+    "$ekmc" cg <(head -c -4 "$dump") -o a.h5 --rho-p 2500 --dt 1e-5 >out.txt 2>err.txt ||
+        fail "pipe: exit $?: $(cat err.txt)"
+    grep -qF "1 of 1 snapshots" err.txt || fail "pipe: expected the one complete snapshot: $(cat err.txt)"
+    [ -s a.h5 ] || fail "pipe: no output" ;;
 score_shift_no_points)
     # --shift 1e300: exit 0 with 0 points and null everywhere before
     cp "$res/cg_lammps.h5" CG.h5 && cp "$res/ekm.h5" EKM.h5 && keep CG.h5 EKM.h5
