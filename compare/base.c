@@ -226,6 +226,7 @@ static ekm_status read_run(base_state *st, const char *path, size_t irun, ekm_er
         return rc;
     cg_dump_expect(d, B_RADIUS, CG_DUMP_RADIUS);
     cg_dump_expect(d, B_DIAMETER, CG_DUMP_DIAMETER);
+    cg_dump_expect(d, B_TYPE, CG_DUMP_INTEGER);
     st->nsnap = 0;
     int have_last = 0;
     int64_t last_step = 0;

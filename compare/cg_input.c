@@ -311,6 +311,11 @@ ekm_status cg_input_next(cg_input *src, ekm_error *err)
             for (int c = 0; c < 3; c++)
                 if (src->col[checked[c]] >= 0)
                     cg_dump_expect(src->d, (size_t)src->col[checked[c]], how[c]);
+            /* a type or id of 1.5 matches nothing: the dump's error too */
+            if (src->col[CG_IN_TYPE] >= 0)
+                cg_dump_expect(src->d, (size_t)src->col[CG_IN_TYPE], CG_DUMP_INTEGER);
+            if (src->col[CG_IN_ID] >= 0)
+                cg_dump_expect(src->d, (size_t)src->col[CG_IN_ID], CG_DUMP_INTEGER);
         }
         ekm_status rc = cg_dump_next(src->d, &src->snap, err);
         if (rc == EKM_EOF) {

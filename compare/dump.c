@@ -476,6 +476,13 @@ static const char *check_value(const cg_dump *d, const cg_snapshot *s, size_t j,
     const cg_dump_check c = d->check[j];
     if (c == CG_DUMP_ANY)
         return NULL;
+    if (c == CG_DUMP_INTEGER) {
+        if (v != floor(v))
+            return "expected an integer";
+        if (!(fabs(v) <= 9007199254740992.0))
+            return "expected an integer of magnitude at most 2^53 (exact in double precision)";
+        return NULL;
+    }
     if (!(v > 0.0))
         return "expected a positive finite number";
     const double size = c == CG_DUMP_RADIUS ? 2.0 * v : v, edge = box_longest(s);

@@ -58,13 +58,17 @@ typedef struct {
 /* What a selected column's values must be, besides finite numbers (every
  * selected value is): checked per atom by the reader, so that a value that
  * makes no sense is reported at its file, line and column
- * ("a.dump:12:87: radius: expected a positive finite number, got -0.001"). */
+ * ("a.dump:12:87: radius: expected a positive finite number, got -0.001",
+ * "a.dump:10:3: type: expected an integer, got 1.5"). */
 typedef enum {
     CG_DUMP_ANY = 0,  /* any finite number */
     CG_DUMP_POSITIVE, /* > 0 (mass) */
     CG_DUMP_RADIUS,   /* > 0, and the particle (2 x value) no larger than the
                          box's longest edge */
     CG_DUMP_DIAMETER, /* > 0, and no larger than the box's longest edge */
+    CG_DUMP_INTEGER,  /* an integer of magnitude at most 2^53, exact in a
+                         double (type, id: the engines write them as
+                         integers; 1.5 is no atom type) */
 } cg_dump_check;
 
 typedef struct cg_dump cg_dump;

@@ -11,8 +11,8 @@
 #include "synth.h"
 #include "test_util.h"
 
-static const char *const cols[] = {"x",      "y",    "z",  "vx", "vy",      "vz",
-                                   "radius", "mass", "xs", "zs", "c_sa[1]", "c_sa[6]"};
+static const char *const cols[] = {"x",    "y",  "z",  "vx",      "vy",      "vz",  "radius",
+                                   "mass", "xs", "zs", "c_sa[1]", "c_sa[6]", "type"};
 #define NCOLS (sizeof cols / sizeof *cols)
 
 /* Read all snapshots of a file; returns the status of the last call. */
@@ -206,8 +206,9 @@ static void expect_error(const char *name, const char *text, const char *needle)
 #define HDR "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp ff\n0 1\n0 1\n0 1\n"
 
 /* Values that make no sense for what their column is (cg_dump_expect:
- * radius and mass positive, a particle no larger than the box) and boxes
- * without a finite length: errors at the dump's line and column. */
+ * radius and mass positive, a particle no larger than the box, an integer
+ * type) and boxes without a finite length: errors at the dump's line and
+ * column. */
 static void expect_value_error(const char *name, const char *text, const char *needle)
 {
     char path[512];
@@ -218,6 +219,7 @@ static void expect_value_error(const char *name, const char *text, const char *n
     assert_int_equal(cg_dump_open(&d, path, cols, NCOLS, &err), EKM_OK);
     cg_dump_expect(d, 6, CG_DUMP_RADIUS);
     cg_dump_expect(d, 7, CG_DUMP_POSITIVE);
+    cg_dump_expect(d, 12, CG_DUMP_INTEGER);
     cg_snapshot s = {0};
     ekm_status rc;
     while ((rc = cg_dump_next(d, &s, &err)) == EKM_OK)
@@ -244,6 +246,14 @@ static void test_value_checks(void **state)
                        HDR "ITEM: ATOMS x y z vx vy vz radius mass\n"
                            "0.1 0.2 0.3 0 0 0 0.01 0\n0.1 0.2 0.3 0 0 0 0.01 1\n",
                        ":10:24: mass: expected a positive finite number, got 0");
+    expect_value_error("half_type.dump",
+                       HDR "ITEM: ATOMS x y z vx vy vz radius mass type\n"
+                           "0.1 0.2 0.3 0 0 0 0.01 1 1\n0.1 0.2 0.3 0 0 0 0.01 1 1.5\n",
+                       ":11:26: type: expected an integer, got 1.5");
+    expect_value_error("huge_type.dump",
+                       HDR "ITEM: ATOMS x y z vx vy vz radius mass type\n"
+                           "0.1 0.2 0.3 0 0 0 0.01 1 1e17\n0.1 0.2 0.3 0 0 0 0.01 1 1\n",
+                       ":10:26: type: expected an integer of magnitude at most 2^53");
     expect_value_error("huge_box.dump",
                        "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 1\n"
                        "-1e308 1e308\n0 1\nITEM: ATOMS x y z vx vy vz radius mass\n0 0 0 0 0 0 0.1 1\n",

@@ -14,7 +14,7 @@ endfunction()
 
 foreach(name dump_negative_radius dump_all_radii_negative dump_huge_radius dump_huge_box
              dump_box_infinite_length dump_wide_particles gzip_corrupt_byte gzip_corrupt_check
-             gzip_truncated_offset)
+             gzip_truncated_offset dump_type_not_integer)
   ekm_compare_promise(clear_errors ${name})
 endforeach()
 foreach(name cut_dump_expect_snapshots dump_cut_inside_number score_shift_no_points score_swapped_files

@@ -61,6 +61,17 @@ dump_huge_box)
     run 2 "a.dump:8: ITEM: BOX BOUNDS: z: expected a box the grid can hold" -- \
         "$ekmc" cg a.dump -o a.h5 "${cgopts[@]}"
     absent a.h5 ;;
+dump_type_not_integer)
+    # an atom type of 1.5 matched no --types and no --floor-type: the atom
+    # silently left out (exit 0)
+    sed '10s/^1 1 1 /1 1.5 1 /' "$dump" >a.dump
+    run 2 "a.dump:10:3: type: expected an integer, got 1.5" -- \
+        "$ekmc" cg a.dump -o a.h5 --types 1 "${cgopts[@]}"
+    absent a.h5
+    # base: every grain a floor grain (type 2) but the first, of type 1.5
+    sed 's/^\([0-9]*\) 1 1 /\1 2 1 /' "$dump" | sed '10s/^1 2 1 /1 1.5 1 /' >b.dump
+    run 2 "b.dump:10:3: type: expected an integer, got 1.5" -- "$ekmc" base b.dump -o b.h5
+    absent b.h5 ;;
 dump_box_infinite_length)
     sed 's/^-0.005 0.005$/-1e308 1e308/' "$dump" >a.dump
     run 2 "a.dump:6: ITEM: BOX BOUNDS: x: expected finite bounds lo < hi with a finite length" -- \
