@@ -311,6 +311,10 @@ ekm_status cg_input_next(cg_input *src, ekm_error *err)
             for (int c = 0; c < 3; c++)
                 if (src->col[checked[c]] >= 0)
                     cg_dump_expect(src->d, (size_t)src->col[checked[c]], how[c]);
+            /* a velocity of 1e300 overflows m v^2: the dump's error too */
+            for (int c = 0; c < 3; c++)
+                if (src->col[CG_IN_VX + c] >= 0)
+                    cg_dump_expect(src->d, (size_t)src->col[CG_IN_VX + c], CG_DUMP_VELOCITY);
             /* a type or id of 1.5 matches nothing: the dump's error too */
             if (src->col[CG_IN_TYPE] >= 0)
                 cg_dump_expect(src->d, (size_t)src->col[CG_IN_TYPE], CG_DUMP_INTEGER);

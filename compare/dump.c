@@ -483,6 +483,10 @@ static const char *check_value(const cg_dump *d, const cg_snapshot *s, size_t j,
             return "expected an integer of magnitude at most 2^53 (exact in double precision)";
         return NULL;
     }
+    if (c == CG_DUMP_VELOCITY)
+        return fabs(v) < CG_DUMP_LIGHT_SPEED
+                   ? NULL
+                   : "expected a velocity component below the speed of light (|v| < 299792458 m/s)";
     if (!(v > 0.0))
         return "expected a positive finite number";
     const double size = c == CG_DUMP_RADIUS ? 2.0 * v : v, edge = box_longest(s);

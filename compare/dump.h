@@ -69,7 +69,14 @@ typedef enum {
     CG_DUMP_INTEGER,  /* an integer of magnitude at most 2^53, exact in a
                          double (type, id: the engines write them as
                          integers; 1.5 is no atom type) */
+    CG_DUMP_VELOCITY, /* |value| < CG_DUMP_LIGHT_SPEED: a velocity component
+                         in SI units (the decks' `units si`); one of at
+                         least the speed of light is no grain's (1e300 made
+                         m v^2, T and P inf), and below it m v^2 stays far
+                         from overflowing */
 } cg_dump_check;
+
+#define CG_DUMP_LIGHT_SPEED 299792458.0 /* speed of light [m/s] */
 
 typedef struct cg_dump cg_dump;
 

@@ -207,8 +207,8 @@ static void expect_error(const char *name, const char *text, const char *needle)
 
 /* Values that make no sense for what their column is (cg_dump_expect:
  * radius and mass positive, a particle no larger than the box, an integer
- * type) and boxes without a finite length: errors at the dump's line and
- * column. */
+ * type, a velocity below the speed of light) and boxes without a finite
+ * length: errors at the dump's line and column. */
 static void expect_value_error(const char *name, const char *text, const char *needle)
 {
     char path[512];
@@ -220,6 +220,8 @@ static void expect_value_error(const char *name, const char *text, const char *n
     cg_dump_expect(d, 6, CG_DUMP_RADIUS);
     cg_dump_expect(d, 7, CG_DUMP_POSITIVE);
     cg_dump_expect(d, 12, CG_DUMP_INTEGER);
+    for (size_t j = 3; j < 6; j++)
+        cg_dump_expect(d, j, CG_DUMP_VELOCITY);
     cg_snapshot s = {0};
     ekm_status rc;
     while ((rc = cg_dump_next(d, &s, &err)) == EKM_OK)
@@ -254,6 +256,15 @@ static void test_value_checks(void **state)
                        HDR "ITEM: ATOMS x y z vx vy vz radius mass type\n"
                            "0.1 0.2 0.3 0 0 0 0.01 1 1e17\n0.1 0.2 0.3 0 0 0 0.01 1 1\n",
                        ":10:26: type: expected an integer of magnitude at most 2^53");
+    expect_value_error("light_speed.dump",
+                       HDR "ITEM: ATOMS x y z vx vy vz radius mass\n"
+                           "0.1 0.2 0.3 0 -299792457 0 0.01 1\n0.1 0.2 0.3 0 -299792458 0 0.01 1\n",
+                       ":11:15: vy: expected a velocity component below the speed of light (|v| < 299792458 "
+                       "m/s), got -299792458");
+    expect_value_error("huge_velocity.dump",
+                       HDR "ITEM: ATOMS x y z vx vy vz radius mass\n"
+                           "0.1 0.2 0.3 1e300 0 0 0.01 1\n0.1 0.2 0.3 0 0 0 0.01 1\n",
+                       ":10:13: vx: expected a velocity component below the speed of light");
     expect_value_error("huge_box.dump",
                        "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 1\n"
                        "-1e308 1e308\n0 1\nITEM: ATOMS x y z vx vy vz radius mass\n0 0 0 0 0 0 0.1 1\n",

@@ -142,6 +142,25 @@ dump_cut_inside_number)
         fail "pipe: exit $?: $(cat err.txt)"
     grep -qF "1 of 1 snapshots" err.txt || fail "pipe: expected the one complete snapshot: $(cat err.txt)"
     [ -s a.h5 ] || fail "pipe: no output" ;;
+dump_velocity_overflow)
+    # a velocity of 1e300: exit 0, T, P and the SEs of every bin the atom
+    # reaches inf or NaN in the output. The reader refuses a velocity
+    # component of at least the speed of light at its line and column
+    sed '10s/ -0.0203215 / 1e300 /' "$dump" >a.dump
+    run 2 "a.dump:10:47: vx: expected a velocity component below the speed of light (|v| < 299792458 m/s), got 1e300" -- \
+        "$ekmc" cg a.dump -o a.h5 --csv a.csv "${cgopts[@]}"
+    absent a.h5 a.xdmf a.csv
+    # below it, a mass of 1e295 kg (column 'mass') at 2e8 m/s still
+    # overflows (m v^2, the SE of rho): the outputs refuse any inf, and NaN
+    # where the bin holds particles (exit 4, naming the field, bin and time)
+    sed 's/^ITEM: ATOMS id type type /ITEM: ATOMS id type mass /' "$dump" |
+        sed '10s/^1 1 1 \(.*\) -0.0203215 /1 1 1e295 \1 2e8 /' >b.dump
+    for out in "-o b.h5" "--csv b.csv" "--axes x,z -o b.h5" "--axes x,z --csv b.csv"; do
+        # shellcheck disable=SC2086
+        run 4 "b.dump: rho_se at " -- "$ekmc" cg b.dump $out "${cgopts[@]}"
+        grep -qF "window t = 0.0025 s: expected a finite number, got inf" err.txt || fail "$out: $(cat err.txt)"
+        absent b.h5 b.xdmf b.csv
+    done ;;
 score_shift_no_points)
     # --shift 1e300: exit 0 with 0 points and null everywhere before
     cp "$res/cg_lammps.h5" CG.h5 && cp "$res/ekm.h5" EKM.h5 && keep CG.h5 EKM.h5
