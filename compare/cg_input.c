@@ -340,14 +340,9 @@ ekm_status cg_input_next(cg_input *src, ekm_error *err)
             src->nrepeat++;
             continue;
         }
-        if (sn->has_time)
-            src->t = sn->time;
-        else if (o->dt > 0)
-            src->t = (double)sn->step * o->dt;
-        else
-            return EKM_FAIL(err, EKM_EUSAGE,
-                            "%s: the dump has no ITEM: TIME: give --dt (the engine's time step, s)",
-                            sn->where);
+        ekm_status trc = cg_snapshot_time(sn, o->dt, &src->order, &src->t, err);
+        if (trc)
+            return trc;
         src->have_last = 1;
         src->last_step = sn->step;
         if (o->have_steps && (sn->step < o->step_a || sn->step > o->step_b))

@@ -803,6 +803,8 @@ static ekm_status text_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
             if (parse_int64(v, &s->step))
                 return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: ITEM: TIMESTEP: expected an integer, got '%.40s'",
                                 d->path, d->lineno, v);
+            if (!s->has_time)
+                snprintf(s->time_where, sizeof s->time_where, "%s:%lld", d->path, d->lineno);
             have_step = 1;
         } else if (item_is(item, "TIME")) {
             if (!value_line(d, &v, &rc, err))
@@ -812,6 +814,7 @@ static ekm_status text_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
                 return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: ITEM: TIME: expected a finite number, got '%.40s'",
                                 d->path, d->lineno, v);
             s->has_time = 1;
+            snprintf(s->time_where, sizeof s->time_where, "%s:%lld", d->path, d->lineno);
         } else if (item_is(item, "UNITS")) {
             if (!value_line(d, &v, &rc, err))
                 return rc;
@@ -847,6 +850,49 @@ static ekm_status text_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
                             d->path, d->lineno, line);
         }
     }
+}
+
+/* ---------- times ---------- */
+
+/* The shortest %g form of v (9 to 17 digits) that reads back as v: two
+ * times that differ are never printed alike. */
+static void shortest(char *buf, size_t len, double v)
+{
+    for (int prec = 9; prec <= 17; prec++) {
+        snprintf(buf, len, "%.*g", prec, v);
+        if (strtod(buf, NULL) == v)
+            return;
+    }
+}
+
+ekm_status cg_snapshot_time(const cg_snapshot *s, double dt, cg_time_order *ord, double *t, ekm_error *err)
+{
+    double now;
+    if (s->has_time)
+        now = s->time;
+    else if (dt > 0)
+        now = (double)s->step * dt;
+    else
+        return EKM_FAIL(err, EKM_EUSAGE,
+                        "%s: the dump has no ITEM: TIME: give --dt (the engine's time step, s)", s->where);
+    if (ord->have && !(now > ord->t)) {
+        char prev[32], cur[32];
+        shortest(prev, sizeof prev, ord->t);
+        shortest(cur, sizeof cur, now);
+        if (s->has_time)
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: ITEM: TIME: expected a time after the previous snapshot's %s s, got %s s",
+                            s->time_where, prev, cur);
+        return EKM_FAIL(
+            err, EKM_EINPUT,
+            "%s: ITEM: TIMESTEP %lld x --dt %.9g s: expected a time after the previous snapshot's "
+            "%s s, got %s s",
+            s->time_where, (long long)s->step, dt, prev, cur);
+    }
+    ord->have = 1;
+    ord->t = now;
+    *t = now;
+    return EKM_OK;
 }
 
 /* ---------- binary ---------- */
@@ -919,6 +965,7 @@ static ekm_status bin_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
     BREAD(&revision, 4, "end of file inside the header");
     if (revision < 2)
         return bin_fail(d, err, "expected binary format revision >= 2 (with column names)");
+    snprintf(s->time_where, sizeof s->time_where, "%s:@%llu", d->path, d->offset);
     BREAD(&s->step, 8, "end of file inside the header");
     BREAD(&s->natoms, 8, "end of file inside the header");
     if (s->natoms < 0)

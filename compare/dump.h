@@ -51,6 +51,9 @@ typedef struct {
                                     absent columns are unspecified */
     size_t cap;                  /* allocated rows of data */
     char where[600];             /* "file:line" of this snapshot's ITEM: ATOMS */
+    char time_where[620];        /* "file:line" of its time: the value of ITEM: TIME,
+                                    without one of ITEM: TIMESTEP (binary:
+                                    "file:@offset" of the header) */
     char box_where[3][620];      /* "file:line" of its box bounds along x, y, z
                                     (binary: "file:@offset" of the header) */
 } cg_snapshot;
@@ -100,6 +103,21 @@ const char *cg_dump_warning(const cg_dump *d);
 /* The same without what was done ("file:line: truncated snapshot (...)"),
  * for an error when a cut-off dump is not acceptable. */
 const char *cg_dump_truncation(const cg_dump *d);
+
+/* The times of a series of snapshots (cg_snapshot_time). */
+typedef struct {
+    int have; /* 1 after the first snapshot */
+    double t; /* time of the last one [s] */
+} cg_time_order;
+
+/* The time of snapshot s [s]: ITEM: TIME when the dump has it, else
+ * step x dt (dt > 0; otherwise an error, EKM_EUSAGE, asking for --dt).
+ * Times increase strictly from one snapshot to the next, over all the files
+ * of a run (a snapshot whose step was already read, a restart overlap, is
+ * the caller's to skip first): a time not after the previous one in *ord is
+ * an error, EKM_EINPUT, at s->time_where, naming both times. *ord is
+ * updated on success. */
+ekm_status cg_snapshot_time(const cg_snapshot *s, double dt, cg_time_order *ord, double *t, ekm_error *err);
 
 /* Close the dump; cg_dump_close(NULL) is harmless. */
 void cg_dump_close(cg_dump *d);

@@ -308,6 +308,67 @@ static void test_cut_last_line(void **state)
     }
 }
 
+/* Snapshot times increase strictly (cg_snapshot_time): ITEM: TIME going
+ * back or repeating is an error at its line, naming both times; without
+ * ITEM: TIME step x dt, and no dt is a usage error. */
+static void expect_times(const char *name, const char *text, double dt, size_t nok, ekm_status want,
+                         const char *needle)
+{
+    char path[512];
+    tmp_path(path, sizeof path, name);
+    assert_int_equal(write_text(path, text), 0);
+    cg_dump *d;
+    ekm_error err;
+    assert_int_equal(cg_dump_open(&d, path, cols, NCOLS, &err), EKM_OK);
+    cg_snapshot s = {0};
+    cg_time_order ord = {0, 0.0};
+    ekm_status rc;
+    size_t n = 0;
+    double t = -1.0;
+    while ((rc = cg_dump_next(d, &s, &err)) == EKM_OK) {
+        if ((rc = cg_snapshot_time(&s, dt, &ord, &t, &err)))
+            break;
+        n++;
+    }
+    cg_dump_close(d);
+    cg_snapshot_free(&s);
+    if (n != nok || rc != want || (needle && (!strstr(err.message, needle) || !strstr(err.message, path))))
+        fail_msg("%s: %zu times, rc %d, message '%s', expected %zu, '%s'", name, n, rc,
+                 rc > 0 ? err.message : "", nok, needle ? needle : "");
+}
+
+static void test_times(void **state)
+{
+    (void)state;
+#define ONE "ITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 1\n0 1\n0 1\nITEM: ATOMS x\n0.5\n"
+    expect_times("times_ok.dump",
+                 "ITEM: TIME\n0\nITEM: TIMESTEP\n0\n" ONE "ITEM: TIME\n0.004\nITEM: TIMESTEP\n1\n" ONE, 0.0,
+                 2, EKM_EOF, NULL);
+    expect_times("times_back.dump",
+                 "ITEM: TIME\n0\nITEM: TIMESTEP\n0\n" ONE "ITEM: TIME\n0.01\nITEM: TIMESTEP\n1\n" ONE
+                 "ITEM: TIME\n0.008\nITEM: TIMESTEP\n2\n" ONE,
+                 1e-5, 2, EKM_EINPUT,
+                 ":26: ITEM: TIME: expected a time after the previous snapshot's 0.01 s, got 0.008 s");
+    /* TIMESTEP after TIME (either order): the error still names the TIME */
+    expect_times("times_repeat.dump",
+                 "ITEM: TIMESTEP\n0\nITEM: TIME\n0\n" ONE "ITEM: TIMESTEP\n1\nITEM: TIME\n0.004\n" ONE
+                 "ITEM: TIMESTEP\n2\nITEM: TIME\n0.004\n" ONE,
+                 0.0, 2, EKM_EINPUT,
+                 ":28: ITEM: TIME: expected a time after the previous snapshot's 0.004 s, got 0.004 s");
+    /* two times that differ in the 17th digit are printed so */
+    expect_times("times_close.dump",
+                 "ITEM: TIME\n0.10000000000000002\nITEM: TIMESTEP\n0\n" ONE
+                 "ITEM: TIME\n0.1\nITEM: TIMESTEP\n1\n" ONE,
+                 0.0, 1, EKM_EINPUT, "previous snapshot's 0.10000000000000002 s, got 0.1 s");
+    /* step x dt: steps beyond 2^53 that round to the same time */
+    expect_times("times_steps.dump",
+                 "ITEM: TIMESTEP\n9007199254740992\n" ONE "ITEM: TIMESTEP\n9007199254740993\n" ONE, 1.0, 1,
+                 EKM_EINPUT, ":12: ITEM: TIMESTEP 9007199254740993 x --dt 1 s: expected a time after");
+    expect_times("times_nodt.dump", "ITEM: TIMESTEP\n0\n" ONE, 0.0, 0, EKM_EUSAGE,
+                 ":9: the dump has no ITEM: TIME: give --dt");
+#undef ONE
+}
+
 static void test_bad_inputs(void **state)
 {
     (void)state;
@@ -396,6 +457,7 @@ int main(void)
         cmocka_unit_test(test_triclinic),
         cmocka_unit_test(test_truncated),
         cmocka_unit_test(test_cut_last_line),
+        cmocka_unit_test(test_times),
         cmocka_unit_test(test_formats_agree),
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_value_checks),

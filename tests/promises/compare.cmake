@@ -17,8 +17,8 @@ foreach(name dump_negative_radius dump_all_radii_negative dump_huge_radius dump_
              gzip_truncated_offset dump_type_not_integer)
   ekm_compare_promise(clear_errors ${name})
 endforeach()
-foreach(name cut_dump_expect_snapshots dump_cut_inside_number dump_velocity_overflow score_shift_no_points
-             score_swapped_files fit_rheology_ekm_file)
+foreach(name cut_dump_expect_snapshots dump_cut_inside_number dump_velocity_overflow dump_time_not_increasing
+             score_shift_no_points score_swapped_files fit_rheology_ekm_file)
   ekm_compare_promise(no_silent_values ${name})
 endforeach()
 foreach(name cg_output_is_dump cg_output_is_pair_dump score_output_is_input fit_output_is_input

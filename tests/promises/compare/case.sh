@@ -161,6 +161,36 @@ dump_velocity_overflow)
         grep -qF "window t = 0.0025 s: expected a finite number, got inf" err.txt || fail "$out: $(cat err.txt)"
         absent b.h5 b.xdmf b.csv
     done ;;
+dump_time_not_increasing)
+    # ITEM: TIME going back (0, 0.01, 0.008) or repeating (0, 0.004, 0.004):
+    # exit 0, and the output's t was not increasing. Times increase
+    # strictly, within a file and across files; a step already read
+    # (restart overlap) is still skipped
+    tdump=$fix/lammps_time.dump # 3 snapshots, ITEM: TIME 0, 0.004, 0.008
+    sed '23s/^0.004$/0.01/' "$tdump" >a.dump
+    run 2 "a.dump:42: ITEM: TIME: expected a time after the previous snapshot's 0.01 s, got 0.008 s" -- \
+        "$ekmc" cg a.dump -o a.h5 --every 1 "${cgopts[@]}"
+    absent a.h5
+    sed '42s/^0.008$/0.004/' "$tdump" >b.dump
+    run 2 "b.dump:42: ITEM: TIME: expected a time after the previous snapshot's 0.004 s, got 0.004 s" -- \
+        "$ekmc" cg b.dump --csv b.csv --every 1 "${cgopts[@]}"
+    absent b.csv
+    # the third snapshot in a second file, at 0.002 s
+    sed -n '1,40p' "$tdump" >c1.dump
+    sed -n '41,$p' "$tdump" | sed '2s/^0.008$/0.002/' >c2.dump
+    run 2 "c2.dump:2: ITEM: TIME: expected a time after the previous snapshot's 0.004 s, got 0.002 s" -- \
+        "$ekmc" cg c1.dump c2.dump -o c.h5 "${cgopts[@]}"
+    absent c.h5
+    # base selects by time: the same error
+    sed 's/^ITEM: ATOMS id type mass radius vx /ITEM: ATOMS id type mass radius fz /; s/^\([0-9]*\) 1 /\1 2 /' \
+        a.dump >p.dump
+    run 2 "p.dump:42: ITEM: TIME: expected a time after the previous snapshot's 0.01 s, got 0.008 s" -- \
+        "$ekmc" base p.dump -o p.h5 --from 0 --to 1
+    absent p.h5
+    # a restart overlap (snapshots 2 and 3 again in a second file): skipped
+    sed -n '22,$p' "$tdump" >d2.dump
+    "$ekmc" cg "$tdump" d2.dump -o d.h5 --rho-p 2500 >out.txt 2>err.txt || fail "overlap: exit $?: $(cat err.txt)"
+    grep -qF "note: skipped 2 snapshots whose step was already read" err.txt || fail "overlap: $(cat err.txt)" ;;
 score_shift_no_points)
     # --shift 1e300: exit 0 with 0 points and null everywhere before
     cp "$res/cg_lammps.h5" CG.h5 && cp "$res/ekm.h5" EKM.h5 && keep CG.h5 EKM.h5
