@@ -226,32 +226,27 @@ static ekm_status read_run(base_state *st, const char *path, size_t irun, ekm_er
         return rc;
     cg_dump_expect(d, B_RADIUS, CG_DUMP_RADIUS);
     cg_dump_expect(d, B_DIAMETER, CG_DUMP_DIAMETER);
+    cg_dump_expect(d, B_TYPE, CG_DUMP_INTEGER);
     st->nsnap = 0;
     int have_last = 0;
     int64_t last_step = 0;
+    cg_time_order order = {0, 0.0};
     while ((rc = cg_dump_next(d, &s, err)) == EKM_OK) {
         st->nread++;
         if (have_last && s.step <= last_step)
             continue; /* a repeated step (restart overlap) */
         have_last = 1;
         last_step = s.step;
+        /* the times, when known, increase (cg_snapshot_time); needed for
+         * --from/--to */
+        double t = 0.0;
+        if ((s.has_time || o->dt > 0 || o->have_from || o->have_to) &&
+            (rc = cg_snapshot_time(&s, o->dt, &order, &t, err)))
+            break;
         if (o->have_steps && (s.step < o->step_a || s.step > o->step_b))
             continue;
-        if (o->have_from || o->have_to) {
-            double t;
-            if (s.has_time)
-                t = s.time;
-            else if (o->dt > 0)
-                t = (double)s.step * o->dt;
-            else {
-                rc = EKM_FAIL(err, EKM_EUSAGE,
-                              "%s: the dump has no ITEM: TIME: give --dt (the engine's time step, s)",
-                              s.where);
-                break;
-            }
-            if ((o->have_from && t < o->from) || (o->have_to && t > o->to))
-                continue;
-        }
+        if ((o->have_from && t < o->from) || (o->have_to && t > o->to))
+            continue;
         if ((rc = add_snapshot(st, &s, err)))
             break;
         if (!st->have_step || s.step < st->step_lo)

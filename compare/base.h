@@ -2,7 +2,8 @@
  * from the forces on its floor grains, with its standard errors.
  *
  * Dump contract (the sandpile decks): atoms.dump with a position along x
- * (x, xu, xs or xsu; orthogonal box), `type` and `fz` (the decks dump
+ * (x, xu, xs or xsu; orthogonal box), `type` (an integer: the reader
+ * refuses 1.5 at its line and column) and `fz` (the decks dump
  * fx fy fz); the floor grains (type --floor-type, default 2) are not
  * integrated, feel no gravity and do not interact with each other, so a
  * floor grain's fz is the sum of the pile's contact forces on it. Per

@@ -9,6 +9,7 @@
 
 #include "atomic.h"
 #include "cg2d_run.h"
+#include "cg_output.h"
 #include "h5.h"
 #include "schema.h"
 #include "xdmf.h"
@@ -112,14 +113,54 @@ static ekm_status write_attrs(ekm_h5_file *w, const cg2d_output *st, ekm_error *
     return rc;
 }
 
+/* May field f be NaN in a cell of density rho and pressure P? (cg_output.h) */
+static int nan_allowed(int f, double rho, double P)
+{
+    switch (f) {
+    case CG2D_F_VX:
+    case CG2D_F_VY:
+    case CG2D_F_VZ:
+    case CG2D_F_T: return !(rho > 0);
+    case CG2D_F_MU: return !(P > 0);
+    default: return 0;
+    }
+}
+
+/* The guard of cg_output.h over every value to be written. */
+static ekm_status check_values(const cg2d_output *st, ekm_error *err)
+{
+    const cg2d_grid *g = st->g;
+    const cg2d_results *r = st->r;
+    size_t nx = g->gx.n, n = cg2d_ncell(g);
+    int nfield = nfields_of(st->o);
+    for (size_t it = 0; it < r->nt; it++)
+        for (int f = 0; f < nfield; f++)
+            for (size_t c = 0; c < n; c++) {
+                size_t i = it * n + c;
+                double v = r->f[f][i], se = r->se[f][i];
+                int ok_v = cg_output_value_ok(v, nan_allowed(f, r->f[CG2D_F_RHO][i], r->f[CG2D_F_P][i]));
+                if (ok_v && cg_output_value_ok(se, 1))
+                    continue;
+                char where[160];
+                snprintf(where, sizeof where, "x = %.6g m, z = %.6g m (cell %zu, %zu)",
+                         g->gx.lo + ((double)(c % nx) + 0.5) * g->gx.dz,
+                         g->gz.lo + ((double)(c / nx) + 0.5) * g->gz.dz, c % nx + 1, c / nx + 1);
+                return cg_output_refuse(st->o, cg2d_field_name(f), ok_v ? "_se" : "", where, r->t[it],
+                                        ok_v ? se : v, err);
+            }
+    return EKM_OK;
+}
+
 ekm_status cg2d_output_h5(const cg2d_output *st, ekm_error *err)
 {
     const cg_run_opts *o = st->o;
     const cg2d_grid *g = st->g;
     const cg2d_results *r = st->r;
-    ekm_h5_file *w;
-    ekm_status rc = ekm_h5_create(&w, o->out, err);
+    ekm_status rc = check_values(st, err);
     if (rc)
+        return rc;
+    ekm_h5_file *w;
+    if ((rc = ekm_h5_create(&w, o->out, err)))
         return rc;
     double *xc = NULL, *zc = NULL;
     rc = centres(&g->gx, &xc, err);
@@ -175,9 +216,11 @@ ekm_status cg2d_output_csv(const cg2d_output *st, ekm_error *err)
     const cg_run_opts *o = st->o;
     const cg2d_grid *g = st->g;
     const cg2d_results *r = st->r;
-    ekm_atomic out;
-    ekm_status rc = ekm_atomic_open(&out, o->csv, err);
+    ekm_status rc = check_values(st, err);
     if (rc)
+        return rc;
+    ekm_atomic out;
+    if ((rc = ekm_atomic_open(&out, o->csv, err)))
         return rc;
     FILE *fp = out.fp;
     int nfield = nfields_of(o);

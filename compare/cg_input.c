@@ -311,6 +311,15 @@ ekm_status cg_input_next(cg_input *src, ekm_error *err)
             for (int c = 0; c < 3; c++)
                 if (src->col[checked[c]] >= 0)
                     cg_dump_expect(src->d, (size_t)src->col[checked[c]], how[c]);
+            /* a velocity of 1e300 overflows m v^2: the dump's error too */
+            for (int c = 0; c < 3; c++)
+                if (src->col[CG_IN_VX + c] >= 0)
+                    cg_dump_expect(src->d, (size_t)src->col[CG_IN_VX + c], CG_DUMP_VELOCITY);
+            /* a type or id of 1.5 matches nothing: the dump's error too */
+            if (src->col[CG_IN_TYPE] >= 0)
+                cg_dump_expect(src->d, (size_t)src->col[CG_IN_TYPE], CG_DUMP_INTEGER);
+            if (src->col[CG_IN_ID] >= 0)
+                cg_dump_expect(src->d, (size_t)src->col[CG_IN_ID], CG_DUMP_INTEGER);
         }
         ekm_status rc = cg_dump_next(src->d, &src->snap, err);
         if (rc == EKM_EOF) {
@@ -331,14 +340,9 @@ ekm_status cg_input_next(cg_input *src, ekm_error *err)
             src->nrepeat++;
             continue;
         }
-        if (sn->has_time)
-            src->t = sn->time;
-        else if (o->dt > 0)
-            src->t = (double)sn->step * o->dt;
-        else
-            return EKM_FAIL(err, EKM_EUSAGE,
-                            "%s: the dump has no ITEM: TIME: give --dt (the engine's time step, s)",
-                            sn->where);
+        ekm_status trc = cg_snapshot_time(sn, o->dt, &src->order, &src->t, err);
+        if (trc)
+            return trc;
         src->have_last = 1;
         src->last_step = sn->step;
         if (o->have_steps && (sn->step < o->step_a || sn->step > o->step_b))

@@ -4,8 +4,10 @@
  * Snapshots are streamed file after file (memory is one snapshot); a step
  * already seen (restart overlap between files) is skipped and counted. The
  * time of a snapshot is ITEM: TIME when the dump has it, otherwise step x
- * dt (--dt); --steps, --from and --to select. Only the columns the options
- * need are asked of the reader; they are converted to the particle arrays
+ * dt (--dt), and must be after the previous snapshot's (cg_snapshot_time:
+ * a time that goes back or repeats is the dump's error); --steps, --from
+ * and --to select. Only the columns the options need are asked of the
+ * reader; they are converted to the particle arrays
  * of cg.h: the coordinate along the axis (plain, unwrapped or scaled,
  * triclinic boxes, wrapped into a periodic box), velocities, mass and
  * volume (from radius/diameter and --rho-p when a column is missing),
@@ -65,6 +67,8 @@ typedef struct {
     double dcount;     /* particles in dsum */
     cg_contacts pairs; /* contacts from the pair dumps */
     int skip_pairs;    /* 1: do not read the pair dumps (steady pass) */
+    /* the times read so far (strictly increasing, cg_snapshot_time) */
+    cg_time_order order;
 } cg_input;
 
 /* Start reading the inputs of o (nothing is opened yet). */

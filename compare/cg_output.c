@@ -2,6 +2,7 @@
 #include "ekm_version.h"
 #include "cg_output.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,12 +49,68 @@ static ekm_status commit_with_sidecar(ekm_h5_file *w, const cg_run_opts *o, cons
     return ekm_xdmf_commit_fixed(w, &series, g->lo, g->dz, err);
 }
 
+int cg_output_value_ok(double v, int nan_ok)
+{
+    return isfinite(v) || (isnan(v) && nan_ok);
+}
+
+ekm_status cg_output_refuse(const cg_run_opts *o, const char *field, const char *suffix, const char *where,
+                            double t, double v, ekm_error *err)
+{
+    return EKM_FAIL(err, EKM_ENUMERIC,
+                    "%s%s: %s%s at %s, window t = %.9g s: expected a finite number, got %s (dump values "
+                    "whose products overflow double precision: masses, velocities, stresses)",
+                    o->inputs[0], o->ninputs > 1 ? " ..." : "", field, suffix, where, t,
+                    isnan(v) ? "NaN"
+                    : v > 0  ? "inf"
+                             : "-inf");
+}
+
+/* May field f be NaN in a bin of density rho and pressure P? (cg_output.h) */
+static int nan_allowed(int f, double rho, double P)
+{
+    switch (f) {
+    case CG_F_VX:
+    case CG_F_VY:
+    case CG_F_VZ:
+    case CG_F_T: return !(rho > 0);
+    case CG_F_MU: return !(P > 0);
+    case CG_F_I: return 1;
+    default: return 0;
+    }
+}
+
+/* The guard of cg_output.h over every value to be written. */
+static ekm_status check_values(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r, int nfield,
+                               ekm_error *err)
+{
+    size_t n = g->n;
+    for (size_t it = 0; it < r->nt; it++)
+        for (int f = 0; f < nfield; f++)
+            for (size_t k = 0; k < n; k++) {
+                size_t i = it * n + k;
+                double v = r->f[f][i], se = r->se[f][i];
+                int ok_v = cg_output_value_ok(v, nan_allowed(f, r->f[CG_F_RHO][i], r->f[CG_F_P][i]));
+                if (ok_v && cg_output_value_ok(se, 1))
+                    continue;
+                char where[128];
+                snprintf(where, sizeof where, "%s = %.6g m (bin %zu of %zu)", axis_names[o->axis],
+                         g->lo + ((double)k + 0.5) * g->dz, k + 1, n);
+                return cg_output_refuse(o, cg_field_name(f), ok_v ? "_se" : "", where, r->t[it],
+                                        ok_v ? se : v, err);
+            }
+    return EKM_OK;
+}
+
 ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
                         const cg_kernel *k, const cg_run_info *info, ekm_error *err)
 {
-    ekm_h5_file *w; /* (its path and its sidecar's checked against the inputs by cgrun.c) */
-    ekm_status rc = ekm_h5_create(&w, o->out, err);
+    int nfield = (o->nstress || o->npairs) ? CG_NFIELD : CG_F_MU;
+    ekm_status rc = check_values(o, g, r, nfield, err);
     if (rc)
+        return rc;
+    ekm_h5_file *w; /* (its path and its sidecar's checked against the inputs by cgrun.c) */
+    if ((rc = ekm_h5_create(&w, o->out, err)))
         return rc;
     size_t n = g->n;
     double *zc = malloc(n * sizeof *zc);
@@ -70,7 +127,6 @@ ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_
         rc = dataset(w, "t", r->t, 0, r->nt, err);
     if (!rc)
         rc = dataset(w, "nsnapshots", r->nsnap, 0, r->nt, err);
-    int nfield = (o->nstress || o->npairs) ? CG_NFIELD : CG_F_MU;
     for (int f = 0; f < nfield && !rc; f++) {
         rc = dataset(w, cg_field_name(f), r->f[f], r->nt, n, err);
         snprintf(name, sizeof name, "%s_se", cg_field_name(f));
@@ -139,12 +195,14 @@ ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_
 
 ekm_status cg_output_csv(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r, ekm_error *err)
 {
-    ekm_atomic out;
-    ekm_status rc = ekm_atomic_open(&out, o->csv, err);
+    int nfield = (o->nstress || o->npairs) ? CG_NFIELD : CG_F_MU;
+    ekm_status rc = check_values(o, g, r, nfield, err);
     if (rc)
         return rc;
+    ekm_atomic out;
+    if ((rc = ekm_atomic_open(&out, o->csv, err)))
+        return rc;
     FILE *fp = out.fp;
-    int nfield = (o->nstress || o->npairs) ? CG_NFIELD : CG_F_MU;
     fprintf(fp, "t,%s", axis_names[o->axis]);
     for (int f = 0; f < nfield; f++)
         fprintf(fp, ",%s,%s_se", cg_field_name(f), cg_field_name(f));

@@ -31,7 +31,24 @@ typedef struct {
     const char *wall;               /* the boundary treatment, in words */
 } cg_run_info;
 
-/* Field units from the field schema (common/schema.h). */
+/* The guard of every cg output, 1D and 2D: a value written is a finite
+ * number, or NaN where its field is not defined: the velocities and T of an
+ * empty bin or cell (rho = 0), mu where P <= 0, I where P <= 0, with no
+ * density or beside an empty bin, and a standard error from fewer than two
+ * blocks (or runs) with a value. Anything else (inf anywhere, NaN where the
+ * bin holds particles) comes from dump values whose products overflow
+ * double precision (a mass of 1e295 kg at 2e8 m/s: m v^2 = inf) and the
+ * output is refused before it is opened.
+ * cg_output_value_ok: is v finite, or NaN with nan_ok?
+ * cg_output_refuse: the error (EKM_ENUMERIC) naming the inputs, the field
+ * (name and suffix, "T" "_se"), the bin or cell (where) and the window's
+ * mid-time t. */
+int cg_output_value_ok(double v, int nan_ok);
+ekm_status cg_output_refuse(const cg_run_opts *o, const char *field, const char *suffix, const char *where,
+                            double t, double v, ekm_error *err);
+
+/* Field units from the field schema (common/schema.h). Both refuse
+ * values the guard above does not allow (EKM_ENUMERIC), writing nothing. */
 ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r,
                         const cg_kernel *k, const cg_run_info *info, ekm_error *err);
 ekm_status cg_output_csv(const cg_run_opts *o, const cg_grid *g, const cg_window_results *r, ekm_error *err);

@@ -5,9 +5,10 @@
  * Snapshots are streamed file after file (memory is one snapshot plus the
  * block store); a step already seen (restart overlap between files) is
  * skipped. The time of a snapshot is ITEM: TIME when the dump has it,
- * otherwise step x dt (--dt). --steady reads the selection twice: first to
- * find the steady start by MSER-5 on the kinetic energy per unit mass and
- * (on a non-periodic axis) the centre of mass, then to average.
+ * otherwise step x dt (--dt); times increase strictly (cg_snapshot_time).
+ * --steady reads the selection twice: first to find the steady start by
+ * MSER-5 on the kinetic energy per unit mass and (on a non-periodic axis)
+ * the centre of mass, then to average.
  *
  * The steps, one module each: cg_input.h (dumps -> selected snapshots ->
  * particles), contacts.h (pair dumps -> contacts), steady.h (the steady

@@ -77,6 +77,9 @@ ekm_status cg_contacts_match(cg_contacts *c, const cg_run_opts *o, const cg_snap
                                     sn->where, (long long)sn->step);
                 if ((rc = cg_dump_open(&c->pd, o->pairs[c->ipair++], o->paircols, o->npaircols, err)))
                     return rc;
+                if (o->npaircols == 5) /* id1 id2 fx fy fz: the atom ids are integers */
+                    for (size_t j = 0; j < 2; j++)
+                        cg_dump_expect(c->pd, j, CG_DUMP_INTEGER);
             }
             rc = cg_dump_next(c->pd, &c->psnap, err);
             if (rc == EKM_EOF) {

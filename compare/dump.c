@@ -476,6 +476,17 @@ static const char *check_value(const cg_dump *d, const cg_snapshot *s, size_t j,
     const cg_dump_check c = d->check[j];
     if (c == CG_DUMP_ANY)
         return NULL;
+    if (c == CG_DUMP_INTEGER) {
+        if (v != floor(v))
+            return "expected an integer";
+        if (!(fabs(v) <= 9007199254740992.0))
+            return "expected an integer of magnitude at most 2^53 (exact in double precision)";
+        return NULL;
+    }
+    if (c == CG_DUMP_VELOCITY)
+        return fabs(v) < CG_DUMP_LIGHT_SPEED
+                   ? NULL
+                   : "expected a velocity component below the speed of light (|v| < 299792458 m/s)";
     if (!(v > 0.0))
         return "expected a positive finite number";
     const double size = c == CG_DUMP_RADIUS ? 2.0 * v : v, edge = box_longest(s);
@@ -607,11 +618,21 @@ static int item_starts(const char *item, const char *word, const char **rest)
     return 1;
 }
 
-/* The value line after an ITEM: line; returns 1, or 0 (EOF or error in rc). */
+/* A line without its newline is the last of a file cut short: the engines
+ * end every line with one, and what is left of it may still parse (a value
+ * 0.0123 cut to 0.01), so it is never used. */
+#define CUT_LINE "last line cut short"
+
+/* The value line after an ITEM: line; returns 1, or 0 (EOF, a line cut
+ * short, or an error in rc). */
 static int value_line(cg_dump *d, char **line, ekm_status *rc, ekm_error *err)
 {
-    if (text_line(d, line, rc, err))
-        return 1;
+    if (text_line(d, line, rc, err)) {
+        if (!d->last_no_newline)
+            return 1;
+        *rc = mark_truncated(d, CUT_LINE);
+        return 0;
+    }
     if (*rc == EKM_OK)
         *rc = mark_truncated(d, "end of file inside the header");
     return 0;
@@ -695,6 +716,8 @@ static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
             snprintf(what, sizeof what, "end of file after %lld of %lld atoms", (long long)i, (long long)n);
             return mark_truncated(d, what);
         }
+        if (d->last_no_newline)
+            return mark_truncated(d, CUT_LINE);
         if ((size_t)i >= s->cap && (rc = grow_rows(s, (size_t)i + 1, nsel, d->path, err)))
             return rc;
         double *row = s->data + (size_t)i * nsel;
@@ -705,8 +728,6 @@ static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
         for (size_t c = 0; c < ncols; c++) {
             p = skip_blank(p);
             if (!*p) {
-                if (d->eof && d->last_no_newline && d->pos == d->end)
-                    return mark_truncated(d, "last line cut short");
                 return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: expected %zu columns, got %zu", d->path, d->lineno,
                                 ncols, c);
             }
@@ -715,8 +736,6 @@ static ekm_status text_atoms(cg_dump *d, cg_snapshot *s, ekm_error *err)
                 const char *tok = p;
                 int pr = parse_number(&p, &row[j]);
                 if (pr) {
-                    if (d->eof && d->last_no_newline && d->pos == d->end)
-                        return mark_truncated(d, "last line cut short");
                     const char *q = tok;
                     while (!is_end(*q))
                         q++;
@@ -765,6 +784,8 @@ static ekm_status text_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
         }
         if (!started && *skip_blank(line) == '\0')
             continue;
+        if (d->last_no_newline)
+            return mark_truncated(d, CUT_LINE);
         if (!started) {
             s->has_time = 0;
             s->time = 0.0;
@@ -782,6 +803,8 @@ static ekm_status text_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
             if (parse_int64(v, &s->step))
                 return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: ITEM: TIMESTEP: expected an integer, got '%.40s'",
                                 d->path, d->lineno, v);
+            if (!s->has_time)
+                snprintf(s->time_where, sizeof s->time_where, "%s:%lld", d->path, d->lineno);
             have_step = 1;
         } else if (item_is(item, "TIME")) {
             if (!value_line(d, &v, &rc, err))
@@ -791,6 +814,7 @@ static ekm_status text_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
                 return EKM_FAIL(err, EKM_EINPUT, "%s:%lld: ITEM: TIME: expected a finite number, got '%.40s'",
                                 d->path, d->lineno, v);
             s->has_time = 1;
+            snprintf(s->time_where, sizeof s->time_where, "%s:%lld", d->path, d->lineno);
         } else if (item_is(item, "UNITS")) {
             if (!value_line(d, &v, &rc, err))
                 return rc;
@@ -826,6 +850,49 @@ static ekm_status text_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
                             d->path, d->lineno, line);
         }
     }
+}
+
+/* ---------- times ---------- */
+
+/* The shortest %g form of v (9 to 17 digits) that reads back as v: two
+ * times that differ are never printed alike. */
+static void shortest(char *buf, size_t len, double v)
+{
+    for (int prec = 9; prec <= 17; prec++) {
+        snprintf(buf, len, "%.*g", prec, v);
+        if (strtod(buf, NULL) == v)
+            return;
+    }
+}
+
+ekm_status cg_snapshot_time(const cg_snapshot *s, double dt, cg_time_order *ord, double *t, ekm_error *err)
+{
+    double now;
+    if (s->has_time)
+        now = s->time;
+    else if (dt > 0)
+        now = (double)s->step * dt;
+    else
+        return EKM_FAIL(err, EKM_EUSAGE,
+                        "%s: the dump has no ITEM: TIME: give --dt (the engine's time step, s)", s->where);
+    if (ord->have && !(now > ord->t)) {
+        char prev[32], cur[32];
+        shortest(prev, sizeof prev, ord->t);
+        shortest(cur, sizeof cur, now);
+        if (s->has_time)
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: ITEM: TIME: expected a time after the previous snapshot's %s s, got %s s",
+                            s->time_where, prev, cur);
+        return EKM_FAIL(
+            err, EKM_EINPUT,
+            "%s: ITEM: TIMESTEP %lld x --dt %.9g s: expected a time after the previous snapshot's "
+            "%s s, got %s s",
+            s->time_where, (long long)s->step, dt, prev, cur);
+    }
+    ord->have = 1;
+    ord->t = now;
+    *t = now;
+    return EKM_OK;
 }
 
 /* ---------- binary ---------- */
@@ -898,6 +965,7 @@ static ekm_status bin_next(cg_dump *d, cg_snapshot *s, ekm_error *err)
     BREAD(&revision, 4, "end of file inside the header");
     if (revision < 2)
         return bin_fail(d, err, "expected binary format revision >= 2 (with column names)");
+    snprintf(s->time_where, sizeof s->time_where, "%s:@%llu", d->path, d->offset);
     BREAD(&s->step, 8, "end of file inside the header");
     BREAD(&s->natoms, 8, "end of file inside the header");
     if (s->natoms < 0)

@@ -22,7 +22,9 @@
  * Errors name the input and its line ("run.dump:120: ..."; binary files name
  * the byte offset, "run.bin:@4096: ..."). A snapshot cut short by the end of
  * the file (a killed run) is not an error: cg_dump_next returns EKM_EOF and
- * sets `truncated` and `warning`.
+ * sets `truncated` and `warning`. A text dump's last line without its
+ * newline is cut short, even when what is left of it parses (0.0123 cut to
+ * 0.01): the engines end every line with one.
  */
 #ifndef CG_DUMP_H
 #define CG_DUMP_H
@@ -49,6 +51,9 @@ typedef struct {
                                     absent columns are unspecified */
     size_t cap;                  /* allocated rows of data */
     char where[600];             /* "file:line" of this snapshot's ITEM: ATOMS */
+    char time_where[620];        /* "file:line" of its time: the value of ITEM: TIME,
+                                    without one of ITEM: TIMESTEP (binary:
+                                    "file:@offset" of the header) */
     char box_where[3][620];      /* "file:line" of its box bounds along x, y, z
                                     (binary: "file:@offset" of the header) */
 } cg_snapshot;
@@ -56,14 +61,25 @@ typedef struct {
 /* What a selected column's values must be, besides finite numbers (every
  * selected value is): checked per atom by the reader, so that a value that
  * makes no sense is reported at its file, line and column
- * ("a.dump:12:87: radius: expected a positive finite number, got -0.001"). */
+ * ("a.dump:12:87: radius: expected a positive finite number, got -0.001",
+ * "a.dump:10:3: type: expected an integer, got 1.5"). */
 typedef enum {
     CG_DUMP_ANY = 0,  /* any finite number */
     CG_DUMP_POSITIVE, /* > 0 (mass) */
     CG_DUMP_RADIUS,   /* > 0, and the particle (2 x value) no larger than the
                          box's longest edge */
     CG_DUMP_DIAMETER, /* > 0, and no larger than the box's longest edge */
+    CG_DUMP_INTEGER,  /* an integer of magnitude at most 2^53, exact in a
+                         double (type, id: the engines write them as
+                         integers; 1.5 is no atom type) */
+    CG_DUMP_VELOCITY, /* |value| < CG_DUMP_LIGHT_SPEED: a velocity component
+                         in SI units (the decks' `units si`); one of at
+                         least the speed of light is no grain's (1e300 made
+                         m v^2, T and P inf), and below it m v^2 stays far
+                         from overflowing */
 } cg_dump_check;
+
+#define CG_DUMP_LIGHT_SPEED 299792458.0 /* speed of light [m/s] */
 
 typedef struct cg_dump cg_dump;
 
@@ -87,6 +103,21 @@ const char *cg_dump_warning(const cg_dump *d);
 /* The same without what was done ("file:line: truncated snapshot (...)"),
  * for an error when a cut-off dump is not acceptable. */
 const char *cg_dump_truncation(const cg_dump *d);
+
+/* The times of a series of snapshots (cg_snapshot_time). */
+typedef struct {
+    int have; /* 1 after the first snapshot */
+    double t; /* time of the last one [s] */
+} cg_time_order;
+
+/* The time of snapshot s [s]: ITEM: TIME when the dump has it, else
+ * step x dt (dt > 0; otherwise an error, EKM_EUSAGE, asking for --dt).
+ * Times increase strictly from one snapshot to the next, over all the files
+ * of a run (a snapshot whose step was already read, a restart overlap, is
+ * the caller's to skip first): a time not after the previous one in *ord is
+ * an error, EKM_EINPUT, at s->time_where, naming both times. *ord is
+ * updated on success. */
+ekm_status cg_snapshot_time(const cg_snapshot *s, double dt, cg_time_order *ord, double *t, ekm_error *err);
 
 /* Close the dump; cg_dump_close(NULL) is harmless. */
 void cg_dump_close(cg_dump *d);

@@ -30,7 +30,9 @@ static void read_dump(const char *path)
     ekm_error err;
     if (cg_dump_open(&d, path, cols, sizeof cols / sizeof *cols, &err))
         return;
-    /* the value checks cg_input.c asks for: mass, radius, diameter */
+    /* the value checks cg_input.c asks for: velocities, mass, radius, diameter */
+    for (size_t j = 9; j < 12; j++)
+        cg_dump_expect(d, j, CG_DUMP_VELOCITY);
     cg_dump_expect(d, 12, CG_DUMP_POSITIVE);
     cg_dump_expect(d, 13, CG_DUMP_RADIUS);
     cg_dump_expect(d, 14, CG_DUMP_DIAMETER);

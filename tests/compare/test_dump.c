@@ -11,8 +11,8 @@
 #include "synth.h"
 #include "test_util.h"
 
-static const char *const cols[] = {"x",      "y",    "z",  "vx", "vy",      "vz",
-                                   "radius", "mass", "xs", "zs", "c_sa[1]", "c_sa[6]"};
+static const char *const cols[] = {"x",    "y",  "z",  "vx",      "vy",      "vz",  "radius",
+                                   "mass", "xs", "zs", "c_sa[1]", "c_sa[6]", "type"};
 #define NCOLS (sizeof cols / sizeof *cols)
 
 /* Read all snapshots of a file; returns the status of the last call. */
@@ -206,8 +206,9 @@ static void expect_error(const char *name, const char *text, const char *needle)
 #define HDR "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp ff\n0 1\n0 1\n0 1\n"
 
 /* Values that make no sense for what their column is (cg_dump_expect:
- * radius and mass positive, a particle no larger than the box) and boxes
- * without a finite length: errors at the dump's line and column. */
+ * radius and mass positive, a particle no larger than the box, an integer
+ * type, a velocity below the speed of light) and boxes without a finite
+ * length: errors at the dump's line and column. */
 static void expect_value_error(const char *name, const char *text, const char *needle)
 {
     char path[512];
@@ -218,6 +219,9 @@ static void expect_value_error(const char *name, const char *text, const char *n
     assert_int_equal(cg_dump_open(&d, path, cols, NCOLS, &err), EKM_OK);
     cg_dump_expect(d, 6, CG_DUMP_RADIUS);
     cg_dump_expect(d, 7, CG_DUMP_POSITIVE);
+    cg_dump_expect(d, 12, CG_DUMP_INTEGER);
+    for (size_t j = 3; j < 6; j++)
+        cg_dump_expect(d, j, CG_DUMP_VELOCITY);
     cg_snapshot s = {0};
     ekm_status rc;
     while ((rc = cg_dump_next(d, &s, &err)) == EKM_OK)
@@ -244,6 +248,23 @@ static void test_value_checks(void **state)
                        HDR "ITEM: ATOMS x y z vx vy vz radius mass\n"
                            "0.1 0.2 0.3 0 0 0 0.01 0\n0.1 0.2 0.3 0 0 0 0.01 1\n",
                        ":10:24: mass: expected a positive finite number, got 0");
+    expect_value_error("half_type.dump",
+                       HDR "ITEM: ATOMS x y z vx vy vz radius mass type\n"
+                           "0.1 0.2 0.3 0 0 0 0.01 1 1\n0.1 0.2 0.3 0 0 0 0.01 1 1.5\n",
+                       ":11:26: type: expected an integer, got 1.5");
+    expect_value_error("huge_type.dump",
+                       HDR "ITEM: ATOMS x y z vx vy vz radius mass type\n"
+                           "0.1 0.2 0.3 0 0 0 0.01 1 1e17\n0.1 0.2 0.3 0 0 0 0.01 1 1\n",
+                       ":10:26: type: expected an integer of magnitude at most 2^53");
+    expect_value_error("light_speed.dump",
+                       HDR "ITEM: ATOMS x y z vx vy vz radius mass\n"
+                           "0.1 0.2 0.3 0 -299792457 0 0.01 1\n0.1 0.2 0.3 0 -299792458 0 0.01 1\n",
+                       ":11:15: vy: expected a velocity component below the speed of light (|v| < 299792458 "
+                       "m/s), got -299792458");
+    expect_value_error("huge_velocity.dump",
+                       HDR "ITEM: ATOMS x y z vx vy vz radius mass\n"
+                           "0.1 0.2 0.3 1e300 0 0 0.01 1\n0.1 0.2 0.3 0 0 0 0.01 1\n",
+                       ":10:13: vx: expected a velocity component below the speed of light");
     expect_value_error("huge_box.dump",
                        "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 1\n"
                        "-1e308 1e308\n0 1\nITEM: ATOMS x y z vx vy vz radius mass\n0 0 0 0 0 0 0.1 1\n",
@@ -253,6 +274,99 @@ static void test_value_checks(void **state)
                        "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 1\n"
                        "0 1\n0 1e999\nITEM: ATOMS x y z vx vy vz radius mass\n0 0 0 0 0 0 0.1 1\n",
                        ":8:3: ITEM: BOX BOUNDS: expected 2 finite numbers");
+}
+
+/* A last line without its newline is cut short, also when what is left of
+ * it parses (the last value 1.25 cut to 1.2, or only the newline gone): the
+ * snapshot is skipped as truncated, the earlier one kept. */
+static void test_cut_last_line(void **state)
+{
+    (void)state;
+#define SNAP HDR "ITEM: ATOMS x y z vx vy vz mass\n0.1 0.2 0.3 0 0 0 1\n0.1 0.2 0.3 0 0 0 1.25\n"
+    static const char full[] = SNAP SNAP;
+#undef SNAP
+    const size_t len = sizeof full - 1;
+    const struct {
+        size_t cut; /* bytes cut off the end */
+        size_t n;   /* complete snapshots */
+        int trunc;  /* 1: the last one skipped */
+    } cases[] = {{0, 2, 0}, {1, 1, 1}, {2, 1, 1}, {3, 1, 1}};
+    for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+        char path[512], text[sizeof full];
+        memcpy(text, full, len - cases[c].cut);
+        text[len - cases[c].cut] = '\0';
+        tmp_path(path, sizeof path, "cut_line.dump");
+        assert_int_equal(write_text(path, text), 0);
+        cg_snapshot s = {0};
+        ekm_error err;
+        size_t n;
+        int tr;
+        assert_int_equal(read_all(path, &n, &s, &err, &tr), EKM_EOF);
+        assert_int_equal(n, cases[c].n);
+        assert_int_equal(tr, cases[c].trunc);
+        cg_snapshot_free(&s);
+    }
+}
+
+/* Snapshot times increase strictly (cg_snapshot_time): ITEM: TIME going
+ * back or repeating is an error at its line, naming both times; without
+ * ITEM: TIME step x dt, and no dt is a usage error. */
+static void expect_times(const char *name, const char *text, double dt, size_t nok, ekm_status want,
+                         const char *needle)
+{
+    char path[512];
+    tmp_path(path, sizeof path, name);
+    assert_int_equal(write_text(path, text), 0);
+    cg_dump *d;
+    ekm_error err;
+    assert_int_equal(cg_dump_open(&d, path, cols, NCOLS, &err), EKM_OK);
+    cg_snapshot s = {0};
+    cg_time_order ord = {0, 0.0};
+    ekm_status rc;
+    size_t n = 0;
+    double t = -1.0;
+    while ((rc = cg_dump_next(d, &s, &err)) == EKM_OK) {
+        if ((rc = cg_snapshot_time(&s, dt, &ord, &t, &err)))
+            break;
+        n++;
+    }
+    cg_dump_close(d);
+    cg_snapshot_free(&s);
+    if (n != nok || rc != want || (needle && (!strstr(err.message, needle) || !strstr(err.message, path))))
+        fail_msg("%s: %zu times, rc %d, message '%s', expected %zu, '%s'", name, n, rc,
+                 rc > 0 ? err.message : "", nok, needle ? needle : "");
+}
+
+static void test_times(void **state)
+{
+    (void)state;
+#define ONE "ITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 1\n0 1\n0 1\nITEM: ATOMS x\n0.5\n"
+    expect_times("times_ok.dump",
+                 "ITEM: TIME\n0\nITEM: TIMESTEP\n0\n" ONE "ITEM: TIME\n0.004\nITEM: TIMESTEP\n1\n" ONE, 0.0,
+                 2, EKM_EOF, NULL);
+    expect_times("times_back.dump",
+                 "ITEM: TIME\n0\nITEM: TIMESTEP\n0\n" ONE "ITEM: TIME\n0.01\nITEM: TIMESTEP\n1\n" ONE
+                 "ITEM: TIME\n0.008\nITEM: TIMESTEP\n2\n" ONE,
+                 1e-5, 2, EKM_EINPUT,
+                 ":26: ITEM: TIME: expected a time after the previous snapshot's 0.01 s, got 0.008 s");
+    /* TIMESTEP after TIME (either order): the error still names the TIME */
+    expect_times("times_repeat.dump",
+                 "ITEM: TIMESTEP\n0\nITEM: TIME\n0\n" ONE "ITEM: TIMESTEP\n1\nITEM: TIME\n0.004\n" ONE
+                 "ITEM: TIMESTEP\n2\nITEM: TIME\n0.004\n" ONE,
+                 0.0, 2, EKM_EINPUT,
+                 ":28: ITEM: TIME: expected a time after the previous snapshot's 0.004 s, got 0.004 s");
+    /* two times that differ in the 17th digit are printed so */
+    expect_times("times_close.dump",
+                 "ITEM: TIME\n0.10000000000000002\nITEM: TIMESTEP\n0\n" ONE
+                 "ITEM: TIME\n0.1\nITEM: TIMESTEP\n1\n" ONE,
+                 0.0, 1, EKM_EINPUT, "previous snapshot's 0.10000000000000002 s, got 0.1 s");
+    /* step x dt: steps beyond 2^53 that round to the same time */
+    expect_times("times_steps.dump",
+                 "ITEM: TIMESTEP\n9007199254740992\n" ONE "ITEM: TIMESTEP\n9007199254740993\n" ONE, 1.0, 1,
+                 EKM_EINPUT, ":12: ITEM: TIMESTEP 9007199254740993 x --dt 1 s: expected a time after");
+    expect_times("times_nodt.dump", "ITEM: TIMESTEP\n0\n" ONE, 0.0, 0, EKM_EUSAGE,
+                 ":9: the dump has no ITEM: TIME: give --dt");
+#undef ONE
 }
 
 static void test_bad_inputs(void **state)
@@ -342,6 +456,8 @@ int main(void)
         cmocka_unit_test(test_lammps_time_and_gzip),
         cmocka_unit_test(test_triclinic),
         cmocka_unit_test(test_truncated),
+        cmocka_unit_test(test_cut_last_line),
+        cmocka_unit_test(test_times),
         cmocka_unit_test(test_formats_agree),
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_value_checks),

@@ -14,10 +14,11 @@ endfunction()
 
 foreach(name dump_negative_radius dump_all_radii_negative dump_huge_radius dump_huge_box
              dump_box_infinite_length dump_wide_particles gzip_corrupt_byte gzip_corrupt_check
-             gzip_truncated_offset)
+             gzip_truncated_offset dump_type_not_integer)
   ekm_compare_promise(clear_errors ${name})
 endforeach()
-foreach(name cut_dump_expect_snapshots score_shift_no_points score_swapped_files fit_rheology_ekm_file)
+foreach(name cut_dump_expect_snapshots dump_cut_inside_number dump_velocity_overflow dump_time_not_increasing
+             score_shift_no_points score_swapped_files fit_rheology_ekm_file)
   ekm_compare_promise(no_silent_values ${name})
 endforeach()
 foreach(name cg_output_is_dump cg_output_is_pair_dump score_output_is_input fit_output_is_input

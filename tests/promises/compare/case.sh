@@ -61,6 +61,17 @@ dump_huge_box)
     run 2 "a.dump:8: ITEM: BOX BOUNDS: z: expected a box the grid can hold" -- \
         "$ekmc" cg a.dump -o a.h5 "${cgopts[@]}"
     absent a.h5 ;;
+dump_type_not_integer)
+    # an atom type of 1.5 matched no --types and no --floor-type: the atom
+    # silently left out (exit 0)
+    sed '10s/^1 1 1 /1 1.5 1 /' "$dump" >a.dump
+    run 2 "a.dump:10:3: type: expected an integer, got 1.5" -- \
+        "$ekmc" cg a.dump -o a.h5 --types 1 "${cgopts[@]}"
+    absent a.h5
+    # base: every grain a floor grain (type 2) but the first, of type 1.5
+    sed 's/^\([0-9]*\) 1 1 /\1 2 1 /' "$dump" | sed '10s/^1 2 1 /1 1.5 1 /' >b.dump
+    run 2 "b.dump:10:3: type: expected an integer, got 1.5" -- "$ekmc" base b.dump -o b.h5
+    absent b.h5 ;;
 dump_box_infinite_length)
     sed 's/^-0.005 0.005$/-1e308 1e308/' "$dump" >a.dump
     run 2 "a.dump:6: ITEM: BOX BOUNDS: x: expected finite bounds lo < hi with a finite length" -- \
@@ -109,6 +120,77 @@ cut_dump_expect_snapshots)
     absent a.h5
     run 0 "" -- "$ekmc" cg full.dump -o a.h5 --expect-snapshots 2 "${cgopts[@]}"
     [ -s a.h5 ] || fail "no output with the expected count" ;;
+dump_cut_inside_number)
+    # a dump cut inside the last number of its last snapshot ("0.000468..."
+    # cut to "0.0004680"), or only its final newline gone: what is left
+    # parses, and the cut snapshot was used (2 of 2 snapshots). A last line
+    # without its newline is cut short: skipped with the warning, an error
+    # with --expect-snapshots; also read through a pipe
+    head -c -4 "$dump" >a.dump
+    head -c -1 "$dump" >b.dump
+    for f in a.dump b.dump; do
+        "$ekmc" cg $f -o a.h5 --rho-p 2500 --dt 1e-5 >out.txt 2>err.txt || fail "$f: exit $?: $(cat err.txt)"
+        grep -qF "warning: $f:34: truncated snapshot (last line cut short): skipped, earlier snapshots kept" \
+            err.txt || fail "$f: no truncation warning: $(cat err.txt)"
+        grep -qF "1 of 1 snapshots" err.txt || fail "$f: expected the one complete snapshot: $(cat err.txt)"
+        rm -f a.h5
+        run 2 "$f:34: truncated snapshot (last line cut short): expected 2 complete snapshots (--expect-snapshots)" -- \
+            "$ekmc" cg $f -o a.h5 --expect-snapshots 2 "${cgopts[@]}"
+        absent a.h5
+    done
+    "$ekmc" cg <(head -c -4 "$dump") -o a.h5 --rho-p 2500 --dt 1e-5 >out.txt 2>err.txt ||
+        fail "pipe: exit $?: $(cat err.txt)"
+    grep -qF "1 of 1 snapshots" err.txt || fail "pipe: expected the one complete snapshot: $(cat err.txt)"
+    [ -s a.h5 ] || fail "pipe: no output" ;;
+dump_velocity_overflow)
+    # a velocity of 1e300: exit 0, T, P and the SEs of every bin the atom
+    # reaches inf or NaN in the output. The reader refuses a velocity
+    # component of at least the speed of light at its line and column
+    sed '10s/ -0.0203215 / 1e300 /' "$dump" >a.dump
+    run 2 "a.dump:10:47: vx: expected a velocity component below the speed of light (|v| < 299792458 m/s), got 1e300" -- \
+        "$ekmc" cg a.dump -o a.h5 --csv a.csv "${cgopts[@]}"
+    absent a.h5 a.xdmf a.csv
+    # below it, a mass of 1e295 kg (column 'mass') at 2e8 m/s still
+    # overflows (m v^2, the SE of rho): the outputs refuse any inf, and NaN
+    # where the bin holds particles (exit 4, naming the field, bin and time)
+    sed 's/^ITEM: ATOMS id type type /ITEM: ATOMS id type mass /' "$dump" |
+        sed '10s/^1 1 1 \(.*\) -0.0203215 /1 1 1e295 \1 2e8 /' >b.dump
+    for out in "-o b.h5" "--csv b.csv" "--axes x,z -o b.h5" "--axes x,z --csv b.csv"; do
+        # shellcheck disable=SC2086
+        run 4 "b.dump: rho_se at " -- "$ekmc" cg b.dump $out "${cgopts[@]}"
+        grep -qF "window t = 0.0025 s: expected a finite number, got inf" err.txt || fail "$out: $(cat err.txt)"
+        absent b.h5 b.xdmf b.csv
+    done ;;
+dump_time_not_increasing)
+    # ITEM: TIME going back (0, 0.01, 0.008) or repeating (0, 0.004, 0.004):
+    # exit 0, and the output's t was not increasing. Times increase
+    # strictly, within a file and across files; a step already read
+    # (restart overlap) is still skipped
+    tdump=$fix/lammps_time.dump # 3 snapshots, ITEM: TIME 0, 0.004, 0.008
+    sed '23s/^0.004$/0.01/' "$tdump" >a.dump
+    run 2 "a.dump:42: ITEM: TIME: expected a time after the previous snapshot's 0.01 s, got 0.008 s" -- \
+        "$ekmc" cg a.dump -o a.h5 --every 1 "${cgopts[@]}"
+    absent a.h5
+    sed '42s/^0.008$/0.004/' "$tdump" >b.dump
+    run 2 "b.dump:42: ITEM: TIME: expected a time after the previous snapshot's 0.004 s, got 0.004 s" -- \
+        "$ekmc" cg b.dump --csv b.csv --every 1 "${cgopts[@]}"
+    absent b.csv
+    # the third snapshot in a second file, at 0.002 s
+    sed -n '1,40p' "$tdump" >c1.dump
+    sed -n '41,$p' "$tdump" | sed '2s/^0.008$/0.002/' >c2.dump
+    run 2 "c2.dump:2: ITEM: TIME: expected a time after the previous snapshot's 0.004 s, got 0.002 s" -- \
+        "$ekmc" cg c1.dump c2.dump -o c.h5 "${cgopts[@]}"
+    absent c.h5
+    # base selects by time: the same error
+    sed 's/^ITEM: ATOMS id type mass radius vx /ITEM: ATOMS id type mass radius fz /; s/^\([0-9]*\) 1 /\1 2 /' \
+        a.dump >p.dump
+    run 2 "p.dump:42: ITEM: TIME: expected a time after the previous snapshot's 0.01 s, got 0.008 s" -- \
+        "$ekmc" base p.dump -o p.h5 --from 0 --to 1
+    absent p.h5
+    # a restart overlap (snapshots 2 and 3 again in a second file): skipped
+    sed -n '22,$p' "$tdump" >d2.dump
+    "$ekmc" cg "$tdump" d2.dump -o d.h5 --rho-p 2500 >out.txt 2>err.txt || fail "overlap: exit $?: $(cat err.txt)"
+    grep -qF "note: skipped 2 snapshots whose step was already read" err.txt || fail "overlap: $(cat err.txt)" ;;
 score_shift_no_points)
     # --shift 1e300: exit 0 with 0 points and null everywhere before
     cp "$res/cg_lammps.h5" CG.h5 && cp "$res/ekm.h5" EKM.h5 && keep CG.h5 EKM.h5
