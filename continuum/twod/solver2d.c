@@ -11,6 +11,7 @@
 #include "fields.h"
 #include "hypo.h"
 #include "model.h"
+#include "step2d.h"
 #include "switching.h"
 
 /* Boundary data of one end (bottom or top) at one time. */
@@ -26,6 +27,9 @@ typedef struct {
 } end_data;
 
 struct ekm2d_solver {
+    /* the flow regimes run on the semi-implicit step (step2d.h; issue 33)
+     * unless -ekm_fully_implicit is given; then everything below is unused */
+    ekm2d_step *semi;
     const ekm_scenario *sc;
     MPI_Comm comm;
     DM dm;
@@ -1836,6 +1840,19 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
     ekm2d_solver *s = calloc(1, sizeof *s);
     if (!s)
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D solver)");
+    PetscBool fully_implicit = PETSC_FALSE;
+    PetscOptionsGetBool(NULL, NULL, "-ekm_fully_implicit", &fully_implicit, NULL);
+    if (!sc->hypo.enabled && !fully_implicit) {
+        s->sc = sc;
+        s->comm = comm;
+        st = ekm2d_step_create(sc, comm, init, &s->semi, err);
+        if (st != EKM_OK) {
+            free(s);
+            return st;
+        }
+        *out = s;
+        return EKM_OK;
+    }
     s->sc = sc;
     s->comm = comm;
     s->nx = sc->cells_x;
@@ -1986,6 +2003,7 @@ void ekm2d_solver_destroy(ekm2d_solver *s)
 {
     if (!s)
         return;
+    ekm2d_step_destroy(s->semi);
     TSDestroy(&s->ts);
     MatDestroy(&s->J);
     VecDestroy(&s->U);
@@ -2011,6 +2029,8 @@ void ekm2d_solver_destroy(ekm2d_solver *s)
 
 ekm_status ekm2d_solver_advance(ekm2d_solver *s, double t_to, ekm_error *err)
 {
+    if (s->semi)
+        return ekm2d_step_advance(s->semi, t_to, err);
     PetscReal t;
     TSGetTime(s->ts, &t);
     if (!(t_to > t))
@@ -2153,12 +2173,29 @@ static PetscErrorCode gather_fields(ekm2d_solver *s, double *const fields[EKM2D_
 
 ekm_status ekm2d_solver_fields(ekm2d_solver *s, double *const fields[EKM2D_NFIELDS], ekm_error *err)
 {
+    if (s->semi)
+        return ekm2d_step_fields(s->semi, fields, err);
     PetscErrorCode rc = gather_fields(s, fields);
     return rc ? petsc_fail(err, rc, "gathering the output fields") : EKM_OK;
 }
 
 ekm_status ekm2d_solver_stats(ekm2d_solver *s, ekm2d_stats *out, ekm_error *err)
 {
+    if (s->semi) {
+        ekm2d_step_info in;
+        ekm_status st = ekm2d_step_stats(s->semi, &in, err);
+        if (st != EKM_OK)
+            return st;
+        *out = (ekm2d_stats){.t = in.t,
+                             .steps = in.steps,
+                             .rejected = in.rejected,
+                             .newton = in.newton_total,
+                             .mass = in.mass,
+                             .mass_in = in.mass_in,
+                             .phi_max = in.phi_max,
+                             .cell_updates = (double)in.steps * s->sc->cells_x * s->sc->cells};
+        return EKM_OK;
+    }
     PetscReal t;
     PetscErrorCode rc = TSGetTime(s->ts, &t);
     if (rc)

@@ -434,6 +434,7 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
     st->mass_in += in_all;
     st->t += dt;
     st->steps++;
+    st->newton_total += st->newton;
     return EKM_OK;
 }
 
@@ -676,18 +677,23 @@ ekm_status ekm2d_step_stats(ekm2d_step *st, ekm2d_step_info *out, ekm_error *err
     const PetscScalar ***u;
     PTRY(DMGlobalToLocal(g->dm, st->U, INSERT_VALUES, st->Ul), "DMGlobalToLocal");
     PTRY(DMStagVecGetArrayRead(g->dm, st->Ul, (void *)&u), "DMStagVecGetArrayRead");
-    double mass = 0.0;
+    double mass = 0.0, phi_max = 0.0;
     for (PetscInt j = g->z0; j < g->z0 + g->nzl; j++)
-        for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++)
+        for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
             mass += u[j][i][g->s_phi];
+            phi_max = fmax(phi_max, u[j][i][g->s_phi]);
+        }
     PTRY(DMStagVecRestoreArrayRead(g->dm, st->Ul, (void *)&u), "DMStagVecRestoreArrayRead");
-    double all = mass;
+    double all = mass, phi_all = phi_max;
     MPI_Allreduce(&mass, &all, 1, MPI_DOUBLE, MPI_SUM, g->comm);
+    MPI_Allreduce(&phi_max, &phi_all, 1, MPI_DOUBLE, MPI_MAX, g->comm);
     out->t = st->t;
     out->steps = st->steps;
     out->rejected = st->rejected;
     out->mass = all * st->sc->material.rho_p * g->dx * g->dz;
     out->mass_in = st->mass_in;
     out->newton = st->newton;
+    out->newton_total = st->newton_total;
+    out->phi_max = phi_all;
     return EKM_OK;
 }

@@ -48,6 +48,11 @@ void ekm2d_step_destroy(ekm2d_step *st);
  * be retried shorter; a status other than EKM_OK is an error. */
 ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error *err);
 
+/* Advance to t_to [s] with the step control of control2d.c (collective):
+ * steps end at t_to and where the driving changes; EKM_ENUMERIC when the
+ * step falls below dt_min. */
+ekm_status ekm2d_step_advance(ekm2d_step *st, double t_to, ekm_error *err);
+
 /* Why the last step was rejected. */
 const char *ekm2d_step_reason(const ekm2d_step *st);
 
@@ -56,13 +61,19 @@ const char *ekm2d_step_reason(const ekm2d_step *st);
  * w = vz of its z-faces. */
 ekm_status ekm2d_step_column(ekm2d_step *st, int i, ekm_state *out, ekm_error *err);
 
+/* The output fields (out2d.h's order) of the cells, gathered to rank 0
+ * into fields[k] (nz * nx doubles each, x fastest; ignored elsewhere). */
+ekm_status ekm2d_step_fields(ekm2d_step *st, double *const fields[], ekm_error *err);
+
 typedef struct {
-    double t;       /* model time [s] */
-    long steps;     /* accepted steps */
-    long rejected;  /* rejected steps */
-    double mass;    /* sum rho_p phi dx dz [kg/m] */
-    double mass_in; /* net mass entered through the ends [kg/m] */
-    int newton;     /* temperature Newton iterations of the last step */
+    double t;          /* model time [s] */
+    long steps;        /* accepted steps */
+    long rejected;     /* rejected steps */
+    double mass;       /* sum rho_p phi dx dz [kg/m] */
+    double mass_in;    /* net mass entered through the ends [kg/m] */
+    int newton;        /* temperature Newton iterations of the last step */
+    long newton_total; /* ... of every accepted step */
+    double phi_max;    /* largest phi [-] */
 } ekm2d_step_info;
 
 /* Statistics (collective: the mass is a reduction). */

@@ -53,9 +53,11 @@ struct ekm2d_step {
     ekm2d_end bottom, top; /* the ends at the start of the step */
     double g_x, g_z;       /* gravity [m/s^2] */
     double t;              /* [s] */
+    double dt_prev;        /* the last accepted step (0: none yet) [s] (control2d.c) */
     long steps, rejected;
-    double mass_in; /* [kg/m] */
-    int newton;     /* iterations of the last temperature solve */
+    double mass_in;    /* [kg/m] */
+    int newton;        /* iterations of the last temperature solve */
+    long newton_total; /* ... of every accepted step */
     char reason[600];
 };
 

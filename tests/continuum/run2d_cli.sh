@@ -81,9 +81,9 @@ error "stop = steady in 2D: exit 7" 7 '\[run\] stop = steady: the 2D solver stop
 error "pressure wall in 2D: exit 7" 7 '\[top\] pressure: .*not in the 2D solver yet' \
     run "$src/scenarios/shear_cell.ini" --set run.stop=t_end --set domain.width=0.01 --set domain.cells_x=2
 error "cells_x = 0: exit 2" 2 'cells_x' run "$shear" "${two_d[@]}" --set domain.cells_x=0
-# a PETSc option after --: PETSc reads it (-snes_converged_reason prints each Newton solve's reason)
-if "$ekm" run "$shear" "${two_d[@]}" -o petsc.h5 -- -snes_converged_reason > out.txt 2> err.txt &&
-    grep -q 'Nonlinear solve converged' out.txt; then
+# a PETSc option after --: PETSc reads it (-ekm_v_ksp_converged_reason prints each velocity solve's reason)
+if "$ekm" run "$shear" "${two_d[@]}" -o petsc.h5 -- -ekm_v_ksp_converged_reason > out.txt 2> err.txt &&
+    grep -q 'Linear ekm_v_ solve converged' out.txt; then
     ok "PETSc option after -- reaches PETSc"
 else
     bad "PETSc option after --: $(head -c 300 err.txt) / $(head -c 300 out.txt)"

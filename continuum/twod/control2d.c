@@ -1,0 +1,135 @@
+/* control2d.c: the step size of the semi-implicit 2D step and its time
+ * loop (step2d.h: ekm2d_step_advance), the 1D solver's control.h and
+ * run.c in two dimensions.
+ *
+ *   convective   dt (|vx|/dx + |vz|/dz) <= cfl in every cell, the face
+ *                speeds of its four faces (the explicit upwind transport
+ *                of phase 2-3; the pressure coupling is implicit, so the
+ *                sound speed does not limit the step); an open inlet's
+ *                speed counts at its faces
+ *   compression  -div(phi v) closes at most half of phi_step_max of the gap
+ *                phi_cp - phi per step (a step beyond phi_step_max is
+ *                rejected: step2d.c)
+ *   thermal      dt eps P_K/(P_K + P_Y) <= thermal_relax_step (control.h)
+ *   dt_max
+ * The step grows at most 1.5x per step; after a change of the driving (an
+ * inflow opens or closes) it restarts from the acoustic step cfl h /
+ * max(|v| + c) over the wet cells (h = min(dx, dz)); a rejected step is
+ * retried with half of it, and below dt_min the run stops (EKM_ENUMERIC,
+ * with the reason of the last rejection).
+ */
+#include "step2d_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+
+#include "control.h"
+
+/* The limits of the state in u (dm's local array, ghosts current). */
+static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic)
+{
+    const ekm2d_grid *g = &st->g;
+    const ekm_scenario *sc = st->sc;
+    const ekm_material *m = &sc->material;
+    const double cfl = sc->numerics.cfl, h = fmin(g->dx, g->dz);
+    const ekm2d_end ends[2] = {ekm2d_grid_end(g, 0, st->t), ekm2d_grid_end(g, 1, st->t)};
+    double dt = INFINITY;
+    for (PetscInt j = g->z0; j < g->z0 + g->nzl; j++)
+        for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
+            const double vx = fmax(fabs(u[j][i][g->s_vx]), fabs(u[j][i + 1][g->s_vx]));
+            double vz = fmax(fabs(u[j][i][g->s_vz]), fabs(u[j + 1][i][g->s_vz]));
+            if (j == 0 && ekm2d_inlet_face(g, &ends[0], i))
+                vz = fmax(vz, fabs(ends[0].w));
+            if (j == g->nz - 1 && ekm2d_inlet_face(g, &ends[1], i))
+                vz = fmax(vz, fabs(ends[1].w));
+            const double phi = u[j][i][g->s_phi], T = u[j][i][g->s_T];
+            const int wet = phi >= sc->numerics.phi_dry && T > 0.0;
+            if (acoustic) {
+                const double c = wet ? ekm_sound_speed(m, phi, T) : 0.0;
+                const double speed = fmax(vx, vz) + c;
+                if (speed > 0.0)
+                    dt = fmin(dt, cfl * h / speed);
+                continue;
+            }
+            const double rate = vx / g->dx + vz / g->dz;
+            if (rate > 0.0)
+                dt = fmin(dt, cfl / rate);
+            if (!wet)
+                continue;
+            const double div = (u[j][i + 1][g->s_vx] - u[j][i][g->s_vx]) / g->dx +
+                               (u[j + 1][i][g->s_vz] - u[j][i][g->s_vz]) / g->dz;
+            const double compression = -phi * div / (m->phi_cp - phi);
+            if (compression > 0.0)
+                dt = fmin(dt, 0.5 * sc->numerics.phi_step_max / compression);
+            const double x = fmax(phi - m->phi_co, 0.0);
+            const double relax = m->eps0 * sqrt(T) * m->phi_cp * (phi * T + m->nu * m->T0 * x) /
+                                 ((m->phi_cp - phi) * (phi * T + m->T0 * x));
+            if (relax > 0.0)
+                dt = fmin(dt, sc->numerics.thermal_relax_step / relax);
+        }
+    return dt;
+}
+
+/* The largest step of the state (acoustic = 1: the restart step), at most
+ * dt_max; collective. */
+static ekm_status max_dt(ekm2d_step *st, int acoustic, double *dt, ekm_error *err)
+{
+    const ekm2d_grid *g = &st->g;
+    PetscScalar ***u;
+    if (DMGlobalToLocal(g->dm, st->U, INSERT_VALUES, st->Ul) || DMStagVecGetArray(g->dm, st->Ul, &u))
+        return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error reading the state");
+    double local = max_dt_local(st, u, acoustic), all = local;
+    DMStagVecRestoreArray(g->dm, st->Ul, &u);
+    MPI_Allreduce(&local, &all, 1, MPI_DOUBLE, MPI_MIN, g->comm);
+    *dt = fmin(all, st->sc->numerics.dt_max);
+    return EKM_OK;
+}
+
+ekm_status ekm2d_step_advance(ekm2d_step *st, double t_to, ekm_error *err)
+{
+    const ekm_scenario *sc = st->sc;
+    ekm_status rc = EKM_OK;
+    if (!(st->dt_prev > 0.0)) { /* the start: from the acoustic step */
+        double dt0;
+        if ((rc = max_dt(st, 1, &dt0, err)) != EKM_OK)
+            return rc;
+        st->dt_prev = dt0 / 1.5;
+    }
+    while (st->t < t_to * (1.0 - 1e-12)) {
+        double dt;
+        if ((rc = max_dt(st, 0, &dt, err)) != EKM_OK)
+            return rc;
+        dt = fmin(dt, 1.5 * st->dt_prev);
+        if (dt < sc->numerics.dt_min)
+            return EKM_FAIL(err, EKM_ENUMERIC,
+                            "%s: t = %.9g s: the step limit %.3g s is below dt_min = %g s (2D)", sc->source,
+                            st->t, dt, sc->numerics.dt_min);
+        int at_event = 0;
+        const double target = fmin(ekm_control_target(sc, st->t, t_to, &at_event), t_to);
+        if (st->t + dt >= target * (1.0 - 1e-12))
+            dt = target - st->t;
+        else
+            at_event = 0;
+        int accepted = 0;
+        while (!accepted) {
+            if ((rc = ekm2d_step_apply(st, dt, &accepted, err)) != EKM_OK)
+                return rc;
+            if (!accepted) {
+                dt *= 0.5;
+                at_event = 0;
+                if (dt < sc->numerics.dt_min)
+                    return EKM_FAIL(err, EKM_ENUMERIC, "%s: step rejected down to dt = %.3g s < dt_min: %s",
+                                    sc->source, dt, st->reason);
+            }
+        }
+        if (at_event) { /* the driving changed: restart from the acoustic step */
+            double dt0;
+            if ((rc = max_dt(st, 1, &dt0, err)) != EKM_OK)
+                return rc;
+            st->dt_prev = dt0 / 1.5;
+        } else {
+            st->dt_prev = dt;
+        }
+    }
+    return EKM_OK;
+}
