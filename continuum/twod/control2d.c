@@ -16,7 +16,8 @@
  * inflow opens or closes) it restarts from the acoustic step cfl h /
  * max(|v| + c) over the wet cells (h = min(dx, dz)); a rejected step is
  * retried with half of it, and below dt_min the run stops (EKM_ENUMERIC,
- * with the reason of the last rejection).
+ * with the reason of the last rejection).  The PETSc option
+ * -ekm_step_monitor prints each rejection's reason.
  */
 #include "step2d_impl.h"
 
@@ -90,6 +91,9 @@ ekm_status ekm2d_step_advance(ekm2d_step *st, double t_to, ekm_error *err)
     const ekm_scenario *sc = st->sc;
     ekm_status rc = EKM_OK;
     if (!(st->dt_prev > 0.0)) { /* the start: from the acoustic step */
+        PetscBool monitor = PETSC_FALSE;
+        PetscOptionsGetBool(NULL, NULL, "-ekm_step_monitor", &monitor, NULL);
+        st->monitor = monitor == PETSC_TRUE;
         double dt0;
         if ((rc = max_dt(st, 1, &dt0, err)) != EKM_OK)
             return rc;
@@ -114,6 +118,8 @@ ekm_status ekm2d_step_advance(ekm2d_step *st, double t_to, ekm_error *err)
         while (!accepted) {
             if ((rc = ekm2d_step_apply(st, dt, &accepted, err)) != EKM_OK)
                 return rc;
+            if (!accepted && st->monitor)
+                PetscPrintf(st->g.comm, "ekm 2D: step rejected: %s\n", st->reason);
             if (!accepted) {
                 dt *= 0.5;
                 at_event = 0;

@@ -53,6 +53,7 @@ struct ekm2d_step {
     ekm2d_end bottom, top; /* the ends at the start of the step */
     double g_x, g_z;       /* gravity [m/s^2] */
     double t;              /* [s] */
+    int monitor;           /* -ekm_step_monitor: print each rejection */
     double dt_prev;        /* the last accepted step (0: none yet) [s] (control2d.c) */
     long steps, rejected;
     double mass_in;    /* [kg/m] */

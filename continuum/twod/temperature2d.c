@@ -20,8 +20,9 @@
  * top of its bracket; an update never below a tenth of T nor T_floor; a
  * cell has converged when |dT| < sqrt(tol) T or, the updates contracting,
  * |dT_k|^3/|dT_(k-1)|^2 < tol T.  Decisions that change a cell's iterate
- * within an iteration use its neighbours' iterates of the iteration's
- * start (the same on any number of ranks).
+ * use its neighbours' iterates of the iteration's start (the same on any
+ * number of ranks); the system is then assembled at the decided iterate
+ * (the 1D solver assembles as it decides, cell after cell).
  */
 #include "step2d_impl.h"
 
@@ -129,11 +130,55 @@ static inline double residual(double rho, double T, double rhoT_star, const cond
     return rho * T - rhoT_star - (c->sum_alT - c->sum_al * T) - dt * S;
 }
 
-/* One Newton iteration's system; *restarted = 1 if a cell restarted. */
-static PetscErrorCode assemble(ekm2d_step *st, double dt, int it, int *restarted)
+/* The iteration's linearisation points, decided from the iterate T_it
+ * (every cell from its neighbours' values at the iteration's start, so
+ * that the decisions do not depend on the rank layout): at the first
+ * iteration the local balance S = 0 where the source is stiff and it fits
+ * the cell's equation better; a cell left of its row's minimum (diagonal
+ * <= 0, which depends on the cell's own T only) restarts at the top of its
+ * bracket.  Into T_lin; *restarted = 1 if a cell restarted. */
+static void decide(ekm2d_step *st, double dt, int it, int *restarted)
 {
     const ekm2d_grid *g = &st->g;
     const double rho_p = st->sc->material.rho_p, T_floor = st->sc->numerics.T_floor;
+    for (PetscInt j = g->z0; j < g->z0 + g->nzl; j++)
+        for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
+            const size_t k = ekm2d_box_index(g, i, j);
+            st->T_lin[k] = st->T_it[k];
+            if (st->dry[k])
+                continue;
+            const ekm_source_coeffs *src = &st->src[k];
+            const double rho = rho_p * st->phi_new[k], rhoT_star = st->rhoT[k];
+            const conduction c = cell_conduction(st, i, j, dt);
+            double T = st->T_it[k], dS;
+            const double S = ekm_source_eval(src, T, &dS);
+            if (it == 1 && dt * fabs(dS) > 10.0 * rho) {
+                const double Tb = fmax(ekm_source_balance(src), T_floor);
+                double dSb;
+                const double Sb = ekm_source_eval(src, Tb, &dSb);
+                if (fabs(residual(rho, Tb, rhoT_star, &c, dt, Sb)) <
+                    fabs(residual(rho, T, rhoT_star, &c, dt, S))) {
+                    T = Tb;
+                    dS = dSb;
+                }
+            }
+            if (!(rho + c.sum_al - dt * dS > 0.0)) {
+                const double T_cond = (rhoT_star + c.sum_alT) / (rho + c.sum_al);
+                T = fmax(fmax(ekm_source_balance(src), T_cond), T_floor);
+                *restarted = 1;
+            }
+            st->T_lin[k] = T;
+        }
+    for (PetscInt j = g->z0; j < g->z0 + g->nzl; j++)
+        for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++)
+            BOX(st, T_it, i, j) = BOX(st, T_lin, i, j);
+}
+
+/* One Newton iteration's system at the iterate T_it (ghosts current). */
+static PetscErrorCode assemble(ekm2d_step *st, double dt)
+{
+    const ekm2d_grid *g = &st->g;
+    const double rho_p = st->sc->material.rho_p;
     PetscCall(MatZeroEntries(st->J));
     PetscScalar ***r;
     PetscCall(DMStagVecGetArray(g->dmt, st->Rl, &r));
@@ -151,34 +196,11 @@ static PetscErrorCode assemble(ekm2d_step *st, double dt, int it, int *restarted
             const ekm_source_coeffs *src = &BOX(st, src, i, j);
             const double rho = rho_p * BOX(st, phi_new, i, j), rhoT_star = BOX(st, rhoT, i, j);
             const conduction c = cell_conduction(st, i, j, dt);
-            double T = BOX(st, T_it, i, j), dS;
-            double S = ekm_source_eval(src, T, &dS);
-            double f = residual(rho, T, rhoT_star, &c, dt, S);
-            if (it == 1 && dt * fabs(dS) > 10.0 * rho) {
-                /* the local balance, unless the guess fits the cell's equation better */
-                const double Tb = fmax(ekm_source_balance(src), T_floor);
-                double dSb;
-                const double Sb = ekm_source_eval(src, Tb, &dSb);
-                const double fb = residual(rho, Tb, rhoT_star, &c, dt, Sb);
-                if (fabs(fb) < fabs(f)) {
-                    T = Tb;
-                    S = Sb;
-                    dS = dSb;
-                    f = fb;
-                }
-            }
-            double diag = rho + c.sum_al - dt * dS;
-            if (!(diag > 0.0)) { /* left of the row's minimum: restart at the top of the bracket */
-                const double T_cond = (rhoT_star + c.sum_alT) / (rho + c.sum_al);
-                T = fmax(fmax(ekm_source_balance(src), T_cond), T_floor);
-                S = ekm_source_eval(src, T, &dS);
-                f = residual(rho, T, rhoT_star, &c, dt, S);
-                diag = rho + c.sum_al - dt * dS;
-                *restarted = 1;
-            }
-            st->T_lin[ekm2d_box_index(g, i, j)] = T;
+            const double T = BOX(st, T_it, i, j);
+            double dS;
+            const double S = ekm_source_eval(src, T, &dS);
             int n = 1;
-            vals[0] = diag;
+            vals[0] = rho + c.sum_al - dt * dS;
             for (int k = 0; k < 4; k++)
                 if (c.a[k] != 0.0) {
                     cols[n] =
@@ -187,7 +209,7 @@ static PetscErrorCode assemble(ekm2d_step *st, double dt, int it, int *restarted
                     n++;
                 }
             PetscCall(DMStagMatSetValuesStencil(g->dmt, st->J, 1, cols, n, cols, vals, ADD_VALUES));
-            r[j][i][g->t_T] = -f;
+            r[j][i][g->t_T] = -residual(rho, T, rhoT_star, &c, dt, S);
         }
     PetscCall(DMStagVecRestoreArray(g->dmt, st->Rl, &r));
     PetscCall(DMLocalToGlobal(g->dmt, st->Rl, INSERT_VALUES, st->R));
@@ -213,7 +235,12 @@ int ekm2d_temperature_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_err
     const double limit = fmax(tol, sqrt(tol));
     for (int it = 1; it <= sc->numerics.newton_max; it++) {
         int restarted = 0;
-        if (exchange(st) || assemble(st, dt, it, &restarted)) {
+        PetscErrorCode pe = exchange(st);
+        if (!pe) {
+            decide(st, dt, it, &restarted);
+            pe = exchange(st);
+        }
+        if (pe || assemble(st, dt)) {
             EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error assembling the temperature system");
             return -1;
         }
@@ -243,7 +270,7 @@ int ekm2d_temperature_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_err
                     st->T_it[k] = 0.0;
                     continue;
                 }
-                const double Tj = st->T_lin[k];
+                const double Tj = st->T_it[k];
                 double Tn = Tj + d[j][i][g->t_T];
                 Tn = Tn > 0.1 * Tj ? Tn : 0.1 * Tj;
                 Tn = Tn < T_floor ? T_floor : Tn;

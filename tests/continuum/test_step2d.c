@@ -3,8 +3,8 @@
  * step with the same dt, and conserves mass to round-off.
  *
  * usage: test_step2d SOURCE_DIR CASE  (CASE: a scenario of scenarios/ with
- * wall, free or inflow ends: simple_shear, chute, filling; the flow
- * regimes, hypo off)
+ * wall, free or inflow ends: simple_shear, chute, filling, thesis_filling;
+ * the flow regimes, hypo off)
  *
  * Each case loads the scenario twice, as the 1D slab and as a box of 2
  * columns periodic in x, starts both from the scenario's initial state
