@@ -38,7 +38,7 @@ ekm_promise_test(no_silent_values xdmf_name_escaped
           ${EKM_PROMISE_OUT_WORK}/xdmf_name_escaped TIMEOUT 60)
 
 # ParaView (label paraview; skipped without pvpython).
-foreach(kind ekm cg)
+foreach(kind ekm ekm_pwall cg)
   foreach(what readers plot_over_line)
     ekm_promise_test(paraview ${kind}_${what}
       COMMAND bash ${EKM_PROMISE_OUT}/paraview.sh ${kind} ${what} $<TARGET_FILE:ekm> $<TARGET_FILE:ekmcompare>
