@@ -11,7 +11,9 @@
     }
 
 static const ekm_field FIELDS[] = {
-    {"z", "m", "coordinate along the slab normal: cell centres (EKM), bin centres (CG)"},
+    {"z", "m",
+     "coordinate along the slab normal: cell centres of each frame (EKM 1D, [nt][nz]: a pressure-held wall "
+     "moves them), cell centres (EKM 2D, [nz]), bin centres (CG, [nz])"},
     {"x", "m", "bin centres along x (CG with --axis x)"},
     {"y", "m", "bin centres along y (CG with --axis y)"},
     {"t", "s", "output times (EKM), snapshot-window times (CG)"},

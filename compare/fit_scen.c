@@ -398,8 +398,8 @@ ekm_status cg_fitsc_start_material(const cg_fitsc_problem *pb, ekm_material *m, 
 /* Run case c at material m; the EKM's profiles at its last state into
  * prof[f] (n values each) and the cell centres of that state into ze: the
  * state's own grid, which a pressure-held wall stretches with its current
- * gap at every step (step.c stretch_grid), the centres `score` gets from
- * /z and /gap with cg_score_centres. */
+ * gap at every step (step.c stretch_grid), the centres an ekm output
+ * writes as its /z row of that frame and `score` takes (cg_score_centres). */
 /* Largest |a - b| of phi, vx and T over the column, each relative to b's
  * largest magnitude (steady_agree.py's measure, without P). */
 static double state_difference(const ekm_state *a, const ekm_state *b)

@@ -22,11 +22,10 @@
  * interpolated onto the DEM points exactly as `ekmcompare score --ekm-time
  * last` does (cg_score_locate/cg_score_interp; every DEM window against the
  * EKM's last state, on the cell centres of that state: with a pressure-held
- * wall the grid stretched to its current gap, as score's cg_score_centres
- * makes it from /z and /gap). Residuals sqrt(weight) (model - DEM)/SE on the
- * candidate points: inside the EKM's cell-centre range (of the initial
- * grid; with a pressure-held wall, whose gap is a result, any DEM point:
- * one outside the last state's centres then counts as one off the EKM's
+ * wall the grid stretched to its current gap, the last row of the /z an
+ * ekm output would have, as score's cg_score_centres takes it). Residuals sqrt(weight) (model - DEM)/SE on
+ * the candidate points: inside the EKM's cell-centre range (of the initial grid; with a pressure-held wall,
+ * whose gap is a result, any DEM point: one outside the last state's centres then counts as one off the EKM's
  * material below), DEM value finite,
  * SE_DEM > CG_SCORE_SE_FLOOR x RMS of the DEM field (as score), and DEM
  * phi > support x (the largest DEM phi of the case). A candidate counts

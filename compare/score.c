@@ -59,12 +59,18 @@ double cg_score_interp(const double *r0, const double *r1, size_t nze, size_t zi
     return e0 + at * (e1 - e0);
 }
 
-void cg_score_centres(const double *z0, size_t n, const double *gap, size_t i0, size_t i1, double at,
-                      double *z)
+void cg_score_centres(const double *zm, int per_frame, size_t n, const double *gap, size_t i0, size_t i1,
+                      double at, double *z)
 {
+    if (per_frame) {
+        const double *r0 = zm + i0 * n, *r1 = zm + i1 * n;
+        for (size_t k = 0; k < n; k++)
+            z[k] = r0[k] + at * (r1[k] - r0[k]);
+        return;
+    }
     const double stretch = gap ? (gap[i0] + at * (gap[i1] - gap[i0])) / gap[0] : 1.0;
     for (size_t k = 0; k < n; k++)
-        z[k] = z0[k] * stretch;
+        z[k] = zm[k] * stretch;
 }
 
 static int increasing(const double *x, size_t n)
@@ -275,6 +281,7 @@ static ekm_status read_array(ekm_h5_file *f, const char *name, double **data, si
 typedef struct {
     double *zd, *td, *ze, *te; /* DEM and EKM coordinates and times */
     size_t nzd, ntd, nze, nte;
+    int ze_frames; /* 1: ze is [nte][nze], each frame's centres; 0: [nze] (cg_score_centres) */
 } axes;
 
 static ekm_status read_axes(ekm_h5_file *dem, ekm_h5_file *ekm, const cg_score_opts *o, axes *ax,
@@ -299,22 +306,31 @@ static ekm_status read_axes(ekm_h5_file *dem, ekm_h5_file *ekm, const cg_score_o
         rc = read_array(dem, "t", &ax->td, &nt, &ax->ntd, err);
     if (!rc && nt)
         rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected 1 dimension", o->dem);
+    size_t nzt = 0;
     if (!rc)
-        rc = read_array(ekm, "z", &ax->ze, &nt, &ax->nze, err);
-    if (!rc && nt)
-        rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset z: expected 1 dimension", o->ekm);
+        rc = read_array(ekm, "z", &ax->ze, &nzt, &ax->nze, err);
     if (!rc)
         rc = read_array(ekm, "t", &ax->te, &nt, &ax->nte, err);
     if (!rc && nt)
         rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected 1 dimension", o->ekm);
+    /* /z: a row per frame [nt][nz] (an ekm output), or one row [nz] for
+     * every frame (a cg output; an ekm output from before) */
+    if (!rc && nzt && nzt != ax->nte)
+        rc = EKM_FAIL(
+            err, EKM_EINPUT,
+            "%s: dataset z: expected one row of %zu cell centres per output time (%zu), got %zu rows", o->ekm,
+            ax->nze, ax->nte, nzt);
     if (rc)
         return rc;
+    ax->ze_frames = nzt > 0;
     if (ax->nze == 0 || ax->nte == 0)
         return EKM_FAIL(err, EKM_EINPUT, "%s: expected non-empty /z and /t", o->ekm);
     if (ax->nzd == 0 || ax->ntd == 0)
         return EKM_FAIL(err, EKM_EINPUT, "%s: expected non-empty /%s and /t", o->dem, axis);
-    if (!increasing(ax->ze, ax->nze))
-        return EKM_FAIL(err, EKM_EINPUT, "%s: dataset z: expected increasing values", o->ekm);
+    for (size_t i = 0; i < (ax->ze_frames ? ax->nte : 1); i++)
+        if (!increasing(ax->ze + i * ax->nze, ax->nze))
+            return EKM_FAIL(err, EKM_EINPUT, "%s: dataset z: expected increasing values (row %zu)", o->ekm,
+                            i);
     if (!increasing(ax->te, ax->nte))
         return EKM_FAIL(err, EKM_EINPUT, "%s: dataset t: expected increasing values", o->ekm);
     for (size_t i = 0; i < ax->nzd; i++)
@@ -420,8 +436,8 @@ static ekm_status side_read(ekm_h5_file *f, size_t nt, size_t n, side *s, ekm_er
         if (!rc)
             rc = read_optional(f, sename, nt, n, &s->se[i], err);
     }
-    /* an EKM run with a pressure-held wall: /z is the first frame's grid,
-     * frame i's is z gap[i] / gap[0] (docs/output-format.md) */
+    /* an EKM run with a pressure-held wall: its gap of every frame (the
+     * grid of an output with one /z row for all frames, cg_score_centres) */
     if (!rc && ekm_h5_exists(f, "gap")) {
         size_t nt1, n1;
         rc = read_array(f, "gap", &s->gap, &nt1, &n1, err);
@@ -439,10 +455,11 @@ static ekm_status side_read(ekm_h5_file *f, size_t nt, size_t n, side *s, ekm_er
 }
 
 /* row i0 + at (row i1 - row i0) of every field of s into buf[2 S_N + 1][n]
- * (the last row: the grid at that time, cg_score_centres), and the profile p
- * pointing at it; g_normal and top_velocity are the scenario's */
-static void side_row(const side *s, const double *z, size_t n, size_t i0, size_t i1, double at, double *buf,
-                     double g_normal, double top_velocity, cg_scalar_profile *p)
+ * (the last row: the grid at that time, cg_score_centres of z, per_frame),
+ * and the profile p pointing at it; g_normal and top_velocity are the
+ * scenario's */
+static void side_row(const side *s, const double *z, int per_frame, size_t n, size_t i0, size_t i1, double at,
+                     double *buf, double g_normal, double top_velocity, cg_scalar_profile *p)
 {
     const double *rows[2 * S_N];
     for (int i = 0; i < S_N; i++) {
@@ -460,7 +477,7 @@ static void side_row(const side *s, const double *z, size_t n, size_t i0, size_t
 #define ROW(i) (rows[i] ? buf + (size_t)(i)*n : NULL)
     p->n = n;
     double *zs = buf + (size_t)(2 * S_N) * n;
-    cg_score_centres(z, n, s->gap, i0, i1, at, zs);
+    cg_score_centres(z, per_frame, n, s->gap, i0, i1, at, zs);
     p->z = zs;
     p->phi = ROW(S_PHI);
     p->vx = ROW(S_VX);
@@ -564,8 +581,8 @@ static ekm_status summarise(const cg_score_opts *o, const axes *ax, const side *
             continue;
         cg_scalar_profile pd, pe;
         size_t i1 = ti[j] + 1 < ax->nte ? ti[j] + 1 : ti[j];
-        side_row(sd, ax->zd, ax->nzd, j, j, 0.0, bd, g_normal, top_velocity, &pd);
-        side_row(se_, ax->ze, ax->nze, ti[j], i1, ta[j], be, g_normal, top_velocity, &pe);
+        side_row(sd, ax->zd, 0, ax->nzd, j, j, 0.0, bd, g_normal, top_velocity, &pd);
+        side_row(se_, ax->ze, ax->ze_frames, ax->nze, ti[j], i1, ta[j], be, g_normal, top_velocity, &pe);
         if (j == jl) {
             sm->dem_height = cg_scalar_compute(CG_SCALAR_LAYER_HEIGHT, &pd).value;
             sm->model_height = cg_scalar_compute(CG_SCALAR_LAYER_HEIGHT, &pe).value;
@@ -640,14 +657,19 @@ static ekm_status check_units(ekm_h5_file *f, const char *path, const char *name
 static ekm_status check_result(const cg_score_opts *o, const axes *ax, const char *name, const cg_metric *m,
                                size_t left_out, ekm_error *err)
 {
+    /* the model's cell centres over all its frames (each row increasing) */
+    double ze_lo = ax->ze[0], ze_hi = ax->ze[ax->nze - 1];
+    for (size_t i = 1; ax->ze_frames && i < ax->nte; i++) {
+        ze_lo = fmin(ze_lo, ax->ze[i * ax->nze]);
+        ze_hi = fmax(ze_hi, ax->ze[i * ax->nze + ax->nze - 1]);
+    }
     if (m->points == 0)
         return EKM_FAIL(err, EKM_EINPUT,
                         "score: --dem %s --ekm %s: field %s: no point in common (DEM coordinate %.6g..%.6g m "
                         "with --shift %.6g m and times %.6g..%.6g s; model cell centres %.6g..%.6g m and "
                         "times %.6g..%.6g s; %zu points off the common support)",
                         o->dem, o->ekm, name, ax->zd[0], ax->zd[ax->nzd - 1], o->shift, ax->td[0],
-                        ax->td[ax->ntd - 1], ax->ze[0], ax->ze[ax->nze - 1], ax->te[0], ax->te[ax->nte - 1],
-                        left_out);
+                        ax->td[ax->ntd - 1], ze_lo, ze_hi, ax->te[0], ax->te[ax->nte - 1], left_out);
     if (!isfinite(m->rel_l2))
         return EKM_FAIL(err, EKM_ENUMERIC,
                         "score: --dem %s: field %s: rel_l2 undefined: the DEM field is zero at all %zu "
@@ -840,7 +862,7 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
                 size_t i0 = ti[j], i1 = i0 + 1 < ax.nte ? i0 + 1 : i0;
                 double at = ta[j];
                 /* the EKM's cell centres at this DEM time */
-                cg_score_centres(ax.ze, ax.nze, smod.gap, i0, i1, at, zc);
+                cg_score_centres(ax.ze, ax.ze_frames, ax.nze, smod.gap, i0, i1, at, zc);
                 for (size_t k = 0; k < ax.nzd; k++) {
                     size_t zi;
                     double az;

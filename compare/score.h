@@ -3,8 +3,8 @@
  *
  * The EKM fields (ekm's HDF5: /z, /t, [nt][nz] fields) are interpolated
  * linearly in z and t onto the DEM grid and times (cg HDF5: axis dataset,
- * /t, fields and FIELD_se); the EKM's grid at a time is its /z, stretched
- * with /gap for a pressure-held wall (cg_score_centres). Over the points
+ * /t, fields and FIELD_se); the EKM's grid at a time is its /z row of that
+ * frame (cg_score_centres: also the older layouts). Over the points
  * both cover (DEM coordinate inside the EKM cell-centre range at that time,
  * DEM time inside the EKM output times, both values finite), per field:
  *   rel_l2 = ||f_EKM - f_DEM|| / ||f_DEM||
@@ -110,15 +110,19 @@ int cg_score_locate(const double *x, size_t n, double v, size_t *i, double *a);
 double cg_score_interp(const double *r0, const double *r1, size_t nze, size_t zi, double az, double at);
 
 /* cg_score_centres: the model's cell centres at the time level of
- * cg_score_interp (rows i0, i1, fraction at) into z[0..n-1]. A run with a
- * pressure-held wall writes its /z at the first output and the gap as the
- * series /gap (docs/output-format.md): its centres are then
- * z0 gap(t) / gap[0], gap(t) = gap[i0] + at (gap[i1] - gap[i0]) linear in
- * time as the fields are; without one (gap NULL) they are z0. Every use of
- * the model's grid in `score` (the field scores, the common support, the
- * free surface, the scalars) goes through this. */
-void cg_score_centres(const double *z0, size_t n, const double *gap, size_t i0, size_t i1, double at,
-                      double *z);
+ * cg_score_interp (rows i0, i1, fraction at) into z[0..n-1], from its /z
+ * (zm) by the rule of its layout (docs/output-format.md, docs/compare.md):
+ *  - per_frame (an ekm output: /z [nt][n], the centres of each frame):
+ *    row i0 + at (row i1 - row i0), linear in time as the fields are;
+ *  - else /z is one row [n] for every frame (an ekmcompare cg output, or an
+ *    ekm output written before /z had a row per frame): with gap (such an
+ *    ekm output of a pressure-held wall, whose /z was its first frame's)
+ *    zm gap(t) / gap[0], gap(t) = gap[i0] + at (gap[i1] - gap[i0]); without
+ *    (gap NULL) zm itself.
+ * Every use of the model's grid in `score` (the field scores, the common
+ * support, the free surface, the scalars) goes through this. */
+void cg_score_centres(const double *zm, int per_frame, size_t n, const double *gap, size_t i0, size_t i1,
+                      double at, double *z);
 
 /* Score; results (up to 16 fields) in res/nres when res != NULL. */
 ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err);

@@ -93,13 +93,15 @@ void ekm_h5_writer_abort(ekm_h5_writer *w)
     free_writer(w);
 }
 
-/* /z, the extendible /t and fields, and the root attributes. */
-static ekm_status write_layout(ekm_h5_writer *w, const ekm_state *s, ekm_error *err)
+/* The extendible /t, /z (the cells' centres of every frame: a
+ * pressure-held wall moves them) and fields, and the root attributes. */
+static ekm_status write_layout(ekm_h5_writer *w, ekm_error *err)
 {
     const size_t dz[1] = {w->nz};
-    ekm_status st = ekm_h5_write_double(w->file, "z", 1, dz, s->z, ekm_field_units("z"), NULL, err);
+    ekm_status st =
+        ekm_h5_create_series(w->file, "t", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("t"), NULL, err);
     if (st == EKM_OK)
-        st = ekm_h5_create_series(w->file, "t", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("t"), NULL, err);
+        st = ekm_h5_create_series(w->file, "z", EKM_H5_DOUBLE, 2, dz, 1, ekm_field_units("z"), NULL, err);
     for (int f = 0; f < N_FIELDS && st == EKM_OK; f++)
         st = ekm_h5_create_series(w->file, FIELD_NAMES[f], f == F_REGIME ? EKM_H5_INT : EKM_H5_DOUBLE, 2, dz,
                                   1, ekm_field_units(FIELD_NAMES[f]), NULL, err);
@@ -117,17 +119,17 @@ static ekm_status write_layout(ekm_h5_writer *w, const ekm_state *s, ekm_error *
 
 /* EKM_EINPUT when the output of the whole run would not fit in
  * EKM_H5OUT_MAX_BYTES: the frames at every output_dt up to t_end, each
- * with every field's row and its view. */
+ * with every field's row and its view, and the row of /z. */
 static ekm_status check_output_size(const ekm_scenario *sc, size_t nz, ekm_error *err)
 {
     const double frames = floor(sc->t_end / sc->output_dt) + 2.0;
-    const double bytes = frames * N_FIELDS * (8.0 * (double)nz + ROW_VIEW_BYTES);
+    const double bytes = frames * ((N_FIELDS + 1) * 8.0 * (double)nz + N_FIELDS * ROW_VIEW_BYTES);
     if (bytes <= EKM_H5OUT_MAX_BYTES)
         return EKM_OK;
     return EKM_FAIL(err, EKM_EINPUT,
                     "%s: [run] output_dt: the output would hold about %.3g GB (%.0f frames x %zu cells x %d "
-                    "fields), more than the %.3g GB an output may (it is built in memory): expected a larger "
-                    "output_dt or fewer [domain] cells",
+                    "fields and /z), more than the %.3g GB an output may (it is built in memory): expected a "
+                    "larger output_dt or fewer [domain] cells",
                     sc->source, bytes / 1e9, frames, nz, N_FIELDS, EKM_H5OUT_MAX_BYTES / 1e9);
 }
 
@@ -162,7 +164,7 @@ ekm_status ekm_h5_writer_open(ekm_h5_writer **out, const char *path, const ekm_s
         free_writer(w);
         return st;
     }
-    st = write_layout(w, s, err);
+    st = write_layout(w, err);
     if (st != EKM_OK) {
         ekm_h5_writer_abort(w);
         return st;
@@ -203,6 +205,8 @@ ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error 
     w->times[w->nt] = s->t;
     w->dz[w->nt] = s->dz;
     ekm_status st = ekm_h5_append(w->file, "t", &s->t, err);
+    if (st == EKM_OK)
+        st = ekm_h5_append(w->file, "z", s->z, err);
     for (int f = 0; f < N_FIELDS && st == EKM_OK; f++)
         st = ekm_h5_append(w->file, FIELD_NAMES[f],
                            f == F_REGIME ? (const void *)w->regime : (const void *)w->buf[f], err);

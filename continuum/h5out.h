@@ -1,8 +1,11 @@
 /* h5out.h: the run's output file (HDF5) and its XDMF sidecar.
  *
  * Layout (docs/output-format.md):
- *   /z                      cell centres [m], double[nz]
  *   /t                      output times [s], double[nt]
+ *   /z                      cell centres [m] of each frame, double[nt][nz]
+ *                           (a pressure-held top wall moves them)
+ *   /gap                    wall-to-wall gap [m], double[nt] (only with a
+ *                           pressure-held top wall)
  *   /phi /vx /vz /T /P /sxz /szz   double[nt][nz], SI, cell-centred
  *   /regime                 int32[nt][nz] (fields.h)
  *   every dataset has a string attribute "units";

@@ -53,20 +53,24 @@ ekm_status ekm_steady_read_guess(const char *path, const ekm_scenario *sc, ekm_s
     size_t dims[EKM_H5_MAX_RANK];
     double *z = NULL;
     st = ekm_h5_read_double(f, "z", &rank, dims, &z, err);
-    if (st == EKM_OK && (rank != 1 || dims[0] != (size_t)n))
+    /* /z: the centres of every frame, [nt][nz]; an output written before
+     * /z had a row per frame: [nz], the first frame's */
+    const size_t cells = rank == 2 ? dims[1] : rank == 1 ? dims[0] : 0;
+    if (st == EKM_OK && (rank > 2 || (rank == 2 && dims[0] < 1) || cells != (size_t)n))
         st = EKM_FAIL(err, EKM_EINPUT,
                       "%s: /z has %zu cells, the scenario %d ([domain] cells): --from needs a run on the "
                       "same grid",
-                      path, rank == 1 ? dims[0] : 0, n);
+                      path, cells, n);
     if (st == EKM_OK && !ekm_bc_pressure_wall(&sc->top)) {
-        /* a fixed grid: the centres of the scenario's cells */
+        /* a fixed grid: the centres of the scenario's cells (the last frame's) */
         const double dz = sc->length / n;
+        const double *zl = rank == 2 ? z + (dims[0] - 1) * dims[1] : z;
         for (int j = 0; j < n && st == EKM_OK; j++)
-            if (!(fabs(z[j] - (j + 0.5) * dz) <= 1e-9 * dz))
+            if (!(fabs(zl[j] - (j + 0.5) * dz) <= 1e-9 * dz))
                 st = EKM_FAIL(err, EKM_EINPUT,
                               "%s: /z[%d] = %.9g m, the scenario's cell centre is %.9g m ([domain] length = "
                               "%g m): --from needs a run on the same grid",
-                              path, j, z[j], (j + 0.5) * dz, sc->length);
+                              path, j, zl[j], (j + 0.5) * dz, sc->length);
     }
     double gap = NAN;
     if (st == EKM_OK && ekm_bc_pressure_wall(&sc->top)) {

@@ -282,18 +282,23 @@ def _open(path, what):
         raise InputError("%s: cannot read as HDF5 (%s): %s" % (rel(path), what, e))
 
 
-def _profiles(f, path, names, what):
-    """z [nz], t [nt] and the named [nt][nz] datasets, checked."""
+def _profiles(f, path, names, what, z_rows=False):
+    """z [nz] (z_rows: or [nt][nz], the cell centres of each output: an ekm
+    output, docs/output-format.md), t [nt] and the named [nt][nz] datasets,
+    checked."""
     out = {}
     for d in ("z", "t"):
         if d not in f:
             raise InputError("%s: dataset /%s: missing (%s)" % (rel(path), d, what))
         a = np.asarray(f[d][()], dtype=float)
-        if a.ndim != 1 or a.size == 0:
-            raise InputError("%s: dataset /%s: expected a non-empty 1-D array, got shape %s"
-                             % (rel(path), d, a.shape))
+        if a.size == 0 or not (a.ndim == 1 or (d == "z" and z_rows and a.ndim == 2)):
+            raise InputError("%s: dataset /%s: expected a non-empty %s array, got shape %s"
+                             % (rel(path), d, "1-D or [nt][nz]" if d == "z" and z_rows else "1-D", a.shape))
         out[d] = a
-    nz, nt = out["z"].size, out["t"].size
+    nz, nt = out["z"].shape[-1], out["t"].size
+    if out["z"].ndim == 2 and out["z"].shape[0] != nt:
+        raise InputError("%s: dataset /z: expected one row of cell centres per output time, shape [nt][nz] = "
+                         "(%d, %d), got %s" % (rel(path), nt, nz, out["z"].shape))
     for n in names:
         if n not in f:
             raise InputError("%s: dataset /%s: missing (%s)" % (rel(path), n, what))
@@ -338,12 +343,14 @@ class CgData:
 
 
 class EkmRun:
-    """The EKM run (docs/output-format.md): profiles and root attributes."""
+    """The EKM run (docs/output-format.md): profiles and root attributes;
+    zt [nt][nz] the cell centres of each output (a pressure-held wall moves
+    them), z those of the last output (the steady state the profiles show)."""
 
     def __init__(self, path, fields, what):
         self.path = path
         with _open(path, what) as f:
-            d = _profiles(f, path, list(fields), what)
+            d = _profiles(f, path, list(fields), what, z_rows=True)
             self.units = _units(f, path, fields)
             self.attrs = {}
             for k, v in f.attrs.items():
@@ -354,17 +361,25 @@ class EkmRun:
                 self.attrs[k] = v
             self.wall_time = _attr(f, path, "stats.wall_time_s", "the EKM wall time for the cost chart")
             gap = None
-            if "gap" in f:
-                # a pressure-held top wall: the cell centres at time t are
-                # /z * gap(t) / gap[0] (docs/output-format.md)
+            if "gap" in f and d["z"].ndim == 1:
+                # an output from before /z had a row per output, with a
+                # pressure-held top wall: /z was the first output's cell
+                # centres, those at output i /z * gap[i] / gap[0]
+                # (docs/output-format.md)
                 gap = np.asarray(f["gap"][()], dtype=float)
                 if gap.shape != d["t"].shape or not np.all(np.isfinite(gap)) or np.any(gap <= 0):
                     raise InputError("%s: dataset /gap: expected one positive gap per output time (%d), got shape %s"
                                      % (rel(path), d["t"].size, gap.shape))
         self.t = d["t"]
-        # the grid of the last output (the steady state the profiles show)
-        self.z = d["z"] if gap is None else d["z"] * (gap[-1] / gap[0])
+        if d["z"].ndim == 2:
+            self.zt = d["z"]
+        elif gap is not None:
+            self.zt = d["z"][None, :] * (gap / gap[0])[:, None]
+        else:
+            self.zt = np.tile(d["z"], (self.t.size, 1))
+        self.z = self.zt[-1]
         self.val = {n: d[n] for n in fields}
+        # the top wall (or domain end) of the last output
         if self.z.size > 1:
             self.top = self.z[-1] + 0.5 * (self.z[-1] - self.z[-2])
         else:
@@ -382,7 +397,15 @@ class EkmRun:
     def at(self, name, t):
         """The field at time t, linear between the bracketing outputs
         (as `ekmcompare score` does); the last output past the end."""
-        ts, v = self.t, self.val[name]
+        return self._at(self.val[name], t)
+
+    def z_at(self, t):
+        """The cell centres at time t, linear between the bracketing outputs
+        as the fields (at) are."""
+        return self._at(self.zt, t)
+
+    def _at(self, v, t):
+        ts = self.t
         if t >= ts[-1]:
             return v[-1]
         if t <= ts[0]:

@@ -130,7 +130,7 @@ def draw_point(ax, name, pt, d, mode, colour, ext, set_index, its=None, t=None):
         if "phi" in e.val:
             phi = e.val["phi"][-1] if t is None else e.at("phi", t)
         v = masked(name, v, phi)
-        ax.plot(v, e.z / d, **set_line(mode, k, colour))
+        ax.plot(v, (e.z if t is None else e.z_at(t)) / d, **set_line(mode, k, colour))
         ext.add(v)
 
 

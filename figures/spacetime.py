@@ -13,11 +13,13 @@ import numpy as np
 import common as C
 
 
-def bed_height(z, phi, phi_bed):
-    """h(t) [m] for phi [nt][nz] on z [nz] (see the module comment)."""
+def bed_height(zt, phi, phi_bed):
+    """h(t) [m] for phi [nt][nz] on the grid zt [nt][nz] of each time (see the
+    module comment)."""
     thr = 0.5 * phi_bed
     h = np.zeros(phi.shape[0])
     for i, row in enumerate(phi):
+        z = zt[i]
         above = np.nonzero(np.nan_to_num(row) > thr)[0]
         if above.size == 0:
             continue
@@ -31,11 +33,13 @@ def bed_height(z, phi, phi_bed):
 
 
 def _sources(pt):
-    """(key, label, z [m], t [s], phi [nt][nz]) of each engine, then EKM."""
+    """(key, label, z [nt][nz] (the grid of each time) [m], t [s], phi
+    [nt][nz]) of each engine, then EKM."""
     out = []
     for e, cg in pt.cg.items():
-        out.append((e, C.ENGINE_LABEL[e], cg.z + cg.shift, cg.t, cg.val["phi"]))
-    out.append(("ekm", C.EKM_LABEL, pt.ekm.z, pt.ekm.t, pt.ekm.val["phi"]))
+        z = np.tile(cg.z + cg.shift, (cg.t.size, 1))
+        out.append((e, C.ENGINE_LABEL[e], z, cg.t, cg.val["phi"]))
+    out.append(("ekm", C.EKM_LABEL, pt.ekm.zt, pt.ekm.t, pt.ekm.val["phi"]))
     return out
 
 
@@ -49,12 +53,13 @@ def maps_figure(sc, pt, writer, stem):
     fig, axes = plt.subplots(1, n + 1, figsize=(C.PAGE_W, 2.3), squeeze=False,
                              gridspec_kw=dict(width_ratios=[1] * n + [0.06]))
     axes = axes[0]
-    zmax = max(s[2][-1] for s in srcs)
+    zmax = max(float(np.max(s[2])) for s in srcs)
     tmax = max(s[3][-1] for s in srcs)
     im = None
     for k, (ax, (key, label, z, t, phi)) in enumerate(zip(axes[:n], srcs)):
         # DEM windows are drawn as blocks around their mid-times
-        im = ax.pcolormesh(t, z / d, phi.T, shading="nearest", cmap="viridis",
+        # each time's column on that time's grid (a moving wall moves it)
+        im = ax.pcolormesh(np.tile(t, (z.shape[1], 1)), z.T / d, phi.T, shading="nearest", cmap="viridis",
                            vmin=0.0, vmax=vmax, rasterized=True)
         ax.set_xlim(0.0, tmax)
         ax.set_ylim(0.0, zmax / d)

@@ -396,7 +396,7 @@ static void test_bad_input(void **state)
  * candidate (the initial grid does not cut them), and at the true material
  * each is compared on the run's current cell centres: all used, every
  * residual 0. `ekm run` of the same case, scored with `--ekm-time last`,
- * its /z stretched by /gap (cg_score_centres), gives the same points and 0
+ * on its /z row of the last frame (cg_score_centres), gives the same points and 0
  * errors: the fit and the scorer see the same grid. */
 static void test_pressure_wall(void **state)
 {

@@ -39,22 +39,25 @@ static void mark_kind(ekm_h5_file *w, int kind_cg)
     }
 }
 
-/* An ekm-format file: f(z,t) = a + b z + c t for phi, vx, T (and P). */
+/* An ekm-format file: f(z,t) = a + b z + c t for phi, vx, T (and P); /z
+ * a row per frame (the grid does not move). */
 static void write_ekm(const char *path, size_t nz, double z0, double z1, size_t nt, double t1, double a,
                       double b, double c)
 {
     ekm_h5_file *w;
     ekm_error err;
     assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
-    double *z = malloc(nz * sizeof *z), *t = malloc(nt * sizeof *t), *f = malloc(nz * nt * sizeof *f);
+    double *z = malloc(nz * nt * sizeof *z), *t = malloc(nt * sizeof *t), *f = malloc(nz * nt * sizeof *f);
     for (size_t k = 0; k < nz; k++)
         z[k] = z0 + (z1 - z0) * ((double)k + 0.5) / (double)nz;
     for (size_t i = 0; i < nt; i++)
         t[i] = nt > 1 ? t1 * (double)i / (double)(nt - 1) : t1;
     for (size_t i = 0; i < nt; i++)
-        for (size_t k = 0; k < nz; k++)
+        for (size_t k = 0; k < nz; k++) {
+            z[i * nz + k] = z[k];
             f[i * nz + k] = a + b * z[k] + c * t[i];
-    put(w, "z", z, 0, nz, "m");
+        }
+    put(w, "z", z, nt, nz, "m");
     put(w, "t", t, 0, nt, "s");
     const char *names[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
     for (size_t i = 0; i < 7; i++)
@@ -436,24 +439,25 @@ static void test_bad_inputs(void **state)
                            "score_wrong_units.h5: dataset phi: units 'kg', expected '1' (the field schema)"));
 }
 
-/* An EKM shear cell with a pressure-held top wall: 4 cells on the initial
- * grid of 20 mm, /gap 20 mm at t = 0 and 10 mm at t = t1, phi 0.6, vx of
- * no-slip Couette flow (0.05 .. 0.35 m/s, the wall at 0.4 m/s: the
- * attribute top.velocity). */
-static void write_pressure_wall(const char *path, double t1)
+/* An EKM shear cell with a pressure-held top wall: 4 cells, /gap 20 mm at
+ * t = 0 and 10 mm at t = t1, phi 0.6, vx of no-slip Couette flow
+ * (0.05 .. 0.35 m/s, the wall at 0.4 m/s: the attribute top.velocity); /z
+ * the centres of each frame (per_frame 1), or (0) an output from before /z
+ * had a row per frame: the initial grid of 20 mm. */
+static void write_pressure_wall(const char *path, double t1, int per_frame)
 {
     ekm_h5_file *w;
     ekm_error err;
     assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
-    double z[4], t[2] = {0.0, t1}, gap[2] = {0.020, 0.010}, phi[8], vx[8];
+    double z[8], t[2] = {0.0, t1}, gap[2] = {0.020, 0.010}, phi[8], vx[8];
     for (size_t k = 0; k < 4; k++) {
-        z[k] = 0.005 * ((double)k + 0.5);
         for (size_t i = 0; i < 2; i++) {
+            z[i * 4 + k] = gap[i] / 4.0 * ((double)k + 0.5);
             phi[i * 4 + k] = 0.6;
             vx[i * 4 + k] = 0.1 * ((double)k + 0.5);
         }
     }
-    put(w, "z", z, 0, 4, "m");
+    put(w, "z", z, per_frame ? 2 : 0, 4, "m");
     put(w, "t", t, 0, 2, "s");
     put(w, "gap", gap, 0, 2, "m");
     put(w, "phi", phi, 2, 4, "1");
@@ -463,8 +467,9 @@ static void write_pressure_wall(const char *path, double t1)
     assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
 }
 
-/* The shear-cell scalars through the scorer: the EKM's frame is its /z
- * stretched by gap(t) / gap[0], so its gap is the /gap of the compared
+/* The shear-cell scalars through the scorer: the EKM's frame is its /z row
+ * of the compared time (or, in an output with one /z for all frames, that
+ * stretched by gap(t) / gap[0]), so its gap is the /gap of the compared
  * time (10 mm at its last output, 15 mm halfway), and its extrapolated
  * wall velocity the wall's (slip 0); the wall velocity of the EKM file
  * serves the DEM side too. The DEM layer (write_layer: phi 0.6 below
@@ -478,40 +483,42 @@ static void test_pressure_wall_scalars(void **state)
     tmp_path(dem, sizeof dem, "pwall_dem.h5");
     tmp_path(ekm, sizeof ekm, "pwall_ekm.h5");
     write_layer(dem, 1, 20, 0.02, 0.0100, 0.001);
-    write_pressure_wall(ekm, 1.0);
     cg_score_opts o = cg_score_opts_default();
     cg_score_summary sm;
     cg_score_field r[16];
     o.dem = dem;
     o.ekm = ekm;
-    o.ekm_last = 1;
     o.summary = &sm;
     o.fields = "phi";
     o.scalars = "gap,wall_slip";
-    score_ok(&o, r);
-    assert_int_equal(sm.nscalars, 2);
-    double se_edge = 0.001 / 0.6 * sqrt(0.5) * 0.01;
-    assert_string_equal(sm.scalar[0].name, "gap");
-    assert_close(sm.scalar[0].dem, 0.010, 1e-15);
-    assert_close(sm.scalar[0].dem_se, se_edge, 1e-15);
-    assert_close(sm.scalar[0].model, 0.010, 1e-15);
-    assert_close(sm.scalar[0].model_se, 0.0, 0);
-    assert_string_equal(sm.scalar[1].name, "wall_slip");
-    assert_close(sm.scalar[1].dem, 0.3, 1e-14);
-    assert_close(sm.scalar[1].dem_se, sqrt(1e-4 + pow(10.0 * se_edge, 2)), 1e-15);
-    assert_close(sm.scalar[1].model, 0.0, 1e-15);
-    /* the DEM time (1 s) halfway between the EKM's outputs at 0 and 2 s:
-     * the gap interpolated, 15 mm */
-    write_pressure_wall(ekm, 2.0);
-    o.ekm_last = 0;
-    score_ok(&o, r);
-    assert_close(sm.scalar[0].model, 0.015, 1e-15);
+    for (int per_frame = 1; per_frame >= 0; per_frame--) {
+        write_pressure_wall(ekm, 1.0, per_frame);
+        o.ekm_last = 1;
+        score_ok(&o, r);
+        assert_int_equal(sm.nscalars, 2);
+        double se_edge = 0.001 / 0.6 * sqrt(0.5) * 0.01;
+        assert_string_equal(sm.scalar[0].name, "gap");
+        assert_close(sm.scalar[0].dem, 0.010, 1e-15);
+        assert_close(sm.scalar[0].dem_se, se_edge, 1e-15);
+        assert_close(sm.scalar[0].model, 0.010, 1e-15);
+        assert_close(sm.scalar[0].model_se, 0.0, 0);
+        assert_string_equal(sm.scalar[1].name, "wall_slip");
+        assert_close(sm.scalar[1].dem, 0.3, 1e-14);
+        assert_close(sm.scalar[1].dem_se, sqrt(1e-4 + pow(10.0 * se_edge, 2)), 1e-15);
+        assert_close(sm.scalar[1].model, 0.0, 1e-15);
+        /* the DEM time (1 s) halfway between the EKM's outputs at 0 and 2 s:
+         * the grid interpolated, gap 15 mm */
+        write_pressure_wall(ekm, 2.0, per_frame);
+        o.ekm_last = 0;
+        score_ok(&o, r);
+        assert_close(sm.scalar[0].model, 0.015, 1e-15);
+    }
     /* a /gap that does not match /t is refused */
     ekm_h5_file *w;
     ekm_error err;
     assert_int_equal(ekm_h5_create(&w, ekm, &err), EKM_OK);
     double z[2] = {0.005, 0.015}, t[1] = {1.0}, gap[2] = {0.02, 0.02}, phi[2] = {0.6, 0.6};
-    put(w, "z", z, 0, 2, "m");
+    put(w, "z", z, 1, 2, "m");
     put(w, "t", t, 0, 1, "s");
     put(w, "gap", gap, 0, 2, "m");
     put(w, "phi", phi, 1, 2, "1");
@@ -520,32 +527,50 @@ static void test_pressure_wall_scalars(void **state)
     size_t n;
     assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
     assert_non_null(strstr(err.message, "pwall_ekm.h5: dataset gap: expected [1] positive values"));
+    /* so is a /z whose rows are not one per output time */
+    assert_int_equal(ekm_h5_create(&w, ekm, &err), EKM_OK);
+    double z2[4] = {0.005, 0.015, 0.005, 0.015};
+    put(w, "z", z2, 2, 2, "m");
+    put(w, "t", t, 0, 1, "s");
+    put(w, "phi", phi, 1, 2, "1");
+    mark_kind(w, 0);
+    assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+    assert_int_equal(cg_score(&o, r, &n, &err), EKM_EINPUT);
+    assert_non_null(strstr(err.message,
+                           "pwall_ekm.h5: dataset z: expected one row of 2 cell centres per output "
+                           "time (1), got 2 rows"));
 }
 
 /* An EKM run with a pressure-held wall whose fields are a known function
- * of the stretched coordinate: 8 cells on the initial grid of 20 mm (the
- * file's /z: centres 1.25 .. 18.75 mm), outputs at t = 0 and 2 s with gaps
- * 20 and 10 mm (the /gap series, left out with gap = 0: the same values on
- * an unstretched grid); phi, vx, T at cell k and output i are
- * a + b z_k s_i + c t_i, s_i = gap_i / gap_0: f(z, t) = a + b z + c t of
- * the cell's position at that time. */
+ * of the moving coordinate: 8 cells, outputs at t = 0 and 2 s with gaps 20
+ * and 10 mm; phi, vx, T at cell k and output i are a + b z_ki + c t_i with
+ * z_ki = (k + 1/2) gap_i / 8, the cell's position at that time: f(z, t) =
+ * a + b z + c t.  The file's /z and /gap by layout:
+ *   PW_ROWS   /z [2][8], each frame's centres, and /gap (ekm's layout);
+ *   PW_FIRST  /z [8] the first frame's (centres 1.25 .. 18.75 mm) and
+ *             /gap (an ekm output from before /z had a row per frame);
+ *   PW_FLAT   /z [8] the first frame's, no /gap: the same values on an
+ *             unmoving grid (the error of a reader that ignores the motion);
+ *   PW_STILL  /z [2][8] both rows the first frame's, with /gap: the rows
+ *             are what counts, so this scores as PW_FLAT. */
 #define PW_A 0.5
 #define PW_B 10.0
 #define PW_C 0.01
-static void write_pwall_fields(const char *path, int gap)
+enum { PW_ROWS, PW_FIRST, PW_FLAT, PW_STILL };
+static void write_pwall_fields(const char *path, int layout)
 {
     ekm_h5_file *w;
     ekm_error err;
     assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
-    double z[8], t[2] = {0.0, 2.0}, g[2] = {0.020, 0.010}, f[16];
-    for (size_t k = 0; k < 8; k++) {
-        z[k] = 0.0025 * ((double)k + 0.5);
-        for (size_t i = 0; i < 2; i++)
-            f[i * 8 + k] = PW_A + PW_B * z[k] * g[i] / g[0] + PW_C * t[i];
-    }
-    put(w, "z", z, 0, 8, "m");
+    double z[16], t[2] = {0.0, 2.0}, g[2] = {0.020, 0.010}, f[16];
+    for (size_t k = 0; k < 8; k++)
+        for (size_t i = 0; i < 2; i++) {
+            z[i * 8 + k] = (layout == PW_ROWS ? g[i] : g[0]) / 8.0 * ((double)k + 0.5);
+            f[i * 8 + k] = PW_A + PW_B * g[i] / 8.0 * ((double)k + 0.5) + PW_C * t[i];
+        }
+    put(w, "z", z, layout == PW_ROWS || layout == PW_STILL ? 2 : 0, 8, "m");
     put(w, "t", t, 0, 2, "s");
-    if (gap)
+    if (layout != PW_FLAT)
         put(w, "gap", g, 0, 2, "m");
     const char *names[] = {"phi", "vx", "T"};
     for (size_t i = 0; i < 3; i++)
@@ -573,10 +598,11 @@ static void scaled_errors(const double *zk, size_t nz, const double *t, const do
 
 /* The field scores on the EKM's grid at the compared time (issue 11: the
  * shear cell's EKM was compared on its initial 42 mm grid while its gap was
- * 38.4 mm). The DEM (10 bins of 1 mm, centres 0.5 .. 9.5 mm, SE 0.01) is
- * sampled from the same f: on the stretched grid every field scores 0;
- * with the unstretched grid (no /gap) it does not, by exactly the error of
- * the unstretched EKM. */
+ * 38.4 mm; issue 32: /z holds each frame's centres). The DEM (10 bins of
+ * 1 mm, centres 0.5 .. 9.5 mm, SE 0.01) is sampled from the same f: on the
+ * moving grid (ekm's rows of /z, or an older output's /z stretched by its
+ * /gap) every field scores 0; on the unmoving grid (no /gap, or rows that
+ * do not move) it does not, by exactly the error of the unmoved EKM. */
 static void test_pressure_wall_fields(void **state)
 {
     (void)state;
@@ -584,8 +610,6 @@ static void test_pressure_wall_fields(void **state)
     tmp_path(dem, sizeof dem, "pwf_dem.h5");
     tmp_path(ekm, sizeof ekm, "pwf_ekm.h5");
     tmp_path(flat, sizeof flat, "pwf_flat.h5");
-    write_pwall_fields(ekm, 1);
-    write_pwall_fields(flat, 0);
     double zk[10];
     for (size_t k = 0; k < 10; k++)
         zk[k] = 0.001 * ((double)k + 0.5);
@@ -594,79 +618,95 @@ static void test_pressure_wall_fields(void **state)
     double rel, noise;
     o.dem = dem;
     o.fields = "phi,vx,T";
-    /* --ekm-time last, the DEM at the EKM's last time (2 s): its centres
-     * are 0.625 .. 9.375 mm (gap 10 mm), which cover the DEM's
-     * 1.5 .. 8.5 mm: 8 points, error 0; the DEM's 0.5 and 9.5 mm, with
-     * material, lie outside them: 2 points left out */
-    double t_last[1] = {2.0};
-    write_dem(dem, 10, 0.0, 0.01, 1, t_last, PW_A, PW_B, PW_C, 0.01);
-    o.ekm_last = 1;
-    o.ekm = ekm;
-    assert_int_equal(score_ok(&o, r), 3);
-    for (size_t i = 0; i < 3; i++) {
-        assert_int_equal(r[i].points, 8);
-        assert_int_equal(r[i].points_left_out, 2);
-        assert_close(r[i].rel_l2, 0.0, 1e-14);
-        assert_close(r[i].noise, 0.0, 1e-11);
-    }
-    /* the unstretched grid (1.25 .. 18.75 mm: 9 points, 1.5 .. 9.5 mm)
-     * carries the last output at twice its positions: the EKM there is
-     * f(z/2) */
-    double q_last[1] = {0.5};
-    scaled_errors(zk + 1, 9, t_last, q_last, 1, 0.01, &rel, &noise);
-    o.ekm = flat;
-    score_ok(&o, r);
-    for (size_t i = 0; i < 3; i++) {
-        assert_int_equal(r[i].points, 9);
-        assert_close(r[i].rel_l2, rel, 1e-12);
-        assert_close(r[i].noise, noise, 1e-9);
-        assert_true(r[i].rel_l2 > 0.05);
-    }
-    /* interpolated in time: DEM windows at 0.5 and 1.5 s, the gap 17.5 and
-     * 12.5 mm (linear in time as the fields), centres from 1.09 and 0.78 mm:
-     * 9 points per time, error 0 */
-    double t_mid[2] = {0.5, 1.5};
-    write_dem(dem, 10, 0.0, 0.01, 2, t_mid, PW_A, PW_B, PW_C, 0.01);
-    o.ekm_last = 0;
-    o.ekm = ekm;
-    score_ok(&o, r);
-    for (size_t i = 0; i < 3; i++) {
-        assert_int_equal(r[i].points, 18);
-        assert_close(r[i].rel_l2, 0.0, 1e-14);
-        assert_close(r[i].noise, 0.0, 1e-11);
-    }
-    /* unstretched: the EKM at time t is f(z s(t)), s = 1 - t/4 */
-    double q_mid[2] = {0.875, 0.625};
-    scaled_errors(zk + 1, 9, t_mid, q_mid, 2, 0.01, &rel, &noise);
-    o.ekm = flat;
-    score_ok(&o, r);
-    for (size_t i = 0; i < 3; i++) {
-        assert_int_equal(r[i].points, 18);
-        assert_close(r[i].rel_l2, rel, 1e-12);
-        assert_close(r[i].noise, noise, 1e-9);
-        assert_true(r[i].rel_l2 > 0.02);
-    }
+    for (int moving = PW_ROWS; moving <= PW_FIRST; moving++)
+        for (int still = PW_FLAT; still <= PW_STILL; still++) {
+            write_pwall_fields(ekm, moving);
+            write_pwall_fields(flat, still);
+            /* --ekm-time last, the DEM at the EKM's last time (2 s): its
+             * centres are 0.625 .. 9.375 mm (gap 10 mm), which cover the
+             * DEM's 1.5 .. 8.5 mm: 8 points, error 0; the DEM's 0.5 and
+             * 9.5 mm, with material, lie outside them: 2 points left out */
+            double t_last[1] = {2.0};
+            write_dem(dem, 10, 0.0, 0.01, 1, t_last, PW_A, PW_B, PW_C, 0.01);
+            o.ekm_last = 1;
+            o.ekm = ekm;
+            assert_int_equal(score_ok(&o, r), 3);
+            for (size_t i = 0; i < 3; i++) {
+                assert_int_equal(r[i].points, 8);
+                assert_int_equal(r[i].points_left_out, 2);
+                assert_close(r[i].rel_l2, 0.0, 1e-14);
+                assert_close(r[i].noise, 0.0, 1e-11);
+            }
+            /* the unmoved grid (1.25 .. 18.75 mm: 9 points, 1.5 .. 9.5 mm)
+             * carries the last output at twice its positions: the EKM there
+             * is f(z/2) */
+            double q_last[1] = {0.5};
+            scaled_errors(zk + 1, 9, t_last, q_last, 1, 0.01, &rel, &noise);
+            o.ekm = flat;
+            score_ok(&o, r);
+            for (size_t i = 0; i < 3; i++) {
+                assert_int_equal(r[i].points, 9);
+                assert_close(r[i].rel_l2, rel, 1e-12);
+                assert_close(r[i].noise, noise, 1e-9);
+                assert_true(r[i].rel_l2 > 0.05);
+            }
+            /* interpolated in time: DEM windows at 0.5 and 1.5 s, the gap
+             * 17.5 and 12.5 mm (linear in time as the fields), centres from
+             * 1.09 and 0.78 mm: 9 points per time, error 0 */
+            double t_mid[2] = {0.5, 1.5};
+            write_dem(dem, 10, 0.0, 0.01, 2, t_mid, PW_A, PW_B, PW_C, 0.01);
+            o.ekm_last = 0;
+            o.ekm = ekm;
+            score_ok(&o, r);
+            for (size_t i = 0; i < 3; i++) {
+                assert_int_equal(r[i].points, 18);
+                assert_close(r[i].rel_l2, 0.0, 1e-14);
+                assert_close(r[i].noise, 0.0, 1e-11);
+            }
+            /* unmoved: the EKM at time t is f(z s(t)), s = 1 - t/4 */
+            double q_mid[2] = {0.875, 0.625};
+            scaled_errors(zk + 1, 9, t_mid, q_mid, 2, 0.01, &rel, &noise);
+            o.ekm = flat;
+            score_ok(&o, r);
+            for (size_t i = 0; i < 3; i++) {
+                assert_int_equal(r[i].points, 18);
+                assert_close(r[i].rel_l2, rel, 1e-12);
+                assert_close(r[i].noise, noise, 1e-9);
+                assert_true(r[i].rel_l2 > 0.02);
+            }
+        }
 }
 
-/* The model's cell centres at a time level: /z itself without /gap, else
- * stretched by the gap interpolated in time. */
+/* The model's cell centres at a time level: a /z row per frame (an ekm
+ * output) interpolated in time between the two rows, whatever /gap says;
+ * one /z for all frames: itself without /gap, else (an ekm output from
+ * before /z had a row per frame) stretched by the gap interpolated in time. */
 static void test_cell_centres(void **state)
 {
     (void)state;
     const double z0[3] = {0.5, 1.5, 2.5}, gap[3] = {3.0, 1.5, 6.0};
     double z[3];
-    cg_score_centres(z0, 3, NULL, 1, 2, 0.5, z);
+    cg_score_centres(z0, 0, 3, NULL, 1, 2, 0.5, z);
     for (size_t k = 0; k < 3; k++)
         assert_true(z[k] == z0[k]);
-    cg_score_centres(z0, 3, gap, 1, 2, 0.0, z); /* gap 1.5 of 3 */
+    cg_score_centres(z0, 0, 3, gap, 1, 2, 0.0, z); /* gap 1.5 of 3 */
     for (size_t k = 0; k < 3; k++)
         assert_close(z[k], 0.5 * z0[k], 1e-15);
-    cg_score_centres(z0, 3, gap, 1, 2, 0.5, z); /* gap 3.75 of 3 */
+    cg_score_centres(z0, 0, 3, gap, 1, 2, 0.5, z); /* gap 3.75 of 3 */
     for (size_t k = 0; k < 3; k++)
         assert_close(z[k], 1.25 * z0[k], 1e-15);
-    cg_score_centres(z0, 3, gap, 2, 2, 0.0, z); /* the last level: 6 of 3 */
+    cg_score_centres(z0, 0, 3, gap, 2, 2, 0.0, z); /* the last level: 6 of 3 */
     for (size_t k = 0; k < 3; k++)
         assert_close(z[k], 2.0 * z0[k], 1e-15);
+    /* rows of 3 frames (not a uniform stretch: the rows are what count) */
+    const double rows[9] = {0.5, 1.5, 2.5, 0.2, 0.4, 1.0, 1.0, 2.0, 5.0};
+    cg_score_centres(rows, 1, 3, gap, 1, 2, 0.25, z);
+    const double want[3] = {0.4, 0.8, 2.0};
+    for (size_t k = 0; k < 3; k++)
+        assert_close(z[k], want[k], 1e-15);
+    cg_score_centres(rows, 1, 3, NULL, 2, 2, 0.0, z);
+    for (size_t k = 0; k < 3; k++)
+        assert_true(z[k] == rows[6 + k]);
 }
 
 int main(void)

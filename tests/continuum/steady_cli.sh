@@ -51,6 +51,8 @@ import sys, h5py
 f = h5py.File(sys.argv[1], "r")
 a = f.attrs
 assert f["phi"].shape == (1, 20) and f["t"].shape == (1,), f["phi"].shape
+# /z: the one frame's cell centres, at the solution's gap (ekm run's layout)
+assert f["z"].shape == (1, 20) and abs(f["z"][0][-1] - 39 / 40 * a["gap_final"]) < 1e-15, f["z"][:]
 assert a["steady"] == 1 and a["steady_solver"] == 1
 n = int(a["steady.iterations"])
 assert len(a["steady.residual"]) == n and len(a["steady.delta"]) == n and n >= 1
@@ -102,6 +104,26 @@ assert b.attrs['steady.iterations'] <= 2, b.attrs['steady.iterations']
 assert np.max(np.abs(a['phi'][0] - b['phi'][0])) < 1e-12
 "
 check "--from a solution: at most 2 iterations, same state" $? "see above"
+# --from an output written before /z had a row per frame ([nz]: the first
+# frame's centres; the gap of the last frame from /gap)
+/usr/bin/python3 -c "
+import h5py, shutil
+shutil.copy('ssp.h5', 'old.h5')
+with h5py.File('old.h5', 'r+') as f:
+    z = f['z'][0]
+    del f['z']
+    f.create_dataset('z', data=z * 1.1).attrs['units'] = 'm'
+"
+"$ekm" steady "$S/simple_shear_p.ini" --from old.h5 -o again_old.h5 --quiet 2> err.txt
+rc=$?
+check "--from an output with one /z row" $rc "exit $rc: $(cat err.txt)"
+/usr/bin/python3 -c "
+import h5py, numpy as np
+a, b = h5py.File('ssp.h5'), h5py.File('again_old.h5')
+assert b.attrs['steady.iterations'] <= 2, b.attrs['steady.iterations']
+assert np.max(np.abs(a['phi'][0] - b['phi'][0])) < 1e-12 and np.max(np.abs(a['z'][0] - b['z'][0])) < 1e-15
+"
+check "--from an output with one /z row: the gap of /gap, same state" $? "see above"
 
 error "--from another grid" 2 "ssp\.h5: /z has 20 cells, the scenario 40 \(\[domain\] cells\)" \
     "$S/simple_shear_p.ini" --set domain.cells=40 --from ssp.h5

@@ -71,18 +71,19 @@ static void test_hdf5_layout(void **state)
     assert_true(f >= 0);
     int rank;
     hsize_t zd[2], td[2], fd[2];
-    read_dims(f, "z", &rank, zd);
-    assert_int_equal(rank, 1);
-    assert_int_equal(zd[0], 60);
+    read_dims(f, "z", &rank, zd); /* the cell centres of every frame */
+    assert_int_equal(rank, 2);
+    assert_int_equal(zd[1], 60);
     read_dims(f, "t", &rank, td);
     assert_int_equal(rank, 1);
     assert_int_equal(td[0], 5); /* t = 0, 0.05, ..., 0.2 */
+    assert_int_equal(zd[0], td[0]);
     const char *fields[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz", "regime"};
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
         read_dims(f, fields[i], &rank, fd);
         assert_int_equal(rank, 2);
         assert_int_equal(fd[0], td[0]);
-        assert_int_equal(fd[1], zd[0]);
+        assert_int_equal(fd[1], zd[1]);
         hid_t d = H5Dopen2(f, fields[i], H5P_DEFAULT);
         char units[128];
         read_string_attr(d, "units", units, sizeof units);

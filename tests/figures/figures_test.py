@@ -18,9 +18,12 @@ CASE:
   failed-step     a DEM step that failed (comparison 'missing' in the table,
                   no CG file): a note, every figure still made
   bad-data        a dataset removed / of the wrong shape / without units, a
-                  score without options: exit status 2, the message names
-                  file and dataset (or key); and the shift is the score's:
-                  a score with another shift draws a different profile
+                  score without options, an EKM /z without a row per
+                  output: exit status 2, the message names file and
+                  dataset (or key); and the shift is the score's: a score
+                  with another shift draws a different profile; the EKM's
+                  cell centres are /z's rows (an older /z stretched by
+                  /gap draws the same profile, unmoving rows another)
   exit-codes      the other statuses of docs/exit-codes.md: usage 1 (an
                   unknown option, no --size), a Python package missing 7,
                   figures.txt that cannot be written 3 (no temporary left),
@@ -230,6 +233,34 @@ def bad_data(src, work):
                 open(os.path.join(res, "figures", stem + ".png"), "rb") as b:
             check((a.read() == b.read()) == same, "shifted: %s.png %s" % (
                 stem, "differs (not shifted)" if same else "is the same: the score's shift_m was not used"))
+    # the EKM's cell centres are its /z of each output (shear_cell's top wall
+    # moves them): an output from before /z had a row per output (/z the
+    # first output's centres, stretched by /gap) draws the same profiles;
+    # rows that do not move draw others
+    with h5py.File(os.path.join(base, "shear_cell", "ekm.h5"), "r") as f:
+        z = f["z"][()]
+    for name, rows, same in (("old-z", z[0], True), ("still-z", np.tile(z[0], (z.shape[0], 1)), False)):
+        res = os.path.join(work, name)
+        shutil.rmtree(res, ignore_errors=True)
+        shutil.copytree(base, res, ignore=shutil.ignore_patterns("figures"))
+        with h5py.File(os.path.join(res, "shear_cell", "ekm.h5"), "a") as f:
+            del f["z"]
+            f["z"] = rows
+            f["z"].attrs["units"] = np.bytes_("m")
+        rc, _, err = figures(src, res, "smoke")
+        check(rc == 0, "%s: exit status %d: %s" % (name, rc, err.strip()))
+        with open(os.path.join(base, "figures", "profiles_shear_cell.png"), "rb") as a, \
+                open(os.path.join(res, "figures", "profiles_shear_cell.png"), "rb") as b:
+            check((a.read() == b.read()) == same, "%s: profiles_shear_cell.png %s" % (
+                name, "differs" if same else "is the same: the rows of /z were not used"))
+    res = os.path.join(work, "bad-z")
+    shutil.rmtree(res, ignore_errors=True)
+    shutil.copytree(base, res, ignore=shutil.ignore_patterns("figures"))  # base's figures are made
+    with h5py.File(os.path.join(res, "shear_cell", "ekm.h5"), "a") as f:
+        del f["z"]
+        f["z"] = z[:-1]
+    expect_failure(src, res, "smoke", ["shear_cell/ekm.h5", "/z", "one row of cell centres per output time"],
+                   "/z with a row fewer than /t", 2)
 
 
 def tmp_files(folder):

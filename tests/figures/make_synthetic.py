@@ -82,11 +82,18 @@ def write_cg(path, z, t, prof, rng, engine, extra=None):
             f.attrs[k] = float(v)
 
 
-def write_ekm(path, z, t, prof, scenario, attrs, wall):
+def write_ekm(path, z, t, prof, scenario, attrs, wall, gap=None):
+    """z: the cell centres of the first output; gap [nt] (a pressure-held
+    wall): the gap of each output, which stretches them; /z has the centres
+    of each output (continuum/h5out.c)."""
+    scale = np.ones(len(t)) if gap is None else np.asarray(gap, float) / gap[0]
+    zt = z[None, :] * scale[:, None]
     with h5py.File(path, "w") as f:
-        f.create_dataset("z", data=z).attrs.create("units", np.bytes_(UNITS["z"]))
+        f.create_dataset("z", data=zt).attrs.create("units", np.bytes_(UNITS["z"]))
         f.create_dataset("t", data=np.asarray(t, float)).attrs.create("units", np.bytes_(UNITS["t"]))
-        rows = [prof(z, tt) for tt in t]
+        if gap is not None:
+            f.create_dataset("gap", data=np.asarray(gap, float)).attrs.create("units", np.bytes_(UNITS["gap"]))
+        rows = [prof(zi, tt) for zi, tt in zip(zt, t)]
         for n in EKM_FIELDS:
             f.create_dataset(n, data=np.array([r[n] for r in rows])).attrs.create(
                 "units", np.bytes_(UNITS[n]))
@@ -278,9 +285,11 @@ def main():
     for e in both:
         write_cg(os.path.join(d, "cg_%s.h5" % e), zc(-0.004, 0.087, 92), [0.45], shear_cell(True), rng, e)
         write_dem_json(os.path.join(d, "dem_%s.json" % e), "shear_cell", e, "", 9.0)
+    # the top wall held at its pressure: the gap closes from 42 to 38.4 mm
     write_ekm(os.path.join(d, "ekm.h5"), zc(0, 0.042, 42), np.linspace(0, 100, 11), shear_cell(False),
               "shear_cell", {"top.velocity": 0.42, "bottom.velocity": 0.0, "domain.length": 0.042,
-                             "domain.cells": 42.0}, 1.4)
+                             "domain.cells": 42.0, "top.pressure": 100.0}, 1.4,
+              gap=0.0384 + 0.0036 * np.exp(-np.linspace(0, 100, 11) / 10))
     if ref:
         write_ekm(os.path.join(d, "ekm_rheology.h5"), zc(0, 0.042, 42), np.linspace(0, 100, 11),
                   shear_cell(True), "shear_cell", {"top.velocity": 0.42, "bottom.velocity": 0.0,

@@ -45,7 +45,7 @@ foreach(tool ekm cg)
 endforeach()
 
 # ParaView (label paraview; skipped without pvpython).
-foreach(kind ekm cg)
+foreach(kind ekm ekm_pwall cg)
   foreach(what readers plot_over_line)
     ekm_promise_test(paraview ${kind}_${what}
       COMMAND bash ${EKM_PROMISE_OUT}/paraview.sh ${kind} ${what} $<TARGET_FILE:ekm> $<TARGET_FILE:ekmcompare>

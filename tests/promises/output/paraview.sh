@@ -6,10 +6,12 @@
 # (paraview_check.py).  Issue 13: the Xdmf3 readers showed no arrays
 # ("Skipping unrecognized array type [None]": they cannot read HyperSlab
 # items), the profile lay along Y, Plot Over Line was wrong at 616 of 1001
-# samples, and cg outputs had no sidecar.
+# samples, and cg outputs had no sidecar.  ekm_pwall: an ekm output whose
+# pressure-held top wall moves the cells (issue 32): ParaView's cell
+# centres of the first and last frame are that frame's row of /z.
 # Skipped (77) without pvpython (Debian: python3-paraview,
 # scripts/deps/paraview.txt).
-# Usage: paraview.sh ekm|cg readers|plot_over_line EKM EKMCOMPARE SOURCE_DIR WORK_DIR
+# Usage: paraview.sh ekm|ekm_pwall|cg readers|plot_over_line EKM EKMCOMPARE SOURCE_DIR WORK_DIR
 set -u
 kind=$1 what=$2 ekm=$3 ekmcompare=$4 src=$5 work=$6
 if ! command -v pvpython >/dev/null; then
@@ -20,6 +22,9 @@ rm -rf "$work" && mkdir -p "$work" || exit 1
 work=$(cd "$work" && pwd) # absolute: the Xdmf3 readers resolve the HDF5 file from it
 case $kind in
 ekm) "$ekm" run "$src/scenarios/chute.ini" -o "$work/out.h5" --set run.t_end=0.5 --quiet || exit 1 ;;
+ekm_pwall) # the gap closes from 42 to about 41.3 mm in 0.5 s
+    "$ekm" run "$src/scenarios/shear_cell.ini" -o "$work/out.h5" --set run.t_end=0.5 --set run.output_dt=0.25 \
+        --quiet || exit 1 ;;
 cg) "$ekmcompare" cg "$src/tests/compare/fixtures/chute_liggghts_atoms.dump.gz" --dt 1e-5 --every 1 \
         -o "$work/out.h5" >/dev/null || exit 1 ;;
 esac

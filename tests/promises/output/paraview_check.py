@@ -4,14 +4,21 @@ readers and check what they show against the HDF5 file (h5py).
     pvpython --force-offscreen-rendering paraview_check.py readers OUT.xdmf OUT.h5
     pvpython --force-offscreen-rendering paraview_check.py plot_over_line OUT.xdmf OUT.h5
 
-readers: every [nt][n] dataset of OUT.h5 is a cell array of every reader,
-at the first and the last time step, equal to the HDF5 row exactly (the
-same float64/int32 values; NaN where the HDF5 file has NaN); the times are /t; the mesh is the column of
-cells lo + j dz along Z (one cell wide in X and Y).
+readers: every [nt][n] dataset of OUT.h5 (the fields; not /z, the cells'
+positions) is a cell array of every reader, at the first and the last time
+step, equal to the HDF5 row exactly (the same float64/int32 values; NaN
+where the HDF5 file has NaN); the times are /t; the mesh is the column of
+cells lo + j dz along Z (one cell wide in X and Y); with an ekm output's
+/z of a row per frame (issue 32: a pressure-held wall moves the cells),
+the cell centres ParaView computes at those two steps are that frame's /z
+(1e-12 of the column's height).
 
 plot_over_line: Plot Over Line along Z through the column (1001 uniform
 samples) returns at each sample the HDF5 value of the cell holding it (at
-a cell face, the value of either neighbour), for every field.
+a cell face, the value of either neighbour), for every field; a sample
+whose position (ParaView's points are float32) rounds to outside the
+column holds no cell (the last one, at the top of the shear cell's 38.4 mm
+gap).
 
 Exit 0 when all hold, 1 with one line per failure.
 """
@@ -39,11 +46,12 @@ def timesteps(reader):
 
 
 def profile_fields(h5):
-    """Names of the [nt][n] datasets (the profiles), nt and n."""
+    """Names of the [nt][n] datasets (the profiles; /z, each frame's cell
+    centres, is the geometry), nt and n."""
     nt, n = len(h5["t"]), None
     names = []
     for key, obj in h5.items():
-        if isinstance(obj, h5py.Dataset) and obj.ndim == 2 and obj.shape[0] == nt:
+        if key != "z" and isinstance(obj, h5py.Dataset) and obj.ndim == 2 and obj.shape[0] == nt:
             names.append(key)
             n = obj.shape[1]
     return sorted(names), nt, n
@@ -58,9 +66,19 @@ def column(h5, n, frame):
     if "gap" in h5:
         length = float(h5["gap"][frame])
     if length is None:  # the cell centres are (j + 1/2) dz
-        z = h5["z"][:]
+        z = h5["z"][frame] if h5["z"].ndim == 2 else h5["z"][:]
         return 0.0, float(z[1] - z[0]) if n > 1 else 2.0 * float(z[0])
     return 0.0, length / n
+
+
+def cell_centres(reader, t):
+    """The cell centres ParaView computes for the reader's mesh at time t
+    (the Cell Centers filter): an array [n][3]."""
+    centres = simple.CellCenters(Input=reader)
+    centres.UpdatePipeline(t)
+    points = np.asarray(dsa.WrapDataObject(servermanager.Fetch(centres)).Points)
+    simple.Delete(centres)
+    return points
 
 
 def check_readers(xdmf, path):
@@ -74,6 +92,7 @@ def check_readers(xdmf, path):
         if len(ts) != nt or not np.allclose(ts, t, rtol=0, atol=0):
             failures.append("%s: times %s, expected /t %s" % (rname, ts, list(t)))
             continue
+        centred = 0
         for frame in sorted({0, nt - 1}):
             reader.UpdatePipeline(ts[frame])
             data = dsa.WrapDataObject(servermanager.Fetch(reader))
@@ -97,9 +116,23 @@ def check_readers(xdmf, path):
             if not np.allclose(bounds, want_bounds, rtol=1e-12, atol=1e-15):
                 failures.append("%s, t = %g: bounds %s, expected the column %s along Z"
                                 % (rname, t[frame], bounds, want_bounds))
+            if "z" in h5 and h5["z"].ndim == 2:  # an ekm output: each frame's centres
+                want_z = h5["z"][frame]
+                got = cell_centres(reader, ts[frame])
+                if got.shape != (n, 3):
+                    failures.append("%s, t = %g: %s cell centres, expected %d (/z[%d])"
+                                    % (rname, t[frame], got.shape, n, frame))
+                elif np.max(np.abs(got[:, 2] - want_z)) > 1e-12 * n * dz:
+                    failures.append("%s, t = %g: cell centres along Z %g .. %g m, expected /z[%d] %g .. %g m "
+                                    "(up to %g m apart)"
+                                    % (rname, t[frame], got[0, 2], got[-1, 2], frame, want_z[0], want_z[-1],
+                                       np.max(np.abs(got[:, 2] - want_z))))
+                else:
+                    centred += 1
         simple.Delete(reader)
-        print("%s: %d arrays x %d cells, times %s: checked at t = %g and %g"
-              % (rname, len(names), n, list(t), t[0], t[-1]))
+        print("%s: %d arrays x %d cells, times %s: checked at t = %g and %g%s"
+              % (rname, len(names), n, list(t), t[0], t[-1],
+                 "; cell centres = /z of %d frames" % centred if centred else ""))
     return failures
 
 
@@ -119,7 +152,7 @@ def check_plot_over_line(xdmf, path):
         line.Resolution = 1000
         line.UpdatePipeline(ts[frame])
         data = dsa.WrapDataObject(servermanager.Fetch(line))
-        z = np.asarray(data.Points)[:, 2]
+        z = np.asarray(data.Points, dtype=float)[:, 2]  # float32 points, compared in float64
         for name in names:
             if name not in data.PointData.keys():
                 failures.append("%s: Plot Over Line has no %s" % (rname, name))
@@ -134,7 +167,8 @@ def check_plot_over_line(xdmf, path):
             def same(a, b):
                 return (a == b) | (np.isnan(a) & np.isnan(b)) if want.dtype.kind == "f" else a == b
 
-            ok = same(values, want[below]) | same(values, want[above])
+            outside = (z < lo) | (z > lo + n * dz)
+            ok = same(values, want[below]) | same(values, want[above]) | outside
             if not ok.all():
                 failures.append("%s, t = %g: Plot Over Line of %s wrong at %d of %d samples (first z = %g)"
                                 % (rname, ts[frame], name, int((~ok).sum()), len(z), z[~ok][0]))
