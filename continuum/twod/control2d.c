@@ -26,8 +26,22 @@
 
 #include "control.h"
 
-/* The limits of the state in u (dm's local array, ghosts current). */
-static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic)
+/* Which limit set the step (for -ekm_step_monitor). */
+enum { LIM_NONE, LIM_CONVECTIVE, LIM_COMPRESSION, LIM_THERMAL, LIM_ACOUSTIC };
+static const char *const LIMIT_NAMES[] = {"dt_max", "convective", "compression", "thermal relaxation",
+                                          "acoustic"};
+
+static inline void take(double *dt, int *why, double limit, int which)
+{
+    if (limit < *dt) {
+        *dt = limit;
+        *why = which;
+    }
+}
+
+/* The limits of the state in u (dm's local array, ghosts current); *why
+ * the limit that set it. */
+static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic, int *why)
 {
     const ekm2d_grid *g = &st->g;
     const ekm_scenario *sc = st->sc;
@@ -49,24 +63,24 @@ static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic)
                 const double c = wet ? ekm_sound_speed(m, phi, T) : 0.0;
                 const double speed = fmax(vx, vz) + c;
                 if (speed > 0.0)
-                    dt = fmin(dt, cfl * h / speed);
+                    take(&dt, why, cfl * h / speed, LIM_ACOUSTIC);
                 continue;
             }
             const double rate = vx / g->dx + vz / g->dz;
             if (rate > 0.0)
-                dt = fmin(dt, cfl / rate);
+                take(&dt, why, cfl / rate, LIM_CONVECTIVE);
             if (!wet)
                 continue;
             const double div = (u[j][i + 1][g->s_vx] - u[j][i][g->s_vx]) / g->dx +
                                (u[j + 1][i][g->s_vz] - u[j][i][g->s_vz]) / g->dz;
             const double compression = -phi * div / (m->phi_cp - phi);
             if (compression > 0.0)
-                dt = fmin(dt, 0.5 * sc->numerics.phi_step_max / compression);
+                take(&dt, why, 0.5 * sc->numerics.phi_step_max / compression, LIM_COMPRESSION);
             const double x = fmax(phi - m->phi_co, 0.0);
             const double relax = m->eps0 * sqrt(T) * m->phi_cp * (phi * T + m->nu * m->T0 * x) /
                                  ((m->phi_cp - phi) * (phi * T + m->T0 * x));
             if (relax > 0.0)
-                dt = fmin(dt, sc->numerics.thermal_relax_step / relax);
+                take(&dt, why, sc->numerics.thermal_relax_step / relax, LIM_THERMAL);
         }
     return dt;
 }
@@ -79,10 +93,15 @@ static ekm_status max_dt(ekm2d_step *st, int acoustic, double *dt, ekm_error *er
     PetscScalar ***u;
     if (DMGlobalToLocal(g->dm, st->U, INSERT_VALUES, st->Ul) || DMStagVecGetArray(g->dm, st->Ul, &u))
         return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error reading the state");
-    double local = max_dt_local(st, u, acoustic), all = local;
+    int why = LIM_NONE;
+    double local = max_dt_local(st, u, acoustic, &why), all = local;
     DMStagVecRestoreArray(g->dm, st->Ul, &u);
     MPI_Allreduce(&local, &all, 1, MPI_DOUBLE, MPI_MIN, g->comm);
     *dt = fmin(all, st->sc->numerics.dt_max);
+    if (st->monitor && !acoustic)
+        PetscPrintf(g->comm, "ekm 2D: t = %.9g s: step limit %.3g s (%s)\n", st->t, *dt,
+                    local == all && local < st->sc->numerics.dt_max ? LIMIT_NAMES[why]
+                                                                    : "dt_max or another rank");
     return EKM_OK;
 }
 

@@ -482,7 +482,11 @@ static ekm_status initial_state(ekm2d_step *st, const ekm_state *init, ekm_error
     return EKM_OK;
 }
 
-static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, MPI_Comm comm, ekm_error *err)
+/* A system's linear solver (options prefix ekm_v_ or ekm_t_): on one rank
+ * LU (the velocity system: LU as GMRES's preconditioner, kept across steps
+ * while it converges in few iterations: velocity2d.c); on several GMRES
+ * with block Jacobi (ILU) to 1e-12 (to be chosen by measurement: docs). */
+static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, int reuse, MPI_Comm comm, ekm_error *err)
 {
     PC pc;
     int size = 1;
@@ -490,7 +494,11 @@ static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, MPI_Comm comm, 
     PTRY(KSPSetOperators(ksp, A, A), "KSPSetOperators");
     PTRY(KSPSetOptionsPrefix(ksp, prefix), "KSPSetOptionsPrefix");
     PTRY(KSPGetPC(ksp, &pc), "KSPGetPC");
-    if (size == 1) {
+    if (size == 1 && reuse) {
+        PTRY(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+        PTRY(PCSetType(pc, PCLU), "PCSetType");
+        PTRY(KSPSetTolerances(ksp, 1e-13, 1e-300, PETSC_DEFAULT, 30), "KSPSetTolerances");
+    } else if (size == 1) {
         PTRY(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
         PTRY(PCSetType(pc, PCLU), "PCSetType");
     } else {
@@ -570,9 +578,9 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
         *out = NULL;
         return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error creating the vectors and matrices");
     }
-    rc = set_up_ksp(st->ksp_v, st->A, "ekm_v_", comm, err);
+    rc = set_up_ksp(st->ksp_v, st->A, "ekm_v_", 1, comm, err);
     if (rc == EKM_OK)
-        rc = set_up_ksp(st->ksp_t, st->J, "ekm_t_", comm, err);
+        rc = set_up_ksp(st->ksp_t, st->J, "ekm_t_", 0, comm, err);
     if (rc == EKM_OK)
         rc = initial_state(st, init, err);
     if (rc != EKM_OK) {

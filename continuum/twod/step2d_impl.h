@@ -28,10 +28,12 @@ struct ekm2d_step {
     Vec V, Vb;  /* its solution and right-hand side (global, dmv) */
     Vec Vl;     /* the solution, local */
     KSP ksp_v;
-    Mat J;      /* the temperature Newton's Jacobian (dmt) */
-    Vec dT, R;  /* its update and the negative residual (global, dmt) */
-    Vec Tn, Tl; /* the iterate (global) and its local copy */
-    Vec Rl;     /* a local vector of dmt (the residual, then the update) */
+    int v_keep_factor; /* 1: the next velocity solve keeps the LU factorisation */
+    long v_refactors;  /* solves that failed with a kept factorisation */
+    Mat J;             /* the temperature Newton's Jacobian (dmt) */
+    Vec dT, R;         /* its update and the negative residual (global, dmt) */
+    Vec Tn, Tl;        /* the iterate (global) and its local copy */
+    Vec Rl;            /* a local vector of dmt (the residual, then the update) */
     KSP ksp_t;
     /* box arrays */
     double *Fx, *Fz;           /* face volume fluxes of the step [m/s] (x-faces, z-faces) */
