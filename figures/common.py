@@ -515,15 +515,20 @@ class Writer:
         self.outdir = outdir
         self.written = []
 
-    def save(self, fig, stem):
+    def save(self, fig, stem, meta=None):
+        """meta: document metadata for both files (the PDF's keys: Title,
+        Subject, Keywords, ...; the PNG takes them as text chunks), e.g.
+        the input's provenance; never a date (deterministic output)."""
         import matplotlib.pyplot as plt
         os.makedirs(self.outdir, exist_ok=True)
         for ext in ("pdf", "png"):
             path = os.path.join(self.outdir, "%s.%s" % (stem, ext))
             tmp = os.path.join(self.outdir, ".%s.%s.tmp" % (stem, ext))
-            meta = {"CreationDate": None} if ext == "pdf" else {}
+            meta_ext = dict(meta or {})
+            if ext == "pdf":
+                meta_ext["CreationDate"] = None
             try:
-                fig.savefig(tmp, format=ext, dpi=300, metadata=meta)
+                fig.savefig(tmp, format=ext, dpi=300, metadata=meta_ext)
                 os.replace(tmp, path)
             finally:
                 if os.path.exists(tmp):
