@@ -7,9 +7,11 @@
  *                of phase 2-3; the pressure coupling is implicit, so the
  *                sound speed does not limit the step); an open inlet's
  *                speed counts at its faces
- *   compression  -div(phi v) closes at most half of phi_step_max of the gap
- *                phi_cp - phi per step (a step beyond phi_step_max is
- *                rejected: step2d.c)
+ *   compression  the mass update's net inflow -div(phi_up v) closes at most
+ *                half of phi_step_max of the gap phi_cp - phi per step (a
+ *                step beyond phi_step_max is rejected: step2d.c); the 1D
+ *                control takes -phi div v, which counts a dilute stream
+ *                landing on a bed at the bed's phi
  *   thermal      dt eps P_K/(P_K + P_Y) <= thermal_relax_step (control.h)
  *   dt_max
  * The step grows at most 1.5x per step; after a change of the driving (an
@@ -31,17 +33,22 @@ enum { LIM_NONE, LIM_CONVECTIVE, LIM_COMPRESSION, LIM_THERMAL, LIM_ACOUSTIC };
 static const char *const LIMIT_NAMES[] = {"dt_max", "convective", "compression", "thermal relaxation",
                                           "acoustic"};
 
-static inline void take(double *dt, int *why, double limit, int which)
+typedef struct {
+    int which;     /* LIM_* */
+    PetscInt i, j; /* the cell that set it */
+} limit_at;
+
+static inline void take(double *dt, limit_at *why, double limit, int which, PetscInt i, PetscInt j)
 {
     if (limit < *dt) {
         *dt = limit;
-        *why = which;
+        *why = (limit_at){which, i, j};
     }
 }
 
 /* The limits of the state in u (dm's local array, ghosts current); *why
  * the limit that set it. */
-static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic, int *why)
+static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic, limit_at *why)
 {
     const ekm2d_grid *g = &st->g;
     const ekm_scenario *sc = st->sc;
@@ -63,24 +70,29 @@ static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic,
                 const double c = wet ? ekm_sound_speed(m, phi, T) : 0.0;
                 const double speed = fmax(vx, vz) + c;
                 if (speed > 0.0)
-                    take(&dt, why, cfl * h / speed, LIM_ACOUSTIC);
+                    take(&dt, why, cfl * h / speed, LIM_ACOUSTIC, i, j);
                 continue;
             }
             const double rate = vx / g->dx + vz / g->dz;
             if (rate > 0.0)
-                take(&dt, why, cfl / rate, LIM_CONVECTIVE);
+                take(&dt, why, cfl / rate, LIM_CONVECTIVE, i, j);
             if (!wet)
                 continue;
-            const double div = (u[j][i + 1][g->s_vx] - u[j][i][g->s_vx]) / g->dx +
-                               (u[j + 1][i][g->s_vz] - u[j][i][g->s_vz]) / g->dz;
-            const double compression = -phi * div / (m->phi_cp - phi);
+            /* what the mass update will do with these velocities: the
+             * upwind fluxes' net inflow (not -phi div v, which counts a
+             * dilute stream landing on a bed at the bed's phi) */
+            const double inflow = -(ekm2d_flux_x(g, u, i + 1, j) - ekm2d_flux_x(g, u, i, j)) / g->dx -
+                                  (ekm2d_flux_z(g, &ends[0], &ends[1], u, i, j + 1) -
+                                   ekm2d_flux_z(g, &ends[0], &ends[1], u, i, j)) /
+                                      g->dz;
+            const double compression = inflow / (m->phi_cp - phi);
             if (compression > 0.0)
-                take(&dt, why, 0.5 * sc->numerics.phi_step_max / compression, LIM_COMPRESSION);
+                take(&dt, why, 0.5 * sc->numerics.phi_step_max / compression, LIM_COMPRESSION, i, j);
             const double x = fmax(phi - m->phi_co, 0.0);
             const double relax = m->eps0 * sqrt(T) * m->phi_cp * (phi * T + m->nu * m->T0 * x) /
                                  ((m->phi_cp - phi) * (phi * T + m->T0 * x));
             if (relax > 0.0)
-                take(&dt, why, sc->numerics.thermal_relax_step / relax, LIM_THERMAL);
+                take(&dt, why, sc->numerics.thermal_relax_step / relax, LIM_THERMAL, i, j);
         }
     return dt;
 }
@@ -93,15 +105,16 @@ static ekm_status max_dt(ekm2d_step *st, int acoustic, double *dt, ekm_error *er
     PetscScalar ***u;
     if (DMGlobalToLocal(g->dm, st->U, INSERT_VALUES, st->Ul) || DMStagVecGetArray(g->dm, st->Ul, &u))
         return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error reading the state");
-    int why = LIM_NONE;
+    limit_at why = {LIM_NONE, -1, -1};
     double local = max_dt_local(st, u, acoustic, &why), all = local;
     DMStagVecRestoreArray(g->dm, st->Ul, &u);
     MPI_Allreduce(&local, &all, 1, MPI_DOUBLE, MPI_MIN, g->comm);
     *dt = fmin(all, st->sc->numerics.dt_max);
     if (st->monitor && !acoustic)
-        PetscPrintf(g->comm, "ekm 2D: t = %.9g s: step limit %.3g s (%s)\n", st->t, *dt,
-                    local == all && local < st->sc->numerics.dt_max ? LIMIT_NAMES[why]
-                                                                    : "dt_max or another rank");
+        PetscPrintf(g->comm, "ekm 2D: t = %.9g s: step limit %.3g s (%s, cell %d %d)\n", st->t, *dt,
+                    local == all && local < st->sc->numerics.dt_max ? LIMIT_NAMES[why.which]
+                                                                    : "dt_max or another rank",
+                    (int)why.i, (int)why.j);
     return EKM_OK;
 }
 

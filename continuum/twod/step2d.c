@@ -89,14 +89,6 @@ static void boundaries(ekm2d_step *st, PetscScalar ***u, double dt)
 
 /* ---- phase 2: mass --------------------------------------------------------------------------------- */
 
-/* phi carried into the box through end face (i, j) (j = 0 or nz) when the
- * flow enters: an inlet's phi_in, nothing otherwise. */
-static double end_phi_in(const ekm2d_step *st, PetscInt i, PetscInt j)
-{
-    const ekm2d_end *e = j == 0 ? &st->bottom : &st->top;
-    return ekm2d_inlet_face(&st->g, e, i) ? e->phi_in : 0.0;
-}
-
 /* Which box points phase 2 reaches: an x-face's flux needs both cells
  * beside it (a side-wall face carries none), a z-face's both cells or its
  * end's; a cell's new phi its four faces. */
@@ -127,19 +119,10 @@ static int mass_update(ekm2d_step *st, PetscScalar ***u, double dt)
     for (PetscInt j = Z0; j < Z1; j++)
         for (PetscInt i = X0; i < X1; i++) {
             double fx = 0.0, fz = 0.0;
-            if (j < g->nz && fx_ok(g, i) && !ekm2d_side_face(g, i)) {
-                const double v = u[j][i][g->s_vx];
-                fx = v == 0.0 ? 0.0 : v * (v > 0.0 ? u[j][i - 1][g->s_phi] : u[j][i][g->s_phi]);
-            }
-            if (fz_ok(g, j) && j <= g->nz && ekm2d_cell_exists(g, i, j < g->nz ? j : g->nz - 1)) {
-                const double v = u[j][i][g->s_vz];
-                if (j == 0)
-                    fz = v * (v > 0.0 ? end_phi_in(st, i, 0) : u[0][i][g->s_phi]);
-                else if (j == g->nz)
-                    fz = v * (v < 0.0 ? end_phi_in(st, i, j) : u[j - 1][i][g->s_phi]);
-                else
-                    fz = v == 0.0 ? 0.0 : v * (v > 0.0 ? u[j - 1][i][g->s_phi] : u[j][i][g->s_phi]);
-            }
+            if (j < g->nz && fx_ok(g, i))
+                fx = ekm2d_flux_x(g, u, i, j);
+            if (fz_ok(g, j) && j <= g->nz && ekm2d_cell_exists(g, i, j < g->nz ? j : g->nz - 1))
+                fz = ekm2d_flux_z(g, &st->bottom, &st->top, u, i, j);
             BOX(st, Fx, i, j) = fx;
             BOX(st, Fz, i, j) = fz;
         }

@@ -67,6 +67,31 @@ struct ekm2d_step {
 /* Access to a box array at (i, j). */
 #define BOX(st, arr, i, j) ((st)->arr[ekm2d_box_index(&(st)->g, (i), (j))])
 
+/* The volume flux F = v phi_up [m/s] through x-face (i, j) of the state u
+ * (dm's local array): upwind by the sign of v, 0 at v = 0 (flux.h) and
+ * through a side wall. */
+static inline double ekm2d_flux_x(const ekm2d_grid *g, PetscScalar ***u, PetscInt i, PetscInt j)
+{
+    if (ekm2d_side_face(g, i))
+        return 0.0;
+    const double v = u[j][i][g->s_vx];
+    return v == 0.0 ? 0.0 : v * (v > 0.0 ? u[j][i - 1][g->s_phi] : u[j][i][g->s_phi]);
+}
+
+/* ... through z-face (i, j) (along +z); an end face carries its inlet's
+ * phi_in when the flow enters (nothing beside the inlet), its cell's phi
+ * when it leaves. */
+static inline double ekm2d_flux_z(const ekm2d_grid *g, const ekm2d_end *bottom, const ekm2d_end *top,
+                                  PetscScalar ***u, PetscInt i, PetscInt j)
+{
+    const double v = u[j][i][g->s_vz];
+    if (j == 0)
+        return v * (v > 0.0 ? (ekm2d_inlet_face(g, bottom, i) ? bottom->phi_in : 0.0) : u[0][i][g->s_phi]);
+    if (j == g->nz)
+        return v * (v < 0.0 ? (ekm2d_inlet_face(g, top, i) ? top->phi_in : 0.0) : u[j - 1][i][g->s_phi]);
+    return v == 0.0 ? 0.0 : v * (v > 0.0 ? u[j - 1][i][g->s_phi] : u[j][i][g->s_phi]);
+}
+
 /* Phase 5: assemble and solve the velocity system; the new vx, vz into
  * u's face slots (u: dm's local array, ghosts included after the
  * solve).  1: solved; 0: the solve failed (st->reason), the step is
