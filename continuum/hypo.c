@@ -178,21 +178,28 @@ double ekm_hypo_flow_T_for_stress(const ekm_material *m, ekm_variant v, double p
     return x >= 0.0 ? x * x : -1.0;
 }
 
-double ekm_hypo_relaxation_rate(const ekm_material *m, ekm_variant v, double phi, double du_dz, double dw_dz)
+double ekm_hypo_relaxation_rate_plane(const ekm_material *m, ekm_variant v, double phi,
+                                      const ekm_hypo_plane_rate *r)
 {
     const double PY = ekm_pressure_yield(m, phi);
     if (!(PY > 0.0))
         return 0.0;
-    const double f = ekm_hypo_density_factor(m, phi), k = norm_full(m, du_dz, dw_dz);
+    const double f = ekm_hypo_density_factor(m, phi), k = norm_plane(m, r);
     const double dev = f * 2.0 * m->B_h * coeff_a2(m, phi) * k / PY;
     const double vol = v == EKM_VARIANT_THESIS
-                           ? f * m->A_h * fabs(dw_dz) / (ekm_hypo_R(m, v, phi) * PY)
+                           ? f * m->A_h * fabs(r->exx + r->ezz) / (ekm_hypo_R(m, v, phi) * PY)
                            : f * 3.0 * (3.0 * m->A_h + 2.0 * m->B_h) * coeff_a1(m, phi) * k / PY;
     return dev > vol ? dev : vol;
 }
 
-ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double phi, double dt,
-                                   const ekm_hypo_stress *s, double du_dz_old, double dw_dz_old)
+double ekm_hypo_relaxation_rate(const ekm_material *m, ekm_variant v, double phi, double du_dz, double dw_dz)
+{
+    const ekm_hypo_plane_rate r = {0.0, dw_dz, du_dz};
+    return ekm_hypo_relaxation_rate_plane(m, v, phi, &r);
+}
+
+ekm_hypo_implicit ekm_hypo_prepare_plane(const ekm_material *m, ekm_variant v, double phi, double dt,
+                                         const ekm_hypo_stress *s, const ekm_hypo_plane_rate *r_old)
 {
     const double A = m->A_h, B = m->B_h;
     const double PY = ekm_pressure_yield(m, phi);
@@ -200,13 +207,13 @@ ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double 
     const int loose = !(PY > 0.0); /* no limit surface: the elastic part only */
     const double fdt = ekm_hypo_density_factor(m, phi) * dt;
     const double a2 = coeff_a2(m, phi);
-    const double kfull = norm_full(m, du_dz_old, dw_dz_old);
+    const double kfull = norm_plane(m, r_old);
     const double c_d = loose ? 0.0 : fdt * 2.0 * B * a2 * kfull / PY;
     c.xz_scale = 1.0 / (1.0 + c_d);
     c.Vxz = fdt * B / (1.0 + c_d);
     if (v == EKM_VARIANT_THESIS) {
         const double R = ekm_hypo_R(m, v, phi);
-        const double cz = loose ? 0.0 : fdt * A * fabs(dw_dz_old) / (R * PY);
+        const double cz = loose ? 0.0 : fdt * A * fabs(r_old->exx + r_old->ezz) / (R * PY);
         c.Ezz = (s->zz - cz * PY) / (1.0 + cz);
         c.Vzz = fdt * A / (1.0 + cz);
         c.Exx = c.Eyy = c.Ezz;
@@ -217,7 +224,7 @@ ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double 
     const double K3 = 3.0 * A + 2.0 * B;
     const double c_p = loose ? 0.0 : fdt * 3.0 * K3 * a1 * kfull / PY;
     const double tr = s->xx + s->yy + s->zz;
-    const double iso = (tr - 3.0 * c_p * PY) / (3.0 * (1.0 + c_p)); /* tr(sigma)^{n+1}/3 at w' = 0 */
+    const double iso = (tr - 3.0 * c_p * PY) / (3.0 * (1.0 + c_p)); /* tr(sigma)^{n+1}/3 at zero rates */
     const double Viso = fdt * K3 / (3.0 * (1.0 + c_p));
     c.Ezz = iso + (s->zz - tr / 3.0) / (1.0 + c_d);
     c.Exx = iso + (s->xx - tr / 3.0) / (1.0 + c_d);
@@ -225,6 +232,24 @@ ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double 
     c.Vzz = Viso + fdt * 4.0 * B / (3.0 * (1.0 + c_d));
     c.Vxx = Viso - fdt * 2.0 * B / (3.0 * (1.0 + c_d));
     return c;
+}
+
+ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double phi, double dt,
+                                   const ekm_hypo_stress *s, double du_dz_old, double dw_dz_old)
+{
+    const ekm_hypo_plane_rate r = {0.0, dw_dz_old, du_dz_old};
+    return ekm_hypo_prepare_plane(m, v, phi, dt, s, &r);
+}
+
+ekm_hypo_stress ekm_hypo_finish_plane(const ekm_hypo_implicit *c, double sigma_xz_old,
+                                      const ekm_hypo_plane_rate *r)
+{
+    ekm_hypo_stress s;
+    s.zz = c->Ezz + c->Vzz * r->ezz + c->Vxx * r->exx;
+    s.xx = c->Exx + c->Vzz * r->exx + c->Vxx * r->ezz;
+    s.yy = c->Eyy + c->Vxx * (r->exx + r->ezz);
+    s.xz = sigma_xz_old * c->xz_scale + c->Vxz * r->gxz;
+    return s;
 }
 
 ekm_hypo_stress ekm_hypo_finish(const ekm_hypo_implicit *c, double sigma_xz_old, double du_dz, double dw_dz)

@@ -139,8 +139,25 @@ ekm_hypo_implicit ekm_hypo_prepare(const ekm_material *m, ekm_variant v, double 
  * lagged ||kappa|| makes first-order accurate only while it is small (the
  * stepper's accuracy limit for solid cells).  0 for a loose cell. */
 double ekm_hypo_relaxation_rate(const ekm_material *m, ekm_variant v, double phi, double du_dz, double dw_dz);
+/* ... for the plane rates r (the slab's: {0, w', u'}). */
+double ekm_hypo_relaxation_rate_plane(const ekm_material *m, ekm_variant v, double phi,
+                                      const ekm_hypo_plane_rate *r);
 
 /* Apply a prepared step: the new stress for the end-of-step gradients. */
 ekm_hypo_stress ekm_hypo_finish(const ekm_hypo_implicit *c, double sigma_xz_old, double du_dz, double dw_dz);
+
+/* The same step in plane strain (the 2D step), the norms lagged on the
+ * plane rates r_old at the start of the step (the slab's: {0, w', u'};
+ * ekm_hypo_prepare is this).  The backward-Euler step of the law splits
+ * into its trace and its deviator, each linear in the new rates:
+ *   zz = Ezz + Vzz ezz + Vxx exx,  xx = Exx + Vzz exx + Vxx ezz,
+ *   yy = Eyy + Vxx (exx + ezz),    xz = Exz + Vxz gxz
+ * (thesis variant: Vxx = Vzz, one normal stress of tr kappa). */
+ekm_hypo_implicit ekm_hypo_prepare_plane(const ekm_material *m, ekm_variant v, double phi, double dt,
+                                         const ekm_hypo_stress *s, const ekm_hypo_plane_rate *r_old);
+
+/* Apply a prepared plane step for the end-of-step rates r. */
+ekm_hypo_stress ekm_hypo_finish_plane(const ekm_hypo_implicit *c, double sigma_xz_old,
+                                      const ekm_hypo_plane_rate *r);
 
 #endif

@@ -13,6 +13,10 @@
  *                control takes -phi div v, which counts a dilute stream
  *                landing on a bed at the bed's phi
  *   thermal      dt eps P_K/(P_K + P_Y) <= thermal_relax_step (control.h)
+ *                in flowing cells
+ *   solid        in solid cells dt times the hypoplastic law's relaxation
+ *                rate (hypo.h) <= solid_relax_step, but not below the
+ *                acoustic step of the cell (control.h)
  *   dt_max
  * The step grows at most 1.5x per step; after a change of the driving (an
  * inflow opens or closes) it restarts from the acoustic step cfl h /
@@ -29,9 +33,9 @@
 #include "control.h"
 
 /* Which limit set the step (for -ekm_step_monitor). */
-enum { LIM_NONE, LIM_CONVECTIVE, LIM_COMPRESSION, LIM_THERMAL, LIM_ACOUSTIC };
-static const char *const LIMIT_NAMES[] = {"dt_max", "convective", "compression", "thermal relaxation",
-                                          "acoustic"};
+enum { LIM_NONE, LIM_CONVECTIVE, LIM_COMPRESSION, LIM_THERMAL, LIM_ACOUSTIC, LIM_SOLID };
+static const char *const LIMIT_NAMES[] = {"dt_max",   "convective",      "compression", "thermal relaxation",
+                                          "acoustic", "solid relaxation"};
 
 typedef struct {
     int which;     /* LIM_* */
@@ -88,6 +92,16 @@ static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic,
             const double compression = inflow / (m->phi_cp - phi);
             if (compression > 0.0)
                 take(&dt, why, 0.5 * sc->numerics.phi_step_max / compression, LIM_COMPRESSION, i, j);
+            if (g->s_solid >= 0 && u[j][i][g->s_solid] > 0.5) {
+                /* a solid cell: its stress is implicit; the accuracy of the
+                 * law's lagged norm limits the step, never below the
+                 * acoustic step (control.c) */
+                const double rate = ekm2d_regime_relaxation(st, u, i, j);
+                const double dt_relax = rate > 0.0 ? sc->numerics.solid_relax_step / rate : INFINITY;
+                take(&dt, why, fmax(dt_relax, cfl * h / (fmax(vx, vz) + ekm_sound_speed(m, phi, T))),
+                     LIM_SOLID, i, j);
+                continue;
+            }
             const double x = fmax(phi - m->phi_co, 0.0);
             const double relax = m->eps0 * sqrt(T) * m->phi_cp * (phi * T + m->nu * m->T0 * x) /
                                  ((m->phi_cp - phi) * (phi * T + m->T0 * x));

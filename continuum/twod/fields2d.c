@@ -5,7 +5,9 @@
  *   P = P_K + P_Y - zeta div v [Pa] and sxx, szz [Pa] (model.h's
  *   ekm_stress_plane at the state); sxz [Pa] a quarter of the sum of the
  *   four corners' shear stresses (velocity2d.c's corner rule);
- *   regime: empty (phi < phi_dry), kinetic (phi <= phi_co) or dense.
+ *   regime: empty (phi < phi_dry), kinetic (phi <= phi_co) or dense;
+ *   solid cells ([hypo]): sxx, szz the state's, P = -tr(sigma)/3, regime
+ *   solid; with [hypo] sxz is the mean of the corners' state sxz.
  * Empty cells: phi, and zeros.  Gathered to rank 0 in the natural order
  * (x fastest) through a cell-only DMStag of the same decomposition.
  */
@@ -76,6 +78,18 @@ static PetscErrorCode local_fields(ekm2d_step *st, DM dmf, Vec loc)
             }
             v[EKM2D_SXZ] = 0.25 * sum;
             v[EKM2D_REGIME] = phi <= sc->material.phi_co ? EKM_REGIME_KINETIC : EKM_REGIME_DENSE;
+            if (g->s_sxz >= 0) {
+                /* the solid regime: every corner's sxz is the state's (the
+                 * solid's, or the flow's of the last step: regime2d.c) */
+                v[EKM2D_SXZ] = 0.25 * (u[j][i][g->s_sxz] + u[j][i + 1][g->s_sxz] + u[j + 1][i][g->s_sxz] +
+                                       u[j + 1][i + 1][g->s_sxz]);
+                if (u[j][i][g->s_solid] > 0.5) {
+                    v[EKM2D_SXX] = u[j][i][g->s_sxx];
+                    v[EKM2D_SZZ] = u[j][i][g->s_szz];
+                    v[EKM2D_P] = -(u[j][i][g->s_sxx] + u[j][i][g->s_syy] + u[j][i][g->s_szz]) / 3.0;
+                    v[EKM2D_REGIME] = EKM_REGIME_SOLID;
+                }
+            }
         }
     PetscCall(DMStagVecRestoreArray(dmf, loc, &o));
     PetscCall(DMStagVecRestoreArray(g->dm, st->Ul, &u));

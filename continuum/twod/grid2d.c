@@ -52,7 +52,8 @@ ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *
             return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] inlet_width: the inlet holds no face centre",
                             sc->source, k ? "top" : "bottom");
     TRY(DMStagCreate2d(comm, g->periodic ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, g->nx,
-                       g->nz, PETSC_DECIDE, PETSC_DECIDE, 0, 1, 2, DMSTAG_STENCIL_BOX, 2, NULL, NULL, &g->dm),
+                       g->nz, PETSC_DECIDE, PETSC_DECIDE, sc->hypo.enabled ? 1 : 0, 1,
+                       sc->hypo.enabled ? 7 : 2, DMSTAG_STENCIL_BOX, 2, NULL, NULL, &g->dm),
         "DMStagCreate2d");
     TRY(DMSetFromOptions(g->dm), "DMSetFromOptions");
     TRY(DMSetUp(g->dm), "DMSetUp");
@@ -62,6 +63,13 @@ ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *
     TRY(DMStagGetLocationSlot(g->dm, DMSTAG_ELEMENT, 1, &g->s_T), "DMStagGetLocationSlot");
     TRY(DMStagGetLocationSlot(g->dm, DMSTAG_LEFT, 0, &g->s_vx), "DMStagGetLocationSlot");
     TRY(DMStagGetLocationSlot(g->dm, DMSTAG_DOWN, 0, &g->s_vz), "DMStagGetLocationSlot");
+    g->s_sxx = g->s_syy = g->s_szz = g->s_solid = g->s_rate = g->s_sxz = -1;
+    if (sc->hypo.enabled) {
+        PetscInt *slots[5] = {&g->s_sxx, &g->s_syy, &g->s_szz, &g->s_solid, &g->s_rate};
+        for (int k = 0; k < 5; k++)
+            TRY(DMStagGetLocationSlot(g->dm, DMSTAG_ELEMENT, 2 + k, slots[k]), "DMStagGetLocationSlot");
+        TRY(DMStagGetLocationSlot(g->dm, DMSTAG_DOWN_LEFT, 0, &g->s_sxz), "DMStagGetLocationSlot");
+    }
     /* the systems: the same decomposition, a stencil of one cell */
     const PetscInt *lx, *lz;
     PetscInt px, pz;

@@ -9,7 +9,12 @@
  *   dm    the state: phi [-] and T [m^2/s^2] at the cell centres
  *         (DMSTAG_ELEMENT), vx [m/s] on the x-faces (DMSTAG_LEFT), vz [m/s]
  *         on the z-faces (DMSTAG_DOWN); box stencil of width 2 (the face
- *         momentum's convection reaches two cells: flux.h)
+ *         momentum's convection reaches two cells: flux.h).  With the
+ *         solid regime ([hypo] enabled) also the solid stresses sxx, syy,
+ *         szz [Pa], the flag solid (0 or 1) and the rate of the last
+ *         switch test [1/s] at the cells, sxz [Pa] at the corners
+ *         (DMSTAG_DOWN_LEFT: the solid's shear stress, or the flow's of
+ *         the last step where the corner is not solid: regime2d.h)
  *   dmv   the velocity system's unknowns: vx and vz on the faces
  *   dmt   the temperature system's unknowns: T at the cell centres
  *
@@ -38,10 +43,12 @@ typedef struct {
     PetscInt inlet_hi[2];            /* bottom, top: its last face column */
     DM dm, dmv, dmt;                 /* state, velocity unknowns, temperature unknowns */
     PetscInt s_phi, s_T, s_vx, s_vz; /* slots of dm's arrays */
-    PetscInt v_vx, v_vz;             /* slots of dmv's arrays */
-    PetscInt t_T;                    /* slot of dmt's arrays */
-    PetscInt x0, z0, nxl, nzl;       /* this rank's cells: x0 .. x0 + nxl - 1, z0 .. z0 + nzl - 1 */
-    PetscInt gx0, gz0, gnx, gnz;     /* its ghosted box (dm's ghost corners, extra face points included) */
+    PetscInt s_sxx, s_syy, s_szz;    /* ... the solid regime's (-1 without it) */
+    PetscInt s_solid, s_rate, s_sxz;
+    PetscInt v_vx, v_vz;         /* slots of dmv's arrays */
+    PetscInt t_T;                /* slot of dmt's arrays */
+    PetscInt x0, z0, nxl, nzl;   /* this rank's cells: x0 .. x0 + nxl - 1, z0 .. z0 + nzl - 1 */
+    PetscInt gx0, gz0, gnx, gnz; /* its ghosted box (dm's ghost corners, extra face points included) */
 } ekm2d_grid;
 
 /* The data of one end (bottom or top) at one time. */

@@ -1842,7 +1842,7 @@ ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D solver)");
     PetscBool fully_implicit = PETSC_FALSE;
     PetscOptionsGetBool(NULL, NULL, "-ekm_fully_implicit", &fully_implicit, NULL);
-    if (!sc->hypo.enabled && !fully_implicit) {
+    if (!fully_implicit) {
         s->sc = sc;
         s->comm = comm;
         st = ekm2d_step_create(sc, comm, init, &s->semi, err);
@@ -2193,7 +2193,9 @@ ekm_status ekm2d_solver_stats(ekm2d_solver *s, ekm2d_stats *out, ekm_error *err)
                              .mass = in.mass,
                              .mass_in = in.mass_in,
                              .phi_max = in.phi_max,
-                             .cell_updates = (double)in.steps * s->sc->cells_x * s->sc->cells};
+                             .cell_updates = (double)in.steps * s->sc->cells_x * s->sc->cells,
+                             .to_solid = in.to_solid,
+                             .to_flow = in.to_flow};
         return EKM_OK;
     }
     PetscReal t;

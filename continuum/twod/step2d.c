@@ -21,11 +21,6 @@
 
 ekm_status ekm2d_step_supported(const ekm_scenario *sc, ekm_error *err)
 {
-    if (sc->hypo.enabled)
-        return EKM_FAIL(
-            err, EKM_EUNAVAILABLE,
-            "%s: [hypo] enabled = 1: the semi-implicit 2D step has the flow regimes only (issue 33)",
-            sc->source);
     if (sc->numerics.normal_coupling != EKM_COUPLING_IMPLICIT)
         return EKM_FAIL(
             err, EKM_EUNAVAILABLE,
@@ -35,10 +30,6 @@ ekm_status ekm2d_step_supported(const ekm_scenario *sc, ekm_error *err)
         return EKM_FAIL(err, EKM_EUNAVAILABLE,
                         "%s: [numerics] convection = tvd: the 2D step is first-order upwind (issue 33)",
                         sc->source);
-    if (sc->angle_rate != 0.0)
-        return EKM_FAIL(err, EKM_EUNAVAILABLE,
-                        "%s: [gravity] angle_rate = %g: a tilting base is not in the 2D step yet (issue 33)",
-                        sc->source, sc->angle_rate);
     const ekm_bc *ends[2] = {&sc->bottom, &sc->top};
     for (int k = 0; k < 2; k++) {
         const ekm_bc *bc = ends[k];
@@ -308,7 +299,8 @@ static double thermal_rate(const ekm2d_step *st, PetscScalar ***u)
     for (PetscInt j = g->z0; j < g->z0 + g->nzl; j++)
         for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
             const double phi = u[j][i][g->s_phi], T = u[j][i][g->s_T];
-            if (!(phi >= st->sc->numerics.phi_dry && T > 0.0))
+            if (!(phi >= st->sc->numerics.phi_dry && T > 0.0) ||
+                (g->s_solid >= 0 && u[j][i][g->s_solid] > 0.5))
                 continue;
             const double x = fmax(phi - m->phi_co, 0.0);
             const double r = m->eps0 * sqrt(T) * m->phi_cp * (phi * T + m->nu * m->T0 * x) /
@@ -342,6 +334,11 @@ static int state_finite(const ekm2d_step *st, PetscScalar ***u)
             if (i < g->x0 + g->nxl && j < g->nz)
                 ok &= isfinite(v[g->s_phi]) && isfinite(v[g->s_T]);
             ok &= isfinite(v[g->s_vx]) && isfinite(v[g->s_vz]);
+            if (g->s_sxz >= 0) {
+                ok &= isfinite(v[g->s_sxz]);
+                if (i < g->x0 + g->nxl && j < g->nz)
+                    ok &= isfinite(v[g->s_sxx]) && isfinite(v[g->s_syy]) && isfinite(v[g->s_szz]);
+            }
         }
     int all = ok;
     MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_LAND, g->comm);
@@ -349,6 +346,18 @@ static int state_finite(const ekm2d_step *st, PetscScalar ***u)
 }
 
 /* ---- the step -------------------------------------------------------------------------------------- */
+
+/* The ghosts of the state being stepped (Ul, its array *u) from the
+ * owned values of every rank, through the scratch vector W. */
+static ekm_status refresh_ghosts(ekm2d_step *st, PetscScalar ****u, ekm_error *err)
+{
+    const ekm2d_grid *g = &st->g;
+    PTRY(DMStagVecRestoreArray(g->dm, st->Ul, u), "DMStagVecRestoreArray");
+    PTRY(DMLocalToGlobal(g->dm, st->Ul, INSERT_VALUES, st->W), "DMLocalToGlobal");
+    PTRY(DMGlobalToLocal(g->dm, st->W, INSERT_VALUES, st->Ul), "DMGlobalToLocal");
+    PTRY(DMStagVecGetArray(g->dm, st->Ul, u), "DMStagVecGetArray");
+    return EKM_OK;
+}
 
 static ekm_status reject(ekm2d_step *st, PetscScalar ***u, int *accepted, ekm_error *err)
 {
@@ -373,6 +382,7 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
     PetscScalar ***u;
     PTRY(DMStagVecGetArray(g->dm, st->Ul, &u), "DMStagVecGetArray");
     boundaries(st, u, dt);
+    const int n_solid = ekm2d_regime_begin(st, u);
     if (!mass_update(st, u, dt))
         return reject(st, u, accepted, err);
     ekm_status rc = exchange_phi_new(st, err);
@@ -383,7 +393,21 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
     convect_temperature(st, u, dt);
     convect_momentum(st, u, dt);
     properties(st);
+    if (n_solid)
+        ekm2d_regime_properties(st, u, dt);
     int ok = ekm2d_velocity_solve(st, u, dt, err);
+    if (ok > 0 && n_solid) {
+        /* the second pass: the law's norm lagged on the first pass's
+         * rates (step.c: a cell that starts to deform within the step
+         * already deforms plastically) */
+        if ((rc = refresh_ghosts(st, &u, err)) != EKM_OK)
+            return rc;
+        ekm2d_regime_lagged_rates(st, u);
+        ekm2d_regime_properties(st, u, dt);
+        ok = ekm2d_velocity_solve(st, u, dt, err);
+    }
+    if (ok > 0 && n_solid)
+        ekm2d_regime_finish(st, u);
     if (ok > 0)
         ok = ekm2d_temperature_solve(st, u, dt, err);
     if (ok < 0) {
@@ -418,7 +442,7 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
     st->t += dt;
     st->steps++;
     st->newton_total += st->newton;
-    return EKM_OK;
+    return ekm2d_regime_switch(st, err);
 }
 
 const char *ekm2d_step_reason(const ekm2d_step *st)
@@ -454,6 +478,16 @@ static ekm_status initial_state(ekm2d_step *st, const ekm_state *init, ekm_error
                 }
                 if (j <= g->nz)
                     v[g->s_vz] = init->w[j];
+                if (g->s_sxz >= 0 && j <= g->nz) { /* the solid regime's state */
+                    v[g->s_sxz] = init->sxz[j];
+                    if (j < g->nz) {
+                        v[g->s_sxx] = init->sxx[j];
+                        v[g->s_syy] = init->syy[j];
+                        v[g->s_szz] = init->szz[j];
+                        v[g->s_solid] = init->solid[j];
+                        v[g->s_rate] = init->rate_prev[j];
+                    }
+                }
             }
         pe = DMStagVecRestoreArray(g->dm, st->Ul, &u);
     }
@@ -530,9 +564,24 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
     st->T_change = calloc(n, sizeof(double));
     st->upd = calloc(n, sizeof(double));
     st->src = calloc(n, sizeof *st->src);
-    if (!st->Fx || !st->Fz || !st->phi_new || !st->rhoT || !st->T_star || !st->prop || !st->dry || !st->K ||
-        !st->rhs_x || !st->rhs_z || !st->pu_x || !st->pu_z || !st->T_it || !st->T_lin || !st->T_change ||
-        !st->upd || !st->src) {
+    int solid_ok = 1;
+    if (sc->hypo.enabled) {
+        st->solid = calloc(n, 1);
+        st->solid_c = calloc(n, 1);
+        st->rate_old = calloc(n, sizeof *st->rate_old);
+        st->rate_c_old = calloc(n, sizeof *st->rate_c_old);
+        st->hyp = calloc(n, sizeof *st->hyp);
+        st->hyp_c = calloc(n, sizeof *st->hyp_c);
+        st->t0_c = calloc(n, sizeof(double));
+        st->T_keep = calloc(n, sizeof(double));
+        st->eta_new = calloc(n, sizeof(double));
+        st->sxz_c = calloc(n, sizeof(double));
+        solid_ok = st->solid && st->solid_c && st->rate_old && st->rate_c_old && st->hyp && st->hyp_c &&
+                   st->t0_c && st->T_keep && st->eta_new && st->sxz_c;
+    }
+    if (!solid_ok || !st->Fx || !st->Fz || !st->phi_new || !st->rhoT || !st->T_star || !st->prop ||
+        !st->dry || !st->K || !st->rhs_x || !st->rhs_z || !st->pu_x || !st->pu_z || !st->T_it || !st->T_lin ||
+        !st->T_change || !st->upd || !st->src) {
         ekm2d_step_destroy(st);
         *out = NULL;
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D step, %d x %d cells)", g->nx, g->nz);
@@ -611,6 +660,16 @@ void ekm2d_step_destroy(ekm2d_step *st)
     free(st->T_change);
     free(st->upd);
     free(st->src);
+    free(st->solid);
+    free(st->solid_c);
+    free(st->rate_old);
+    free(st->rate_c_old);
+    free(st->hyp);
+    free(st->hyp_c);
+    free(st->t0_c);
+    free(st->T_keep);
+    free(st->eta_new);
+    free(st->sxz_c);
     ekm2d_grid_destroy(&st->g);
     free(st);
 }
@@ -619,41 +678,66 @@ ekm_status ekm2d_step_column(ekm2d_step *st, int i, ekm_state *out, ekm_error *e
 {
     const ekm2d_grid *g = &st->g;
     const int n = g->nz;
+    enum { C_PHI, C_T, C_U, C_W, C_SXX, C_SYY, C_SZZ, C_SOLID, C_RATE, C_SXZ, C_N };
     if (out->n != n || i < 0 || i >= g->nx)
         return EKM_FAIL(err, EKM_EINTERNAL, "2D step: column %d of %d x %d cells into a state of %d cells", i,
                         g->nx, n, out->n);
-    double *buf = calloc(4 * ((size_t)n + 1), sizeof(double)),
-           *sum = calloc(4 * ((size_t)n + 1), sizeof(double));
+    const size_t len = C_N * ((size_t)n + 1);
+    double *buf = calloc(len, sizeof(double)), *sum = calloc(len, sizeof(double));
     if (!buf || !sum) {
         free(buf);
         free(sum);
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D column)");
     }
+#define AT(q, j) ((size_t)(q) * ((size_t)n + 1) + (size_t)(j))
     PetscScalar ***u;
     PetscErrorCode pe = DMGlobalToLocal(g->dm, st->U, INSERT_VALUES, st->Ul);
     pe = pe ? pe : DMStagVecGetArray(g->dm, st->Ul, &u);
+    const int solid = g->s_sxz >= 0;
     if (!pe) {
         if (i >= g->x0 && i < g->x0 + g->nxl)
             for (PetscInt j = g->z0; j < g->z0 + g->nzl + 1 && j <= n; j++) {
-                if (j < n) {
-                    buf[j] = u[j][i][g->s_phi];
-                    buf[(n + 1) + j] = u[j][i][g->s_T];
-                    buf[2 * (n + 1) + j] = u[j][i][g->s_vx];
+                const int face = j < g->z0 + g->nzl || j == n; /* this rank's z-face and corner */
+                if (j < n && j < g->z0 + g->nzl) {
+                    buf[AT(C_PHI, j)] = u[j][i][g->s_phi];
+                    buf[AT(C_T, j)] = u[j][i][g->s_T];
+                    buf[AT(C_U, j)] = u[j][i][g->s_vx];
+                    if (solid) {
+                        buf[AT(C_SXX, j)] = u[j][i][g->s_sxx];
+                        buf[AT(C_SYY, j)] = u[j][i][g->s_syy];
+                        buf[AT(C_SZZ, j)] = u[j][i][g->s_szz];
+                        buf[AT(C_SOLID, j)] = u[j][i][g->s_solid];
+                        buf[AT(C_RATE, j)] = u[j][i][g->s_rate];
+                    }
                 }
-                if (j < g->z0 + g->nzl || j == n)
-                    buf[3 * (n + 1) + j] = u[j][i][g->s_vz];
+                if (face) {
+                    buf[AT(C_W, j)] = u[j][i][g->s_vz];
+                    if (solid)
+                        buf[AT(C_SXZ, j)] = u[j][i][g->s_sxz];
+                }
             }
         pe = DMStagVecRestoreArray(g->dm, st->Ul, &u);
     }
     if (!pe)
-        MPI_Allreduce(buf, sum, 4 * (n + 1), MPI_DOUBLE, MPI_SUM, g->comm);
+        MPI_Allreduce(buf, sum, (int)len, MPI_DOUBLE, MPI_SUM, g->comm);
     for (int j = 0; j < n; j++) {
-        out->phi[j] = sum[j];
-        out->T[j] = sum[(n + 1) + j];
-        out->u[j] = sum[2 * (n + 1) + j];
+        out->phi[j] = sum[AT(C_PHI, j)];
+        out->T[j] = sum[AT(C_T, j)];
+        out->u[j] = sum[AT(C_U, j)];
+        if (solid) {
+            out->sxx[j] = sum[AT(C_SXX, j)];
+            out->syy[j] = sum[AT(C_SYY, j)];
+            out->szz[j] = sum[AT(C_SZZ, j)];
+            out->solid[j] = sum[AT(C_SOLID, j)] > 0.5;
+            out->rate_prev[j] = sum[AT(C_RATE, j)];
+        }
     }
-    for (int j = 0; j <= n; j++)
-        out->w[j] = sum[3 * (n + 1) + j];
+    for (int j = 0; j <= n; j++) {
+        out->w[j] = sum[AT(C_W, j)];
+        if (solid)
+            out->sxz[j] = sum[AT(C_SXZ, j)];
+    }
+#undef AT
     out->t = st->t;
     free(buf);
     free(sum);
@@ -686,5 +770,9 @@ ekm_status ekm2d_step_stats(ekm2d_step *st, ekm2d_step_info *out, ekm_error *err
     out->newton = st->newton;
     out->newton_total = st->newton_total;
     out->phi_max = phi_all;
+    long sw[2] = {st->to_solid, st->to_flow}, sw_all[2];
+    MPI_Allreduce(sw, sw_all, 2, MPI_LONG, MPI_SUM, g->comm);
+    out->to_solid = sw_all[0];
+    out->to_flow = sw_all[1];
     return EKM_OK;
 }

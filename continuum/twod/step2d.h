@@ -20,8 +20,10 @@
  *   7. accept       a finite state; the thermal relaxation limit at the end
  *                   of the step (control.h's rule)
  *
- * Flow regimes only for now (the solid regime runs on the fully implicit
- * solver, solver2d.h).  A state uniform in x takes the 1D step's values.
+ * With the solid regime ([hypo] enabled) the solid cells' stresses are
+ * the hypoplastic law's, linearly implicit in the velocity system, and
+ * the regimes switch after each accepted step (regime2d.c).  A state
+ * uniform in x takes the 1D step's values.
  */
 #ifndef EKM2D_STEP2D_H
 #define EKM2D_STEP2D_H
@@ -74,6 +76,8 @@ typedef struct {
     int newton;        /* temperature Newton iterations of the last step */
     long newton_total; /* ... of every accepted step */
     double phi_max;    /* largest phi [-] */
+    long to_solid;     /* regime switches flow -> solid so far */
+    long to_flow;      /* ... solid -> flow */
 } ekm2d_step_info;
 
 /* Statistics (collective: the mass is a reduction). */

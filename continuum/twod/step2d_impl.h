@@ -14,6 +14,7 @@
 #include <petscksp.h>
 
 #include "grid2d.h"
+#include "hypo.h"
 #include "model.h"
 #include "step2d.h"
 
@@ -51,6 +52,18 @@ struct ekm2d_step {
     double *upd;               /* |dT| of the last Newton iteration */
     ekm_source_coeffs *src;    /* the temperature source of each cell */
     double dt_change;          /* the step of T_change [s] (0: none) */
+    /* the solid regime (regime2d.c); box arrays NULL without [hypo] */
+    int n_solid;                     /* solid cells at the step's start, all ranks */
+    unsigned char *solid;            /* cells: solid at the step's start */
+    unsigned char *solid_c;          /* corners: carry the solid's sxz this step */
+    ekm_hypo_plane_rate *rate_old;   /* cells: the rates the law lags its norm on [1/s] */
+    ekm_hypo_plane_rate *rate_c_old; /* corners: the same (exx, ezz the mean of the wet cells) */
+    ekm_hypo_implicit *hyp, *hyp_c;  /* the prepared law of solid cells and corners */
+    double *t0_c;                    /* solid corners: sxz^n xz_scale [Pa] */
+    double *T_keep;                  /* solid cells: T at the step's start [m^2/s^2] */
+    double *eta_new;                 /* switching: eta at the new state [Pa s] */
+    double *sxz_c;                   /* switching: the corners' shear stresses [Pa] */
+    long to_solid, to_flow;          /* switches so far (this rank's cells) */
     /* the step */
     ekm2d_end bottom, top; /* the ends at the start of the step */
     double g_x, g_z;       /* gravity [m/s^2] */
@@ -109,5 +122,29 @@ int ekm2d_temperature_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_err
  * the box's corners). */
 double ekm2d_corner_rate(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j, double *eta,
                          int *has);
+
+/* The corner viscosity [Pa s] of corner (i, j): the harmonic mean of its
+ * cells' eta (eta_box: a box array of them; NULL: the step's properties),
+ * beside a solid cell that of its flowing cells only (fields.h's
+ * ekm_face_viscosity); cell (oi, oj) counts as flowing with viscosity
+ * o_eta (oi = -1: none); 0 next to an empty cell. */
+double ekm2d_corner_eta(const ekm2d_step *st, PetscInt i, PetscInt j, const double *eta_box, PetscInt oi,
+                        PetscInt oj, double o_eta);
+
+/* The solid regime (regime2d.c).  begin: the flags and lagged rates of the
+ * step's start state (returns n_solid, collective); lagged_rates: the
+ * rates of the velocities in u (the second momentum pass); properties:
+ * the prepared law of the solid cells and corners at phi*; finish: their
+ * new stresses into u (owned); vacuum: step.c's vacuum rule on the
+ * z-faces after a velocity solve; switch: the regime switches of the
+ * accepted state in st->U (collective); relaxation: the law's relaxation
+ * rate [1/s] of solid cell (i, j) of the state u (the step limit). */
+int ekm2d_regime_begin(ekm2d_step *st, PetscScalar ***u);
+void ekm2d_regime_lagged_rates(ekm2d_step *st, PetscScalar ***u);
+void ekm2d_regime_properties(ekm2d_step *st, PetscScalar ***u, double dt);
+void ekm2d_regime_finish(ekm2d_step *st, PetscScalar ***u);
+void ekm2d_regime_vacuum(ekm2d_step *st, PetscScalar ***u);
+ekm_status ekm2d_regime_switch(ekm2d_step *st, ekm_error *err);
+double ekm2d_regime_relaxation(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j);
 
 #endif

@@ -39,7 +39,14 @@ static inline int owned(const ekm2d_grid *g, PetscInt i, PetscInt j)
     return i >= g->x0 && i < g->x0 + g->nxl && j >= g->z0 && j < g->z0 + g->nzl;
 }
 
-/* lambda of cell (i, j) if it exists and is wet, else 0. */
+/* Cell k takes no part in the solve: empty, or solid (its T is kept:
+ * regime2d.c). */
+static inline int frozen(const ekm2d_step *st, size_t k)
+{
+    return st->dry[k] || (st->n_solid && st->solid[k]);
+}
+
+/* lambda of cell (i, j) if it exists and is wet, else 0 (solid cells: 0). */
 static inline double lam(const ekm2d_step *st, PetscInt i, PetscInt j)
 {
     return ekm2d_cell_exists(&st->g, i, j) && !BOX(st, dry, i, j) ? BOX(st, prop, i, j).lambda : 0.0;
@@ -145,7 +152,7 @@ static void decide(ekm2d_step *st, double dt, int it, int *restarted)
         for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
             const size_t k = ekm2d_box_index(g, i, j);
             st->T_lin[k] = st->T_it[k];
-            if (st->dry[k])
+            if (frozen(st, k))
                 continue;
             const ekm_source_coeffs *src = &st->src[k];
             const double rho = rho_p * st->phi_new[k], rhoT_star = st->rhoT[k];
@@ -187,7 +194,7 @@ static PetscErrorCode assemble(ekm2d_step *st, double dt)
             DMStagStencil cols[5];
             double vals[5];
             cols[0] = (DMStagStencil){.loc = DMSTAG_ELEMENT, .i = i, .j = j, .c = 0};
-            if (BOX(st, dry, i, j)) {
+            if (frozen(st, ekm2d_box_index(g, i, j))) {
                 vals[0] = 1.0;
                 PetscCall(DMStagMatSetValuesStencil(g->dmt, st->J, 1, cols, 1, cols, vals, ADD_VALUES));
                 r[j][i][g->t_T] = 0.0;
@@ -266,8 +273,8 @@ int ekm2d_temperature_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_err
         for (PetscInt j = g->z0; j < g->z0 + g->nzl; j++)
             for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
                 const size_t k = ekm2d_box_index(g, i, j);
-                if (st->dry[k]) {
-                    st->T_it[k] = 0.0;
+                if (frozen(st, k)) {
+                    st->T_it[k] = st->dry[k] ? 0.0 : st->T_keep[k];
                     continue;
                 }
                 const double Tj = st->T_it[k];
@@ -295,7 +302,7 @@ int ekm2d_temperature_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_err
                 for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
                     const size_t k = ekm2d_box_index(g, i, j);
                     u[j][i][g->s_T] = st->T_it[k];
-                    st->T_change[k] = st->dry[k] ? 0.0 : st->T_it[k] - st->T_star[k];
+                    st->T_change[k] = frozen(st, k) ? 0.0 : st->T_it[k] - st->T_star[k];
                 }
             st->dt_change = dt;
             return 1;

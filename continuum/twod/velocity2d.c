@@ -123,7 +123,7 @@ static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, d
             return 0;
         const double k = g->side_conductance[i == 0 ? 0 : 1];
         vf_add(st, f, DMSTAG_DOWN, ic, j, i == 0 ? k : -k);
-        *eta = harmonic(eta_of(st, ic, j - 1), eta_of(st, ic, j));
+        *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
         return 1;
     }
     if (j == 0 || j == g->nz) {
@@ -134,7 +134,7 @@ static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, d
         const double k = e->conductance;
         vf_add(st, f, DMSTAG_LEFT, i, jc, j == 0 ? k : -k);
         f->c += (j == 0 ? -k : k) * e->u_wall;
-        *eta = harmonic(eta_of(st, i - 1, jc), eta_of(st, i, jc));
+        *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
         return 1;
     }
     if (!wet(st, i - 1, j - 1) || !wet(st, i, j - 1) || !wet(st, i - 1, j) || !wet(st, i, j))
@@ -143,9 +143,43 @@ static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, d
     vf_add(st, f, DMSTAG_LEFT, i, j - 1, -1.0 / g->dz);
     vf_add(st, f, DMSTAG_DOWN, i, j, 1.0 / g->dx);
     vf_add(st, f, DMSTAG_DOWN, i - 1, j, -1.0 / g->dx);
-    *eta = 4.0 / (1.0 / eta_of(st, i - 1, j - 1) + 1.0 / eta_of(st, i, j - 1) + 1.0 / eta_of(st, i - 1, j) +
-                  1.0 / eta_of(st, i, j));
+    *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
     return 1;
+}
+
+double ekm2d_corner_eta(const ekm2d_step *st, PetscInt i, PetscInt j, const double *eta_box, PetscInt oi,
+                        PetscInt oj, double o_eta)
+{
+    const ekm2d_grid *g = &st->g;
+    double eta[4];
+    int solid[4], n = 0, n_flow = 0;
+    for (PetscInt b = j - 1; b <= j; b++)
+        for (PetscInt a = i - 1; a <= i; a++) {
+            if (!ekm2d_cell_exists(g, a, b))
+                continue;
+            const int over = a == oi && b == oj;
+            eta[n] = over ? o_eta : eta_box ? eta_box[ekm2d_box_index(g, a, b)] : eta_of(st, a, b);
+            solid[n] = !over && st->n_solid && BOX(st, solid, a, b);
+            if (!(eta[n] > 0.0))
+                return 0.0;
+            n_flow += !solid[n];
+            n++;
+        }
+    if (n_flow > 0 && n_flow < n) { /* beside a solid cell: the flowing cells' (fields.h) */
+        int m = 0;
+        for (int q = 0; q < n; q++)
+            if (!solid[q])
+                eta[m++] = eta[q];
+        n = m;
+    }
+    if (n == 1)
+        return eta[0];
+    if (n == 2)
+        return harmonic(eta[0], eta[1]);
+    double sum = 0.0;
+    for (int q = 0; q < n; q++)
+        sum += 1.0 / eta[q];
+    return n / sum;
 }
 
 double ekm2d_corner_rate(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j, double *eta,
@@ -169,10 +203,18 @@ static void normal_stress_form(const ekm2d_step *st, PetscInt i, PetscInt j, int
     f->c = 0.0;
     if (!wet(st, i, j))
         return;
-    const ekm_cell_properties *p = &BOX(st, prop, i, j);
-    const double two_eta = st->sc->variant == EKM_VARIANT_THESIS ? 0.0 : 2.0 * p->eta;
-    const double a_x = (along_x ? p->mu_n : p->mu_n - two_eta) / st->g.dx;
-    const double a_z = (along_x ? p->mu_n - two_eta : p->mu_n) / st->g.dz;
+    double a_x, a_z;
+    if (st->n_solid && BOX(st, solid, i, j)) { /* the solid's stress (regime2d.c) */
+        const ekm_hypo_implicit *c = &BOX(st, hyp, i, j);
+        a_x = (along_x ? c->Vzz : c->Vxx) / st->g.dx;
+        a_z = (along_x ? c->Vxx : c->Vzz) / st->g.dz;
+        f->c = along_x ? c->Exx : c->Ezz;
+    } else {
+        const ekm_cell_properties *p = &BOX(st, prop, i, j);
+        const double two_eta = st->sc->variant == EKM_VARIANT_THESIS ? 0.0 : 2.0 * p->eta;
+        a_x = (along_x ? p->mu_n : p->mu_n - two_eta) / st->g.dx;
+        a_z = (along_x ? p->mu_n - two_eta : p->mu_n) / st->g.dz;
+    }
     vf_add(st, f, DMSTAG_LEFT, i + 1, j, a_x);
     vf_add(st, f, DMSTAG_LEFT, i, j, -a_x);
     vf_add(st, f, DMSTAG_DOWN, i, j + 1, a_z);
@@ -237,6 +279,22 @@ static PetscErrorCode set_row(ekm2d_step *st, DMStagStencilLocation loc, PetscIn
     return 0;
 }
 
+/* f += a * (the shear stress of corner (i, j)): eta_c times its rate, or
+ * at a solid corner the solid's sxz^n xz_scale + Vxz rate (regime2d.c). */
+static void corner_stress(const ekm2d_step *st, vform *f, PetscInt i, PetscInt j, double a)
+{
+    vform h;
+    double eta;
+    if (!corner_form(st, i, j, &h, &eta))
+        return;
+    if (st->n_solid && BOX(st, solid_c, i, j)) {
+        vf_axpy(st, f, a * BOX(st, hyp_c, i, j).Vxz, &h);
+        f->c += a * BOX(st, t0_c, i, j);
+    } else {
+        vf_axpy(st, f, a * eta, &h);
+    }
+}
+
 /* The momentum row of face (loc, i, j) with the two cells a (below or
  * left) and b beside it and the two corners c0, c1 at its ends. */
 static PetscErrorCode momentum_row(ekm2d_step *st, DMStagStencilLocation loc, PetscInt i, PetscInt j,
@@ -261,12 +319,9 @@ static PetscErrorCode momentum_row(ekm2d_step *st, DMStagStencilLocation loc, Pe
     normal_stress_form(st, ia, ja, along_x, &h);
     vf_axpy(st, &f, dt / h_n, &h);
     /* -dt d(sxz)/dt between the corners */
-    double eta;
     const PetscInt ci = along_x ? i : i + 1, cj = along_x ? j + 1 : j;
-    if (corner_form(st, ci, cj, &h, &eta))
-        vf_axpy(st, &f, -dt / h_t * eta, &h);
-    if (corner_form(st, i, j, &h, &eta))
-        vf_axpy(st, &f, dt / h_t * eta, &h);
+    corner_stress(st, &f, ci, cj, -dt / h_t);
+    corner_stress(st, &f, i, j, dt / h_t);
     /* -dt^2 d(K div F)/dn: the coupling; a free end's diagonal share kept >= 0 */
     vform cpl = {0};
     divergence_form(st, i, j, &h);
@@ -398,5 +453,6 @@ int ekm2d_velocity_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_error 
         EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error copying the velocities");
         return -1;
     }
+    ekm2d_regime_vacuum(st, u);
     return 1;
 }
