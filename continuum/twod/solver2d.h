@@ -1,37 +1,24 @@
-/* solver2d.h: the EKM in 2D (x horizontal, z vertical, plane strain) on a
- * PETSc DMStag staggered grid, integrated in time by PETSc TS with a fully
- * implicit method, nonlinear systems by SNES (docs/model.md, "2D solver").
+/* solver2d.h: the EKM in 2D (x horizontal, z vertical, plane strain):
+ * the run API that ekm run (run2d.c) and the tests drive, over the
+ * semi-implicit step (step2d.h; docs/model.md "The semi-implicit 2D
+ * step").
  *
- * Grid: nx x nz cells of dx = width/nx by dz = length/nz; the scalars phi
- * and T at cell centres (DMSTAG_ELEMENT), vx on the x-faces (DMSTAG_LEFT),
- * vz on the z-faces (DMSTAG_DOWN), the shear stress at the corners: the 1D
- * solver's grid (state.h) in each column, so that a run that is uniform in
- * x has the 1D solver's discrete steady equations (steady_solve.h).
- *
- * The discrete equations (method of lines, F(t, U, dU/dt) = 0):
- *   cells, mass:    dphi/dt + div F = 0, F = v phi_upwind on every face
- *                   (flux form: mass changes only through the boundaries)
- *   cells, T:       rho (dT/dt + upwind v.grad T) = 2/3 (div(lambda grad T)
- *                   + eta s2 + zeta div^2) - rho eps T  (model.h's
- *                   ekm_temperature_source_coeffs_plane); lambda at faces the
- *                   harmonic mean of the two cells, zero flux at the sides
- *   faces, momentum: rho_f (dv/dt + upwind v.grad v) = div sigma + rho_f g,
- *                   sigma from ekm_stress_plane at cells and eta (dvx/dz +
- *                   dvz/dx) at corners with the harmonic mean of the corner's
- *                   cells' eta (1D: of the face's two cells), rho_f the mean
- *                   of the face's two cells
- * Empty cells (phi < phi_dry at the start of the step) have no stress and
- * T = T_floor; a face between two empty cells (mean phi < phi_dry) has
- * v = 0 (the 1D solver's rules).  The bound 0 <= phi < phi_cp: the
- * residual is not finite at a state outside it (and at T <= 0 in a
- * non-empty cell), so Newton's line search backs off and a step that cannot
- * converge is retried shorter by TS; accepted states are inside the bound.
+ * Grid (grid2d.h): nx x nz cells of dx = width/nx by dz = length/nz on a
+ * PETSc DMStag; phi and T at cell centres, vx on the x-faces, vz on the
+ * z-faces, shear stresses at the corners: the 1D solver's grid (state.h)
+ * in each column, so that a state uniform in x takes the 1D step's values.
+ * Per step (step2d.h): explicit conservative mass and convection, one
+ * linear system for vx and vz (velocity2d.c; the solid cells' hypoplastic
+ * stresses linearly implicit in it), Newton on the temperature's 5-point
+ * system, the regime switches (regime2d.c); the step size from control2d.c.
  *
  * Boundaries: bottom and top from [bottom] / [top]: wall (no slip or
  * Navier slip, adiabatic), free (zero stress, nothing enters, vz follows
- * the interior), inflow (w, phi, u, T over the whole top or bottom until
- * t_stop, then a resting wall); x periodic ([domain] periodic_x = 1) or
- * frictionless walls at x = 0 and x = width.
+ * the interior), inflow (w, phi, u, T over an inlet segment or the whole
+ * end, from t_start until t_stop, then a resting wall); x periodic
+ * ([domain] periodic_x = 1) or side walls at x = 0 and x = width.
+ * PETSc options with the prefixes ekm_v_ (velocity system) and ekm_t_
+ * (temperature system) override the linear solvers.
  */
 #ifndef EKM2D_SOLVER2D_H
 #define EKM2D_SOLVER2D_H
@@ -50,14 +37,13 @@ typedef struct ekm2d_solver ekm2d_solver;
 ekm_status ekm2d_supported(const ekm_scenario *sc, ekm_error *err);
 
 /* Create the solver on comm with the initial state of sc, or (init not
- * NULL) with the 1D state init (sc's cells and length) in every column;
- * PETSc options (-ts_*, -snes_*, -ksp_*, -pc_*) override its defaults. */
+ * NULL) with the 1D state init (sc's cells and length) in every column. */
 ekm_status ekm2d_solver_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_state *init,
                                ekm2d_solver **out, ekm_error *err);
 void ekm2d_solver_destroy(ekm2d_solver *s);
 
 /* Advance to time t_to [s] (collective).  EKM_ENUMERIC with a diagnostic
- * when TS cannot (the step fell below dt_min, SNES never converged). */
+ * when the step falls below dt_min (the last rejection's reason). */
 ekm_status ekm2d_solver_advance(ekm2d_solver *s, double t_to, ekm_error *err);
 
 /* The output fields (out2d.h order) on the cells, gathered to rank 0 into
@@ -67,8 +53,8 @@ ekm_status ekm2d_solver_fields(ekm2d_solver *s, double *const fields[EKM2D_NFIEL
 typedef struct {
     double t;            /* model time [s] */
     long steps;          /* accepted time steps */
-    long rejected;       /* rejected steps (TS's retries) */
-    long newton;         /* SNES iterations */
+    long rejected;       /* rejected steps (retried shorter) */
+    long newton;         /* temperature Newton iterations */
     double mass;         /* sum rho_p phi dx dz per unit depth [kg/m] */
     double mass_in;      /* net mass entered through the boundaries per unit depth [kg/m] */
     double phi_max;      /* largest phi [-] */

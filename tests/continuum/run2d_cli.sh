@@ -78,7 +78,7 @@ error() {
 }
 error "stop = steady in 2D: exit 7" 7 '\[run\] stop = steady: the 2D solver stops at t_end only' \
     run "$src/scenarios/simple_shear.ini" --set domain.width=0.01 --set domain.cells_x=2
-error "pressure wall in 2D: exit 7" 7 '\[top\] pressure: .*not in the 2D solver yet' \
+error "pressure wall in 2D: exit 7" 7 '\[top\] pressure: .*not in the 2D step yet' \
     run "$src/scenarios/shear_cell.ini" --set run.stop=t_end --set domain.width=0.01 --set domain.cells_x=2
 error "cells_x = 0: exit 2" 2 'cells_x' run "$shear" "${two_d[@]}" --set domain.cells_x=0
 # a PETSc option after --: PETSc reads it (-ekm_v_ksp_converged_reason prints each velocity solve's reason)
