@@ -1,5 +1,7 @@
-/* fields2d.c: the output fields of the semi-implicit 2D stepper
- * (step2d.h: ekm2d_step_fields) at the cell centres, out2d.h's layout:
+/* fields2d.c: what the semi-implicit 2D stepper's state reads out
+ * (step2d.h): one column as a 1D state (ekm2d_step_column), the run's
+ * statistics (ekm2d_step_stats), and the output fields
+ * (ekm2d_step_fields) at the cell centres, out2d.h's layout:
  *
  *   phi [-]; vx, vz [m/s] the means of the cell's two faces; T [m^2/s^2];
  *   P = P_K + P_Y - zeta div v [Pa] and sxx, szz [Pa] (model.h's
@@ -16,8 +18,16 @@
 #include <math.h>
 #include <petscdmda.h>
 
+#include <stdlib.h>
+
 #include "fields.h"
 #include "out2d.h"
+
+#define PTRY(call, what)                                                               \
+    do {                                                                               \
+        if ((call) != 0)                                                               \
+            return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error in %s", (what)); \
+    } while (0)
 
 /* The properties of every cell of the box at the state u (the output's
  * classification: empty below phi_dry), into the step's work arrays. */
@@ -141,5 +151,108 @@ ekm_status ekm2d_step_fields(ekm2d_step *st, double *const fields[], ekm_error *
 {
     if (gather(st, fields))
         return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error gathering the output fields");
+    return EKM_OK;
+}
+
+ekm_status ekm2d_step_column(ekm2d_step *st, int i, ekm_state *out, ekm_error *err)
+{
+    const ekm2d_grid *g = &st->g;
+    const int n = g->nz;
+    enum { C_PHI, C_T, C_U, C_W, C_SXX, C_SYY, C_SZZ, C_SOLID, C_RATE, C_SXZ, C_N };
+    if (out->n != n || i < 0 || i >= g->nx)
+        return EKM_FAIL(err, EKM_EINTERNAL, "2D step: column %d of %d x %d cells into a state of %d cells", i,
+                        g->nx, n, out->n);
+    const size_t len = C_N * ((size_t)n + 1);
+    double *buf = calloc(len, sizeof(double)), *sum = calloc(len, sizeof(double));
+    if (!buf || !sum) {
+        free(buf);
+        free(sum);
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D column)");
+    }
+#define AT(q, j) ((size_t)(q) * ((size_t)n + 1) + (size_t)(j))
+    PetscScalar ***u;
+    PetscErrorCode pe = DMGlobalToLocal(g->dm, st->U, INSERT_VALUES, st->Ul);
+    pe = pe ? pe : DMStagVecGetArray(g->dm, st->Ul, &u);
+    const int solid = g->s_sxz >= 0;
+    if (!pe) {
+        if (i >= g->x0 && i < g->x0 + g->nxl)
+            for (PetscInt j = g->z0; j < g->z0 + g->nzl + 1 && j <= n; j++) {
+                const int face = j < g->z0 + g->nzl || j == n; /* this rank's z-face and corner */
+                if (j < n && j < g->z0 + g->nzl) {
+                    buf[AT(C_PHI, j)] = u[j][i][g->s_phi];
+                    buf[AT(C_T, j)] = u[j][i][g->s_T];
+                    buf[AT(C_U, j)] = u[j][i][g->s_vx];
+                    if (solid) {
+                        buf[AT(C_SXX, j)] = u[j][i][g->s_sxx];
+                        buf[AT(C_SYY, j)] = u[j][i][g->s_syy];
+                        buf[AT(C_SZZ, j)] = u[j][i][g->s_szz];
+                        buf[AT(C_SOLID, j)] = u[j][i][g->s_solid];
+                        buf[AT(C_RATE, j)] = u[j][i][g->s_rate];
+                    }
+                }
+                if (face) {
+                    buf[AT(C_W, j)] = u[j][i][g->s_vz];
+                    if (solid)
+                        buf[AT(C_SXZ, j)] = u[j][i][g->s_sxz];
+                }
+            }
+        pe = DMStagVecRestoreArray(g->dm, st->Ul, &u);
+    }
+    if (!pe)
+        MPI_Allreduce(buf, sum, (int)len, MPI_DOUBLE, MPI_SUM, g->comm);
+    for (int j = 0; j < n; j++) {
+        out->phi[j] = sum[AT(C_PHI, j)];
+        out->T[j] = sum[AT(C_T, j)];
+        out->u[j] = sum[AT(C_U, j)];
+        if (solid) {
+            out->sxx[j] = sum[AT(C_SXX, j)];
+            out->syy[j] = sum[AT(C_SYY, j)];
+            out->szz[j] = sum[AT(C_SZZ, j)];
+            out->solid[j] = sum[AT(C_SOLID, j)] > 0.5;
+            out->rate_prev[j] = sum[AT(C_RATE, j)];
+        }
+    }
+    for (int j = 0; j <= n; j++) {
+        out->w[j] = sum[AT(C_W, j)];
+        if (solid)
+            out->sxz[j] = sum[AT(C_SXZ, j)];
+    }
+#undef AT
+    out->t = st->t;
+    free(buf);
+    free(sum);
+    if (pe)
+        return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error reading a column");
+    return EKM_OK;
+}
+
+ekm_status ekm2d_step_stats(ekm2d_step *st, ekm2d_step_info *out, ekm_error *err)
+{
+    const ekm2d_grid *g = &st->g;
+    const PetscScalar ***u;
+    PTRY(DMGlobalToLocal(g->dm, st->U, INSERT_VALUES, st->Ul), "DMGlobalToLocal");
+    PTRY(DMStagVecGetArrayRead(g->dm, st->Ul, (void *)&u), "DMStagVecGetArrayRead");
+    double mass = 0.0, phi_max = 0.0;
+    for (PetscInt j = g->z0; j < g->z0 + g->nzl; j++)
+        for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
+            mass += u[j][i][g->s_phi];
+            phi_max = fmax(phi_max, u[j][i][g->s_phi]);
+        }
+    PTRY(DMStagVecRestoreArrayRead(g->dm, st->Ul, (void *)&u), "DMStagVecRestoreArrayRead");
+    double all = mass, phi_all = phi_max;
+    MPI_Allreduce(&mass, &all, 1, MPI_DOUBLE, MPI_SUM, g->comm);
+    MPI_Allreduce(&phi_max, &phi_all, 1, MPI_DOUBLE, MPI_MAX, g->comm);
+    out->t = st->t;
+    out->steps = st->steps;
+    out->rejected = st->rejected;
+    out->mass = all * st->sc->material.rho_p * g->dx * g->dz;
+    out->mass_in = st->mass_in;
+    out->newton = st->newton;
+    out->newton_total = st->newton_total;
+    out->phi_max = phi_all;
+    long sw[2] = {st->to_solid, st->to_flow}, sw_all[2];
+    MPI_Allreduce(sw, sw_all, 2, MPI_LONG, MPI_SUM, g->comm);
+    out->to_solid = sw_all[0];
+    out->to_flow = sw_all[1];
     return EKM_OK;
 }

@@ -19,6 +19,7 @@
  *   6. temperature  Newton on the 5-point system (temperature2d.h)
  *   7. accept       a finite state; the thermal relaxation limit at the end
  *                   of the step (control.h's rule)
+ *   8. regimes      with [hypo]: the switches flow <-> solid (regime2d.c)
  *
  * With the solid regime ([hypo] enabled) the solid cells' stresses are
  * the hypoplastic law's, linearly implicit in the velocity system, and

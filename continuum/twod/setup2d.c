@@ -1,0 +1,235 @@
+/* setup2d.c: the semi-implicit 2D stepper's life cycle (step2d.h):
+ * its grid, work arrays (step2d_impl.h), PETSc vectors, matrices and
+ * linear solvers, and its initial state (the scenario's, or a 1D state
+ * in every column, solid regime included). */
+#include "step2d_impl.h"
+
+#include <stdlib.h>
+
+#define PTRY(call, what)                                                               \
+    do {                                                                               \
+        if ((call) != 0)                                                               \
+            return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error in %s", (what)); \
+    } while (0)
+
+/* The initial state: the scenario's (state.h) or init, in every column;
+ * a free or inflow end's face takes its column's 1D value too. */
+static ekm_status initial_state(ekm2d_step *st, const ekm_state *init, ekm_error *err)
+{
+    const ekm2d_grid *g = &st->g;
+    ekm_state *s1 = NULL;
+    if (!init) {
+        s1 = ekm_state_alloc(g->nz, st->sc->length);
+        if (!s1)
+            return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D initial state)");
+        ekm_state_init(s1, st->sc);
+        init = s1;
+    }
+    PetscScalar ***u;
+    PetscErrorCode pe = DMStagVecGetArray(g->dm, st->Ul, &u);
+    if (!pe) {
+        for (PetscInt j = g->gz0; j < g->gz0 + g->gnz; j++)
+            for (PetscInt i = g->gx0; i < g->gx0 + g->gnx; i++) {
+                PetscScalar *v = u[j][i];
+                if (j < g->nz) {
+                    v[g->s_phi] = init->phi[j];
+                    v[g->s_T] = init->T[j];
+                    v[g->s_vx] = ekm2d_side_face(g, i) ? 0.0 : init->u[j];
+                }
+                if (j <= g->nz)
+                    v[g->s_vz] = init->w[j];
+                if (g->s_sxz >= 0 && j <= g->nz) { /* the solid regime's state */
+                    v[g->s_sxz] = init->sxz[j];
+                    if (j < g->nz) {
+                        v[g->s_sxx] = init->sxx[j];
+                        v[g->s_syy] = init->syy[j];
+                        v[g->s_szz] = init->szz[j];
+                        v[g->s_solid] = init->solid[j];
+                        v[g->s_rate] = init->rate_prev[j];
+                    }
+                }
+            }
+        pe = DMStagVecRestoreArray(g->dm, st->Ul, &u);
+    }
+    if (!pe)
+        pe = DMLocalToGlobal(g->dm, st->Ul, INSERT_VALUES, st->U);
+    ekm_state_free(s1);
+    if (pe)
+        return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error setting the initial state");
+    return EKM_OK;
+}
+
+/* A system's linear solver (options prefix ekm_v_ or ekm_t_): on one rank
+ * LU (the velocity system: LU as GMRES's preconditioner, kept across steps
+ * while it converges in few iterations: velocity2d.c); on several GMRES
+ * with block Jacobi (ILU) to 1e-12 (to be chosen by measurement: docs). */
+static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, int reuse, MPI_Comm comm, ekm_error *err)
+{
+    PC pc;
+    int size = 1;
+    MPI_Comm_size(comm, &size);
+    PTRY(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+    PTRY(KSPSetOptionsPrefix(ksp, prefix), "KSPSetOptionsPrefix");
+    PTRY(KSPGetPC(ksp, &pc), "KSPGetPC");
+    if (size == 1 && reuse) {
+        PTRY(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+        PTRY(PCSetType(pc, PCLU), "PCSetType");
+        PTRY(KSPSetTolerances(ksp, 1e-13, 1e-300, PETSC_DEFAULT, 30), "KSPSetTolerances");
+    } else if (size == 1) {
+        PTRY(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+        PTRY(PCSetType(pc, PCLU), "PCSetType");
+    } else {
+        PTRY(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+        PTRY(PCSetType(pc, PCBJACOBI), "PCSetType");
+        PTRY(KSPSetTolerances(ksp, 1e-12, 1e-50, PETSC_DEFAULT, 1000), "KSPSetTolerances");
+    }
+    PTRY(KSPSetErrorIfNotConverged(ksp, PETSC_FALSE), "KSPSetErrorIfNotConverged");
+    PTRY(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+    return EKM_OK;
+}
+
+ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_state *init, ekm2d_step **out,
+                             ekm_error *err)
+{
+    *out = NULL;
+    ekm_status rc = ekm2d_step_supported(sc, err);
+    if (rc != EKM_OK)
+        return rc;
+    ekm2d_step *st = calloc(1, sizeof *st);
+    if (!st)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D step)");
+    st->sc = sc;
+    rc = ekm2d_grid_create(sc, comm, &st->g, err);
+    if (rc != EKM_OK) {
+        free(st);
+        return rc;
+    }
+    *out = st;
+    const ekm2d_grid *g = &st->g;
+    const size_t n = ekm2d_grid_box_size(g);
+    st->Fx = calloc(n, sizeof(double));
+    st->Fz = calloc(n, sizeof(double));
+    st->phi_new = calloc(n, sizeof(double));
+    st->rhoT = calloc(n, sizeof(double));
+    st->T_star = calloc(n, sizeof(double));
+    st->prop = calloc(n, sizeof *st->prop);
+    st->dry = calloc(n, 1);
+    st->K = calloc(n, sizeof(double));
+    st->rhs_x = calloc(n, sizeof(double));
+    st->rhs_z = calloc(n, sizeof(double));
+    st->pu_x = calloc(n, sizeof(double));
+    st->pu_z = calloc(n, sizeof(double));
+    st->T_it = calloc(n, sizeof(double));
+    st->T_lin = calloc(n, sizeof(double));
+    st->T_change = calloc(n, sizeof(double));
+    st->upd = calloc(n, sizeof(double));
+    st->src = calloc(n, sizeof *st->src);
+    int solid_ok = 1;
+    if (sc->hypo.enabled) {
+        st->solid = calloc(n, 1);
+        st->solid_c = calloc(n, 1);
+        st->rate_old = calloc(n, sizeof *st->rate_old);
+        st->rate_c_old = calloc(n, sizeof *st->rate_c_old);
+        st->hyp = calloc(n, sizeof *st->hyp);
+        st->hyp_c = calloc(n, sizeof *st->hyp_c);
+        st->t0_c = calloc(n, sizeof(double));
+        st->T_keep = calloc(n, sizeof(double));
+        st->eta_new = calloc(n, sizeof(double));
+        st->sxz_c = calloc(n, sizeof(double));
+        solid_ok = st->solid && st->solid_c && st->rate_old && st->rate_c_old && st->hyp && st->hyp_c &&
+                   st->t0_c && st->T_keep && st->eta_new && st->sxz_c;
+    }
+    if (!solid_ok || !st->Fx || !st->Fz || !st->phi_new || !st->rhoT || !st->T_star || !st->prop ||
+        !st->dry || !st->K || !st->rhs_x || !st->rhs_z || !st->pu_x || !st->pu_z || !st->T_it || !st->T_lin ||
+        !st->T_change || !st->upd || !st->src) {
+        ekm2d_step_destroy(st);
+        *out = NULL;
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D step, %d x %d cells)", g->nx, g->nz);
+    }
+    PetscErrorCode pe = DMCreateGlobalVector(g->dm, &st->U);
+    pe = pe ? pe : VecDuplicate(st->U, &st->U_back);
+    pe = pe ? pe : DMCreateLocalVector(g->dm, &st->Ul);
+    pe = pe ? pe : VecDuplicate(st->U, &st->W);
+    pe = pe ? pe : VecDuplicate(st->Ul, &st->Wl);
+    pe = pe ? pe : DMCreateMatrix(g->dmv, &st->A);
+    pe = pe ? pe : DMCreateGlobalVector(g->dmv, &st->V);
+    pe = pe ? pe : VecDuplicate(st->V, &st->Vb);
+    pe = pe ? pe : DMCreateLocalVector(g->dmv, &st->Vl);
+    pe = pe ? pe : KSPCreate(comm, &st->ksp_v);
+    pe = pe ? pe : DMCreateMatrix(g->dmt, &st->J);
+    pe = pe ? pe : DMCreateGlobalVector(g->dmt, &st->dT);
+    pe = pe ? pe : VecDuplicate(st->dT, &st->R);
+    pe = pe ? pe : VecDuplicate(st->dT, &st->Tn);
+    pe = pe ? pe : DMCreateLocalVector(g->dmt, &st->Tl);
+    pe = pe ? pe : VecDuplicate(st->Tl, &st->Rl);
+    pe = pe ? pe : KSPCreate(comm, &st->ksp_t);
+    pe = pe ? pe : MatSetOption(st->A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
+    pe = pe ? pe : MatSetOption(st->J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
+    if (pe) {
+        ekm2d_step_destroy(st);
+        *out = NULL;
+        return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error creating the vectors and matrices");
+    }
+    rc = set_up_ksp(st->ksp_v, st->A, "ekm_v_", 1, comm, err);
+    if (rc == EKM_OK)
+        rc = set_up_ksp(st->ksp_t, st->J, "ekm_t_", 0, comm, err);
+    if (rc == EKM_OK)
+        rc = initial_state(st, init, err);
+    if (rc != EKM_OK) {
+        ekm2d_step_destroy(st);
+        *out = NULL;
+    }
+    return rc;
+}
+
+void ekm2d_step_destroy(ekm2d_step *st)
+{
+    if (!st)
+        return;
+    KSPDestroy(&st->ksp_v);
+    KSPDestroy(&st->ksp_t);
+    MatDestroy(&st->A);
+    MatDestroy(&st->J);
+    VecDestroy(&st->U);
+    VecDestroy(&st->U_back);
+    VecDestroy(&st->Ul);
+    VecDestroy(&st->W);
+    VecDestroy(&st->Wl);
+    VecDestroy(&st->V);
+    VecDestroy(&st->Vb);
+    VecDestroy(&st->Vl);
+    VecDestroy(&st->dT);
+    VecDestroy(&st->R);
+    VecDestroy(&st->Tn);
+    VecDestroy(&st->Tl);
+    VecDestroy(&st->Rl);
+    free(st->Fx);
+    free(st->Fz);
+    free(st->phi_new);
+    free(st->rhoT);
+    free(st->T_star);
+    free(st->prop);
+    free(st->dry);
+    free(st->K);
+    free(st->rhs_x);
+    free(st->rhs_z);
+    free(st->pu_x);
+    free(st->pu_z);
+    free(st->T_it);
+    free(st->T_lin);
+    free(st->T_change);
+    free(st->upd);
+    free(st->src);
+    free(st->solid);
+    free(st->solid_c);
+    free(st->rate_old);
+    free(st->rate_c_old);
+    free(st->hyp);
+    free(st->hyp_c);
+    free(st->t0_c);
+    free(st->T_keep);
+    free(st->eta_new);
+    free(st->sxz_c);
+    ekm2d_grid_destroy(&st->g);
+    free(st);
+}
