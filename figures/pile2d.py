@@ -403,7 +403,11 @@ def analyse(run, i):
     # dip: P(max) - P(centre) against the cell-to-cell noise under the pile
     d3 = [Pb[k + 2] - 3 * Pb[k + 1] + 3 * Pb[k] - Pb[k - 1] for k in range(1, nx - 2)
           if base[k - 1:k + 3].all()]
-    if len(d3) < 3:
+    if out["bed"] != "pile":
+        out["dip"] = q(None, "1 (true/false)", "no pile (bed: %s): a dip is a pile's; under a flat "
+                       "layer one or two cells thick the bottom row's P is its cells' equation of "
+                       "state, not the weight above" % out["bed"])
+    elif len(d3) < 3:
         out["dip"] = q(None, "1 (true/false)", "the pile's base spans %d cell(s): fewer than 6, no "
                        "estimate of the cell-to-cell noise" % int(base.sum()))
     else:
@@ -453,7 +457,7 @@ DEFINITIONS = {
     "dip": "max - centre > threshold = 3 sigma (at least 1e-9 max), sigma = 1.4826 "
            "median|P[k+2] - 3P[k+1] + 3P[k] - P[k-1]| / sqrt(20) over the bottom-row bed cells "
            "(the cell-to-cell noise: third differences, blind to a profile quadratic over four "
-           "cells); null if the pile's base is under 6 cells",
+           "cells); null if the bed is not a pile or the pile's base is under 6 cells",
 }
 
 
