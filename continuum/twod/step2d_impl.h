@@ -36,6 +36,8 @@ struct ekm2d_step {
     Vec Tn, Tl;        /* the iterate (global) and its local copy */
     Vec Rl;            /* a local vector of dmt (the residual, then the update) */
     KSP ksp_t;
+    int t_keep_factor; /* 1: the next temperature solve keeps the LU factorisation */
+    long t_refactors;  /* solves that failed with a kept factorisation */
     /* box arrays */
     double *Fx, *Fz;           /* face volume fluxes of the step [m/s] (x-faces, z-faces) */
     double *phi_new;           /* phi* after the mass update [-] */
@@ -122,6 +124,18 @@ int ekm2d_temperature_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_err
  * the box's corners). */
 double ekm2d_corner_rate(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j, double *eta,
                          int *has);
+
+/* The most GMRES iterations with a kept LU factorisation before it is
+ * made anew (one rank). */
+#define EKM2D_REFACTOR_ITS 6
+
+/* Solve ksp's system for b into x (collective).  With GMRES + LU (one
+ * rank: setup2d.c) the factorisation is kept across solves while they
+ * converge in at most EKM2D_REFACTOR_ITS iterations (*keep); a solve that
+ * needs more refactors at the next one, a solve that fails with a kept
+ * factorisation is repeated at once with a new one (++*refactors).  *why:
+ * the converged reason of the last solve.  Nonzero: a PETSc error. */
+PetscErrorCode ekm2d_kept_solve(KSP ksp, int *keep, long *refactors, Vec b, Vec x, KSPConvergedReason *why);
 
 /* The corner viscosity [Pa s] of corner (i, j): the harmonic mean of its
  * cells' eta (eta_box: a box array of them; NULL: the step's properties),

@@ -251,12 +251,11 @@ int ekm2d_temperature_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_err
             EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error assembling the temperature system");
             return -1;
         }
-        if (KSPSolve(st->ksp_t, st->R, st->dT)) {
+        KSPConvergedReason why;
+        if (ekm2d_kept_solve(st->ksp_t, &st->t_keep_factor, &st->t_refactors, st->R, st->dT, &why)) {
             EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error solving the temperature system");
             return -1;
         }
-        KSPConvergedReason why;
-        KSPGetConvergedReason(st->ksp_t, &why);
         if (why < 0) {
             snprintf(st->reason, sizeof st->reason,
                      "t = %.9g s, dt = %.3g s: the temperature solve failed (%s)", st->t, dt,

@@ -33,10 +33,6 @@
 #include <stdio.h>
 #include <string.h>
 
-/* The most GMRES iterations with a kept LU factorisation before it is
- * made anew (velocity solve, one rank). */
-#define EKM2D_V_REFACTOR_ITS 6
-
 /* A linear form in the velocity unknowns: sum val_k v(col_k) + c. */
 #define VFORM_MAX 24
 typedef struct {
@@ -418,32 +414,11 @@ int ekm2d_velocity_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_error 
         EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error assembling the velocity system");
         return -1;
     }
-    /* The factorisation is kept while the solves with it converge in at
-     * most EKM2D_V_REFACTOR_ITS iterations; a solve that needs more, or
-     * fails with a kept one, refactors (the next step, or at once). */
-    KSPType type;
-    KSPGetType(st->ksp_v, &type);
-    const int iterative = strcmp(type, KSPPREONLY) != 0;
-    const int keep = iterative && st->v_keep_factor;
-    KSPSetReusePreconditioner(st->ksp_v, keep ? PETSC_TRUE : PETSC_FALSE);
-    if (KSPSolve(st->ksp_v, st->Vb, st->V)) {
+    KSPConvergedReason why;
+    if (ekm2d_kept_solve(st->ksp_v, &st->v_keep_factor, &st->v_refactors, st->Vb, st->V, &why)) {
         EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error solving the velocity system");
         return -1;
     }
-    KSPConvergedReason why;
-    KSPGetConvergedReason(st->ksp_v, &why);
-    if (why < 0 && keep) {
-        KSPSetReusePreconditioner(st->ksp_v, PETSC_FALSE);
-        if (KSPSolve(st->ksp_v, st->Vb, st->V)) {
-            EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error solving the velocity system");
-            return -1;
-        }
-        KSPGetConvergedReason(st->ksp_v, &why);
-        st->v_refactors++;
-    }
-    PetscInt its = 0;
-    KSPGetIterationNumber(st->ksp_v, &its);
-    st->v_keep_factor = its <= EKM2D_V_REFACTOR_ITS;
     if (why < 0) {
         snprintf(st->reason, sizeof st->reason, "t = %.9g s, dt = %.3g s: the velocity solve failed (%s)",
                  st->t, dt, KSPConvergedReasons[why]);
