@@ -199,6 +199,14 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
     rc = set_up_ksp(st->ksp_v, st->A, "ekm_v_", 1, comm, err);
     if (rc == EKM_OK)
         rc = set_up_ksp(st->ksp_t, st->J, "ekm_t_", 0, comm, err);
+    PetscClassId cls;
+    if (rc == EKM_OK && (PetscClassIdRegister("ekm2d step", &cls) ||
+                         PetscLogEventRegister("ekm2dExplicit", cls, &st->ev_explicit) ||
+                         PetscLogEventRegister("ekm2dVelAssemble", cls, &st->ev_v_asm) ||
+                         PetscLogEventRegister("ekm2dVelSolve", cls, &st->ev_v_solve) ||
+                         PetscLogEventRegister("ekm2dTemperature", cls, &st->ev_temp) ||
+                         PetscLogEventRegister("ekm2dRegimes", cls, &st->ev_regime)))
+        rc = EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error registering its log events");
     if (rc == EKM_OK)
         rc = initial_state(st, init, err);
     if (rc != EKM_OK) {

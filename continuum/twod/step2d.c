@@ -384,20 +384,30 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
     PTRY(DMGlobalToLocal(g->dm, st->U, INSERT_VALUES, st->Ul), "DMGlobalToLocal");
     PetscScalar ***u;
     PTRY(DMStagVecGetArray(g->dm, st->Ul, &u), "DMStagVecGetArray");
+    PetscLogEventBegin(st->ev_explicit, 0, 0, 0, 0);
     boundaries(st, u, dt);
+    PetscLogEventBegin(st->ev_regime, 0, 0, 0, 0);
     const int n_solid = ekm2d_regime_begin(st, u);
-    if (!mass_update(st, u, dt))
+    PetscLogEventEnd(st->ev_regime, 0, 0, 0, 0);
+    const int mass_ok = mass_update(st, u, dt);
+    ekm_status rc = mass_ok ? exchange_phi_new(st, err) : EKM_OK;
+    if (mass_ok && rc == EKM_OK) {
+        convect_temperature(st, u, dt);
+        convect_momentum(st, u, dt);
+        properties(st);
+    }
+    PetscLogEventEnd(st->ev_explicit, 0, 0, 0, 0);
+    if (!mass_ok)
         return reject(st, u, accepted, err);
-    ekm_status rc = exchange_phi_new(st, err);
     if (rc != EKM_OK) {
         DMStagVecRestoreArray(g->dm, st->Ul, &u);
         return rc;
     }
-    convect_temperature(st, u, dt);
-    convect_momentum(st, u, dt);
-    properties(st);
-    if (n_solid)
+    if (n_solid) {
+        PetscLogEventBegin(st->ev_regime, 0, 0, 0, 0);
         ekm2d_regime_properties(st, u, dt);
+        PetscLogEventEnd(st->ev_regime, 0, 0, 0, 0);
+    }
     int ok = ekm2d_velocity_solve(st, u, dt, err);
     if (ok > 0 && n_solid) {
         /* the second pass: the law's norm lagged on the first pass's
@@ -405,14 +415,22 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
          * already deforms plastically) */
         if ((rc = refresh_ghosts(st, &u, err)) != EKM_OK)
             return rc;
+        PetscLogEventBegin(st->ev_regime, 0, 0, 0, 0);
         ekm2d_regime_lagged_rates(st, u);
         ekm2d_regime_properties(st, u, dt);
+        PetscLogEventEnd(st->ev_regime, 0, 0, 0, 0);
         ok = ekm2d_velocity_solve(st, u, dt, err);
     }
-    if (ok > 0 && n_solid)
+    if (ok > 0 && n_solid) {
+        PetscLogEventBegin(st->ev_regime, 0, 0, 0, 0);
         ekm2d_regime_finish(st, u);
-    if (ok > 0)
+        PetscLogEventEnd(st->ev_regime, 0, 0, 0, 0);
+    }
+    if (ok > 0) {
+        PetscLogEventBegin(st->ev_temp, 0, 0, 0, 0);
         ok = ekm2d_temperature_solve(st, u, dt, err);
+        PetscLogEventEnd(st->ev_temp, 0, 0, 0, 0);
+    }
     if (ok < 0) {
         DMStagVecRestoreArray(g->dm, st->Ul, &u);
         return err->code;
@@ -445,7 +463,10 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
     st->t += dt;
     st->steps++;
     st->newton_total += st->newton;
-    return ekm2d_regime_switch(st, err);
+    PetscLogEventBegin(st->ev_regime, 0, 0, 0, 0);
+    const ekm_status sw = ekm2d_regime_switch(st, err);
+    PetscLogEventEnd(st->ev_regime, 0, 0, 0, 0);
+    return sw;
 }
 
 const char *ekm2d_step_reason(const ekm2d_step *st)

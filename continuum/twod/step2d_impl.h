@@ -66,6 +66,12 @@ struct ekm2d_step {
     double *eta_new;                 /* switching: eta at the new state [Pa s] */
     double *sxz_c;                   /* switching: the corners' shear stresses [Pa] */
     long to_solid, to_flow;          /* switches so far (this rank's cells) */
+    /* PETSc log events of the phases (-log_view: the cost of a step) */
+    PetscLogEvent ev_explicit; /* phases 1-4: boundaries, mass, convection, properties */
+    PetscLogEvent ev_v_asm;    /* the velocity system's assembly */
+    PetscLogEvent ev_v_solve;  /* its solve */
+    PetscLogEvent ev_temp;     /* the temperature Newton (assembly and solves) */
+    PetscLogEvent ev_regime;   /* the solid regime's phases (regime2d.c) */
     /* the step */
     ekm2d_end bottom, top; /* the ends at the start of the step */
     double g_x, g_z;       /* gravity [m/s^2] */

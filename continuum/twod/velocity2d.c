@@ -409,13 +409,20 @@ static PetscErrorCode copy_solution(ekm2d_step *st, PetscScalar ***u)
 
 int ekm2d_velocity_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_error *err)
 {
+    PetscLogEventBegin(st->ev_v_asm, 0, 0, 0, 0);
     coupling_phi(st, u);
-    if (assemble(st, dt)) {
+    const PetscErrorCode pe = assemble(st, dt);
+    PetscLogEventEnd(st->ev_v_asm, 0, 0, 0, 0);
+    if (pe) {
         EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error assembling the velocity system");
         return -1;
     }
     KSPConvergedReason why;
-    if (ekm2d_kept_solve(st->ksp_v, &st->v_keep_factor, &st->v_refactors, st->Vb, st->V, &why)) {
+    PetscLogEventBegin(st->ev_v_solve, 0, 0, 0, 0);
+    const PetscErrorCode ps =
+        ekm2d_kept_solve(st->ksp_v, &st->v_keep_factor, &st->v_refactors, st->Vb, st->V, &why);
+    PetscLogEventEnd(st->ev_v_solve, 0, 0, 0, 0);
+    if (ps) {
         EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error solving the velocity system");
         return -1;
     }
