@@ -7,6 +7,8 @@
 #   make campaign [SIZE=smoke|ref] [ENGINES="liggghts lammps"] [NP=n] [-jN]
 #                   DEM, coarse-graining, EKM, scores, table, figures
 #   make figures    the paper figures from existing campaign results
+#   make thesis2d   the thesis's 2D cases (box filling, sand piles) by ekm,
+#                   their figures and numbers into results/ekm2d/ (~40 min)
 #   make dem SCENARIO=.. ENGINE=.. SIZE=..   one DEM run (docs/dem.md)
 #   make format     apply the C style (.clang-format) to every C file
 #
@@ -18,7 +20,7 @@ JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_ARGS ?=
 EKM        := $(BUILD)/continuum/ekm
 
-.PHONY: all build deps test test-release test-sanitize demo bench clean help format
+.PHONY: all build deps test test-release test-sanitize demo bench thesis2d clean help format
 
 all: build
 
@@ -51,6 +53,9 @@ demo: deps build
 
 bench: deps build
 	@scripts/bench.sh $(BUILD)
+
+thesis2d: build
+	@JOBS=$(JOBS) scripts/thesis2d.sh $(BUILD)
 
 # Apply the project's C style (.clang-format) to every tracked C file.
 format:

@@ -108,11 +108,11 @@ static inline int cell_rates_ok(const ekm2d_grid *g, PetscInt i, PetscInt j)
 static ekm_hypo_plane_rate cell_rates(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j)
 {
     const ekm2d_grid *g = &st->g;
-    double sum2 = 0.0, eta;
+    double sum2 = 0.0;
     int count = 0, has;
     const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
     for (int q = 0; q < 4; q++) {
-        const double rate = ekm2d_corner_rate(st, u, cn[q][0], cn[q][1], &eta, &has);
+        const double rate = ekm2d_corner_rate(st, u, cn[q][0], cn[q][1], NULL, &has);
         if (has) {
             sum2 += rate * rate;
             count++;
@@ -139,9 +139,8 @@ void ekm2d_regime_lagged_rates(ekm2d_step *st, PetscScalar ***u)
             PetscInt c[4][2];
             const int n = corner_cells(g, i, j, c);
             ekm_hypo_plane_rate r = {0.0, 0.0, 0.0};
-            double eta;
             int has, wet = 0;
-            r.gxz = ekm2d_corner_rate(st, u, i, j, &eta, &has);
+            r.gxz = ekm2d_corner_rate(st, u, i, j, NULL, &has);
             for (int q = 0; q < n; q++) {
                 if (!cell_rates_ok(g, c[q][0], c[q][1]) || BOX(st, dry, c[q][0], c[q][1]))
                     continue;
@@ -192,9 +191,8 @@ static int corner_solid(const ekm2d_step *st, PetscScalar ***u, PetscInt i, Pets
     for (int q = 0; q < n; q++)
         if (!solid_at(st, c[q][0], c[q][1]) || BOX(st, dry, c[q][0], c[q][1]))
             return 0;
-    double eta;
     int has;
-    (void)ekm2d_corner_rate(st, u, i, j, &eta, &has);
+    (void)ekm2d_corner_rate(st, u, i, j, NULL, &has);
     return has;
 }
 
@@ -292,9 +290,8 @@ void ekm2d_regime_finish(ekm2d_step *st, PetscScalar ***u)
         for (PetscInt i = g->x0; i < g->x0 + g->nxl + 1; i++) {
             if (!owned_corner(g, i, j) || !BOX(st, solid_c, i, j))
                 continue;
-            double eta;
             int has;
-            const double rate = ekm2d_corner_rate(st, u, i, j, &eta, &has);
+            const double rate = ekm2d_corner_rate(st, u, i, j, NULL, &has);
             u[j][i][g->s_sxz] = BOX(st, t0_c, i, j) + BOX(st, hyp_c, i, j).Vxz * rate;
         }
 }
@@ -344,9 +341,8 @@ static double quasi_static_T(const ekm2d_step *st, double phi, const ekm_hypo_pl
 static double corner_flow_stress(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j, PetscInt oi,
                                  PetscInt oj, double o_eta)
 {
-    double eta;
     int has;
-    const double rate = ekm2d_corner_rate(st, u, i, j, &eta, &has);
+    const double rate = ekm2d_corner_rate(st, u, i, j, NULL, &has);
     return has ? ekm2d_corner_eta(st, i, j, st->eta_new, oi, oj, o_eta) * rate : 0.0;
 }
 

@@ -124,7 +124,7 @@ int ekm2d_velocity_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_error 
 int ekm2d_temperature_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_error *err);
 
 /* Shear rate dvx/dz + dvz/dx at corner (i, j) [1/s] of the velocities in
- * u and its viscosity [Pa s] (the harmonic mean of its wet cells' eta; on
+ * u and (eta not NULL) its viscosity [Pa s] (the harmonic mean of its wet cells' eta; on
  * a wall the slip rate over dz/2 + slip_length): *has = 0 where the
  * corner carries none (a free end, beside an inlet face or an empty cell,
  * the box's corners). */

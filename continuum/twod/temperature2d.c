@@ -61,11 +61,11 @@ static void sources(ekm2d_step *st, PetscScalar ***u)
         for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
             if (BOX(st, dry, i, j))
                 continue;
-            double sum2 = 0.0, eta;
+            double sum2 = 0.0;
             int count = 0, has;
             const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
             for (int q = 0; q < 4; q++) {
-                const double rate = ekm2d_corner_rate(st, u, cn[q][0], cn[q][1], &eta, &has);
+                const double rate = ekm2d_corner_rate(st, u, cn[q][0], cn[q][1], NULL, &has);
                 if (has) {
                     sum2 += rate * rate;
                     count++;

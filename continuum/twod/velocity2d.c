@@ -103,14 +103,16 @@ static void vf_axpy(const ekm2d_step *st, vform *f, double a, const vform *h)
     f->c += a * h->c;
 }
 
-/* The corner (i, j)'s shear rate as a form, its viscosity into *eta;
+/* The corner (i, j)'s shear rate as a form, its viscosity into *eta (eta
+ * NULL: not computed);
  * 0 where the corner carries none. */
 static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, double *eta)
 {
     const ekm2d_grid *g = &st->g;
     f->n = 0;
     f->c = 0.0;
-    *eta = 0.0;
+    if (eta)
+        *eta = 0.0;
     if (ekm2d_side_face(g, i)) {
         if (j == 0 || j == g->nz)
             return 0; /* a corner of the box: no velocity beside it moves */
@@ -119,7 +121,8 @@ static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, d
             return 0;
         const double k = g->side_conductance[i == 0 ? 0 : 1];
         vf_add(st, f, DMSTAG_DOWN, ic, j, i == 0 ? k : -k);
-        *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
+        if (eta)
+            *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
         return 1;
     }
     if (j == 0 || j == g->nz) {
@@ -130,7 +133,8 @@ static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, d
         const double k = e->conductance;
         vf_add(st, f, DMSTAG_LEFT, i, jc, j == 0 ? k : -k);
         f->c += (j == 0 ? -k : k) * e->u_wall;
-        *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
+        if (eta)
+            *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
         return 1;
     }
     if (!wet(st, i - 1, j - 1) || !wet(st, i, j - 1) || !wet(st, i - 1, j) || !wet(st, i, j))
@@ -139,7 +143,8 @@ static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, d
     vf_add(st, f, DMSTAG_LEFT, i, j - 1, -1.0 / g->dz);
     vf_add(st, f, DMSTAG_DOWN, i, j, 1.0 / g->dx);
     vf_add(st, f, DMSTAG_DOWN, i - 1, j, -1.0 / g->dx);
-    *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
+    if (eta)
+        *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
     return 1;
 }
 

@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# scripts/thesis2d.sh: the thesis's 2D cases (docs/model.md "The thesis's
+# 2D cases") run by ekm and drawn by figures/filling2d.py and
+# figures/pile2d.py into results/ekm2d/ (the committed reference results):
+#
+#   thesis_filling_2d/flow    18 x 60 cells to t = 4 s, flow regimes
+#   thesis_filling_2d/solid   the same with the solid regime
+#   thesis_sandpile_2d/narrow_28x14, narrow_56x28, narrow_112x56
+#                             the 10 mm inlet, solid regime, 3 resolutions
+#   thesis_sandpile_2d/narrow7_56x28
+#                             the 10 mm inlet at 7x the speed (w = -0.35
+#                             m/s): the wide inlet's mass flux
+#   thesis_sandpile_2d/wide_56x28
+#                             a 70 mm inlet ("sieve"), 7x the narrow mass flux
+#
+# Runs go to RUNS (default runs/thesis2d/, not committed); a run whose .h5
+# exists is not run again (delete it to redo), so the script resumes after
+# an interruption. One core per run, JOBS runs at a time (default 2). The
+# 112 x 56 pile takes about 25 min, the rest a few minutes each
+# (2026-12-06, this 2-core machine).
+# usage: scripts/thesis2d.sh [BUILD_DIR]     env: RUNS, JOBS
+set -euo pipefail
+build=${1:-build}
+root=$(cd "$(dirname "$0")/.." && pwd)
+ekm="$root/$build/continuum/ekm"
+runs=${RUNS:-$root/runs/thesis2d}
+res="$root/results/ekm2d"
+jobs=${JOBS:-2}
+[ -x "$ekm" ] || { echo "thesis2d.sh: $ekm not built (make build)" >&2; exit 1; }
+mkdir -p "$runs" "$res"
+
+# name scenario settings...: one run
+cases=(
+  "filling_flow thesis_filling_2d"
+  "filling_solid thesis_filling_2d --set hypo.enabled=1"
+  "pile_narrow_28x14 thesis_sandpile_2d --set hypo.enabled=1 --set domain.cells_x=28 --set domain.cells=14"
+  "pile_narrow_56x28 thesis_sandpile_2d --set hypo.enabled=1"
+  "pile_narrow_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set domain.cells_x=112 --set domain.cells=56"
+  "pile_narrow7_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35"
+  "pile_wide_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.inlet_width=0.07"
+)
+
+run_one() {
+  local name=$1 scen=$2
+  shift 2
+  if [ -f "$runs/$name.h5" ]; then
+    echo "thesis2d: $name: $runs/$name.h5 exists, not run again" >&2
+    return 0
+  fi
+  "$ekm" run "$root/scenarios/$scen.ini" --quiet "$@" -o "$runs/$name.h5" > "$runs/$name.log" 2>&1 ||
+    { echo "thesis2d: $name failed (log: $runs/$name.log)" >&2; return 1; }
+  echo "thesis2d: $name done" >&2
+}
+
+pids=()
+for c in "${cases[@]}"; do
+  # shellcheck disable=SC2086
+  run_one $c &
+  pids+=($!)
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do sleep 2; done
+done
+fail=0
+for p in "${pids[@]}"; do wait "$p" || fail=1; done
+[ "$fail" = 0 ] || exit 1
+
+py=/usr/bin/python3
+for k in flow solid; do
+  $py -B "$root/figures/filling2d.py" "$runs/filling_$k.h5" "$res/thesis_filling_2d/$k" >&2
+done
+for k in narrow_28x14 narrow_56x28 narrow_112x56 narrow7_56x28 wide_56x28; do
+  $py -B "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/$k" >&2
+done
+# the piles of the faster inflows stand before the layer reaches the side
+# walls (at 3.5 s the plate is covered): their numbers at 1 and 2 s too
+for k in narrow7_56x28 wide_56x28; do
+  for bt in 1 2; do
+    $py -B "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/${k}_at_${bt}s" \
+      --base-time "$bt" >&2
+  done
+done
+# the base rows' phi and P of every pile at its base times (the thesis's
+# claim: P follows phi there)
+$py -B - "$runs" "$res/thesis_sandpile_2d/base_rows.json" <<'PY'
+import json, os, sys
+import h5py
+runs, out = sys.argv[1], sys.argv[2]
+rows = {}
+for name in ("narrow_56x28", "narrow_112x56", "narrow7_56x28", "wide_56x28"):
+    with h5py.File(os.path.join(runs, "pile_%s.h5" % name), "r") as f:
+        t = list(f["t"][:])
+        for bt in (1.0, 2.0, 3.5):
+            k = min(range(len(t)), key=lambda i: abs(t[i] - bt))
+            rows["%s_at_%gs" % (name, bt)] = {
+                "time": {"value": float(t[k]), "units": "s"},
+                "x": {"value": [float(v) for v in f["x"][:]], "units": "m"},
+                "phi": {"value": [float(v) for v in f["phi"][k, 0, :]], "units": "1"},
+                "P": {"value": [float(v) for v in f["P"][k, 0, :]], "units": "Pa"}}
+tmp = out + ".tmp"
+with open(tmp, "w") as fh:
+    json.dump({"program": "scripts/thesis2d.sh", "definitions": {
+        "rows": "phi and P of the bottom row of cells (cell centres x) at the frame nearest to each time"},
+        "rows": rows}, fh, indent=1)
+os.replace(tmp, out)
+PY
+echo "thesis2d: figures and numbers in $res" >&2
