@@ -282,6 +282,59 @@ def _open(path, what):
         raise InputError("%s: cannot read as HDF5 (%s): %s" % (rel(path), what, e))
 
 
+def read_run2d(f, path, fields, units, what, prog):
+    """The grid and fields of a 2D ekm run (docs/output-format.md "2D runs")
+    open as f: {"x", "z", "t": 1-D arrays, each of fields: [nt][nz][nx]
+    ("regime" as int codes 0..3), "attrs": the root attributes (strings
+    decoded, one-element arrays as scalars)}; units: the SI unit each
+    dataset must have; InputError naming the dataset otherwise."""
+    r = rel(path)
+    if "x" not in f and "phi" in f and len(f["phi"].shape) == 2:
+        raise InputError(
+            "%s: dataset /x: missing: a 1D run (/phi is [nt][nz]); %s needs a 2D run "
+            "([domain] cells_x > 1, docs/output-format.md \"2D runs\")" % (r, prog))
+    d = {}
+    for n in ("x", "z", "t"):
+        if n not in f:
+            raise InputError("%s: dataset /%s: missing (%s)" % (r, n, what))
+        a = np.asarray(f[n][()], dtype=float)
+        if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)):
+            raise InputError("%s: dataset /%s: expected a non-empty 1-D array of finite "
+                             "numbers, got shape %s" % (r, n, a.shape))
+        d[n] = a
+    nt, nz, nx = d["t"].size, d["z"].size, d["x"].size
+    for n in fields:
+        if n not in f:
+            raise InputError("%s: dataset /%s: missing (%s)" % (r, n, what))
+        a = np.asarray(f[n][()], dtype=int if n == "regime" else float)
+        if a.shape != (nt, nz, nx):
+            raise InputError("%s: dataset /%s: expected shape [nt][nz][nx] = (%d, %d, %d), "
+                             "got %s" % (r, n, nt, nz, nx, a.shape))
+        bad = np.argwhere(~np.isfinite(a)) if n != "regime" else np.argwhere((a < 0) | (a > 3))
+        if bad.size:
+            i, j, k = bad[0]
+            raise InputError("%s: dataset /%s: %s at frame %d, cell (ix %d, iz %d)"
+                             % (r, n, "not a finite number" if n != "regime" else
+                                "not a regime code 0..3 (%d)" % a[i, j, k], i, k, j))
+        d[n] = a
+    got = _units(f, path, tuple(units))
+    for n, u in units.items():
+        if got[n] != u:
+            raise InputError("%s: dataset /%s: units %r, expected %r (the axes and the "
+                             "model's formulas are in SI)" % (r, n, got[n], u))
+    attrs = {}
+    for k, v in f.attrs.items():
+        if isinstance(v, bytes):
+            v = v.decode(errors="replace")
+        elif isinstance(v, np.ndarray) and v.size == 1:
+            v = v.reshape(-1)[0]
+        attrs[k] = v
+    d["attrs"] = attrs
+    if np.any(np.diff(d["t"]) <= 0):
+        raise InputError("%s: dataset /t: output times not increasing" % r)
+    return d
+
+
 def _profiles(f, path, names, what, z_rows=False):
     """z [nz] (z_rows: or [nt][nz], the cell centres of each output: an ekm
     output, docs/output-format.md), t [nt] and the named [nt][nz] datasets,

@@ -135,47 +135,8 @@ class Run:
         self.path = path
         r = C.rel(path)
         with C._open(path, self.WHAT) as f:
-            if "x" not in f and "phi" in f and len(f["phi"].shape) == 2:
-                raise C.InputError(
-                    "%s: dataset /x: missing: a 1D run (/phi is [nt][nz]); %s needs a 2D run "
-                    "([domain] cells_x > 1, docs/output-format.md \"2D runs\")" % (r, PROG))
-            d = {}
-            for n in ("x", "z", "t"):
-                if n not in f:
-                    raise C.InputError("%s: dataset /%s: missing (%s)" % (r, n, self.WHAT))
-                a = np.asarray(f[n][()], dtype=float)
-                if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)):
-                    raise C.InputError("%s: dataset /%s: expected a non-empty 1-D array of finite "
-                                       "numbers, got shape %s" % (r, n, a.shape))
-                d[n] = a
-            nt, nz, nx = d["t"].size, d["z"].size, d["x"].size
-            for n in FIELDS + ("regime",):
-                if n not in f:
-                    raise C.InputError("%s: dataset /%s: missing (%s)" % (r, n, self.WHAT))
-                a = np.asarray(f[n][()], dtype=int if n == "regime" else float)
-                if a.shape != (nt, nz, nx):
-                    raise C.InputError("%s: dataset /%s: expected shape [nt][nz][nx] = (%d, %d, %d), "
-                                       "got %s" % (r, n, nt, nz, nx, a.shape))
-                bad = np.argwhere(~np.isfinite(a)) if n != "regime" else np.argwhere(
-                    (a < 0) | (a > 3))
-                if bad.size:
-                    i, j, k = bad[0]
-                    raise C.InputError("%s: dataset /%s: %s at frame %d, cell (ix %d, iz %d)"
-                                       % (r, n, "not a finite number" if n != "regime" else
-                                          "not a regime code 0..3 (%d)" % a[i, j, k], i, k, j))
-                d[n] = a
-            units = C._units(f, path, ("x", "z", "t") + FIELDS)
-            for n, u in UNITS.items():
-                if units[n] != u:
-                    raise C.InputError("%s: dataset /%s: units %r, expected %r (the axes and the "
-                                       "model's formulas are in SI)" % (r, n, units[n], u))
-            self.attrs = {}
-            for k, v in f.attrs.items():
-                if isinstance(v, bytes):
-                    v = v.decode(errors="replace")
-                elif isinstance(v, np.ndarray) and v.size == 1:
-                    v = v.reshape(-1)[0]
-                self.attrs[k] = v
+            d = C.read_run2d(f, path, FIELDS + ("regime",), dict(UNITS), self.WHAT, PROG)
+            self.attrs = d["attrs"]
             self.mat = {}
             for k in MATERIAL:
                 self.mat[k] = C._attr(f, path, "material." + k,
@@ -195,9 +156,8 @@ class Run:
         except (TypeError, ValueError):
             raise C.InputError("%s: root attribute 'top.t_stop': expected a number, got %r" % (r, ts))
         self.t_stop = ts                     # None: not in the file; inf: never
-        if np.any(np.diff(d["t"]) <= 0):
-            raise C.InputError("%s: dataset /t: output times not increasing" % r)
         self.x, self.z, self.t = d["x"], d["z"], d["t"]
+        nz, nx = self.z.size, self.x.size
         for n in FIELDS + ("regime",):
             setattr(self, n, d[n])
         self.dx, self.dz = 2 * self.x[0], 2 * self.z[0]

@@ -146,46 +146,9 @@ class Run:
         self.path = path
         r = C.rel(path)
         with C._open(path, self.WHAT) as f:
-            if "x" not in f and "phi" in f and len(f["phi"].shape) == 2:
-                raise C.InputError(
-                    "%s: dataset /x: missing: a 1D run (/phi is [nt][nz]); %s needs a 2D run "
-                    "([domain] cells_x > 1, docs/output-format.md \"2D runs\")" % (r, PROG))
-            d = {}
-            for n in ("x", "z", "t"):
-                if n not in f:
-                    raise C.InputError("%s: dataset /%s: missing (%s)" % (r, n, self.WHAT))
-                a = np.asarray(f[n][()], dtype=float)
-                if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)):
-                    raise C.InputError("%s: dataset /%s: expected a non-empty 1-D array of finite "
-                                       "numbers, got shape %s" % (r, n, a.shape))
-                d[n] = a
-            nt, nz, nx = d["t"].size, d["z"].size, d["x"].size
-            for n in ("phi", "P"):
-                if n not in f:
-                    raise C.InputError("%s: dataset /%s: missing (%s)" % (r, n, self.WHAT))
-                a = np.asarray(f[n][()], dtype=float)
-                if a.shape != (nt, nz, nx):
-                    raise C.InputError("%s: dataset /%s: expected shape [nt][nz][nx] = (%d, %d, %d), "
-                                       "got %s" % (r, n, nt, nz, nx, a.shape))
-                bad = np.argwhere(~np.isfinite(a))
-                if bad.size:
-                    i, j, k = bad[0]
-                    raise C.InputError("%s: dataset /%s: not a finite number at frame %d, cell "
-                                       "(ix %d, iz %d)" % (r, n, i, k, j))
-                d[n] = a
-            units = C._units(f, path, ("x", "z", "t", "phi", "P"))
-            want = {"x": "m", "z": "m", "t": "s", "phi": "1", "P": "Pa"}
-            for n, u in want.items():
-                if units[n] != u:
-                    raise C.InputError("%s: dataset /%s: units %r, expected %r (the axes and the "
-                                       "scaling are in SI)" % (r, n, units[n], u))
-            self.attrs = {}
-            for k, v in f.attrs.items():
-                if isinstance(v, bytes):
-                    v = v.decode(errors="replace")
-                elif isinstance(v, np.ndarray) and v.size == 1:
-                    v = v.reshape(-1)[0]
-                self.attrs[k] = v
+            d = C.read_run2d(f, path, ("phi", "P"),
+                             {"x": "m", "z": "m", "t": "s", "phi": "1", "P": "Pa"}, self.WHAT, PROG)
+            self.attrs = d["attrs"]
             self.rho_p = C._attr(f, path, "material.rho_p",
                                  "the particle density rho_p, the thesis's rho_b the pressure is scaled with")
             self.phi_co = C._attr(f, path, "material.phi_co",
@@ -193,9 +156,8 @@ class Run:
         if not (self.rho_p > 0 and 0 < self.phi_co < 1):
             raise C.InputError("%s: material.rho_p = %g, material.phi_co = %g: expected rho_p > 0 "
                                "and 0 < phi_co < 1" % (r, self.rho_p, self.phi_co))
-        if np.any(np.diff(d["t"]) <= 0):
-            raise C.InputError("%s: dataset /t: output times not increasing" % r)
         self.x, self.z, self.t = d["x"], d["z"], d["t"]
+        nz, nx = self.z.size, self.x.size
         self.phi, self.P = d["phi"], d["P"]
         # cell centres (i + 1/2) dx, (j + 1/2) dz
         self.dx, self.dz = 2 * self.x[0], 2 * self.z[0]

@@ -108,20 +108,10 @@ static inline int cell_rates_ok(const ekm2d_grid *g, PetscInt i, PetscInt j)
 static ekm_hypo_plane_rate cell_rates(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j)
 {
     const ekm2d_grid *g = &st->g;
-    double sum2 = 0.0;
-    int count = 0, has;
-    const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
-    for (int q = 0; q < 4; q++) {
-        const double rate = ekm2d_corner_rate(st, u, cn[q][0], cn[q][1], NULL, &has);
-        if (has) {
-            sum2 += rate * rate;
-            count++;
-        }
-    }
     ekm_hypo_plane_rate r;
     r.exx = (u[j][i + 1][g->s_vx] - u[j][i][g->s_vx]) / g->dx;
     r.ezz = (u[j + 1][i][g->s_vz] - u[j][i][g->s_vz]) / g->dz;
-    r.gxz = sqrt(count ? sum2 / count : 0.0);
+    r.gxz = sqrt(ekm2d_cell_shear2(st, u, i, j));
     return r;
 }
 

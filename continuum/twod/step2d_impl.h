@@ -131,6 +131,11 @@ int ekm2d_temperature_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_err
 double ekm2d_corner_rate(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j, double *eta,
                          int *has);
 
+/* The squared shear rate of cell (i, j) [1/s^2]: the mean square of its
+ * corners' that carry one (ekm2d_corner_rate; 0 if none), the 1D cell's
+ * u'^2 (step.h: ekm_step_shear_rates). */
+double ekm2d_cell_shear2(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j);
+
 /* The most GMRES iterations with a kept LU factorisation before it is
  * made anew (one rank). */
 #define EKM2D_REFACTOR_ITS 6

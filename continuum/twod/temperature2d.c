@@ -61,17 +61,7 @@ static void sources(ekm2d_step *st, PetscScalar ***u)
         for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
             if (BOX(st, dry, i, j))
                 continue;
-            double sum2 = 0.0;
-            int count = 0, has;
-            const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
-            for (int q = 0; q < 4; q++) {
-                const double rate = ekm2d_corner_rate(st, u, cn[q][0], cn[q][1], NULL, &has);
-                if (has) {
-                    sum2 += rate * rate;
-                    count++;
-                }
-            }
-            const double shear2 = count ? sum2 / count : 0.0;
+            const double shear2 = ekm2d_cell_shear2(st, u, i, j);
             const double exx = (u[j][i + 1][g->s_vx] - u[j][i][g->s_vx]) / g->dx;
             const double ezz = (u[j + 1][i][g->s_vz] - u[j][i][g->s_vz]) / g->dz;
             const ekm_cell_properties *p = &BOX(st, prop, i, j);

@@ -196,6 +196,21 @@ double ekm2d_corner_rate(const ekm2d_step *st, PetscScalar ***u, PetscInt i, Pet
     return rate;
 }
 
+double ekm2d_cell_shear2(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j)
+{
+    double sum2 = 0.0;
+    int count = 0, has;
+    const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
+    for (int q = 0; q < 4; q++) {
+        const double rate = ekm2d_corner_rate(st, u, cn[q][0], cn[q][1], NULL, &has);
+        if (has) {
+            sum2 += rate * rate;
+            count++;
+        }
+    }
+    return count ? sum2 / count : 0.0;
+}
+
 /* The viscous normal stress (sxx if along_x, else szz) of cell (i, j) as a
  * form [Pa]; empty: none. */
 static void normal_stress_form(const ekm2d_step *st, PetscInt i, PetscInt j, int along_x, vform *f)
