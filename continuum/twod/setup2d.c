@@ -150,6 +150,8 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
     st->T_change = calloc(n, sizeof(double));
     st->upd = calloc(n, sizeof(double));
     st->src = calloc(n, sizeof *st->src);
+    st->eta_c = calloc(n, sizeof(double));
+    st->eta_c_stamp = calloc(n, sizeof(long));
     int solid_ok = 1;
     if (sc->hypo.enabled) {
         st->solid = calloc(n, 1);
@@ -165,9 +167,9 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
         solid_ok = st->solid && st->solid_c && st->rate_old && st->rate_c_old && st->hyp && st->hyp_c &&
                    st->t0_c && st->T_keep && st->eta_new && st->sxz_c;
     }
-    if (!solid_ok || !st->Fx || !st->Fz || !st->phi_new || !st->rhoT || !st->T_star || !st->prop ||
-        !st->dry || !st->K || !st->rhs_x || !st->rhs_z || !st->pu_x || !st->pu_z || !st->T_it || !st->T_lin ||
-        !st->T_change || !st->upd || !st->src) {
+    if (!solid_ok || !st->eta_c || !st->eta_c_stamp || !st->Fx || !st->Fz || !st->phi_new || !st->rhoT ||
+        !st->T_star || !st->prop || !st->dry || !st->K || !st->rhs_x || !st->rhs_z || !st->pu_x ||
+        !st->pu_z || !st->T_it || !st->T_lin || !st->T_change || !st->upd || !st->src) {
         ekm2d_step_destroy(st);
         *out = NULL;
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D step, %d x %d cells)", g->nx, g->nz);
@@ -254,6 +256,8 @@ void ekm2d_step_destroy(ekm2d_step *st)
     free(st->T_change);
     free(st->upd);
     free(st->src);
+    free(st->eta_c);
+    free(st->eta_c_stamp);
     free(st->solid);
     free(st->solid_c);
     free(st->rate_old);

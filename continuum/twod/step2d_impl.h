@@ -48,6 +48,10 @@ struct ekm2d_step {
     double *K;                 /* dP/dphi at (phi*, T*) [Pa] (0: empty) */
     double *rhs_x, *rhs_z;     /* the momentum equations' known parts [kg/(m^2 s)] (faces) */
     double *pu_x, *pu_z;       /* phi the next mass update carries through each face (coupling) [-] */
+    double *eta_c;             /* corners: the corner viscosity of the current assembly [Pa s] */
+    long *eta_c_stamp;         /* corners: the assembly eta_c was computed in */
+    long assembly;             /* the velocity assembly under way (0: none) */
+    long assemblies;           /* assemblies so far */
     double *T_it;              /* the temperature iterate [m^2/s^2] */
     double *T_lin;             /* where an iteration linearises (T_it, or a cell's restart) [m^2/s^2] */
     double *T_change;          /* T - T* of the last step (the first Newton iterate) */

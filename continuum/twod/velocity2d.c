@@ -103,6 +103,21 @@ static void vf_axpy(const ekm2d_step *st, vform *f, double a, const vform *h)
     f->c += a * h->c;
 }
 
+/* The corner viscosity of corner (i, j) (ekm2d_corner_eta); while the
+ * velocity system is assembled, each corner's computed once (four rows
+ * take it) and kept in eta_c for that assembly. */
+static double corner_eta_of(const ekm2d_step *st, PetscInt i, PetscInt j)
+{
+    if (!st->assembly)
+        return ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
+    const size_t k = ekm2d_box_index(&st->g, i, j);
+    if (st->eta_c_stamp[k] != st->assembly) {
+        st->eta_c[k] = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
+        st->eta_c_stamp[k] = st->assembly;
+    }
+    return st->eta_c[k];
+}
+
 /* The corner (i, j)'s shear rate as a form, its viscosity into *eta (eta
  * NULL: not computed);
  * 0 where the corner carries none. */
@@ -122,7 +137,7 @@ static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, d
         const double k = g->side_conductance[i == 0 ? 0 : 1];
         vf_add(st, f, DMSTAG_DOWN, ic, j, i == 0 ? k : -k);
         if (eta)
-            *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
+            *eta = corner_eta_of(st, i, j);
         return 1;
     }
     if (j == 0 || j == g->nz) {
@@ -134,7 +149,7 @@ static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, d
         vf_add(st, f, DMSTAG_LEFT, i, jc, j == 0 ? k : -k);
         f->c += (j == 0 ? -k : k) * e->u_wall;
         if (eta)
-            *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
+            *eta = corner_eta_of(st, i, j);
         return 1;
     }
     if (!wet(st, i - 1, j - 1) || !wet(st, i, j - 1) || !wet(st, i - 1, j) || !wet(st, i, j))
@@ -144,7 +159,7 @@ static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, d
     vf_add(st, f, DMSTAG_DOWN, i, j, 1.0 / g->dx);
     vf_add(st, f, DMSTAG_DOWN, i - 1, j, -1.0 / g->dx);
     if (eta)
-        *eta = ekm2d_corner_eta(st, i, j, NULL, -1, -1, 0.0);
+        *eta = corner_eta_of(st, i, j);
     return 1;
 }
 
@@ -285,14 +300,25 @@ static void divergence_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform 
 /* Row (loc, i, j) = form f (its constant moved to the right-hand side); added
  * to the zeroed matrix, so that two periodic images of one unknown (nx = 2)
  * add up. */
+/* Row `row` of the matrix (n entries at cols, added) and of the
+ * right-hand side (b): DMStagMatSetValuesStencil's work without its
+ * allocation per call (the local indices on the stack). */
+static PetscErrorCode put_row(ekm2d_step *st, const DMStagStencil *row, PetscInt n, const DMStagStencil *cols,
+                              const double *vals, double b)
+{
+    PetscInt ir, ic[VFORM_MAX];
+    PetscCall(DMStagStencilToIndexLocal(st->g.dmv, 2, 1, row, &ir));
+    PetscCall(DMStagStencilToIndexLocal(st->g.dmv, 2, n, cols, ic));
+    PetscCall(MatSetValuesLocal(st->A, 1, &ir, n, ic, vals, ADD_VALUES));
+    PetscCall(VecSetValuesLocal(st->Vb, 1, &ir, &b, INSERT_VALUES));
+    return 0;
+}
+
 static PetscErrorCode set_row(ekm2d_step *st, DMStagStencilLocation loc, PetscInt i, PetscInt j,
                               const vform *f, double rhs)
 {
     DMStagStencil row = unknown(st, loc, i, j);
-    PetscCall(DMStagMatSetValuesStencil(st->g.dmv, st->A, 1, &row, f->n, f->col, f->val, ADD_VALUES));
-    const double b = rhs - f->c;
-    PetscCall(DMStagVecSetValuesStencil(st->g.dmv, st->Vb, 1, &row, &b, INSERT_VALUES));
-    return 0;
+    return put_row(st, &row, f->n, f->col, f->val, rhs - f->c);
 }
 
 /* f += a * (the shear stress of corner (i, j)): eta_c times its rate, or
@@ -363,24 +389,21 @@ static PetscErrorCode fixed_row(ekm2d_step *st, DMStagStencilLocation loc, Petsc
 {
     DMStagStencil row = unknown(st, loc, i, j);
     const double one = 1.0;
-    PetscCall(DMStagMatSetValuesStencil(st->g.dmv, st->A, 1, &row, 1, &row, &one, ADD_VALUES));
-    PetscCall(DMStagVecSetValuesStencil(st->g.dmv, st->Vb, 1, &row, &value, INSERT_VALUES));
-    return 0;
+    return put_row(st, &row, 1, &row, &one, value);
 }
 
 /* A free end's face equals its interior neighbour: v_end - v_inner = 0. */
 static PetscErrorCode follow_row(ekm2d_step *st, PetscInt i, PetscInt j, PetscInt j_inner)
 {
     DMStagStencil rows[2] = {unknown(st, DMSTAG_DOWN, i, j), unknown(st, DMSTAG_DOWN, i, j_inner)};
-    const double vals[2] = {1.0, -1.0}, zero = 0.0;
-    PetscCall(DMStagMatSetValuesStencil(st->g.dmv, st->A, 1, rows, 2, rows, vals, ADD_VALUES));
-    PetscCall(DMStagVecSetValuesStencil(st->g.dmv, st->Vb, 1, rows, &zero, INSERT_VALUES));
-    return 0;
+    const double vals[2] = {1.0, -1.0};
+    return put_row(st, rows, 2, rows, vals, 0.0);
 }
 
 static PetscErrorCode assemble(ekm2d_step *st, double dt)
 {
     const ekm2d_grid *g = &st->g;
+    st->assembly = ++st->assemblies;
     PetscCall(MatZeroEntries(st->A));
     for (PetscInt j = g->z0; j < g->z0 + g->nzl + (g->z0 + g->nzl == g->nz); j++)
         for (PetscInt i = g->x0; i < g->x0 + g->nxl + (!g->periodic && g->x0 + g->nxl == g->nx); i++) {
@@ -402,6 +425,7 @@ static PetscErrorCode assemble(ekm2d_step *st, double dt)
                 }
             }
         }
+    st->assembly = 0;
     PetscCall(MatAssemblyBegin(st->A, MAT_FINAL_ASSEMBLY));
     PetscCall(MatAssemblyEnd(st->A, MAT_FINAL_ASSEMBLY));
     PetscCall(VecAssemblyBegin(st->Vb));
@@ -432,6 +456,7 @@ int ekm2d_velocity_solve(ekm2d_step *st, PetscScalar ***u, double dt, ekm_error 
     PetscLogEventBegin(st->ev_v_asm, 0, 0, 0, 0);
     coupling_phi(st, u);
     const PetscErrorCode pe = assemble(st, dt);
+    st->assembly = 0;
     PetscLogEventEnd(st->ev_v_asm, 0, 0, 0, 0);
     if (pe) {
         EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error assembling the velocity system");
