@@ -7,16 +7,17 @@
 #   thesis_filling_2d/solid   the same with the solid regime
 #   thesis_sandpile_2d/narrow_28x14, narrow_56x28, narrow_112x56
 #                             the 10 mm inlet, solid regime, 3 resolutions
-#   thesis_sandpile_2d/narrow7_56x28
+#   thesis_sandpile_2d/narrow7_56x28, narrow7_*_at_1s, _at_2s
 #                             the 10 mm inlet at 7x the speed (w = -0.35
-#                             m/s): the wide inlet's mass flux
+#                             m/s): the wide inlet's mass flux; also on
+#                             28 x 14 and 112 x 56 cells to t = 2 s
 #   thesis_sandpile_2d/wide_56x28
 #                             a 70 mm inlet ("sieve"), 7x the narrow mass flux
 #
 # Runs go to RUNS (default runs/thesis2d/, not committed); a run whose .h5
 # exists is not run again (delete it to redo), so the script resumes after
 # an interruption. One core per run, JOBS runs at a time (default 2). The
-# 112 x 56 pile takes about 25 min, the rest a few minutes each
+# 112 x 56 piles take about 25 min each, the rest a few minutes each
 # (2026-12-06, this 2-core machine).
 # usage: scripts/thesis2d.sh [BUILD_DIR]     env: RUNS, JOBS
 set -euo pipefail
@@ -36,7 +37,9 @@ cases=(
   "pile_narrow_28x14 thesis_sandpile_2d --set hypo.enabled=1 --set domain.cells_x=28 --set domain.cells=14"
   "pile_narrow_56x28 thesis_sandpile_2d --set hypo.enabled=1"
   "pile_narrow_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set domain.cells_x=112 --set domain.cells=56"
+  "pile_narrow7_28x14 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=28 --set domain.cells=14 --set run.t_end=2"
   "pile_narrow7_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35"
+  "pile_narrow7_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=112 --set domain.cells=56 --set run.t_end=2"
   "pile_wide_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.inlet_width=0.07"
 )
 
@@ -71,11 +74,12 @@ for k in narrow_28x14 narrow_56x28 narrow_112x56 narrow7_56x28 wide_56x28; do
   $py -B "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/$k" >&2
 done
 # the piles of the faster inflows stand before the layer reaches the side
-# walls (at 3.5 s the plate is covered): their numbers at 1 and 2 s too
-for k in narrow7_56x28 wide_56x28; do
+# walls (at 3.5 s the plate is covered): their numbers at 1 and 2 s (the
+# fast narrow inlet at 3 resolutions, run to 2 s on 28 x 14 and 112 x 56)
+for k in narrow7_28x14 narrow7_56x28 narrow7_112x56 wide_56x28; do
   for bt in 1 2; do
     $py -B "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/${k}_at_${bt}s" \
-      --base-time "$bt" >&2
+      --times 0.5,1,1.5,2 --base-time "$bt" >&2
   done
 done
 # the base rows' phi and P of every pile at its base times (the thesis's
@@ -85,10 +89,13 @@ import json, os, sys
 import h5py
 runs, out = sys.argv[1], sys.argv[2]
 rows = {}
-for name in ("narrow_56x28", "narrow_112x56", "narrow7_56x28", "wide_56x28"):
+for name in ("narrow_56x28", "narrow_112x56", "narrow7_28x14", "narrow7_56x28", "narrow7_112x56",
+             "wide_56x28"):
     with h5py.File(os.path.join(runs, "pile_%s.h5" % name), "r") as f:
         t = list(f["t"][:])
         for bt in (1.0, 2.0, 3.5):
+            if bt > t[-1] + 1e-9:
+                continue
             k = min(range(len(t)), key=lambda i: abs(t[i] - bt))
             rows["%s_at_%gs" % (name, bt)] = {
                 "time": {"value": float(t[k]), "units": "s"},
