@@ -50,7 +50,7 @@ static void usage(FILE *fp)
             "                   --set domain.cells=200 --set model.variant=thesis\n"
             "  --quiet          no progress line and no summary\n"
             "  -- OPTIONS       the rest of the line goes to PETSc (2D runs only), e.g.\n"
-            "                   -- -ts_monitor -snes_converged_reason\n"
+            "                   -- -ekm_step_monitor -ekm_v_ksp_converged_reason\n"
             "\n"
             "A scenario with [domain] cells_x > 1 is solved in 2D on PETSc, on the MPI\n"
             "ranks ekm is started on (docs/output-format.md, \"2D runs\"); %s.\n"

@@ -7,7 +7,7 @@
  *   /t                      output times [s], double[nt]
  *   /phi /vx /vz /T /P /sxx /szz /sxz   double[nt][nz][nx] (x fastest), SI,
  *                           cell-centred (the face velocities and corner
- *                           stresses interpolated to the centres, solver2d.h)
+ *                           stresses interpolated to the centres, fields2d.c)
  *   /regime                 int32[nt][nz][nx] (fields.h's codes)
  * every dataset with a string attribute "units"; the root attributes of the
  * 1D file (every scenario key, gravity_x, gravity_z, variant, code_version,

@@ -3,7 +3,7 @@
  *
  * Called by main.c after the scenario is loaded, on every MPI rank
  * (`mpirun -np N ekm run FILE.ini`); petsc_args are the command line's
- * words after "--" (PETSc options, e.g. -ts_monitor, -snes_converged_reason),
+ * words after "--" (PETSc options, e.g. -ekm_step_monitor, -ekm_v_ksp_converged_reason),
  * n_petsc_args of them.  Returns the run's status; err holds the message
  * (printed by rank 0 only, by the caller: ekm2d_is_rank0).
  */
