@@ -282,6 +282,26 @@ def _open(path, what):
         raise InputError("%s: cannot read as HDF5 (%s): %s" % (rel(path), what, e))
 
 
+class Run2D:
+    """What the readers of a 2D run (figures/pile2d.py, filling2d.py) share;
+    a subclass sets path, attrs (read_run2d's) and t."""
+
+    def text(self, key):
+        v = self.attrs.get(key)
+        return v if isinstance(v, str) else None
+
+    def provenance(self):
+        return {"file": os.path.abspath(self.path),
+                "scenario": self.text("scenario") or self.text("scenario.name"),
+                "scenario_file": self.text("scenario_file"),
+                "code_version": self.text("code_version"),
+                "created": self.text("created")}
+
+    def nearest(self, want):
+        """Index of the frame nearest to time want (the earlier on a tie)."""
+        return int(np.argmin(np.abs(self.t - want)))
+
+
 def read_run2d(f, path, fields, units, what, prog):
     """The grid and fields of a 2D ekm run (docs/output-format.md "2D runs")
     open as f: {"x", "z", "t": 1-D arrays, each of fields: [nt][nz][nx]

@@ -124,7 +124,7 @@ def point_arg(s):
 
 # --- input ------------------------------------------------------------------------
 
-class Run:
+class Run(C.Run2D):
     """The 2D run: grid, times, the fields [nt][nz][nx], regime, material,
     the inflow stop, provenance."""
 
@@ -174,22 +174,6 @@ class Run:
             raise C.InputError("%s: dataset /phi: %g >= phi_cp = %g at frame %d, cell (ix %d, iz %d)"
                                % (r, self.phi[i, j, k], m["phi_cp"], i, k, j))
         self.width, self.height = nx * self.dx, nz * self.dz
-
-    def text(self, key):
-        v = self.attrs.get(key)
-        return v if isinstance(v, str) else None
-
-    def provenance(self):
-        return {"file": os.path.abspath(self.path),
-                "scenario": self.text("scenario") or self.text("scenario.name"),
-                "scenario_file": self.text("scenario_file"),
-                "code_version": self.text("code_version"),
-                "created": self.text("created")}
-
-    def nearest(self, want):
-        """Index of the frame nearest to time want (the earlier on a tie)."""
-        import numpy as np
-        return int(np.argmin(np.abs(self.t - want)))
 
     def cell(self, px, pz):
         """(ix, iz) of the cell containing the point; None outside the box."""

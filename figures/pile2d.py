@@ -136,7 +136,7 @@ def time_arg(s):
 
 # --- input ------------------------------------------------------------------------
 
-class Run:
+class Run(C.Run2D):
     """The 2D run: grid, times, phi and P [nt][nz][nx], material, provenance."""
 
     WHAT = "the 2D ekm run to plot"
@@ -170,22 +170,6 @@ class Run:
                                % (r, PROG))
         self.width, self.height = nx * self.dx, nz * self.dz
         self.phi_s = 0.5 * self.phi_co
-
-    def text(self, key):
-        v = self.attrs.get(key)
-        return v if isinstance(v, str) else None
-
-    def provenance(self):
-        return {"file": os.path.abspath(self.path),
-                "scenario": self.text("scenario") or self.text("scenario.name"),
-                "scenario_file": self.text("scenario_file"),
-                "code_version": self.text("code_version"),
-                "created": self.text("created")}
-
-    def nearest(self, want):
-        """Index of the frame nearest to time want (the earlier on a tie)."""
-        import numpy as np
-        return int(np.argmin(np.abs(self.t - want)))
 
     def far(self, i, want):
         """Whether frame i is further from want than half an output interval."""
