@@ -42,12 +42,6 @@
 #include "hypo.h"
 #include "switching.h"
 
-#define PCALL(call)      \
-    do {                 \
-        if ((call) != 0) \
-            return 1;    \
-    } while (0)
-
 static inline int owned_cell(const ekm2d_grid *g, PetscInt i, PetscInt j)
 {
     return i >= g->x0 && i < g->x0 + g->nxl && j >= g->z0 && j < g->z0 + g->nzl;
@@ -496,7 +490,7 @@ static PetscErrorCode switch_all(ekm2d_step *st)
     const int fail = switch_cells(st, u);
     PetscCall(DMStagVecRestoreArray(g->dm, st->Ul, &u));
     if (fail)
-        return 1;
+        return PETSC_ERR_MEM; /* switch_cells' row buffer */
     PetscCall(DMLocalToGlobal(g->dm, st->Ul, INSERT_VALUES, st->U));
     return 0;
 }
@@ -508,7 +502,10 @@ ekm_status ekm2d_regime_switch(ekm2d_step *st, ekm_error *err)
     if (st->n_solid == 0) /* the solid_c flags of a step without solid cells */
         for (size_t k = 0; k < ekm2d_grid_box_size(&st->g); k++)
             st->solid_c[k] = 0;
-    if (switch_all(st))
+    const PetscErrorCode pe = switch_all(st);
+    if (pe == PETSC_ERR_MEM)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D step, switching regimes)");
+    if (pe)
         return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error switching regimes");
     return EKM_OK;
 }
