@@ -42,7 +42,6 @@ Exit status (docs/exit-codes.md): 0 done; 1 usage; 2 bad input; 3 a run
 missing or unreadable, or an output that cannot be written; 7 a Python
 package missing.
 """
-import argparse
 import glob
 import json
 import math
@@ -71,7 +70,6 @@ def knob_value(s):
 
 def numbers(path):
     """The run's numbers (module comment) and its last frame's phi and P."""
-    import h5py
     import numpy as np
     run = F.Run(path)
     ix, iz = run.cell(*F.DEFAULT_POINT)
