@@ -43,26 +43,7 @@ cases=(
   "s9_d3e-5 $f $s9 --set numerics.thermal_relax_step=0.05 --set numerics.dt_max=3e-5"
 )
 
-run_one() {
-  local name=$1 scen=$2
-  shift 2
-  if [ -f "$runs/$name.h5" ]; then
-    echo "steps2d: $name: $runs/$name.h5 exists, not run again" >&2
-    return 0
-  fi
-  "$ekm" run "$root/scenarios/$scen.ini" --quiet "$@" -o "$runs/$name.h5" > "$runs/$name.log" 2>&1 ||
-    { echo "steps2d: $name failed (log: $runs/$name.log)" >&2; return 1; }
-  echo "steps2d: $name done" >&2
-}
-
-pids=()
-status=0
-for c in "${cases[@]}"; do
-  # shellcheck disable=SC2086
-  run_one $c &
-  pids+=($!)
-  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do sleep 1; done
-done
-for p in "${pids[@]}"; do wait "$p" || status=1; done
-[ "$status" = 0 ] || exit 1
+# shellcheck source=scripts/lib/ekm_runs.sh
+. "$root/scripts/lib/ekm_runs.sh"
+ekm_runs steps2d
 /usr/bin/python3 "$root/figures/steps2d.py" --runs "$runs" -o "$root/results/ekm2d/step_study"

@@ -43,28 +43,9 @@ cases=(
   "pile_wide_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.inlet_width=0.07"
 )
 
-run_one() {
-  local name=$1 scen=$2
-  shift 2
-  if [ -f "$runs/$name.h5" ]; then
-    echo "thesis2d: $name: $runs/$name.h5 exists, not run again" >&2
-    return 0
-  fi
-  "$ekm" run "$root/scenarios/$scen.ini" --quiet "$@" -o "$runs/$name.h5" > "$runs/$name.log" 2>&1 ||
-    { echo "thesis2d: $name failed (log: $runs/$name.log)" >&2; return 1; }
-  echo "thesis2d: $name done" >&2
-}
-
-pids=()
-for c in "${cases[@]}"; do
-  # shellcheck disable=SC2086
-  run_one $c &
-  pids+=($!)
-  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do sleep 2; done
-done
-fail=0
-for p in "${pids[@]}"; do wait "$p" || fail=1; done
-[ "$fail" = 0 ] || exit 1
+# shellcheck source=scripts/lib/ekm_runs.sh
+. "$root/scripts/lib/ekm_runs.sh"
+ekm_runs thesis2d
 
 py=/usr/bin/python3
 for k in flow solid; do

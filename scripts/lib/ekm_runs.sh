@@ -1,0 +1,36 @@
+# shellcheck shell=bash disable=SC2154  # ekm, root, runs, jobs, cases: the sourcing script's
+# scripts/lib/ekm_runs.sh: the resumable batch of `ekm run`s of the study
+# scripts (scripts/thesis2d.sh, scripts/steps2d.sh); sourced, not run.
+#
+# ekm_runs TAG: runs every entry "NAME SCENARIO ARGS..." of the array
+# `cases` as `$ekm run $root/scenarios/SCENARIO.ini --quiet ARGS -o
+# $runs/NAME.h5` (its output in $runs/NAME.log), $jobs at a time, one core
+# each. A run whose .h5 exists is not run again (ekm writes it under a
+# temporary name and renames it when complete), so a batch resumes after an
+# interruption. Each outcome is one stderr line "TAG: NAME ..."; returns 1
+# when any run failed.
+
+ekm_run_one() {
+  local tag=$1 name=$2 scen=$3
+  shift 3
+  if [ -f "$runs/$name.h5" ]; then
+    echo "$tag: $name: $runs/$name.h5 exists, not run again" >&2
+    return 0
+  fi
+  "$ekm" run "$root/scenarios/$scen.ini" --quiet "$@" -o "$runs/$name.h5" > "$runs/$name.log" 2>&1 ||
+    { echo "$tag: $name failed (log: $runs/$name.log)" >&2; return 1; }
+  echo "$tag: $name done" >&2
+}
+
+ekm_runs() {
+  local tag=$1 c p fail=0
+  local -a pids=()
+  for c in "${cases[@]}"; do
+    # shellcheck disable=SC2086
+    ekm_run_one "$tag" $c &
+    pids+=($!)
+    while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do sleep 1; done
+  done
+  for p in "${pids[@]}"; do wait "$p" || fail=1; done
+  return "$fail"
+}
