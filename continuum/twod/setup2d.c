@@ -60,16 +60,27 @@ static ekm_status initial_state(ekm2d_step *st, const ekm_state *init, ekm_error
     return EKM_OK;
 }
 
-/* A system's linear solver (options prefix ekm_v_ or ekm_t_): on one rank
- * LU (the velocity system: LU as GMRES's preconditioner, kept across steps
- * while it converges in few iterations: ekm2d_kept_solve); on several
- * GMRES with block Jacobi (ILU) to 1e-12 (to be chosen by measurement:
- * docs).  The temperature system keeps its exact LU: its cells' T span
- * twenty decades, and a Krylov tolerance relative to the whole residual
- * would leave a cold bed cell's update to round-off of the hot stream's
- * (a kept factorisation measured 8 % less time in the solves on the
- * 18 x 60 filling, 2026-12-06: not worth that). */
-static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, int reuse, MPI_Comm comm, ekm_error *err)
+/* A system's linear solver (options prefix ekm_v_ or ekm_t_; any
+ * -ekm_v_ksp_* / -ekm_v_pc_* option overrides it).  The velocity system:
+ * on one rank below EKM2D_AMG_CELLS cells LU as GMRES's preconditioner,
+ * kept across steps while it converges in few iterations
+ * (ekm2d_kept_solve); from EKM2D_AMG_CELLS cells, and on several ranks,
+ * GMRES with hypre's BoomerAMG (strong threshold 0.7: the viscosities
+ * jump by decades from cell to cell), set up anew for every solve, to
+ * rtol 1e-12.  Measured on one core (docs/model.md "Linear solvers in
+ * 2D", a dense layer settling, 10 steps): the velocity solves of 32 x 32
+ * cells 0.054 s with LU against 0.100 s with BoomerAMG, of 64 x 64 0.40
+ * against 0.28 s, of 256 x 256 39 against 9.5 s (equal fields to 4e-15);
+ * the 18 x 60 filling 2.2 against 3.7 s.  No parallel LU (MUMPS or a
+ * redundant LU: 115 ms against 8 ms per solve measured earlier).
+ * The temperature system: on one rank an exact LU per Newton iteration
+ * (its cells' T span twenty decades, and a Krylov tolerance relative to
+ * the whole residual would leave a cold bed cell's update to round-off of
+ * the hot stream's; a kept factorisation measured 8 % less time in the
+ * solves on the 18 x 60 filling, 2026-12-06: not worth that); on several
+ * ranks GMRES with block Jacobi (ILU) to 1e-12. */
+static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, int velocity, long cells, MPI_Comm comm,
+                             ekm_error *err)
 {
     PC pc;
     int size = 1;
@@ -77,10 +88,21 @@ static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, int reuse, MPI_
     PTRY(KSPSetOperators(ksp, A, A), "KSPSetOperators");
     PTRY(KSPSetOptionsPrefix(ksp, prefix), "KSPSetOptionsPrefix");
     PTRY(KSPGetPC(ksp, &pc), "KSPGetPC");
-    if (size == 1 && reuse) {
+    if (velocity && size == 1 && cells < EKM2D_AMG_CELLS) {
         PTRY(KSPSetType(ksp, KSPGMRES), "KSPSetType");
         PTRY(PCSetType(pc, PCLU), "PCSetType");
         PTRY(KSPSetTolerances(ksp, 1e-13, 1e-300, PETSC_DEFAULT, 30), "KSPSetTolerances");
+    } else if (velocity) {
+        char name[64];
+        PetscBool given = PETSC_FALSE;
+        snprintf(name, sizeof name, "-%spc_hypre_boomeramg_strong_threshold", prefix);
+        PTRY(PetscOptionsHasName(NULL, NULL, name, &given), "PetscOptionsHasName");
+        if (!given)
+            PTRY(PetscOptionsSetValue(NULL, name, "0.7"), "PetscOptionsSetValue");
+        PTRY(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+        PTRY(PCSetType(pc, PCHYPRE), "PCSetType");
+        PTRY(PCHYPRESetType(pc, "boomeramg"), "PCHYPRESetType");
+        PTRY(KSPSetTolerances(ksp, 1e-12, 1e-300, PETSC_DEFAULT, 500), "KSPSetTolerances");
     } else if (size == 1) {
         PTRY(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
         PTRY(PCSetType(pc, PCLU), "PCSetType");
@@ -97,8 +119,12 @@ static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, int reuse, MPI_
 PetscErrorCode ekm2d_kept_solve(KSP ksp, int *keep, long *refactors, Vec b, Vec x, KSPConvergedReason *why)
 {
     KSPType type;
+    PC pc;
+    PetscBool lu = PETSC_FALSE;
     PetscCall(KSPGetType(ksp, &type));
-    const int kept = strcmp(type, KSPPREONLY) != 0 && *keep;
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCLU, &lu));
+    const int kept = strcmp(type, KSPPREONLY) != 0 && lu && *keep;
     PetscCall(KSPSetReusePreconditioner(ksp, kept ? PETSC_TRUE : PETSC_FALSE));
     PetscCall(KSPSolve(ksp, b, x));
     PetscCall(KSPGetConvergedReason(ksp, why));
@@ -198,9 +224,10 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
         *out = NULL;
         return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error creating the vectors and matrices");
     }
-    rc = set_up_ksp(st->ksp_v, st->A, "ekm_v_", 1, comm, err);
+    const long cells = (long)g->nx * g->nz;
+    rc = set_up_ksp(st->ksp_v, st->A, "ekm_v_", 1, cells, comm, err);
     if (rc == EKM_OK)
-        rc = set_up_ksp(st->ksp_t, st->J, "ekm_t_", 0, comm, err);
+        rc = set_up_ksp(st->ksp_t, st->J, "ekm_t_", 0, cells, comm, err);
     PetscClassId cls;
     if (rc == EKM_OK && (PetscClassIdRegister("ekm2d step", &cls) ||
                          PetscLogEventRegister("ekm2dExplicit", cls, &st->ev_explicit) ||

@@ -144,8 +144,12 @@ double ekm2d_cell_shear2(const ekm2d_step *st, PetscScalar ***u, PetscInt i, Pet
  * made anew (one rank). */
 #define EKM2D_REFACTOR_ITS 6
 
+/* From this many cells (and on several ranks) the velocity system is
+ * solved by GMRES with BoomerAMG instead of a kept LU (setup2d.c). */
+#define EKM2D_AMG_CELLS 4096
+
 /* Solve ksp's system for b into x (collective).  With GMRES + LU (one
- * rank: setup2d.c) the factorisation is kept across solves while they
+ * rank, small grids: setup2d.c) the factorisation is kept across solves while they
  * converge in at most EKM2D_REFACTOR_ITS iterations (*keep); a solve that
  * needs more refactors at the next one, a solve that fails with a kept
  * factorisation is repeated at once with a new one (++*refactors).  *why:
