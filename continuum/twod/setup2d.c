@@ -88,11 +88,7 @@ static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, int velocity, l
     PTRY(KSPSetOperators(ksp, A, A), "KSPSetOperators");
     PTRY(KSPSetOptionsPrefix(ksp, prefix), "KSPSetOptionsPrefix");
     PTRY(KSPGetPC(ksp, &pc), "KSPGetPC");
-    if (velocity && size == 1 && cells < EKM2D_AMG_CELLS) {
-        PTRY(KSPSetType(ksp, KSPGMRES), "KSPSetType");
-        PTRY(PCSetType(pc, PCLU), "PCSetType");
-        PTRY(KSPSetTolerances(ksp, 1e-13, 1e-300, PETSC_DEFAULT, 30), "KSPSetTolerances");
-    } else if (velocity) {
+    if (velocity && cells >= EKM2D_AMG_CELLS) {
         char name[64];
         PetscBool given = PETSC_FALSE;
         snprintf(name, sizeof name, "-%spc_hypre_boomeramg_strong_threshold", prefix);
@@ -103,6 +99,10 @@ static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, int velocity, l
         PTRY(PCSetType(pc, PCHYPRE), "PCSetType");
         PTRY(PCHYPRESetType(pc, "boomeramg"), "PCHYPRESetType");
         PTRY(KSPSetTolerances(ksp, 1e-12, 1e-300, PETSC_DEFAULT, 500), "KSPSetTolerances");
+    } else if (velocity && size == 1) {
+        PTRY(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+        PTRY(PCSetType(pc, PCLU), "PCSetType");
+        PTRY(KSPSetTolerances(ksp, 1e-13, 1e-300, PETSC_DEFAULT, 30), "KSPSetTolerances");
     } else if (size == 1) {
         PTRY(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
         PTRY(PCSetType(pc, PCLU), "PCSetType");
