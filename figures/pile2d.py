@@ -661,7 +661,7 @@ def pressure_figure(run, i, res, writer, meta, extrema=False):
     bx.set_ylabel(r"$P/\rho_b$ [Pa/(kg m$^{-3}$)]")
     lo = min(0.0, float(Pb.min()) * 1.1)
     hi = float(Pb.max())
-    bx.set_ylim(lo, hi * 1.22 if hi > 0 else 1.0)
+    bx.set_ylim(lo, hi * (1.4 if extrema else 1.22) if hi > 0 else 1.0)
     sec = bx.secondary_yaxis("right", functions=(lambda v: v * rb, lambda v: v / rb))
     sec.set_ylabel("$P$ [Pa]")
     sec.tick_params(labelsize=6)
@@ -685,7 +685,7 @@ def mark_extrema(run, ax, bx, Pb, ex):
             "%.3f" % m["ratio_to_highest_max"]["value"] for m in mins
             if m["ratio_to_highest_max"]["value"] is not None)
         bx.text(0.015, 0.04, txt, transform=bx.transAxes, ha="left", va="bottom", fontsize=6.5)
-    bx.legend(loc="upper right", fontsize=6, ncol=3)
+    bx.legend(loc="upper right", fontsize=6, ncol=3, bbox_to_anchor=(1.0, 0.9))
 
 
 # --- captions and JSON ------------------------------------------------------------
