@@ -220,17 +220,26 @@ int ekm_resolve_parse_integer(const char *value, long long *out)
 
 #define BLANKS " \t"
 
+int ekm_resolve_parse_numbers(const char *value, double *out, size_t max, size_t *n)
+{
+    *n = 0;
+    for (const char *p = value + strspn(value, BLANKS); *p; p += strspn(p, BLANKS)) {
+        const size_t len = strcspn(p, BLANKS);
+        double x;
+        if (!is_number(p, len, &x))
+            return 0;
+        if (out && *n < max)
+            out[*n] = x;
+        p += len;
+        (*n)++;
+    }
+    return *n > 0;
+}
+
 static int is_number_list(const char *v)
 {
-    size_t n = 0;
-    for (const char *p = v + strspn(v, BLANKS); *p; p += strspn(p, BLANKS)) {
-        const size_t len = strcspn(p, BLANKS);
-        if (!is_number(p, len, NULL))
-            return 0;
-        p += len;
-        n++;
-    }
-    return n > 0;
+    size_t n;
+    return ekm_resolve_parse_numbers(v, NULL, 0, &n);
 }
 
 static int is_field_list(const char *v)

@@ -34,6 +34,13 @@ int ekm_resolve_check_key(const char *section, const char *key, const char *valu
  * NULL), or 0. */
 int ekm_resolve_parse_number(const char *value, double *out);
 
+/* A list of numbers separated by blanks (spaces, tabs), the syntax of the
+ * sweep lists ([dem] rates) and of [bottom]/[top] inlet_x: each a number as
+ * ekm_resolve_parse_number reads it. Returns 1 when value is such a list
+ * of at least one number, with *n their count and out[0 .. min(*n, max))
+ * the first max of them (out may be NULL); otherwise 0. */
+int ekm_resolve_parse_numbers(const char *value, double *out, size_t max, size_t *n);
+
 /* A decimal integer, the whole value ([-+]? digits) within long long:
  * 1 and *out (out may be NULL), or 0. */
 int ekm_resolve_parse_integer(const char *value, long long *out);

@@ -22,7 +22,10 @@
 
 #define DEG (3.14159265358979323846 / 180.0)
 
-typedef enum { KEY_DOUBLE, KEY_INT, KEY_STRING } key_type;
+/* KEY_DOUBLES: numbers separated by blanks into a double array of
+ * EKM_INLETS_MAX (the only one: [bottom]/[top] inlet_x, its count in the
+ * ekm_bc's n_inlets) */
+typedef enum { KEY_DOUBLE, KEY_INT, KEY_STRING, KEY_DOUBLES } key_type;
 
 /* Registry of ekm's keys: where each is stored and whether it is required. */
 typedef struct {
@@ -50,7 +53,7 @@ typedef struct {
     BC(side, T, KEY_DOUBLE, "inflow"),                 \
     BC(side, t_stop, KEY_DOUBLE, "inflow"),            \
     BC(side, t_start, KEY_DOUBLE, "inflow"),           \
-    BC(side, inlet_x, KEY_DOUBLE, "inflow"),           \
+    BC(side, inlet_x, KEY_DOUBLES, "inflow"),          \
     BC(side, inlet_width, KEY_DOUBLE, "inflow"),       \
     BC(side, period, KEY_DOUBLE, "piston"),            \
     BC(side, w_return, KEY_DOUBLE, "piston"),          \
@@ -147,7 +150,8 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->periodic_x = 0;
     s->bottom.kind = s->top.kind = EKM_BC_WALL;
     s->bottom.t_stop = s->top.t_stop = INFINITY;
-    s->bottom.inlet_x = s->top.inlet_x = NAN;         /* the middle of the end (set by the reader) */
+    s->bottom.inlet_x[0] = s->top.inlet_x[0] = NAN;   /* the middle of the end (set by the reader) */
+    s->bottom.n_inlets = s->top.n_inlets = 1;         /* one segment */
     s->bottom.inlet_width = s->top.inlet_width = NAN; /* the whole end */
     s->bottom.w_return = s->top.w_return = NAN;       /* piston: -w */
     s->bottom.pressure = s->top.pressure = NAN;       /* the wall stays put */
@@ -394,6 +398,27 @@ static int parse_int(const char *v, int *out)
     return 1;
 }
 
+/* [bottom]/[top] inlet_x: 1 to EKM_INLETS_MAX numbers separated by blanks
+ * (the sweep lists' syntax, resolve.h) into x[], their count into the
+ * end's n_inlets; 0 after recording the error. */
+static int parse_inlets(parse_ctx *c, const char *section, const char *key, const char *value, double *x)
+{
+    size_t n = 0;
+    if (!ekm_resolve_parse_numbers(value, x, EKM_INLETS_MAX, &n))
+        return fail_once(c, EKM_EINPUT,
+                         "[%s] %s: expected a number or numbers separated by blanks (the "
+                         "inlet centres [m]), got '%s'",
+                         section, key, value);
+    if (n > EKM_INLETS_MAX) {
+        char detail[64];
+        snprintf(detail, sizeof detail, "expected at most %d inlet centres, got %zu", EKM_INLETS_MAX, n);
+        return fail_once(c, EKM_EINPUT, "[%s] %s: %s", section, key, detail);
+    }
+    ekm_bc *bc = strcmp(section, "bottom") == 0 ? &c->s->bottom : &c->s->top;
+    bc->n_inlets = (int)n;
+    return 1;
+}
+
 /* Set "section.key" = value in list (in place when it is there already). */
 static ekm_status record_entry(ekm_entry **list, size_t *n, const char *section, const char *key,
                                const char *value, ekm_origin origin, int line, ekm_error *err)
@@ -550,6 +575,9 @@ static int handler(void *user, const char *section, const char *key, const char 
     } else if (ks->type == KEY_DOUBLE) {
         if (!parse_double(value, (double *)(base + ks->offset)))
             return fail_once(c, EKM_EINPUT, "[%s] %s: expected a number, got '%s'", section, key, value);
+    } else if (ks->type == KEY_DOUBLES) {
+        if (!parse_inlets(c, section, key, value, (double *)(base + ks->offset)))
+            return 0;
     } else if (ks->type == KEY_INT) {
         if (!parse_int(value, (int *)(base + ks->offset)))
             return fail_once(c, EKM_EINPUT, "[%s] %s: expected an integer, got '%s'", section, key, value);
@@ -690,10 +718,67 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
     return EKM_OK;
 }
 
+/* Segment q of an inflow end: inside the end and holding a face centre of
+ * the cells_x along x. */
+static ekm_status check_inlet(const parse_ctx *c, const ekm_scenario *s, const char *end, const ekm_bc *bc,
+                              int q, ekm_error *err)
+{
+    char w_[600];
+    const double lo = bc->inlet_x[q] - 0.5 * bc->inlet_width, hi = bc->inlet_x[q] + 0.5 * bc->inlet_width;
+    const double slack = 1e-12 * s->width;
+    if (!(lo >= -slack && hi <= s->width + slack)) {
+        const char *key = given(c, end, "inlet_x") ? "inlet_x" : "inlet_width";
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [%s] %s: the inlet [%g, %g] m is outside the %s boundary [0, %g] m "
+                        "(inlet_x +- inlet_width/2 must lie in [0, [domain] width])",
+                        where(c, end, key, w_, sizeof w_), end, key, lo, hi, end, s->width);
+    }
+    int faces = 0;
+    for (int i = 0; i < s->cells_x; i++) {
+        const double xc = (i + 0.5) * s->width / s->cells_x;
+        faces += xc >= lo && xc <= hi;
+    }
+    if (faces == 0)
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [%s] inlet_width: the inlet [%g, %g] m holds no face centre of the %d cells "
+                        "along x (%g m wide): widen it or refine cells_x",
+                        where(c, end, "inlet_width", w_, sizeof w_), end, lo, hi, s->cells_x,
+                        s->width / s->cells_x);
+    return EKM_OK;
+}
+
+/* The inlet segments of an inflow end with an inlet_width: several only
+ * in a 2D domain (cells_x > 1), each inside the end and holding a face
+ * centre (check_inlet), no two overlapping (touching is allowed). */
+static ekm_status check_inlets(const parse_ctx *c, const ekm_scenario *s, const char *end, const ekm_bc *bc,
+                               ekm_error *err)
+{
+    char w_[600];
+    if (bc->n_inlets > 1 && s->cells_x < 2)
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [%s] inlet_x: %d inlets need a 2D domain ([domain] cells_x > 1; the 1D column "
+                        "has one face per end)",
+                        where(c, end, "inlet_x", w_, sizeof w_), end, bc->n_inlets);
+    const double half = 0.5 * bc->inlet_width, slack = 1e-12 * s->width;
+    for (int q = 0; q < bc->n_inlets; q++) {
+        const ekm_status st = check_inlet(c, s, end, bc, q, err);
+        if (st != EKM_OK)
+            return st;
+        for (int p = 0; p < q; p++)
+            if (fabs(bc->inlet_x[q] - bc->inlet_x[p]) < bc->inlet_width - slack)
+                return EKM_FAIL(err, EKM_EINPUT,
+                                "%s: [%s] inlet_x: the inlets [%g, %g] m and [%g, %g] m overlap (expected "
+                                "centres at least inlet_width = %g m apart)",
+                                where(c, end, "inlet_x", w_, sizeof w_), end, bc->inlet_x[p] - half,
+                                bc->inlet_x[p] + half, bc->inlet_x[q] - half, bc->inlet_x[q] + half,
+                                bc->inlet_width);
+    }
+    return EKM_OK;
+}
+
 /* The keys of a 2D domain's boundaries: the side walls ([left], [right]:
  * a box with walls, not periodic in x) and an inflow's opening time and
- * inlet segment (a domain with a width); the inlet inside its end and
- * wide enough to hold a face centre. */
+ * inlet segments (a domain with a width): check_inlets. */
 static ekm_status check_boundaries_2d(const parse_ctx *c, ekm_scenario *s, ekm_error *err)
 {
     char w_[600];
@@ -741,28 +826,11 @@ static ekm_status check_boundaries_2d(const parse_ctx *c, ekm_scenario *s, ekm_e
         if (!given(c, ends[k], "inlet_width"))
             continue;
         if (!given(c, ends[k], "inlet_x"))
-            bc->inlet_x = 0.5 * s->width; /* centred */
+            bc->inlet_x[0] = 0.5 * s->width; /* centred */
         RANGE(bc->inlet_width > 0.0, ends[k], "inlet_width", "a width > 0 [m]", bc->inlet_width);
-        const double lo = bc->inlet_x - 0.5 * bc->inlet_width, hi = bc->inlet_x + 0.5 * bc->inlet_width;
-        const double slack = 1e-12 * s->width;
-        if (!(lo >= -slack && hi <= s->width + slack)) {
-            const char *key = given(c, ends[k], "inlet_x") ? "inlet_x" : "inlet_width";
-            return EKM_FAIL(err, EKM_EINPUT,
-                            "%s: [%s] %s: the inlet [%g, %g] m is outside the %s boundary [0, %g] m "
-                            "(inlet_x +- inlet_width/2 must lie in [0, [domain] width])",
-                            where(c, ends[k], key, w_, sizeof w_), ends[k], key, lo, hi, ends[k], s->width);
-        }
-        int faces = 0;
-        for (int i = 0; i < s->cells_x; i++) {
-            const double xc = (i + 0.5) * s->width / s->cells_x;
-            faces += xc >= lo && xc <= hi;
-        }
-        if (faces == 0)
-            return EKM_FAIL(err, EKM_EINPUT,
-                            "%s: [%s] inlet_width: the inlet [%g, %g] m holds no face centre of the %d cells "
-                            "along x (%g m wide): widen it or refine cells_x",
-                            where(c, ends[k], "inlet_width", w_, sizeof w_), ends[k], lo, hi, s->cells_x,
-                            s->width / s->cells_x);
+        const ekm_status st = check_inlets(c, s, ends[k], bc, err);
+        if (st != EKM_OK)
+            return st;
     }
     return EKM_OK;
 }
@@ -1112,6 +1180,25 @@ static void format_shortest(double x, char *buf, size_t size)
     }
 }
 
+/* An end's inlet centres separated by blanks (as inlet_x is written);
+ * 0 when there is none to show (no segment: the whole end). */
+static int format_inlets(const ekm_bc *bc, char *value, size_t size)
+{
+    size_t used = 0;
+    value[0] = '\0';
+    for (int q = 0; q < bc->n_inlets; q++) {
+        char one[32];
+        if (!isfinite(bc->inlet_x[q]))
+            return 0;
+        format_shortest(bc->inlet_x[q], one, sizeof one);
+        const int w = snprintf(value + used, size - used, "%s%s", q ? " " : "", one);
+        if (w < 0 || (size_t)w >= size - used)
+            return 0;
+        used += (size_t)w;
+    }
+    return 1;
+}
+
 int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_t size)
 {
     const key_spec *ks = &KEYS[i];
@@ -1149,7 +1236,9 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
         if (!isfinite(x))
             return 0;
         format_shortest(x, value, size);
-    } else if (ks->type == KEY_INT)
+    } else if (ks->type == KEY_DOUBLES)
+        return format_inlets(bc, value, size);
+    else if (ks->type == KEY_INT)
         snprintf(value, size, "%d", *(const int *)(base + ks->offset));
     else
         snprintf(value, size, "%s", base + ks->offset);

@@ -24,21 +24,26 @@ typedef enum {
     EKM_BC_PISTON    /* prescribed w(t) = w, w_return alternating each half period; no slip */
 } ekm_bc_kind;
 
+/* The most inlet segments one end may have ([bottom]/[top] inlet_x, a list). */
+#define EKM_INLETS_MAX 8
+
 typedef struct {
     ekm_bc_kind kind;
-    double velocity;      /* wall: tangential velocity u of the wall; a top wall with shear_rate:
-                           * its speed at zero gap, [bottom] velocity (set by the reader: the wall
-                           * moves at velocity + shear_rate L(t), bc.h) [m/s] */
-    double slip_length;   /* wall: Navier slip length, 0 = no slip [m] */
-    double phi;           /* inflow: volume fraction entering [-] */
-    double w;             /* inflow: normal velocity along +z [m/s] */
-    double u;             /* inflow: tangential velocity [m/s] */
-    double T;             /* inflow: granular temperature [m^2/s^2] */
-    double t_stop;        /* inflow: time it closes to a resting wall [s] */
-    double t_start;       /* inflow, 2D: time it opens; a resting wall before [s] */
-    double inlet_x;       /* inflow, 2D: centre of the inlet segment [m] */
-    double inlet_width;   /* inflow, 2D: width of the inlet segment, NAN: the whole end; the end's
-                           * faces whose centres lie in it are the inlet, the rest a resting wall [m] */
+    double velocity;    /* wall: tangential velocity u of the wall; a top wall with shear_rate:
+                         * its speed at zero gap, [bottom] velocity (set by the reader: the wall
+                         * moves at velocity + shear_rate L(t), bc.h) [m/s] */
+    double slip_length; /* wall: Navier slip length, 0 = no slip [m] */
+    double phi;         /* inflow: volume fraction entering [-] */
+    double w;           /* inflow: normal velocity along +z [m/s] */
+    double u;           /* inflow: tangential velocity [m/s] */
+    double T;           /* inflow: granular temperature [m^2/s^2] */
+    double t_stop;      /* inflow: time it closes to a resting wall [s] */
+    double t_start;     /* inflow, 2D: time it opens; a resting wall before [s] */
+    /* inflow, 2D: the centres of the inlet segments, [0] .. [n_inlets - 1] [m] */
+    double inlet_x[EKM_INLETS_MAX];
+    int n_inlets;         /* inflow, 2D: how many segments (1 unless inlet_x lists more) */
+    double inlet_width;   /* inflow, 2D: width of each inlet segment, NAN: the whole end; the end's
+                           * faces whose centres lie in one are the inlet, the rest a resting wall [m] */
     double period;        /* piston: period of the velocity program [s] */
     double w_return;      /* piston: w in the second half of each period, NAN: -w [m/s] */
     double pressure;      /* wall (top only): normal stress held on the moving wall, NAN: the wall

@@ -3,7 +3,7 @@
 4.6.3, scenarios/thesis_sandpile_2d.ini; thesis Figures 4.13-4.19).
 
     /usr/bin/python3 figures/pile2d.py RUN.h5 OUTDIR [--times 0.5,1,1.5,2,3.5]
-                                                     [--base-time 3.5]
+                                                     [--base-time 3.5] [--extrema]
 
 RUN.h5 is the output of `ekm run` on a 2D scenario (docs/output-format.md,
 "2D runs": /x, /z, /t, /phi and /P as [nt][nz][nx], x fastest). Writes
@@ -16,7 +16,10 @@ into OUTDIR, each file under a temporary name renamed when complete:
   pile2d_pressure.pdf/.png  P/rho_b at the frame nearest to --base-time,
                             with the pile's surface and flank fits, and the
                             base profile (bottom row of cells) against x:
-                            centre and maxima marked (thesis Figs 4.17-4.18)
+                            centre and maxima marked (thesis Figs 4.17-4.18);
+                            with --extrema (several sources, thesis Fig.
+                            4.20) the inlets' centres (top.inlet_x) and the
+                            profile's local maxima and minima instead
   pile2d_captions.txt       the two captions (times used, scales, the
                             definitions below, the input's provenance)
   pile2d.json               the pile's numbers at the base time and at the
@@ -68,7 +71,11 @@ Definitions (also written into pile2d.json, "definitions"):
   quadratic over four cells, sqrt(20) times the standard deviation of white
   noise; the median, robust to the few kinks: the maxima, the toes),
   floored at 1e-9 P(max) (rounding); null when the pile's base is under
-  6 cells.
+  6 cells;
+- base extrema (several sources): the local maxima and minima of the
+  base profile under the bed (end cells of the bed left out) whose
+  prominence exceeds the dip's threshold 3 sigma, at cell centres, each
+  minimum's ratio to the highest maximum.
 
 Everything is read and checked before anything is drawn: a missing or
 malformed input stops with one line on stderr. Exit status
@@ -170,12 +177,27 @@ class Run(C.Run2D):
                                % (r, PROG))
         self.width, self.height = nx * self.dx, nz * self.dz
         self.phi_s = 0.5 * self.phi_co
+        self.inlets = inlet_centres(self.attrs)
 
     def far(self, i, want):
         """Whether frame i is further from want than half an output interval."""
         import numpy as np
         step = float(np.median(np.diff(self.t))) if self.t.size > 1 else 0.0
         return abs(self.t[i] - want) > 0.5 * step + 1e-9 * max(1.0, abs(want))
+
+
+def inlet_centres(attrs):
+    """The top inlets' centres [m] from the run's top.inlet_x (a number, or
+    numbers separated by blanks: docs/scenario-format.md); [] without a
+    segment (the whole top) or a value that is not such a list."""
+    v = attrs.get("top.inlet_x")
+    if v is None:
+        return []
+    try:
+        xs = [float(w) for w in str(v).split()] if isinstance(v, str) else [float(v)]
+    except ValueError:
+        return []
+    return [x for x in xs if math.isfinite(x)]
 
 
 # --- analysis ---------------------------------------------------------------------
@@ -259,6 +281,7 @@ def analyse(run, i):
             ("centre", "Pa"), ("max", "Pa"), ("ratio_centre_to_max", "1"), ("max_left", "Pa"),
             ("x_max_left", "m"), ("max_right", "Pa"), ("x_max_right", "m"))}
         out["dip"] = q(None, "1 (true/false)", why)
+        out["base_extrema"] = q(None, "Pa", why)
         return out
     H = float(h.max())
     top = np.nonzero(h >= H - APEX_TIE * dz)[0]
@@ -347,17 +370,16 @@ def analyse(run, i):
     out["_maxima"] = maxima
     out["base_pressure"] = bp
     # dip: P(max) - P(centre) against the cell-to-cell noise under the pile
-    d3 = [Pb[k + 2] - 3 * Pb[k + 1] + 3 * Pb[k] - Pb[k - 1] for k in range(1, nx - 2)
-          if base[k - 1:k + 3].all()]
+    sigma = base_noise(Pb, base)
+    out["base_extrema"] = extrema_json(run, Pb, base, sigma)
     if out["bed"] != "pile":
         out["dip"] = q(None, "1 (true/false)", "no pile (bed: %s): a dip is a pile's; under a flat "
                        "layer one or two cells thick the bottom row's P is its cells' equation of "
                        "state, not the weight above" % out["bed"])
-    elif len(d3) < 3:
+    elif sigma is None:
         out["dip"] = q(None, "1 (true/false)", "the pile's base spans %d cell(s): fewer than 6, no "
                        "estimate of the cell-to-cell noise" % int(base.sum()))
     else:
-        sigma = 1.4826 * float(np.median(np.abs(d3))) / math.sqrt(20.0)
         thr = max(DIP_SIGMAS * sigma, 1e-9 * abs(pmax))
         depth = pmax - pc
         out["dip"] = q(bool(depth > thr), "1 (true/false)",
@@ -366,6 +388,83 @@ def analyse(run, i):
                                        q(None, "1", "P(max) not positive")),
                        noise=q(num(sigma), "Pa"), threshold=q(num(thr), "Pa"))
     return out
+
+
+def base_noise(Pb, base):
+    """The cell-to-cell noise sigma [Pa] of the bottom row's P over its bed
+    cells (third differences: the module comment, "dip"); None when fewer
+    than 3 third differences lie under the bed."""
+    import numpy as np
+    nx = Pb.size
+    d3 = [Pb[k + 2] - 3 * Pb[k + 1] + 3 * Pb[k] - Pb[k - 1] for k in range(1, nx - 2)
+          if base[k - 1:k + 3].all()]
+    if len(d3) < 3:
+        return None
+    return 1.4826 * float(np.median(np.abs(d3))) / math.sqrt(20.0)
+
+
+def prominent_peaks(y, thr):
+    """The interior local maxima k of the profile y (y[k] > y[k-1], y[k] >=
+    y[k+1]) whose prominence exceeds thr: y[k] minus the higher of the
+    lowest values on either side before a point higher than y[k] (or the
+    profile's end). Returns [(k, prominence)]."""
+    n = len(y)
+    out = []
+    for k in range(1, n - 1):
+        if not (y[k] > y[k - 1] and y[k] >= y[k + 1]):
+            continue
+        lo = []
+        for step in (-1, 1):
+            m, j = y[k], k + step
+            while 0 <= j < n and y[j] <= y[k]:
+                m = min(m, y[j])
+                j += step
+            lo.append(m)
+        prom = y[k] - max(lo)
+        if prom > thr:
+            out.append((k, prom))
+    return out
+
+
+def base_extrema(Pb, base, thr):
+    """The bottom row's local maxima and minima under the bed (each
+    contiguous run of bottom-row bed cells, its end cells left out) that
+    stand out by more than thr [Pa]: ([(k, prominence)], [(k, prominence)])."""
+    import numpy as np
+    maxima, minima = [], []
+    cols = np.nonzero(base)[0]
+    runs = np.split(cols, np.nonzero(np.diff(cols) > 1)[0] + 1) if cols.size else []
+    for r in runs:
+        y = [float(v) for v in Pb[r]]
+        maxima += [(int(r[k]), p) for k, p in prominent_peaks(y, thr)]
+        minima += [(int(r[k]), p) for k, p in prominent_peaks([-v for v in y], thr)]
+    return maxima, minima
+
+
+def extrema_json(run, Pb, base, sigma):
+    """base_extrema of the JSON: positions, values and prominences of the
+    base profile's maxima and minima (threshold 3 sigma, as the dip's), each
+    minimum's ratio to the highest maximum; null with a reason without a
+    noise estimate."""
+    if sigma is None:
+        return q(None, "Pa", "the bed's bottom row spans %d cell(s): fewer than 6, no estimate of "
+                 "the cell-to-cell noise" % int(base.sum()))
+    thr = max(DIP_SIGMAS * sigma, 1e-9 * float(abs(Pb).max()))
+    maxima, minima = base_extrema(Pb, base, thr)
+    top = max((float(Pb[k]) for k, _ in maxima), default=None)
+
+    def entry(k, prom, ratio):
+        e = {"x": q(num(run.x[k]), "m", resolution=q(num(run.dx), "m")),
+             "P": q(num(Pb[k]), "Pa", scaled=q(num(Pb[k] / run.rho_p), "Pa/(kg m^-3)")),
+             "prominence": q(num(prom), "Pa")}
+        if ratio:
+            e["ratio_to_highest_max"] = (q(num(Pb[k] / top), "1") if top and top > 0 else
+                                         q(None, "1", "no maximum with a positive P"))
+        return e
+    return {"maxima": [entry(k, p, False) for k, p in maxima],
+            "minima": [entry(k, p, True) for k, p in minima],
+            "noise": q(num(sigma), "Pa"), "threshold": q(num(thr), "Pa"),
+            "_maxima": [k for k, _ in maxima], "_minima": [k for k, _ in minima]}
 
 
 def public(res):
@@ -400,6 +499,13 @@ DEFINITIONS = {
     "base_pressure": "P of the bottom row of cells: centre = mean over the centre column(s); max_left, "
                      "max_right = the largest value under the pile (bottom cell a bed cell) at x <= "
                      "apex_x and at x >= apex_x, at its cell centre; max = the larger",
+    "base_extrema": "the local maxima and minima of the bottom row's P under the bed (each contiguous "
+                    "run of bottom-row bed cells, its two end cells left out) whose prominence (the "
+                    "height above, or depth below, the higher of the lowest (highest) values on either "
+                    "side before a higher (lower) point) exceeds threshold = 3 sigma (the dip's noise, "
+                    "at least 1e-9 of max |P|), at their cell centres (resolution dx); "
+                    "ratio_to_highest_max = P(minimum) / the highest of the maxima; null when the "
+                    "bottom row has under 6 bed cells",
     "dip": "max - centre > threshold = 3 sigma (at least 1e-9 max), sigma = 1.4826 "
            "median|P[k+2] - 3P[k+1] + 3P[k] - P[k-1]| / sqrt(20) over the bottom-row bed cells "
            "(the cell-to-cell noise: third differences, blind to a profile quadratic over four "
@@ -490,7 +596,7 @@ def phi_figure(run, frames, writer, meta):
     writer.save(fig, "pile2d_phi", meta)
 
 
-def pressure_figure(run, i, res, writer, meta):
+def pressure_figure(run, i, res, writer, meta, extrema=False):
     import matplotlib.pyplot as plt
     import numpy as np
     xe, ze = _edges(run)
@@ -530,7 +636,9 @@ def pressure_figure(run, i, res, writer, meta):
             ha="left", va="top", fontsize=6.5)
     Pb = run.P[i][0] / rb
     bx.plot(run.x, Pb, color="black", lw=0.9, marker="o", ms=2.2, mfc="white", mew=0.6)
-    if "_xc" in res:
+    if extrema and isinstance(res.get("base_extrema"), dict) and "_maxima" in res["base_extrema"]:
+        mark_extrema(run, ax, bx, Pb, res["base_extrema"])
+    elif "_xc" in res:
         bx.axvline(res["_xc"], color="0.5", lw=0.6, ls=":")
         cen = res["_centre"]
         bx.plot(run.x[cen], Pb[cen], marker="v", color="#0072B2", ms=5, ls="none", label="centre")
@@ -553,12 +661,31 @@ def pressure_figure(run, i, res, writer, meta):
     bx.set_ylabel(r"$P/\rho_b$ [Pa/(kg m$^{-3}$)]")
     lo = min(0.0, float(Pb.min()) * 1.1)
     hi = float(Pb.max())
-    bx.set_ylim(lo, hi * 1.22 if hi > 0 else 1.0)
+    bx.set_ylim(lo, hi * (1.4 if extrema else 1.22) if hi > 0 else 1.0)
     sec = bx.secondary_yaxis("right", functions=(lambda v: v * rb, lambda v: v / rb))
     sec.set_ylabel("$P$ [Pa]")
     sec.tick_params(labelsize=6)
     bx.tick_params(axis="y", right=False)
     writer.save(fig, "pile2d_pressure", meta)
+
+
+def mark_extrema(run, ax, bx, Pb, ex):
+    """--extrema: the inlets' centres (dotted, and a mark on the top of
+    panel a) and the base profile's maxima and minima (base_extrema)."""
+    for k, xi in enumerate(run.inlets):
+        bx.axvline(xi, color="0.5", lw=0.6, ls=":", label="inlets" if k == 0 else None)
+        ax.plot([xi], [run.height], marker="v", color="0.3", ms=4, clip_on=False)
+    for key, mk, col, lab in (("_maxima", "^", "#D55E00", "maxima"), ("_minima", "v", "#0072B2", "minima")):
+        ks = ex[key]
+        if ks:
+            bx.plot(run.x[ks], Pb[ks], marker=mk, color=col, ms=5, ls="none", label=lab)
+    mins = ex["minima"]
+    if mins:
+        txt = r"$P_{\rm min}/P_{\rm max}$ = " + ", ".join(
+            "%.3f" % m["ratio_to_highest_max"]["value"] for m in mins
+            if m["ratio_to_highest_max"]["value"] is not None)
+        bx.text(0.015, 0.04, txt, transform=bx.transAxes, ha="left", va="bottom", fontsize=6.5)
+    bx.legend(loc="upper right", fontsize=6, ncol=3, bbox_to_anchor=(1.0, 0.9))
 
 
 # --- captions and JSON ------------------------------------------------------------
@@ -569,7 +696,7 @@ def provenance_line(prov):
         prov["created"] or "unknown")
 
 
-def captions(run, frames, ib, ask_base, prov):
+def captions(run, frames, ib, ask_base, prov, extrema=False):
     used = "; ".join("%g s%s" % (run.t[i], " (asked %s)" % ", ".join("%g" % a for a in asked)
                                  if any(run.far(i, a) or a != run.t[i] for a in asked) else "")
                      for i, asked in frames)
@@ -584,10 +711,14 @@ def captions(run, frames, ib, ask_base, prov):
             "degrees). rho_b is the thesis's: the density its material parameters are given per "
             "(rho_b = 1600 kg/m^3, Section 4.6.2), i.e. the run's material.rho_p = %g kg/m^3, not "
             "the local rho_p phi. (b) P/rho_b of the bottom row of cells against x (thesis Figure "
-            "4.18; right axis: P in Pa), the centre (apex column(s)) and the maxima on either side "
-            "marked; a dip is P(max) - P(centre) > 3 sigma of the cell-to-cell noise (pile2d.json, "
-            "definitions). %s."
-            % (run.t[ib], ask_base, run.phi_s, run.rho_p, provenance_line(prov)))
+            "4.18; right axis: P in Pa), %s. %s."
+            % (run.t[ib], ask_base, run.phi_s, run.rho_p,
+               ("the inlets' centres (dotted; marks on the top of (a)) and the profile's local maxima "
+                "and minima that stand out by more than 3 sigma of the cell-to-cell noise marked, each "
+                "minimum's ratio to the highest maximum given (pile2d.json, base_extrema)") if extrema else
+               ("the centre (apex column(s)) and the maxima on either side marked; a dip is P(max) - "
+                "P(centre) > 3 sigma of the cell-to-cell noise (pile2d.json, definitions)"),
+               provenance_line(prov)))
     return phi, pres
 
 
@@ -615,6 +746,10 @@ def main(argv=None):
                     help="times [s] of the phi panels, comma-separated (default 0.5,1,1.5,2,3.5)")
     ap.add_argument("--base-time", type=time_arg, default=3.5,
                     help="time [s] of the pressure figure and the first set of numbers (default 3.5)")
+    ap.add_argument("--extrema", action="store_true",
+                    help="panel (b) of the pressure figure marks the inlets and the base profile's "
+                         "local maxima and minima (several sources) instead of the centre and the two "
+                         "maxima")
     a = ap.parse_args(argv)
     try:
         import numpy  # noqa: F401
@@ -648,7 +783,7 @@ def main(argv=None):
                 print("%s: note: no output near t = %g s (run from %g to %g s): frame t = %g s used"
                       % (PROG, want, run.t[0], run.t[-1], run.t[i]), file=sys.stderr)
     prov = run.provenance()
-    cap_phi, cap_p = captions(run, frames, ib, a.base_time, prov)
+    cap_phi, cap_p = captions(run, frames, ib, a.base_time, prov, a.extrema)
     subject = provenance_line(prov)
     js = {"program": "figures/pile2d.py", "input": prov, "definitions": DEFINITIONS,
           "material": {"rho_p": q(num(run.rho_p), "kg/m^3"), "phi_co": q(num(run.phi_co), "1")},
@@ -668,7 +803,7 @@ def main(argv=None):
         phi_figure(run, frames, w, {"Title": "Sand pile: solid volume fraction (pile2d.py)",
                                     "Subject": subject, "Keywords": cap_phi})
         pressure_figure(run, ib, res_b, w, {"Title": "Sand pile: pressure (pile2d.py)",
-                                            "Subject": subject, "Keywords": cap_p})
+                                            "Subject": subject, "Keywords": cap_p}, a.extrema)
         write_atomic(os.path.join(a.outdir, "pile2d_captions.txt"), cap_phi + "\n\n" + cap_p + "\n")
         write_atomic(os.path.join(a.outdir, "pile2d.json"), text)
     except OSError as e:

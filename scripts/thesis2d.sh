@@ -13,6 +13,11 @@
 #                             28 x 14 and 112 x 56 cells to t = 2 s
 #   thesis_sandpile_2d/wide_56x28
 #                             a 70 mm inlet ("sieve"), 7x the narrow mass flux
+#   thesis_sandpile_2d/2sources7_56x28, 2sources7_*_at_1s, _at_2s
+#                             two 10 mm inlets at x = 0.045 and 0.095 m
+#                             (thesis Fig. 4.20), each as the fast narrow
+#                             one (w = -0.35 m/s); also on 28 x 14 cells to
+#                             t = 2 s; figures with --extrema
 #
 # Runs go to RUNS (default runs/thesis2d/, not committed); a run whose .h5
 # exists is not run again (delete it to redo), so the script resumes after
@@ -41,6 +46,8 @@ cases=(
   "pile_narrow7_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35"
   "pile_narrow7_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=112 --set domain.cells=56 --set run.t_end=2"
   "pile_wide_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.inlet_width=0.07"
+  "pile_2sources7_28x14 thesis_sandpile_2sources_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=28 --set domain.cells=14 --set run.t_end=2"
+  "pile_2sources7_56x28 thesis_sandpile_2sources_2d --set hypo.enabled=1 --set top.w=-0.35"
 )
 
 # shellcheck source=scripts/lib/ekm_runs.sh
@@ -63,6 +70,17 @@ for k in narrow7_28x14 narrow7_56x28 narrow7_112x56 wide_56x28; do
       --times 0.5,1,1.5,2 --base-time "$bt" >&2
   done
 done
+# two sources (thesis Fig. 4.20): the inlets and the base profile's maxima
+# and minima marked; the box is full by 3.5 s (the two inlets pour twice
+# the fast narrow inlet's mass), so also at 1 and 2 s
+$py -B "$root/figures/pile2d.py" "$runs/pile_2sources7_56x28.h5" "$res/thesis_sandpile_2d/2sources7_56x28" \
+  --extrema >&2
+for k in 2sources7_28x14 2sources7_56x28; do
+  for bt in 1 2; do
+    $py -B "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/${k}_at_${bt}s" \
+      --times 0.5,1,1.5,2 --base-time "$bt" --extrema >&2
+  done
+done
 # the base rows' phi and P of every pile at its base times (the thesis's
 # claim: P follows phi there)
 $py -B - "$runs" "$res/thesis_sandpile_2d/base_rows.json" <<'PY'
@@ -71,7 +89,7 @@ import h5py
 runs, out = sys.argv[1], sys.argv[2]
 rows = {}
 for name in ("narrow_56x28", "narrow_112x56", "narrow7_28x14", "narrow7_56x28", "narrow7_112x56",
-             "wide_56x28"):
+             "wide_56x28", "2sources7_28x14", "2sources7_56x28"):
     with h5py.File(os.path.join(runs, "pile_%s.h5" % name), "r") as f:
         t = list(f["t"][:])
         for bt in (1.0, 2.0, 3.5):

@@ -12,26 +12,27 @@
         }                                                                              \
     } while (0)
 
-/* The face columns whose centres lie in end k's inlet segment (all of
- * them without one); 0 when the segment holds none. */
-static int inlet_columns(ekm2d_grid *g, int k, const ekm_bc *bc)
+/* The face columns of end k whose centres lie in its inlet segment q
+ * (without a segment: all of them); 0 when the segment holds none. */
+static int inlet_columns(ekm2d_grid *g, int k, int q, const ekm_bc *bc)
 {
-    g->inlet_lo[k] = 0;
-    g->inlet_hi[k] = g->nx - 1;
+    PetscInt *lo_col = &g->inlet_lo[k][q], *hi_col = &g->inlet_hi[k][q];
+    *lo_col = 0;
+    *hi_col = g->nx - 1;
     if (bc->kind != EKM_BC_INFLOW || !isfinite(bc->inlet_width))
         return 1;
-    const double lo = bc->inlet_x - 0.5 * bc->inlet_width, hi = bc->inlet_x + 0.5 * bc->inlet_width;
-    g->inlet_lo[k] = g->nx;
-    g->inlet_hi[k] = -1;
+    const double lo = bc->inlet_x[q] - 0.5 * bc->inlet_width, hi = bc->inlet_x[q] + 0.5 * bc->inlet_width;
+    *lo_col = g->nx;
+    *hi_col = -1;
     for (PetscInt i = 0; i < g->nx; i++) {
         const double xc = (i + 0.5) * g->dx;
         if (xc >= lo && xc <= hi) {
-            if (i < g->inlet_lo[k])
-                g->inlet_lo[k] = i;
-            g->inlet_hi[k] = i;
+            if (i < *lo_col)
+                *lo_col = i;
+            *hi_col = i;
         }
     }
-    return g->inlet_hi[k] >= g->inlet_lo[k];
+    return *hi_col >= *lo_col;
 }
 
 ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *g, ekm_error *err)
@@ -47,10 +48,14 @@ ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *
     g->side_conductance[0] = 1.0 / (0.5 * g->dx + sc->left.slip_length);
     g->side_conductance[1] = 1.0 / (0.5 * g->dx + sc->right.slip_length);
     const ekm_bc *ends[2] = {&sc->bottom, &sc->top};
-    for (int k = 0; k < 2; k++)
-        if (!inlet_columns(g, k, ends[k]))
-            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] inlet_width: the inlet holds no face centre",
-                            sc->source, k ? "top" : "bottom");
+    for (int k = 0; k < 2; k++) {
+        const int segmented = ends[k]->kind == EKM_BC_INFLOW && isfinite(ends[k]->inlet_width);
+        g->n_inlets[k] = segmented ? ends[k]->n_inlets : 1;
+        for (int q = 0; q < g->n_inlets[k]; q++)
+            if (!inlet_columns(g, k, q, ends[k]))
+                return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] inlet_width: the inlet holds no face centre",
+                                sc->source, k ? "top" : "bottom");
+    }
     TRY(DMStagCreate2d(comm, g->periodic ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, g->nx,
                        g->nz, PETSC_DECIDE, PETSC_DECIDE, sc->hypo.enabled ? 1 : 0, 1,
                        sc->hypo.enabled ? 7 : 2, DMSTAG_STENCIL_BOX, 2, NULL, NULL, &g->dm),
@@ -122,8 +127,11 @@ ekm2d_end ekm2d_grid_end(const ekm2d_grid *g, int top, double t)
         e.phi_in = bc->phi;
         e.u_in = bc->u;
         e.T_in = bc->T;
-        e.inlet_lo = g->inlet_lo[top];
-        e.inlet_hi = g->inlet_hi[top];
+        e.n_inlets = g->n_inlets[top];
+        for (int q = 0; q < e.n_inlets; q++) {
+            e.inlet_lo[q] = g->inlet_lo[top][q];
+            e.inlet_hi[q] = g->inlet_hi[top][q];
+        }
     }
     return e;
 }

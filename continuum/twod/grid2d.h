@@ -1,6 +1,6 @@
 /* grid2d.h: the 2D grid of the semi-implicit step (step2d.h): geometry,
  * the PETSc DMStag layouts and the data of the two ends (walls, free
- * surfaces, inflows through inlet segments).
+ * surfaces, inflows through one or more inlet segments).
  *
  * nx x nz cells of dx = width/nx by dz = length/nz [m]; x periodic or
  * bounded by side walls at x = 0 and x = width, z bounded by the bottom
@@ -35,12 +35,13 @@
 typedef struct {
     const ekm_scenario *sc;
     MPI_Comm comm;
-    int nx, nz;                      /* cells along x and z */
-    double dx, dz;                   /* cell sizes [m] */
-    int periodic;                    /* 1: periodic in x */
-    double side_conductance[2];      /* side walls x = 0, x = width: 1/(dx/2 + slip_length) [1/m] */
-    PetscInt inlet_lo[2];            /* bottom, top: the inlet's first face column */
-    PetscInt inlet_hi[2];            /* bottom, top: its last face column */
+    int nx, nz;                 /* cells along x and z */
+    double dx, dz;              /* cell sizes [m] */
+    int periodic;               /* 1: periodic in x */
+    double side_conductance[2]; /* side walls x = 0, x = width: 1/(dx/2 + slip_length) [1/m] */
+    int n_inlets[2];            /* bottom, top: the inlet segments (one: the whole end without) */
+    /* bottom, top: each segment's first and last face column */
+    PetscInt inlet_lo[2][EKM_INLETS_MAX], inlet_hi[2][EKM_INLETS_MAX];
     DM dm, dmv, dmt;                 /* state, velocity unknowns, temperature unknowns */
     PetscInt s_phi, s_T, s_vx, s_vz; /* slots of dm's arrays */
     PetscInt s_sxx, s_syy, s_szz;    /* ... the solid regime's (-1 without it) */
@@ -59,27 +60,31 @@ typedef struct {
     double u_in, T_in; /* inflow: the entering vx [m/s] and T [m^2/s^2] */
     double u_wall;     /* wall: tangential speed [m/s] */
     double
-        conductance;   /* wall (also an inflow end beside its inlet): 1/(dz/2 + slip_length) [1/m]; free: 0 */
-    PetscInt inlet_lo; /* inflow: its face columns lo .. hi */
-    PetscInt inlet_hi;
+        conductance; /* wall (also an inflow end beside its inlet): 1/(dz/2 + slip_length) [1/m]; free: 0 */
+    int n_inlets;    /* inflow: its segments q < n_inlets, face columns lo[q] .. hi[q] */
+    PetscInt inlet_lo[EKM_INLETS_MAX], inlet_hi[EKM_INLETS_MAX];
 } ekm2d_end;
 
-/* The grid of sc on comm (collective).  EKM_EINPUT: an inlet that holds
- * no face centre; EKM_EINTERNAL: a PETSc error. */
+/* The grid of sc on comm (collective).  EKM_EINPUT: an inlet segment that
+ * holds no face centre; EKM_EINTERNAL: a PETSc error. */
 ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *g, ekm_error *err);
 void ekm2d_grid_destroy(ekm2d_grid *g);
 
 /* End `top` (0: bottom, 1: top) at time t [s]. */
 ekm2d_end ekm2d_grid_end(const ekm2d_grid *g, int top, double t);
 
-/* Face column i (a periodic image wrapped) of end e is an open inlet face. */
+/* Face column i (a periodic image wrapped) of end e is an open inlet face
+ * (in one of its segments). */
 static inline int ekm2d_inlet_face(const ekm2d_grid *g, const ekm2d_end *e, PetscInt i)
 {
     if (e->kind != EKM_BC_INFLOW)
         return 0;
     if (g->periodic)
         i = (i % g->nx + g->nx) % g->nx;
-    return i >= e->inlet_lo && i <= e->inlet_hi;
+    for (int q = 0; q < e->n_inlets; q++)
+        if (i >= e->inlet_lo[q] && i <= e->inlet_hi[q])
+            return 1;
+    return 0;
 }
 
 /* Cell (i, j) exists (in the domain, or a periodic image). */

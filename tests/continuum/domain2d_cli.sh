@@ -105,6 +105,33 @@ error "inlet narrower than a cell, between face centres" 2 \
     scenario "$box" --set top.inlet_x=0.0039 --set top.inlet_width=0.0001 --json
 error "inlet_x without inlet_width" 2 "\[top\] inlet_x: needs \[top\] inlet_width" \
     scenario "$box" --set top.inlet_x=0.01 --json
+# several inlet segments of one width: inlet_x a list of centres separated
+# by blanks, each segment inside its end and holding a face centre, none
+# overlapping another (touching is allowed), only with cells_x > 1
+two=$src/scenarios/thesis_sandpile_2sources_2d.ini
+json "two sources: inlet_x is the list as written, at its line" \
+    ".keys[\"top.inlet_x\"] == {\"value\": \"0.045 0.095\", \"from\": \"$two:$(line "$two" inlet_x)\"}
+     and .keys[\"top.inlet_width\"].value == \"0.01\"" "$two" --json
+json "three inlets, touching ones allowed" '.keys["top.inlet_x"] == {"value": "0.01 0.02  0.035", "from": "--set"}' \
+    "$box" --set "top.inlet_x=0.01 0.02  0.035" --set top.inlet_width=0.01 --json
+sed 's/^inlet_x *=.*/inlet_x = 0.045 0.05 ; overlapping/' "$two" > overlap.ini
+error "overlapping inlets, named at their file line" 2 \
+    "^ekm: overlap.ini:$(line "$two" inlet_x): \[top\] inlet_x: the inlets \[0.04, 0.05\] m and \[0.045, 0.055\] m overlap \(expected centres at least inlet_width = 0.01 m apart\)$" \
+    scenario overlap.ini --json
+error "the second inlet outside the top boundary" 2 \
+    "--set top.inlet_x: \[top\] inlet_x: the inlet \[0.131, 0.141\] m is outside the top boundary \[0, 0.14\] m" \
+    scenario "$two" --set "top.inlet_x=0.045 0.136" --json
+error "the second inlet holds no face centre" 2 \
+    "\[top\] inlet_width: the inlet \[0.0099, 0.0101\] m holds no face centre of the 18 cells along x" \
+    scenario "$box" --set "top.inlet_x=0.0019 0.01" --set top.inlet_width=0.0002 --json
+error "inlet centres separated by commas" 2 \
+    "--set top.inlet_x: \[top\] inlet_x: expected a number or numbers separated by blanks \(the inlet centres \[m\]\), got '0.045,0.095'" \
+    scenario "$two" --set "top.inlet_x=0.045,0.095" --json
+error "more than 8 inlets" 2 "\[top\] inlet_x: expected at most 8 inlet centres, got 9" \
+    scenario "$two" --set "top.inlet_x=0.01 0.02 0.03 0.04 0.05 0.06 0.07 0.08 0.09" --json
+error "several inlets in the 1D column" 2 \
+    "\[top\] inlet_x: 2 inlets need a 2D domain \(\[domain\] cells_x > 1; the 1D column has one face per end\)" \
+    scenario "$two" --set domain.cells_x=1 --json
 error "t_start after t_stop" 2 "\[top\] t_start: expected a time >= 0 and before t_stop \[s\], got 3" \
     scenario "$box" --set top.t_start=3 --json
 error "t_start in 1D" 2 "\[top\] t_start: needs \[domain\] width" \

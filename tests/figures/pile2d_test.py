@@ -274,6 +274,18 @@ def synthetic(src, work):
     sigma = NOISE / math.sqrt(3) * RHO_P * 0.6 * G * BASE["H"]
     check(0.5 * sigma < val(dip, "noise") < 2 * sigma, "base time: noise %s Pa, put in %.4g Pa (factor 2)"
           % (val(dip, "noise"), sigma))
+    # the base profile's extrema (several sources' numbers): the two maxima and the dip between
+    ex = b["base_extrema"]
+    xs_max = [val(m, "x") for m in ex["maxima"]]
+    xs_min = [val(m, "x") for m in ex["minima"]]
+    check(len(xs_max) == 2 and abs(xs_max[0] - (0.07 - R_MAX)) < 1e-9 and abs(xs_max[1] - (0.07 + R_MAX)) < 1e-9
+          and len(xs_min) == 1 and abs(xs_min[0] - 0.07) < DX,
+          "base time: base_extrema maxima at %s, minima at %s m: expected %.5f, %.5f and 0.07 +- dx/2"
+          % (xs_max, xs_min, 0.07 - R_MAX, 0.07 + R_MAX))
+    if len(xs_min) == 1:
+        r = val(ex["minima"][0], "ratio_to_highest_max")
+        check(abs(r - RATIO) < 0.005, "base time: base_extrema minimum/maximum %s, expected %.5f +- 0.005"
+              % (r, RATIO))
     pa, pf = val(b, "phi_apex"), val(b, "phi_flank")
     check(pa is not None and pf is not None and pa < pf - 0.007 and abs(pa - 0.5952) < 0.001,
           "base time: phi under the apex %s, on the flanks %s: expected about 0.5952 and > 0.602" % (pa, pf))
@@ -292,6 +304,14 @@ def synthetic(src, work):
     check(abs(val(bp, "x_max_left") - 0.07125) < 1e-9 and abs(val(bp, "x_max_right") - 0.07125) < 1e-9,
           "last frame: maxima at %s, %s m, expected both at the apex 0.07125" % (val(bp, "x_max_left"),
                                                                               val(bp, "x_max_right")))
+
+    # --extrema (several sources): draws, and says so in the caption
+    out_x = os.path.join(work, "out-extrema")
+    rc, _, se = pile2d(src, [run, out_x, "--extrema"])
+    check(rc == 0, "--extrema: exit status %d: %s" % (rc, se.strip()))
+    if rc == 0:
+        cap = open(os.path.join(out_x, "pile2d_captions.txt")).read()
+        check("local maxima and minima" in cap and "inlets' centres" in cap, "--extrema: caption %r" % cap[-400:])
 
     # deterministic: a second run writes the same bytes
     old = {f: open(os.path.join(out, f), "rb").read() for f in ("pile2d.json", "pile2d_phi.pdf",
