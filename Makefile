@@ -3,7 +3,8 @@
 #   make            build (Release) into build/
 #   make test       build, run every test; then again under ASan+UBSan
 #   make demo       install missing packages, build, run the smoke campaign
-#   make bench      benchmarks: prints a table, writes results/bench.{md,json}
+#   make bench [ONLY=ekm2d,...]  benchmarks: prints a table, writes
+#                   results/bench.{md,json}; ONLY: rerun those bench/*.sh alone
 #   make campaign [SIZE=smoke|ref] [ENGINES="liggghts lammps"] [NP=n] [-jN]
 #                   DEM, coarse-graining, EKM, scores, table, figures
 #   make figures    the paper figures from existing campaign results

@@ -17,11 +17,25 @@ for sig in INT TERM HUP; do
   n=$(kill -l "$sig")
   trap "rm -f \"\${tmps[@]}\"; trap - $sig EXIT; exit $((128 + n))" "$sig"
 done
-rm -f "$out"/*.json
-for b in "$root"/bench/*.sh; do
-  echo "bench: running $(basename "$b")" >&2
-  BUILD="$root/$build" OUT="$out" bash "$b"
-done
+# ONLY=NAME[,NAME...] reruns those bench/NAME.sh alone and merges their
+# fragments with the others' from the last run (a row set measured on a
+# quiet machine after the whole run); the table's header says so
+if [ -n "${ONLY:-}" ]; then
+  IFS=, read -r -a names <<< "$ONLY"
+  for n in "${names[@]}"; do
+    [ -f "$root/bench/$n.sh" ] || { echo "bench: ONLY=$ONLY: no bench/$n.sh" >&2; exit 1; }
+  done
+  for n in "${names[@]}"; do
+    echo "bench: running $n.sh alone" >&2
+    BUILD="$root/$build" OUT="$out" bash "$root/bench/$n.sh"
+  done
+else
+  rm -f "$out"/*.json
+  for b in "$root"/bench/*.sh; do
+    echo "bench: running $(basename "$b")" >&2
+    BUILD="$root/$build" OUT="$out" bash "$b"
+  done
+fi
 shopt -s nullglob
 frags=("$out"/*.json)
 [ ${#frags[@]} -gt 0 ] || { echo "bench: no results" >&2; exit 1; }
@@ -35,7 +49,11 @@ mv "$root/results/bench.json.tmp" "$root/results/bench.json"
 {
   echo "# ekmbench benchmarks"
   echo
-  echo "Measured by \`make bench\` on $(jq -r .date "$root/results/bench.json"), code $ver, $host."
+  if [ -n "${ONLY:-}" ]; then
+    echo "Merged by \`make bench\` on $(jq -r .date "$root/results/bench.json"), code $ver, $host: the rows of bench/{$ONLY}.sh rerun alone (\`ONLY=$ONLY make bench\`), the others from the last whole run."
+  else
+    echo "Measured by \`make bench\` on $(jq -r .date "$root/results/bench.json"), code $ver, $host."
+  fi
   echo
   echo "| benchmark | value | unit | target | status |"
   echo "|---|---:|---|---|---|"
