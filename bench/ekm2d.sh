@@ -133,4 +133,5 @@ jq -n --argjson r1 "$r1" --argjson r2 "$r2" --argjson s "$speedup" --arg st1 "$s
          "ekm2d.cell_updates_per_s.np1": $r1, "ekm2d.cell_updates_per_s.np2": $r2, "ekm2d.speedup_np2": $s,
          "ekm2d.cell_updates_per_s_256.np1": $b1, "ekm2d.cell_updates_per_s_256.np2": $b2,
          "ekm2d.speedup_256_np2": $s256}
-}' > "$OUT/ekm2d.json"
+}' > "$OUT/ekm2d.json.tmp"
+mv "$OUT/ekm2d.json.tmp" "$OUT/ekm2d.json"

@@ -188,9 +188,12 @@ class Run(C.Run2D):
 
 def inlet_centres(attrs):
     """The top inlets' centres [m] from the run's top.inlet_x (a number, or
-    numbers separated by blanks: docs/scenario-format.md); [] without a
+    numbers separated by blanks: docs/scenario-format.md); the top's middle
+    for a top.inlet_width without top.inlet_x (its default); [] without a
     segment (the whole top) or a value that is not such a list."""
     v = attrs.get("top.inlet_x")
+    if v is None and attrs.get("top.inlet_width") is not None and attrs.get("domain.width") is not None:
+        v = 0.5 * float(attrs["domain.width"])
     if v is None:
         return []
     try:

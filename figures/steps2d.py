@@ -85,11 +85,18 @@ def numbers(path):
     floor = float(np.sum(-szz[0] + m["rho_p"] * phi[0] * g * run.dz / 2)) * run.dx
     fin = res["final"]
     arr = res["key_times"]["bed_arrival"]["time"]["value"]
+    r = C.rel(path)
+    if arr is None or fin["P_max"]["value"] is None or not fin["P_max"]["value"] > 0:
+        raise C.InputError("%s: no bed at the monitoring point or no bed cell at the end (a filling run to "
+                           "its end is expected: scripts/steps2d.sh)" % r)
+    if not mass_in > 0:
+        raise C.InputError("%s: root attribute 'stats.mass_in' = %g: expected the mass entered, > 0" % (r, mass_in))
     return {"steps": int(steps), "wall_s": float(wall),
             "bed_arrival": arr, "T_mon": float(run.T[-1][iz, ix]),
             "P_max": fin["P_max"]["value"], "floor_share": floor / (g * mass),
             "mass_error": (mass - mass_in) / mass_in,
-            "_phi": phi, "_P": run.P[-1], "_wet": run.regime[-1] > 0, "_dz": run.dz}
+            "_phi": phi, "_P": run.P[-1], "_wet": run.regime[-1] > 0, "_dz": run.dz,
+            "_grid": (run.x.size, run.z.size, run.dx, run.dz), "_t": float(run.t[-1])}
 
 
 def interior_bed(phi):
@@ -124,7 +131,13 @@ def main(argv=None):
     for path in sorted(glob.glob(os.path.join(a.runs, "*.h5"))):
         mt = NAME.match(os.path.basename(path)[:-3])
         if mt:
-            sets.setdefault((mt.group(1), mt.group(2)), []).append((knob_value(mt.group(3)), path))
+            try:
+                v = knob_value(mt.group(3))
+            except ValueError:
+                print("%s: %s: expected SET_rN.h5 or SET_dN.h5 with N a number or 'none'"
+                      % (PROG, C.rel(path)), file=sys.stderr)
+                return C.BAD_INPUT
+            sets.setdefault((mt.group(1), mt.group(2)), []).append((v, path))
     if not sets:
         print("%s: %s: no run named SET_rN.h5 or SET_dN.h5 (scripts/steps2d.sh)" % (PROG, C.rel(a.runs)),
               file=sys.stderr)
@@ -142,7 +155,16 @@ def main(argv=None):
             knob, units = KNOB[kind]
             rows = []
             for v, p, r in got:
+                if r["_grid"] != ref["_grid"] or abs(r["_t"] - ref["_t"]) > 1e-9 * max(ref["_t"], 1.0):
+                    raise C.InputError("%s: %d x %d cells to t = %g s: expected the grid and end of %s of the "
+                                       "same set (%d x %d cells, t = %g s)"
+                                       % (C.rel(p), r["_grid"][0], r["_grid"][1], r["_t"],
+                                          os.path.basename(runs[0][1]), ref["_grid"][0], ref["_grid"][1],
+                                          ref["_t"]))
                 both = interior_bed(r["_phi"]) & interior_bed(ref["_phi"])
+                if not np.any(both):
+                    raise C.InputError("%s: no interior bed cell (phi > %g below its column's surface cell) in "
+                                       "common with %s" % (C.rel(p), F.BED_PHI, os.path.basename(runs[0][1])))
                 dphi = float(np.abs(r["_phi"] - ref["_phi"])[both].max())
                 col, col_ref = r["_phi"].sum(axis=0) * r["_dz"], ref["_phi"].sum(axis=0) * ref["_dz"]
                 dcol = float(np.abs(col - col_ref).max() / col_ref.mean())

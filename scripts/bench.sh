@@ -25,6 +25,8 @@ if [ -n "${ONLY:-}" ]; then
   for n in "${names[@]}"; do
     [ -f "$root/bench/$n.sh" ] || { echo "bench: ONLY=$ONLY: no bench/$n.sh" >&2; exit 1; }
   done
+  others=$(find "$out" -maxdepth 1 -name '*.json' | wc -l)
+  [ "$others" -gt 0 ] || { echo "bench: ONLY=$ONLY: no fragments of a whole run in $out (run make bench first)" >&2; exit 1; }
   for n in "${names[@]}"; do
     echo "bench: running $n.sh alone" >&2
     BUILD="$root/$build" OUT="$out" bash "$root/bench/$n.sh"
@@ -50,7 +52,7 @@ mv "$root/results/bench.json.tmp" "$root/results/bench.json"
   echo "# ekmbench benchmarks"
   echo
   if [ -n "${ONLY:-}" ]; then
-    echo "Merged by \`make bench\` on $(jq -r .date "$root/results/bench.json"), code $ver, $host: the rows of bench/{$ONLY}.sh rerun alone (\`ONLY=$ONLY make bench\`), the others from the last whole run."
+    echo "Merged by \`make bench\` on $(jq -r .date "$root/results/bench.json"), code $ver, $host: the rows of ${ONLY//,/, } rerun alone (\`ONLY=$ONLY make bench\`), the others from the last whole run (results/bench.md of that run has its date and code)."
   else
     echo "Measured by \`make bench\` on $(jq -r .date "$root/results/bench.json"), code $ver, $host."
   fi

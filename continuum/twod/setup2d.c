@@ -64,7 +64,8 @@ static ekm_status initial_state(ekm2d_step *st, const ekm_state *init, ekm_error
  * -ekm_v_ksp_* / -ekm_v_pc_* option overrides it).  The velocity system:
  * from EKM2D_AMG_CELLS cells GMRES with hypre's BoomerAMG (strong
  * threshold 0.7: the viscosities jump by decades from cell to cell), set
- * up anew for every solve, to rtol 1e-12; below, on one rank LU as
+ * up anew for every solve, to rtol 1e-12 (a PETSc without hypre: as
+ * below); below, on one rank LU as
  * GMRES's preconditioner, kept across steps while it converges in few
  * iterations (ekm2d_kept_solve), on several ranks GMRES with block Jacobi
  * (ILU) to 1e-12 (BoomerAMG's setup per solve costs more there: the 9 x
@@ -89,10 +90,14 @@ static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, int velocity, l
     PTRY(KSPSetOperators(ksp, A, A), "KSPSetOperators");
     PTRY(KSPSetOptionsPrefix(ksp, prefix), "KSPSetOptionsPrefix");
     PTRY(KSPGetPC(ksp, &pc), "KSPGetPC");
-    if (velocity && cells >= EKM2D_AMG_CELLS) {
-        char name[64];
-        PetscBool given = PETSC_FALSE;
-        snprintf(name, sizeof name, "-%spc_hypre_boomeramg_strong_threshold", prefix);
+    PetscBool hypre = PETSC_FALSE, given = PETSC_TRUE;
+    char name[64];
+    snprintf(name, sizeof name, "-%spc_hypre_boomeramg_strong_threshold", prefix);
+    PTRY(PetscHasExternalPackage("hypre", &hypre), "PetscHasExternalPackage");
+    if (velocity && cells >= EKM2D_AMG_CELLS && hypre) {
+        /* the strong threshold goes through the options database (PCHYPRE
+         * has no setter for it): set for this KSPSetFromOptions only, unless
+         * the user gave it */
         PTRY(PetscOptionsHasName(NULL, NULL, name, &given), "PetscOptionsHasName");
         if (!given)
             PTRY(PetscOptionsSetValue(NULL, name, "0.7"), "PetscOptionsSetValue");
@@ -114,6 +119,8 @@ static ekm_status set_up_ksp(KSP ksp, Mat A, const char *prefix, int velocity, l
     }
     PTRY(KSPSetErrorIfNotConverged(ksp, PETSC_FALSE), "KSPSetErrorIfNotConverged");
     PTRY(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+    if (!given)
+        PTRY(PetscOptionsClearValue(NULL, name), "PetscOptionsClearValue");
     return EKM_OK;
 }
 

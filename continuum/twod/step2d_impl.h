@@ -144,8 +144,9 @@ double ekm2d_cell_shear2(const ekm2d_step *st, PetscScalar ***u, PetscInt i, Pet
  * made anew (one rank). */
 #define EKM2D_REFACTOR_ITS 6
 
-/* From this many cells (and on several ranks) the velocity system is
- * solved by GMRES with BoomerAMG instead of a kept LU (setup2d.c). */
+/* From this many cells the velocity system is solved by GMRES with
+ * BoomerAMG (setup2d.c), below by a kept LU (one rank) or GMRES with block
+ * Jacobi (several ranks). */
 #define EKM2D_AMG_CELLS 4096
 
 /* Solve ksp's system for b into x (collective).  With GMRES + LU (one

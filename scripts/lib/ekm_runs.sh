@@ -8,7 +8,9 @@
 # each. A run whose .h5 exists is not run again (ekm writes it under a
 # temporary name and renames it when complete), so a batch resumes after an
 # interruption. Each outcome is one stderr line "TAG: NAME ..."; returns 1
-# when any run failed.
+# when any run failed. An entry is split at blanks: a value with a blank
+# in it (a list such as [top] inlet_x) goes into a scenario file, not into
+# a --set here.
 
 ekm_run_one() {
   local tag=$1 name=$2 scen=$3

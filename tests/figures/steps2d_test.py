@@ -23,8 +23,9 @@ and the mass's change, steps 5000;
 syn_r1: the bed's phi difference 0 (the surface cell is not the bed's),
 the column difference as syn_r0.1; the monitoring T, P_max and bed arrival
 as filling2d.py finds them; steps2d.md has a row per run; no NaN. Bad
-inputs: a folder without runs: status 3 and one line; a run without /szz:
-status 2 and one line, no steps2d.json written. Exit status 77 (skipped)
+inputs: a folder without runs: status 3 and one line; a run without /szz,
+or one that ends at another time than the rest of its set: status 2 and
+one line, no steps2d.json written. Exit status 77 (skipped)
 when /usr/bin/python3 lacks numpy, matplotlib or h5py.
 """
 import json
@@ -144,6 +145,17 @@ def main():
     check(rc == 2 and len(err.strip().splitlines()) == 1 and "szz" in err,
           "a run without /szz: status 2, one line naming szz (got %d: %r)" % (rc, err))
     check(not os.path.exists(os.path.join(work, "out_bad", "steps2d.json")), "no steps2d.json on bad input")
+    # runs of one set that end at different times: not comparable
+    mixed = os.path.join(work, "mixed")
+    os.makedirs(mixed)
+    shutil.copy(base, os.path.join(mixed, "syn_r0.01.h5"))
+    shutil.copy(base, os.path.join(mixed, "syn_r0.1.h5"))
+    with h5py.File(os.path.join(mixed, "syn_r0.1.h5"), "r+") as f:
+        f["t"][-1] = 3.99
+    rc, _, err = steps2d(src, ["--runs", mixed, "-o", os.path.join(work, "out_mixed")])
+    check(rc == 2 and len(err.strip().splitlines()) == 1 and "syn_r0.1.h5" in err and "t = 3.99 s" in err,
+          "a run ending at another time: status 2, one line naming it (got %d: %r)" % (rc, err))
+    check(not os.path.exists(os.path.join(work, "out_mixed", "steps2d.json")), "no steps2d.json for a mixed set")
     print("steps2d_test: %d failure(s)" % len(failures))
     return 1 if failures else 0
 
