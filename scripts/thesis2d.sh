@@ -11,9 +11,11 @@
 #                             the 10 mm inlet at 7x the speed (w = -0.35
 #                             m/s): the wide inlet's mass flux; also on
 #                             28 x 14 and 112 x 56 cells to t = 2 s
-#   thesis_sandpile_2d/narrow7stop1_56x28_at_{1,1.25,2,3.5}s
+#   thesis_sandpile_2d/narrow7stop1_56x28_at_{1,1.25,2,3.5}s,
+#   narrow7stop1_112x56_at_{1,1.25,2,2.5}s
 #                             the fast narrow inlet closed at 1 s: the pile
-#                             left to itself (it slumps)
+#                             left to itself (it slumps); 112 x 56 to 2.5 s
+#                             (43 min)
 #   thesis_sandpile_2d/wide_56x28
 #                             a 70 mm inlet ("sieve"), 7x the narrow mass flux
 #   thesis_sandpile_2d/2sources7_56x28, 2sources7_*_at_1s, _at_2s
@@ -52,6 +54,7 @@ cases=(
   "pile_2sources7_28x14 thesis_sandpile_2sources_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=28 --set domain.cells=14 --set run.t_end=2"
   "pile_2sources7_56x28 thesis_sandpile_2sources_2d --set hypo.enabled=1 --set top.w=-0.35"
   "pile_narrow7stop1_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set top.t_stop=1.0 --set run.t_end=3.5"
+  "pile_narrow7stop1_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set top.t_stop=1.0 --set run.t_end=2.5 --set domain.cells_x=112 --set domain.cells=56"
 )
 
 # shellcheck source=scripts/lib/ekm_runs.sh
@@ -91,6 +94,10 @@ for bt in 1 1.25 2 3.5; do
   $py -B "$root/figures/pile2d.py" "$runs/pile_narrow7stop1_56x28.h5" \
     "$res/thesis_sandpile_2d/narrow7stop1_56x28_at_${bt}s" --times 0.5,1,1.5,2,3.5 --base-time "$bt" >&2
 done
+for bt in 1 1.25 2 2.5; do
+  $py -B "$root/figures/pile2d.py" "$runs/pile_narrow7stop1_112x56.h5" \
+    "$res/thesis_sandpile_2d/narrow7stop1_112x56_at_${bt}s" --times 0.5,1,1.5,2,2.5 --base-time "$bt" >&2
+done
 # the base rows' phi and P of every pile at its base times (the thesis's
 # claim: P follows phi there)
 $py -B - "$runs" "$res/thesis_sandpile_2d/base_rows.json" <<'PY'
@@ -99,7 +106,8 @@ import h5py
 runs, out = sys.argv[1], sys.argv[2]
 rows = {}
 for name in ("narrow_56x28", "narrow_112x56", "narrow7_28x14", "narrow7_56x28", "narrow7_112x56",
-             "wide_56x28", "2sources7_28x14", "2sources7_56x28", "narrow7stop1_56x28"):
+             "wide_56x28", "2sources7_28x14", "2sources7_56x28", "narrow7stop1_56x28",
+             "narrow7stop1_112x56"):
     with h5py.File(os.path.join(runs, "pile_%s.h5" % name), "r") as f:
         t = list(f["t"][:])
         for bt in (1.0, 2.0, 3.5):
