@@ -122,6 +122,7 @@ static const key_spec KEYS[] = {
     {"numerics", "newton_max", KEY_INT, SC(numerics.newton_max), 0, 0, NULL},
     {"numerics", "normal_coupling", KEY_STRING, 0, 0, 0, NULL},
     {"numerics", "thermal_relax_step", KEY_DOUBLE, SC(numerics.thermal_relax_step), 0, 0, NULL},
+    {"numerics", "surface_fill", KEY_INT, SC(numerics.surface_fill), 0, 0, NULL},
     {"hypo", "enabled", KEY_INT, SC(hypo.enabled), 0, 0, NULL},
     {"hypo", "T_ratio", KEY_DOUBLE, SC(hypo.T_ratio), 0, 0, NULL},
     {"hypo", "phi_margin", KEY_DOUBLE, SC(hypo.phi_margin), 0, 0, NULL},
@@ -806,6 +807,10 @@ static ekm_status check_boundaries_2d(const parse_ctx *c, ekm_scenario *s, ekm_e
             return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] type: expected wall (a side of a 2D box), got %s",
                             key_at, sides[k], ekm_bc_kind_name(sw[k]->kind));
         }
+    if (given(c, "numerics", "surface_fill") && !isfinite(s->width))
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [numerics] surface_fill: needs [domain] width (a key of a 2D domain)",
+                        where(c, "numerics", "surface_fill", w_, sizeof w_));
     const char *ends[2] = {"bottom", "top"};
     ekm_bc *eb[2] = {&s->bottom, &s->top};
     const char *keys2d[3] = {"t_start", "inlet_x", "inlet_width"};
@@ -913,6 +918,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(n->T_floor > 0.0, "numerics", "T_floor", "a temperature > 0 [m^2/s^2]", n->T_floor);
     RANGE(n->phi_step_max > 0.0 && n->phi_step_max < 1.0, "numerics", "phi_step_max", "a number in (0, 1)",
           n->phi_step_max);
+    RANGE(n->surface_fill == 0 || n->surface_fill == 1, "numerics", "surface_fill", "0 or 1",
+          (double)n->surface_fill);
     RANGE(n->solid_relax_step > 0.0 && n->solid_relax_step <= 1.0, "numerics", "solid_relax_step",
           "a number in (0, 1]", n->solid_relax_step);
     RANGE(n->thermal_relax_step > 0.0 && n->thermal_relax_step <= 10.0, "numerics", "thermal_relax_step",
@@ -1217,8 +1224,10 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
         return 0; /* keys of a 2D domain only */
     if (bc && strcmp(ks->key, "velocity") == 0 && ekm_bc_rate_wall(bc))
         return 0; /* not a key: the speed follows the gap */
-    if (strcmp(ks->section, "domain") == 0 &&
-        (strcmp(ks->key, "cells_x") == 0 || strcmp(ks->key, "periodic_x") == 0) && !isfinite(s->width))
+    if (((strcmp(ks->section, "domain") == 0 &&
+          (strcmp(ks->key, "cells_x") == 0 || strcmp(ks->key, "periodic_x") == 0)) ||
+         strcmp(ks->key, "surface_fill") == 0) &&
+        !isfinite(s->width))
         return 0; /* keys of a 2D domain only (a width given) */
     if (strcmp(ks->key, "variant") == 0)
         snprintf(value, size, "%s", s->variant == EKM_VARIANT_THESIS ? "thesis" : "full");

@@ -82,6 +82,8 @@ typedef struct {
     ekm_coupling normal_coupling; /* pressure in the normal momentum solve */
     double thermal_relax_step;    /* implicit coupling: largest relaxation of the kinetic pressure in
                                    * one step (dt times its rate, control.h) [-] */
+    int surface_fill;             /* 1: a partly filled surface cell is dense material filling part of
+                                   * it (2D only, twod/surface2d.c); 0: a state of its mean phi */
 } ekm_numerics;
 
 /* Solid (hypoplastic) regime and its switching thresholds ([hypo]). */

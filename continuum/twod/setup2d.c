@@ -175,6 +175,7 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
     st->prop = calloc(n, sizeof *st->prop);
     st->dry = calloc(n, 1);
     st->K = calloc(n, sizeof(double));
+    st->fill = calloc(n, sizeof(double));
     st->rhs_x = calloc(n, sizeof(double));
     st->rhs_z = calloc(n, sizeof(double));
     st->pu_x = calloc(n, sizeof(double));
@@ -202,8 +203,8 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
                    st->t0_c && st->T_keep && st->eta_new && st->sxz_c;
     }
     if (!solid_ok || !st->eta_c || !st->eta_c_stamp || !st->Fx || !st->Fz || !st->phi_new || !st->rhoT ||
-        !st->T_star || !st->prop || !st->dry || !st->K || !st->rhs_x || !st->rhs_z || !st->pu_x ||
-        !st->pu_z || !st->T_it || !st->T_lin || !st->T_change || !st->upd || !st->src) {
+        !st->T_star || !st->prop || !st->dry || !st->K || !st->fill || !st->rhs_x || !st->rhs_z ||
+        !st->pu_x || !st->pu_z || !st->T_it || !st->T_lin || !st->T_change || !st->upd || !st->src) {
         ekm2d_step_destroy(st);
         *out = NULL;
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D step, %d x %d cells)", g->nx, g->nz);
@@ -277,6 +278,7 @@ void ekm2d_step_destroy(ekm2d_step *st)
     free(st->Fx);
     free(st->Fz);
     free(st->phi_new);
+    free(st->fill);
     free(st->rhoT);
     free(st->T_star);
     free(st->prop);

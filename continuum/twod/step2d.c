@@ -83,25 +83,6 @@ static void boundaries(ekm2d_step *st, PetscScalar ***u, double dt)
 
 /* ---- phase 2: mass --------------------------------------------------------------------------------- */
 
-/* Which box points phase 2 reaches: an x-face's flux needs both cells
- * beside it (a side-wall face carries none), a z-face's both cells or its
- * end's; a cell's new phi its four faces. */
-static inline int fx_ok(const ekm2d_grid *g, PetscInt i)
-{
-    return i < g->gx0 + g->gnx && (ekm2d_side_face(g, i) || i > g->gx0);
-}
-
-static inline int fz_ok(const ekm2d_grid *g, PetscInt j)
-{
-    return j < g->gz0 + g->gnz && (j == 0 || j == g->nz || j > g->gz0);
-}
-
-static inline int cell_ok(const ekm2d_grid *g, PetscInt i, PetscInt j)
-{
-    return ekm2d_cell_exists(g, i, j) && i >= g->gx0 && j >= g->gz0 && fx_ok(g, i) && fx_ok(g, i + 1) &&
-           fz_ok(g, j) && fz_ok(g, j + 1);
-}
-
 /* The face fluxes F = v phi_up (upwind by the sign of v, 0 at v = 0,
  * flux.h) wherever both sides are in the box, then phi* of every cell
  * whose four faces are; 0 = reject (an owned cell left [0, phi_cp)). */
@@ -113,9 +94,9 @@ static int mass_update(ekm2d_step *st, PetscScalar ***u, double dt)
     for (PetscInt j = Z0; j < Z1; j++)
         for (PetscInt i = X0; i < X1; i++) {
             double fx = 0.0, fz = 0.0;
-            if (j < g->nz && fx_ok(g, i))
+            if (j < g->nz && ekm2d_fx_ok(g, i))
                 fx = ekm2d_flux_x(g, u, i, j);
-            if (fz_ok(g, j) && j <= g->nz && ekm2d_cell_exists(g, i, j < g->nz ? j : g->nz - 1))
+            if (ekm2d_fz_ok(g, j) && j <= g->nz && ekm2d_cell_exists(g, i, j < g->nz ? j : g->nz - 1))
                 fz = ekm2d_flux_z(g, &st->bottom, &st->top, u, i, j);
             BOX(st, Fx, i, j) = fx;
             BOX(st, Fz, i, j) = fz;
@@ -124,7 +105,7 @@ static int mass_update(ekm2d_step *st, PetscScalar ***u, double dt)
     int ok = 1;
     for (PetscInt j = Z0; j < Z1; j++)
         for (PetscInt i = X0; i < X1; i++) {
-            if (!cell_ok(g, i, j))
+            if (!ekm2d_cell_ok(g, i, j))
                 continue;
             const double phi = u[j][i][g->s_phi];
             const double phi_new = phi - rz * (BOX(st, Fz, i, j + 1) - BOX(st, Fz, i, j)) -
@@ -183,7 +164,7 @@ static void convect_temperature(ekm2d_step *st, PetscScalar ***u, double dt)
     const double rho_p = st->sc->material.rho_p, rx = dt / g->dx, rz = dt / g->dz;
     for (PetscInt j = g->gz0; j < g->gz0 + g->gnz; j++)
         for (PetscInt i = g->gx0; i < g->gx0 + g->gnx; i++) {
-            if (!cell_ok(g, i, j))
+            if (!ekm2d_cell_ok(g, i, j))
                 continue;
             double q[4]; /* T carried through the faces below, above, left, right */
             const PetscInt fi[4] = {i, i, i, i + 1}, fj[4] = {j, j + 1, j, j};
@@ -277,7 +258,7 @@ static void properties(ekm2d_step *st)
     const ekm_cell_properties none = {0};
     for (PetscInt j = g->gz0; j < g->gz0 + g->gnz; j++)
         for (PetscInt i = g->gx0; i < g->gx0 + g->gnx; i++) {
-            if (!cell_ok(g, i, j))
+            if (!ekm2d_cell_ok(g, i, j))
                 continue;
             const size_t k = ekm2d_box_index(g, i, j);
             const int dry = st->phi_new[k] < phi_dry;
@@ -288,6 +269,7 @@ static void properties(ekm2d_step *st)
             st->prop[k] = dry ? none : ekm_cell_properties_at(m, sc->variant, phi, T);
             st->K[k] = dry ? 0.0 : ekm_pressure_dphi(m, st->phi_new[k], T);
         }
+    ekm2d_surface_properties(st);
 }
 
 /* ---- phase 7: accept ----------------------------------------------------------------------------- */

@@ -46,6 +46,7 @@ struct ekm2d_step {
     ekm_cell_properties *prop; /* at (phi*, T*) (zeros: empty) */
     unsigned char *dry;        /* cells: phi* < phi_dry */
     double *K;                 /* dP/dphi at (phi*, T*) [Pa] (0: empty) */
+    double *fill;              /* cells: the fill fraction of a surface cell (surface2d.c), else 1 [-] */
     double *rhs_x, *rhs_z;     /* the momentum equations' known parts [kg/(m^2 s)] (faces) */
     double *pu_x, *pu_z;       /* phi the next mass update carries through each face (coupling) [-] */
     double *eta_c;             /* corners: the corner viscosity of the current assembly [Pa s] */
@@ -116,6 +117,30 @@ static inline double ekm2d_flux_z(const ekm2d_grid *g, const ekm2d_end *bottom, 
         return v * (v < 0.0 ? (ekm2d_inlet_face(g, top, i) ? top->phi_in : 0.0) : u[j - 1][i][g->s_phi]);
     return v == 0.0 ? 0.0 : v * (v > 0.0 ? u[j - 1][i][g->s_phi] : u[j][i][g->s_phi]);
 }
+
+/* Which box points step2d.c's phase 2 (mass) reaches: an x-face's flux needs both cells
+ * beside it (a side-wall face carries none), a z-face's both cells or its
+ * end's; a cell's new phi its four faces. */
+static inline int ekm2d_fx_ok(const ekm2d_grid *g, PetscInt i)
+{
+    return i < g->gx0 + g->gnx && (ekm2d_side_face(g, i) || i > g->gx0);
+}
+
+static inline int ekm2d_fz_ok(const ekm2d_grid *g, PetscInt j)
+{
+    return j < g->gz0 + g->gnz && (j == 0 || j == g->nz || j > g->gz0);
+}
+
+static inline int ekm2d_cell_ok(const ekm2d_grid *g, PetscInt i, PetscInt j)
+{
+    return ekm2d_cell_exists(g, i, j) && i >= g->gx0 && j >= g->gz0 && ekm2d_fx_ok(g, i) &&
+           ekm2d_fx_ok(g, i + 1) && ekm2d_fz_ok(g, j) && ekm2d_fz_ok(g, j + 1);
+}
+
+/* surface2d.c: with [numerics] surface_fill, a partly filled surface cell's
+ * properties are those of the dense material filling part of it (after
+ * phase 4 has set every cell's own); st->fill its fill fraction (1 elsewhere). */
+void ekm2d_surface_properties(ekm2d_step *st);
 
 /* Phase 5: assemble and solve the velocity system; the new vx, vz into
  * u's face slots (u: dm's local array, ghosts included after the

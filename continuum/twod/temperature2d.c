@@ -65,8 +65,13 @@ static void sources(ekm2d_step *st, PetscScalar ***u)
             const double exx = (u[j][i + 1][g->s_vx] - u[j][i][g->s_vx]) / g->dx;
             const double ezz = (u[j + 1][i][g->s_vz] - u[j][i][g->s_vz]) / g->dz;
             const ekm_cell_properties *p = &BOX(st, prop, i, j);
-            BOX(st, src, i, j) = ekm_temperature_source_coeffs_plane(
+            ekm_source_coeffs c = ekm_temperature_source_coeffs_plane(
                 m, st->sc->variant, BOX(st, phi_new, i, j), p->g, p->Y, shear2, exx, ezz);
+            /* a surface cell's heating is its fill fraction of the material's
+             * (surface2d.c); k_diss holds its own phi already */
+            c.k_heat_a *= BOX(st, fill, i, j);
+            c.k_heat_y *= BOX(st, fill, i, j);
+            BOX(st, src, i, j) = c;
         }
 }
 
