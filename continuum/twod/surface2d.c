@@ -11,27 +11,30 @@
  * max(phi_vacuum, phi_dry), the vacuum rule's threshold: regime2d.c) and
  * a support below (the bottom wall, or a cell with phi >= phi_co) is read as
  * material of volume fraction phi_m filling the fraction f = phi/phi_m
- * of the cell, at the yield pressure of its own mean overburden:
+ * of the cell, with the yield pressure of the weight it carries at its
+ * base, where the cell's corners with the material below lie:
  *
- *   p_s   = rho_p phi |g_z| dz / 2                           [Pa]
- *           (the mean over the filled height f dz of rho_p phi_m |g_z| z)
+ *   p_s   = rho_p phi |g_z| dz                               [Pa]
  *   phi_m = phi_cp (p_s + rho_p T0 phi_co) / (rho_p T0 phi_cp + p_s)
  *           (P_Y(phi_m) = p_s; phi_co < phi_m < phi_cp)
  *
- * The cell's stresses are the cell means of the material's:
- *   eta, mu_n, zeta, lambda = f x those at (phi_m, T)       [Pa s], [kg/(m s)]
- * its heating f x the material's and its dissipation rho_p phi eps(phi_m, T) T
- * (= f x the material's, eps from g(phi_m) and Y(phi_m)); its pressure
- * and dP/dphi stay those of its own phi (P_K(phi, T)), so that the
- * surface cell's weight rests on the cell below as before. */
+ * Its shear viscosity is the material's, eta(phi_m, T) [Pa s]: the
+ * corners it shares with flowing cells are at its base, inside the
+ * material (the corners at its top touch the nearly empty cell above,
+ * whose small viscosity the corner's harmonic mean takes). Its cell-mean quantities are f times the
+ * material's: the normal viscosities mu_n, zeta [Pa s], the conductivity lambda [kg/(m s)], the heating; its
+ * dissipation is rho_p phi eps(phi_m, T) T (eps from g(phi_m) and Y(phi_m)). Its pressure and dP/dphi stay
+ * those of its own phi (P_K(phi, T)), so that its weight rests on the cell below as before (with f P(phi_m)
+ * the face below would lose its pressure support as f -> 1). */
 #include <math.h>
 
 #include "step2d_impl.h"
 
-/* phi_m of the material of a surface cell of mean volume fraction phi. */
+/* phi_m of the material of a surface cell of mean volume fraction phi:
+ * P_Y(phi_m) = the weight of the cell's grains per area of its base. */
 static double material_phi(const ekm_material *m, double phi, double g_z, double dz)
 {
-    const double p_s = m->rho_p * phi * fabs(g_z) * dz / 2.0;
+    const double p_s = m->rho_p * phi * fabs(g_z) * dz;
     const double rT = m->rho_p * m->T0;
     return m->phi_cp * (p_s + rT * m->phi_co) / (rT * m->phi_cp + p_s);
 }
@@ -72,7 +75,7 @@ void ekm2d_surface_properties(ekm2d_step *st)
             ekm_cell_properties *p = &BOX(st, prop, i, j);
             p->g = mat.g;
             p->Y = mat.Y;
-            p->eta = f * mat.eta;
+            p->eta = mat.eta;
             p->mu_n = f * mat.mu_n;
             p->zeta = f * mat.zeta;
             p->lambda = f * mat.lambda;

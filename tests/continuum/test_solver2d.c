@@ -590,13 +590,22 @@ static int case_ranks(const char *src, const char *ref, int solid)
  * the dense material does and cools to T_floor, and the column comes to
  * rest with it; read as a gas of its mean phi it is still warm at 0.5 s
  * (4.9e-4 m^2/s^2, measured 2026-12-06) and the bed below it moves at
- * ~3e-9 m/s. */
-static int surface_run(const char *src, int fill, double *T_surface, double *v_max, double *mass)
+ * ~4e-9 m/s.  Tilted (gravity at an angle from the start, the layer
+ * settling under it) with the rule: at 15 degrees, below the material's
+ * friction angle (tan = sqrt(3 eta0 eps0/(2 phi)), 23.4 degrees: the
+ * tilting_layer scenario), the bed turns solid and the column stands
+ * (1.2e-8 m/s at 0.5 s; without the rule its top creeps at 6.5e-2 m/s,
+ * the surface cell sliding as a gas and shearing the bed's top); at 26
+ * degrees it flows (0.7 m/s at 0.75 s). */
+static int surface_run(const char *src, int fill, double angle, double *T_surface, double *v_max,
+                       double *mass)
 {
+    char tilt[64];
+    snprintf(tilt, sizeof tilt, "gravity.angle=%g", angle);
     const char *sets[] = {"domain.periodic_x=1", "domain.cells_x=2", "domain.width=0.01",
-                          fill ? "numerics.surface_fill=1" : "numerics.surface_fill=0"};
+                          fill ? "numerics.surface_fill=1" : "numerics.surface_fill=0", tilt};
     run2d r;
-    int rc = run_open(&r, src, "tests/continuum/data/settled_layer_2d.ini", sets, 4, NULL);
+    int rc = run_open(&r, src, "tests/continuum/data/settled_layer_2d.ini", sets, 5, NULL);
     if (!rc)
         rc = run_to(&r, 0.5);
     if (rc) {
@@ -631,10 +640,14 @@ static int surface_run(const char *src, int fill, double *T_surface, double *v_m
 
 static int case_surface(const char *src)
 {
-    double T_fill, v_fill, m_fill, T_gas, v_gas, m_gas;
-    int rc = surface_run(src, 1, &T_fill, &v_fill, &m_fill);
+    double T_fill, v_fill, m_fill, T_gas, v_gas, m_gas, T_15, v_15, m_15, T_26, v_26, m_26;
+    int rc = surface_run(src, 1, 0.0, &T_fill, &v_fill, &m_fill);
     if (!rc)
-        rc = surface_run(src, 0, &T_gas, &v_gas, &m_gas);
+        rc = surface_run(src, 0, 0.0, &T_gas, &v_gas, &m_gas);
+    if (!rc)
+        rc = surface_run(src, 1, 15.0, &T_15, &v_15, &m_15);
+    if (!rc)
+        rc = surface_run(src, 1, 26.0, &T_26, &v_26, &m_26);
     if (rc)
         return rc;
     if (rank0())
@@ -643,11 +656,21 @@ static int case_surface(const char *src)
                "and %.2e; "
                "sum of phi over the box %.15g and %.15g (tolerance 1e-12 relative)\n",
                T_fill, T_gas, v_fill, v_gas, m_fill, m_gas);
-    const char *why = !(T_fill < 1e-12)         ? "the surface cell did not cool to the bed's state"
-                      : !(v_fill < 1e-11)       ? "the column is not at rest"
-                      : !(T_gas > 1e6 * T_fill) ? "surface_fill changed nothing (the rule is not applied)"
-                      : !(fabs(m_fill - m_gas) < 1e-12 * m_gas) ? "mass differs between the two runs"
-                                                                : NULL;
+    const char *why =
+        !(T_fill < 1e-12)         ? "the surface cell did not cool to the bed's state"
+        : !(v_fill < 1e-11)       ? "the column is not at rest"
+        : !(T_gas > 1e6 * T_fill) ? "surface_fill changed nothing (the rule is not applied)"
+        : !(v_15 < 1e-7)          ? "the layer tilted to 15 degrees (below its friction angle) does not stand"
+        : !(v_26 > 0.1)           ? "the layer tilted to 26 degrees (above its friction angle) does not flow"
+        : !(fabs(m_fill - m_gas) < 1e-12 * m_gas && fabs(m_15 - m_gas) < 1e-12 * m_gas &&
+            fabs(m_26 - m_gas) < 1e-12 * m_gas)
+            ? "mass differs between the runs"
+            : NULL;
+    if (rank0())
+        printf(
+            "surface: tilted (surface_fill): at 15 degrees the largest |v| up to the surface cell %.2e m/s "
+            "(tolerance 1e-7), at 26 degrees %.2e m/s (at least 0.1)\n",
+            v_15, v_26);
     if (why) {
         fprintf(stderr, "FAIL: surface: %s\n", why);
         return 1;
