@@ -21,7 +21,7 @@
 # fx fy fz, in that order; in its last frame the floor grains (type 2) are
 # still (v = 0: not time-integrated), and the force on them,
 # -(sum of their fz), equals the weight g * (mass of the pile grains,
-# type 1) to 1%. With --pressure (simple_shear_p) the
+# type 1, on the plate: centre above its top, z > 0) to 1%. With --pressure (simple_shear_p) the
 # barostat: the mean normal stress Pzz over the last half of monitor.txt
 # equals the target `pressure` of vars.txt within 3 block standard errors
 # (monitor_stats.sh). Exit status (docs/exit-codes.md):
@@ -119,7 +119,7 @@ if [ $sandpile -eq 1 ] && [ -s "$dir/atoms.dump" ]; then
     /^ITEM:/ { inatoms = 0; next }
     inatoms {
       if ($c["type"] == 2) { nfl++; fx_[nfl] = $c["x"]; fz_[nfl] = $c["fz"]; fz += $c["fz"]; if ($c["vx"] != 0 || $c["vy"] != 0 || $c["vz"] != 0) moving++; if ($c["radius"] > rmax) rmax = $c["radius"] }
-      else if ($c["type"] == 1) { m += $c["mass"]; nlow++; px[nlow] = $c["x"]; pz[nlow] = $c["z"]; if ($c["radius"] > rmax) rmax = $c["radius"] } }
+      else if ($c["type"] == 1) { if ($c["z"] > 0) m += $c["mass"]; nlow++; px[nlow] = $c["x"]; pz[nlow] = $c["z"]; if ($c["radius"] > rmax) rmax = $c["radius"] } }
     END {
       w = g * m; e = (-fz - w) / w; if (e < 0) e = -e
       n = 0

@@ -100,7 +100,9 @@ def summarise(run):
             fail(2, "%s/atoms.dump: no column %s (docs/dem.md 'Sand pile')" % (run, c))
     ic = {c: cols.index(c) for c in cols}
     d, g, lx = v["d"], v["g"], bx[1] - bx[0]
-    grains = [r for r in rows if r[ic["type"]] == "1"]
+    # the pile: grains on the plate (centre above its top; one that rolled
+    # off and falls to the deck's sink is not part of it)
+    grains = [r for r in rows if r[ic["type"]] == "1" and float(r[ic["z"]]) > 0]
     floor = [r for r in rows if r[ic["type"]] == "2"]
     mass = sum(float(r[ic["mass"]]) for r in grains)
     if not grains or not mass > 0:
