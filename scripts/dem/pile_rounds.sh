@@ -3,13 +3,14 @@
 # member over every group, so that a run stopped at any point leaves
 # groups of nearly equal size.
 #
-#   scripts/dem/pile_rounds.sh [-o DIR] [-r MU_R] [-e "ENGINES"] SIZE [FIRST [LAST]]
+#   scripts/dem/pile_rounds.sh [-o DIR] [-r MU_R] [-e "ENGINES"] [-l "LAWS"] SIZE [FIRST [LAST]]
 #
 # Member k (FIRST..LAST, default 1..[dem] seeds) of every group: for each
 # engine (default "lammps liggghts"), the plain contact law into
 # DIR/plain and rolling resistance (-s rolling_friction=MU_R, default 0.1)
-# into DIR/rolling, each through scripts/dem/ensemble.sh -m k (both sources,
-# the hopper and the sieve). DIR defaults to runs/pile. A finished run is
+# into DIR/rolling (-l: the laws, default "plain rolling"), each through
+# scripts/dem/ensemble.sh -m k (both sources, the hopper and the sieve).
+# DIR defaults to runs/pile. A finished run is
 # kept (run.sh's "is done"), so the same command resumes where it stopped.
 # One DEM process at a time; run it in the background, e.g.
 #   nohup nice -n 19 scripts/dem/pile_rounds.sh ref > runs/pile.log 2>&1 &
@@ -21,19 +22,20 @@ root=$(cd "$here/../.." && pwd)
 prog=pile_rounds.sh
 usage() { echo "$prog: $*" >&2; exit 1; }
 
-out=$root/runs/pile; mur=0.1; engines="lammps liggghts"
-while getopts "o:r:e:h" opt; do
+out=$root/runs/pile; mur=0.1; engines="lammps liggghts"; laws="plain rolling"
+while getopts "o:r:e:l:h" opt; do
   case $opt in
     o) out=$OPTARG ;;
     r) mur=$OPTARG ;;
     e) engines=$OPTARG ;;
-    h) sed -n '2,18p' "$0"; exit 0 ;;
+    l) laws=$OPTARG ;;
+    h) sed -n '2,19p' "$0"; exit 0 ;;
     *) usage "bad option (see -h)" ;;
   esac
 done
 shift $((OPTIND - 1))
 if [ $# -lt 1 ] || [ $# -gt 3 ]; then
-  usage "usage: pile_rounds.sh [-o DIR] [-r MU_R] [-e ENGINES] SIZE [FIRST [LAST]]"
+  usage "usage: pile_rounds.sh [-o DIR] [-r MU_R] [-e ENGINES] [-l LAWS] SIZE [FIRST [LAST]]"
 fi
 size=$1
 ekm=${EKM:-$root/build/continuum/ekm}
@@ -49,9 +51,10 @@ fi
 worst=0
 for ((k = first; k <= last; k++)); do
   for e in $engines; do
-    for variant in plain rolling; do
+    for variant in $laws; do
+      case $variant in plain|rolling) ;; *) usage "-l: unknown law '$variant' (plain, rolling)" ;; esac
       args=(-m "$k" -o "$out/$variant")
-      [ $variant = rolling ] && args+=(-s "rolling_friction=$mur")
+      [ "$variant" = rolling ] && args+=(-s "rolling_friction=$mur")
       echo "$prog: member $k, $e, $variant ($(date -u +%H:%M:%S))"
       "$here/ensemble.sh" "${args[@]}" sandpile "$e" "$size"; r=$?
       if [ $r -ne 0 ] && { [ $worst -eq 0 ] || [ $worst -eq 6 ]; }; then worst=$r; fi
