@@ -22,10 +22,12 @@ the observable"). Per group:
   maxima    s_max (of F), x_left, x_right (of each half of P), distances
             from XC [m]
   bootstrap over the runs (--boot B resamples with replacement, --seed):
-            SE = sd of the resampled statistic; the basic (reverse
-            percentile) interval [2 T - q_hi, 2 T - q_lo] at --level, which
-            removes to first order the upward bias of a maximum over noisy
-            bins; the bias estimate mean(T*) - T
+            SE = sd of the resampled statistic times sqrt(R/(R-1)) (R
+            runs: resampling gives the variance of their mean times
+            (R-1)/R); the basic (reverse percentile) interval
+            [2 T - q_hi, 2 T - q_lo] at --level, its half-widths scaled by
+            the same factor, which removes to first order the upward bias
+            of a maximum over noisy bins; the bias estimate mean(T*) - T
   design    sigma_run = SE(D) sqrt(R), the per-run noise of D; the runs
             needed to resolve a dip depth --target at 3 SE: (3 sigma_run /
             target)^2
@@ -205,9 +207,12 @@ def dip_stats(P, ic, sx):
     return out
 
 
-def interval(t, boot, level):
+def interval(t, boot, level, runs):
+    """Basic bootstrap interval, its half-widths scaled by sqrt(R/(R-1)):
+    resampling R runs gives the variance of their mean times (R-1)/R."""
+    k = math.sqrt(runs / (runs - 1))
     lo, hi = np.quantile(boot, [0.5 * (1 - level), 0.5 * (1 + level)], axis=0)
-    return 2 * t - hi, 2 * t - lo
+    return t - k * (hi - t), t + k * (t - lo)
 
 
 def boot_indices(rng, R, B):
@@ -256,13 +261,14 @@ def summarise(name, path, args, rng):
     Pb = Pr[idx].mean(axis=1)
     sb = dip_stats(Pb, ic, sx)
     res = dict(info)
+    corr = math.sqrt(R / (R - 1))  # the bootstrap SE of a mean of R runs is sqrt((R-1)/R) of sd/sqrt(R)
     res["merge"] = args.merge
     res["bin_width"] = args.merge * dx
     for key in ("D", "D_left", "D_right", "D_halves", "s_max", "x_left", "x_right"):
         t = float(st[key])
         b = sb[key]
-        lo, hi = interval(t, b, args.level)
-        res[key] = {"value": t, "se": float(b.std(ddof=1)), "ci": [float(lo), float(hi)],
+        lo, hi = interval(t, b, args.level, R)
+        res[key] = {"value": t, "se": float(b.std(ddof=1)) * corr, "ci": [float(lo), float(hi)],
                     "bias": float(b.mean() - t)}
     res["D_halves"]["spread"] = float(st["D_halves_spread"])
     sig = res["D"]["se"] * math.sqrt(R)
@@ -271,22 +277,22 @@ def summarise(name, path, args, rng):
                      "resolved_at_3se_now": 3 * res["D"]["se"]}
     res["resolved"] = bool(res["D"]["ci"][0] > 0)
     # profiles with their intervals
-    Plo, Phi = interval(P, Pb, args.level)
+    Plo, Phi = interval(P, Pb, args.level, R)
     F = st["F"]
-    Flo, Fhi = interval(F, sb["F"], args.level)
-    prof = {"x": xm, "P": P, "P_lo": Plo, "P_hi": Phi, "P_se": Pb.std(axis=0, ddof=1)}
+    Flo, Fhi = interval(F, sb["F"], args.level, R)
+    prof = {"x": xm, "P": P, "P_lo": Plo, "P_hi": Phi, "P_se": Pb.std(axis=0, ddof=1) * corr}
     nside = F.shape[-1]
-    fold = {"s": sx[ic:ic + nside], "F": F, "F_lo": Flo, "F_hi": Fhi, "F_se": sb["F"].std(axis=0, ddof=1)}
+    fold = {"s": sx[ic:ic + nside], "F": F, "F_lo": Flo, "F_hi": Fhi, "F_se": sb["F"].std(axis=0, ddof=1) * corr}
     if W is not None:
         Wm = merged(W, groups)
         with np.errstate(divide="ignore", invalid="ignore"), warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # bins beyond the pile: W = 0
             rb = Pr[idx].mean(axis=1) / Wm[idx].mean(axis=1)
             r = P / Wm.mean(axis=0)
-            prof["ratio_se"] = np.nanstd(np.where(np.isfinite(rb), rb, np.nan), axis=0, ddof=1)
+            prof["ratio_se"] = np.nanstd(np.where(np.isfinite(rb), rb, np.nan), axis=0, ddof=1) * corr
         prof["W"] = Wm.mean(axis=0)
         prof["ratio"] = np.where(np.isfinite(r), r, np.nan)
-        res["centre_over_local_weight"] = {"value": float(r[ic]), "se": float(np.std(rb[:, ic], ddof=1))}
+        res["centre_over_local_weight"] = {"value": float(r[ic]), "se": float(np.std(rb[:, ic], ddof=1)) * corr}
     return res, prof, fold, Pr, (xm, ic, sx)
 
 
@@ -299,7 +305,7 @@ def compare(a, b, data, args, rng):
     T = float(dip_stats(Pa.mean(axis=0), ica, sxa)["D"] - dip_stats(Pb.mean(axis=0), icb, sxb)["D"])
     ba = dip_stats(Pa[boot_indices(rng, len(Pa), args.boot)].mean(axis=1), ica, sxa)["D"]
     bb = dip_stats(Pb[boot_indices(rng, len(Pb), args.boot)].mean(axis=1), icb, sxb)["D"]
-    se = float(np.std(ba - bb, ddof=1))
+    se = float(np.sqrt(np.var(ba, ddof=1) * len(Pa) / (len(Pa) - 1) + np.var(bb, ddof=1) * len(Pb) / (len(Pb) - 1)))
     pooled = np.concatenate([Pa, Pb])
     na = len(Pa)
     count = 0
