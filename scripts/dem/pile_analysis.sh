@@ -17,8 +17,8 @@
 # (default 5: 10 d bins), the hopper against the sieve per law and engine,
 # and the plain law against rolling resistance per source and engine:
 #   OUT/stats-SIZE.json, OUT/profiles-SIZE.h5, OUT/profiles-SIZE.csv;
-# and scripts/dem/pile_summary.py's table per law (angles, heights,
-# extents): OUT/summary-<law>-SIZE.json. OUT defaults to results/sandpile.
+# and scripts/dem/pile_summary.py's table of the same runs per law (angles,
+# heights, extents): OUT/summary-<law>-SIZE.json. OUT defaults to results/sandpile.
 # Exit status: 0 ok; 1 usage; 2 no group with 2 runs, or a failing step's
 # own status (ekmcompare base, pile_stats.py: docs/exit-codes.md).
 set -uo pipefail
@@ -43,7 +43,7 @@ ekmcompare=${EKMCOMPARE:-$root/build/compare/ekmcompare}
 [ -x "$ekmcompare" ] || { echo "$prog: ekmcompare not built: run make build (no executable $ekmcompare)" >&2; exit 7; }
 mkdir -p "$out" || exit 3
 
-groups=(); compares=()
+groups=(); compares=(); declare -A checked=()
 for law in plain rolling; do
   for engine in lammps liggghts; do
     declare -A dumps=()
@@ -58,6 +58,7 @@ for law in plain rolling; do
       d=$(awk '$1 == "d" { print $3 }' "$dir/vars.txt")
       src=$(awk -v w="$sw" -v lp="$lp" -v d="$d" 'BEGIN { print (w * d >= lp - 1e-9 * d ? "sieve" : "hopper") }')
       dumps[$src]+="$dir/atoms.dump"$'\n'
+      checked[$law]+="$dir"$'\n'
     done
     for src in hopper sieve; do
       mapfile -t list < <(printf '%s' "${dumps[$src]:-}" | sort -V)
@@ -85,6 +86,7 @@ done
 /usr/bin/python3 -B "$here/pile_stats.py" --merge "$merge" -o "$out/stats-$size.json" \
   --h5 "$out/profiles-$size.h5" --csv "$out/profiles-$size.csv" "${compares[@]}" "${groups[@]}" || exit
 for law in plain rolling; do
-  [ -d "$proot/$law" ] || continue
-  /usr/bin/python3 -B "$here/pile_summary.py" --ensemble "$proot/$law" -o "$out/summary-$law-$size.json" > /dev/null || exit
+  mapfile -t list < <(printf '%s' "${checked[$law]:-}" | sort -V)
+  [ ${#list[@]} -gt 0 ] || continue
+  /usr/bin/python3 -B "$here/pile_summary.py" --runs -o "$out/summary-$law-$size.json" "${list[@]}" || exit
 done
