@@ -3,12 +3,13 @@
 # member over every group, so that a run stopped at any point leaves
 # groups of nearly equal size.
 #
-#   scripts/dem/pile_rounds.sh [-o DIR] [-r MU_R] [-e "ENGINES"] [-l "LAWS"] SIZE [FIRST [LAST]]
+#   scripts/dem/pile_rounds.sh [-o DIR] [-r MU_R] [-M MASS] [-e "ENGINES"] [-l "LAWS"] SIZE [FIRST [LAST]]
 #
 # Member k (FIRST..LAST, default 1..[dem] seeds) of every group: for each
 # engine (default "lammps liggghts"), the plain contact law into
-# DIR/plain and rolling resistance (-s rolling_friction=MU_R, default 0.1)
-# into DIR/rolling (-l: the laws, default "plain rolling"), each through
+# DIR/plain and rolling resistance (-s rolling_friction=MU_R, default 0.1,
+# and with -M also -s pile_mass=MASS: a steeper pile needs more mass to
+# fill the plate) into DIR/rolling (-l: the laws, default "plain rolling"), each through
 # scripts/dem/ensemble.sh -m k (both sources, the hopper and the sieve).
 # DIR defaults to runs/pile. A finished run is
 # kept (run.sh's "is done"), so the same command resumes where it stopped.
@@ -22,20 +23,21 @@ root=$(cd "$here/../.." && pwd)
 prog=pile_rounds.sh
 usage() { echo "$prog: $*" >&2; exit 1; }
 
-out=$root/runs/pile; mur=0.1; engines="lammps liggghts"; laws="plain rolling"
-while getopts "o:r:e:l:h" opt; do
+out=$root/runs/pile; mur=0.1; rmass=""; engines="lammps liggghts"; laws="plain rolling"
+while getopts "o:r:M:e:l:h" opt; do
   case $opt in
     o) out=$OPTARG ;;
     r) mur=$OPTARG ;;
+    M) rmass=$OPTARG ;;
     e) engines=$OPTARG ;;
     l) laws=$OPTARG ;;
-    h) sed -n '2,19p' "$0"; exit 0 ;;
+    h) sed -n '2,21p' "$0"; exit 0 ;;
     *) usage "bad option (see -h)" ;;
   esac
 done
 shift $((OPTIND - 1))
 if [ $# -lt 1 ] || [ $# -gt 3 ]; then
-  usage "usage: pile_rounds.sh [-o DIR] [-r MU_R] [-e ENGINES] [-l LAWS] SIZE [FIRST [LAST]]"
+  usage "usage: pile_rounds.sh [-o DIR] [-r MU_R] [-M MASS] [-e ENGINES] [-l LAWS] SIZE [FIRST [LAST]]"
 fi
 size=$1
 ekm=${EKM:-$root/build/continuum/ekm}
@@ -54,7 +56,10 @@ for ((k = first; k <= last; k++)); do
     for variant in $laws; do
       case $variant in plain|rolling) ;; *) usage "-l: unknown law '$variant' (plain, rolling)" ;; esac
       args=(-m "$k" -o "$out/$variant")
-      [ "$variant" = rolling ] && args+=(-s "rolling_friction=$mur")
+      if [ "$variant" = rolling ]; then
+        args+=(-s "rolling_friction=$mur")
+        [ -z "$rmass" ] || args+=(-s "pile_mass=$rmass")
+      fi
       echo "$prog: member $k, $e, $variant ($(date -u +%H:%M:%S))"
       "$here/ensemble.sh" "${args[@]}" sandpile "$e" "$size"; r=$?
       if [ $r -ne 0 ] && { [ $worst -eq 0 ] || [ $worst -eq 6 ]; }; then worst=$r; fi
