@@ -77,6 +77,10 @@ static const tool_key TOOL_KEYS[] = {
     {"dem", "pour_speed", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},
     {"dem", "pour_height", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},
     {"dem", "source_widths", TYPE_NUMBERS, NULL, NULL, SWEEP_SOURCE},
+    {"dem", "plate_width", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},    /* the floor's extent [d] */
+    {"dem", "hopper_gap", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},     /* hopper above the apex [d] */
+    {"dem", "hopper_stages", TYPE_INTEGER, NULL, NULL, SWEEP_SOURCE}, /* times the hopper is raised */
+    {"dem", "rolling_friction", TYPE_NUMBER, NULL, "0", SWEEP_NONE},  /* mu_r: torque limit mu_r R* F_n */
     {"dem", "seeds", TYPE_INTEGER, NULL, NULL, SWEEP_NONE}, /* ensemble size (scripts/dem/ensemble.sh) */
     {"dem", "timeout", TYPE_INTEGER, NULL, "900", SWEEP_NONE},
     {"dem", "require_steady", TYPE_FLAG, NULL, "0", SWEEP_NONE},
@@ -326,6 +330,10 @@ static const char *dem_range(const char *base, const char *value)
         {"pour_rate", "a mass rate > 0 [kg/s]", 0, HUGE_VAL, 1, 1},
         {"pour_speed", "a speed > 0 [m/s]", 0, HUGE_VAL, 1, 1},
         {"pour_height", "a height > 0 [d]", 0, HUGE_VAL, 1, 1},
+        {"plate_width", "a width > 0 [d]", 0, HUGE_VAL, 1, 1},
+        {"hopper_gap", "a gap >= 0 [d]", 0, HUGE_VAL, 0, 1},
+        {"hopper_stages", "a number of stages >= 1", 1, HUGE_VAL, 0, 1},
+        {"rolling_friction", "a rolling friction coefficient >= 0", 0, HUGE_VAL, 0, 1},
         {"seeds", "an ensemble size >= 1", 1, HUGE_VAL, 0, 1},
     };
     for (size_t i = 0; i < sizeof R / sizeof R[0]; i++)

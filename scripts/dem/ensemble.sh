@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # ensemble.sh: run the seed ensemble of a DEM scenario in one engine at one size.
 #
-#   scripts/dem/ensemble.sh [-f] [-o DIR] [-m K] SCENARIO ENGINE SIZE
+#   scripts/dem/ensemble.sh [-f] [-o DIR] [-m K] [-s key=value]... SCENARIO ENGINE SIZE
 #
 # The ensemble has [dem] seeds members (the <engine>.<size>. lookup of the
 # resolved scenario, `ekm scenario ... --json`); member k = 1..N runs every
@@ -13,6 +13,9 @@
 #   -o DIR  ensemble root (default runs/ensemble)
 #   -m K    run member K only (1..N; e.g. two members at once on two cores)
 #   -f      passed to run.sh: redo finished runs
+#   -s k=v  passed to run.sh (repeatable): a [dem] override for every
+#           member, e.g. -s rolling_friction=0.1 (give such a variant its
+#           own -o DIR: run.sh redoes a run whose variables changed)
 #   -l      list the members, one "k seed" per line, and run nothing
 #
 # Exit status (docs/exit-codes.md): 0 all members ok; 1 usage; 2 scenario
@@ -24,19 +27,20 @@ root=$(cd "$here/../.." && pwd)
 prog=ensemble.sh
 usage() { echo "$prog: $*" >&2; exit 1; }
 
-force=(); outroot=$root/runs/ensemble; member=""; list=0
-while getopts "flo:m:h" opt; do
+force=(); outroot=$root/runs/ensemble; member=""; list=0; sets=()
+while getopts "flo:m:s:h" opt; do
   case $opt in
     f) force=(-f) ;;
     l) list=1 ;;
     o) outroot=$OPTARG ;;
     m) member=$OPTARG ;;
-    h) sed -n '2,21p' "$0"; exit 0 ;;
+    s) sets+=(-s "$OPTARG") ;;
+    h) sed -n '2,24p' "$0"; exit 0 ;;
     *) usage "bad option (see -h)" ;;
   esac
 done
 shift $((OPTIND - 1))
-[ $# -eq 3 ] || usage "usage: ensemble.sh [-f] [-o DIR] [-m K] SCENARIO ENGINE SIZE"
+[ $# -eq 3 ] || usage "usage: ensemble.sh [-f] [-o DIR] [-m K] [-s key=value]... SCENARIO ENGINE SIZE"
 scen=$1; engine=$2; size=$3
 [[ $scen =~ ^[A-Za-z0-9_-]+$ ]] || usage "bad scenario name '$scen'"
 ini=$root/scenarios/$scen.ini
@@ -60,7 +64,7 @@ for p in $seeds; do
   k=$((k + 1))
   [ -z "$member" ] || [ "$member" -eq "$k" ] || continue
   if [ $list -eq 1 ]; then echo "$k $p"; continue; fi
-  "$here/run.sh" "${force[@]+"${force[@]}"}" -o "$outroot/seed$k" -s "seed=$p" "$scen" "$engine" "$size"; r=$?
+  "$here/run.sh" "${force[@]+"${force[@]}"}" "${sets[@]+"${sets[@]}"}" -o "$outroot/seed$k" -s "seed=$p" "$scen" "$engine" "$size"; r=$?
   if [ $r -ne 0 ] && { [ $worst -eq 0 ] || [ $worst -eq 6 ]; }; then worst=$r; fi
 done
 exit $worst

@@ -25,7 +25,7 @@ and the dump contract of docs/dem.md "Sand pile":
                  on the pile's centre of mass, folded about it: p of the
                  central bin over the largest p
 --ensemble ROOT: every ROOT/seed<k>/sandpile/<engine>-<size>/<point>/ that
-finished (status ok), summarised; OUT gets the per-run rows and, per engine,
+finished (status ok), summarised (--runs -o OUT RUN_DIR...: the runs given); OUT gets the per-run rows and, per engine,
 size and point, the mean and standard error over the seeds (SE = sd/sqrt(n)).
 Exit status: 0 ok, 1 usage, 2 a dump without the contract's columns, 3 a
 file missing.
@@ -100,7 +100,9 @@ def summarise(run):
             fail(2, "%s/atoms.dump: no column %s (docs/dem.md 'Sand pile')" % (run, c))
     ic = {c: cols.index(c) for c in cols}
     d, g, lx = v["d"], v["g"], bx[1] - bx[0]
-    grains = [r for r in rows if r[ic["type"]] == "1"]
+    # the pile: grains on the plate (centre above its top; one that rolled
+    # off and falls to the deck's sink is not part of it)
+    grains = [r for r in rows if r[ic["type"]] == "1" and float(r[ic["z"]]) > 0]
     floor = [r for r in rows if r[ic["type"]] == "2"]
     mass = sum(float(r[ic["mass"]]) for r in grains)
     if not grains or not mass > 0:
@@ -161,11 +163,12 @@ def mean_se(vals):
 
 def ensemble(root, out):
     runs = sorted(glob.glob(os.path.join(root, "seed*", "sandpile", "*-*", "*", "run.json")))
-    rows = []
-    for rj in runs:
-        run = os.path.dirname(rj)
-        if json.load(open(rj)).get("status") == "ok":
-            rows.append(summarise(run))
+    dirs = [os.path.dirname(rj) for rj in runs if json.load(open(rj)).get("status") == "ok"]
+    table(dirs, root, out)
+
+
+def table(dirs, root, out):
+    rows = [summarise(run) for run in dirs]
     groups = {}
     for r in rows:
         groups.setdefault((r["engine"], r["size"], r["point"]), []).append(r)
@@ -193,6 +196,14 @@ def ensemble(root, out):
 
 
 def main(argv):
+    if len(argv) >= 2 and argv[1] == "--runs":
+        if len(argv) < 5 or argv[2] != "-o":
+            fail(1, "usage: pile_summary.py --runs -o OUT.json RUN_DIR...")
+        for run in argv[4:]:
+            if not os.path.exists(os.path.join(run, "run.json")):
+                fail(3, "%s: no run.json" % run)
+        table(argv[4:], os.path.commonpath([os.path.abspath(r) for r in argv[4:]]), argv[3])
+        return
     if len(argv) >= 2 and argv[1] == "--ensemble":
         if len(argv) != 5 or argv[3] != "-o":
             fail(1, "usage: pile_summary.py --ensemble ROOT -o OUT.json")

@@ -229,6 +229,12 @@ case $scen in
     addk q_pour dem.pour_rate
     addk v_pour dem.pour_speed
     addv h_pour "$(calc "${K[dem.pour_height]} * $d")"
+    need dem.plate_width dem.hopper_gap
+    num plate_width "${K[dem.plate_width]}"; num hopper_gap "${K[dem.hopper_gap]}"
+    addv lp "$(calc "${K[dem.plate_width]} * $d")"
+    addv h_gap "$(calc "${K[dem.hopper_gap]} * $d")"
+    addk n_stage dem.hopper_stages
+    addk mu_r dem.rolling_friction
     addk t_end dem.t_end
     pointvars=(source_width) ;;
   *) die "no variable mapping for scenario '$scen' (see docs/dem.md)" ;;

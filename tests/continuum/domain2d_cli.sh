@@ -52,8 +52,8 @@ json "sandpile: the 2D domain keys" \
      and .keys[\"domain.cells_x\"].value == \"130\" and .keys[\"domain.periodic_x\"].value == \"1\"" \
     "$pile" --json
 json "sandpile ref: the two variants are the points" \
-    '[.points[].tag] == ["source8", "source50"] and [.points[].vars.source_width] == ["8", "50"]
-     and [.points[].ekm_set] == [[], []] and .keys["dem.seeds"].value == "6"
+    '[.points[].tag] == ["source8", "source102"] and [.points[].vars.source_width] == ["8", "102"]
+     and [.points[].ekm_set] == [[], []] and .keys["dem.seeds"].value == "41"
      and .keys["dem.pile_mass"].as == "ref.pile_mass"' \
     "$pile" --engine liggghts --size ref --json
 json "sandpile smoke: two seeds" '.keys["dem.seeds"].value == "2" and (.points | length) == 2' \

@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# pile_rounds.sh: the sand-pile reference ensemble (issue 34), member by
+# member over every group, so that a run stopped at any point leaves
+# groups of nearly equal size.
+#
+#   scripts/dem/pile_rounds.sh [-o DIR] [-r MU_R] [-M MASS] [-e "ENGINES"] [-l "LAWS"] SIZE [FIRST [LAST]]
+#
+# Member k (FIRST..LAST, default 1..[dem] seeds) of every group: for each
+# engine (default "lammps liggghts"), the plain contact law into
+# DIR/plain and rolling resistance (-s rolling_friction=MU_R, default 0.1,
+# and with -M also -s pile_mass=MASS: a steeper pile needs more mass to
+# fill the plate) into DIR/rolling (-l: the laws, default "plain rolling"), each through
+# scripts/dem/ensemble.sh -m k (both sources, the hopper and the sieve).
+# DIR defaults to runs/pile. A finished run is
+# kept (run.sh's "is done"), so the same command resumes where it stopped.
+# One DEM process at a time; run it in the background, e.g.
+#   nohup nice -n 19 scripts/dem/pile_rounds.sh ref > runs/pile.log 2>&1 &
+# Exit status: 0 every run ok; 1 usage; otherwise the worst status of
+# ensemble.sh (docs/exit-codes.md), after trying every run.
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+prog=pile_rounds.sh
+usage() { echo "$prog: $*" >&2; exit 1; }
+
+out=$root/runs/pile; mur=0.1; rmass=""; engines="lammps liggghts"; laws="plain rolling"
+while getopts "o:r:M:e:l:h" opt; do
+  case $opt in
+    o) out=$OPTARG ;;
+    r) mur=$OPTARG ;;
+    M) rmass=$OPTARG ;;
+    e) engines=$OPTARG ;;
+    l) laws=$OPTARG ;;
+    h) sed -n '2,21p' "$0"; exit 0 ;;
+    *) usage "bad option (see -h)" ;;
+  esac
+done
+shift $((OPTIND - 1))
+if [ $# -lt 1 ] || [ $# -gt 3 ]; then
+  usage "usage: pile_rounds.sh [-o DIR] [-r MU_R] [-M MASS] [-e ENGINES] [-l LAWS] SIZE [FIRST [LAST]]"
+fi
+size=$1
+ekm=${EKM:-$root/build/continuum/ekm}
+[ -x "$ekm" ] || { echo "$prog: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
+n=$("$ekm" scenario "$root/scenarios/sandpile.ini" --engine lammps --size "$size" --json |
+    jq -r '.keys["dem.seeds"].value // empty') || exit
+[ -n "$n" ] || { echo "$prog: scenarios/sandpile.ini: [dem] seeds: missing for size $size" >&2; exit 2; }
+first=${2:-1}; last=${3:-$n}
+if ! [[ $first =~ ^[1-9][0-9]*$ && $last =~ ^[1-9][0-9]*$ ]] || [ "$first" -gt "$last" ] || [ "$last" -gt "$n" ]; then
+  usage "members: expected 1 <= FIRST <= LAST <= $n (the [dem] seeds of size $size), got '$first' '$last'"
+fi
+
+worst=0
+for ((k = first; k <= last; k++)); do
+  for e in $engines; do
+    for variant in $laws; do
+      case $variant in plain|rolling) ;; *) usage "-l: unknown law '$variant' (plain, rolling)" ;; esac
+      args=(-m "$k" -o "$out/$variant")
+      if [ "$variant" = rolling ]; then
+        args+=(-s "rolling_friction=$mur")
+        [ -z "$rmass" ] || args+=(-s "pile_mass=$rmass")
+      fi
+      echo "$prog: member $k, $e, $variant ($(date -u +%H:%M:%S))"
+      "$here/ensemble.sh" "${args[@]}" sandpile "$e" "$size"; r=$?
+      if [ $r -ne 0 ] && { [ $worst -eq 0 ] || [ $worst -eq 6 ]; }; then worst=$r; fi
+    done
+  done
+done
+exit $worst

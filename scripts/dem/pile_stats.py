@@ -1,0 +1,445 @@
+#!/usr/bin/python3
+"""pile_stats.py: the dip statistics of sand-pile base-pressure ensembles.
+
+    scripts/dem/pile_stats.py [options] -o STATS.json NAME=BASE.h5 ...
+
+Each NAME=BASE.h5 is one group (an engine, a source, a contact law), BASE.h5
+the output of `ekmcompare base --last 1 --centre XC` over the group's runs
+(one dump per run, an independent pile): p_base_runs [runs][bins] on bins
+of width dx symmetric about the source's centre XC (docs/dem.md "Sand pile:
+the observable"). Per group:
+
+  profile   P(x), the mean of the runs' profiles on bins of --merge K base
+            bins (K odd if the grid has an odd number of bins, even if
+            even, so that the central bin stays centred on XC; bins with no
+            floor grain, beyond the plate, are NaN and dropped), folded:
+            F(s) = (P(XC + s) + P(XC - s)) / 2
+  dip       D = 1 - F(0) / max_s F(s): the dip depth (0 without a dip,
+            < 0 impossible on the folded profile: the max includes s = 0)
+  halves    D_left, D_right: the same from each half of P unfolded (P(0)
+            over the largest P of that half); (D_left + D_right)/2 and
+            |D_left - D_right|/2, the second estimate of D and its spread
+  maxima    s_max (of F), x_left, x_right (of each half of P), distances
+            from XC [m]
+  bootstrap over the runs (--boot B resamples with replacement, --seed):
+            SE = sd of the resampled statistic times sqrt(R/(R-1)) (R
+            runs: resampling gives the variance of their mean times
+            (R-1)/R); the basic (reverse percentile) interval
+            [2 T - q_hi, 2 T - q_lo] at --level, its half-widths scaled by
+            the same factor, which removes to first order the upward bias
+            of a maximum over noisy bins; the bias estimate mean(T*) - T
+  design    sigma_run = SE(D) sqrt(R), the per-run noise of D; the runs
+            needed to resolve a dip depth --target at 3 SE: (3 sigma_run /
+            target)^2
+  local weight (unless --no-dumps) from the dumps the HDF5 names (inputs),
+            their last frame: the surface height h(x) of each run (the
+            highest z + radius of the pile grains, type 1, on the plate
+            z > 0, in each base bin), the bulk density rho_b = M / (L_y sum
+            h dx) (M the pile's mass), W(x) = rho_b g h(x), and the ratio
+            P(x) / W(x) with its bootstrap SE; the floor grains per base bin
+            (aligned bins hold the same number; p is renormalised by
+            n_mean / n_bin otherwise, and the largest |n_bin/n_mean - 1| is
+            reported)
+--compare A,B (repeatable): D_A - D_B with its bootstrap SE (independent
+groups) and a two-sided permutation test over the pooled runs (--perm N
+relabellings): p = (1 + #{|T*| >= |T|}) / (1 + N); the two groups must
+share the grid.
+
+Outputs (each written to a temporary name and renamed): -o STATS.json; --h5
+PROFILES.h5 (a group per NAME: s, F and its interval; x, P and its
+interval; W, ratio) and --csv PROFILES.csv (the same, one row per group and
+merged bin). Exit status (docs/exit-codes.md): 0 ok; 1 usage; 2 bad input
+(one line naming the file and what was expected: not an ekmcompare base
+HDF5, a missing dataset or attribute, fewer than 2 runs, a group without a
+bin beyond the centre, grids that differ in a comparison, a dump without
+the columns needed); 3 a file cannot be read or written.
+"""
+import argparse
+import json
+import math
+import os
+import sys
+import warnings
+
+import numpy as np
+
+h5py = None  # imported in main (a clear message without it)
+PROG = "pile_stats"
+
+
+class Fail(Exception):
+    def __init__(self, code, msg):
+        super().__init__(msg)
+        self.code = code
+
+
+def die(code, msg):
+    raise Fail(code, msg)
+
+
+# ---------------------------------------------------------------- inputs
+def read_base(path):
+    """(x, dx, centre, y_period, runs [R][n], inputs) of an ekmcompare base HDF5."""
+    if not os.path.exists(path):
+        die(3, "%s: no such file" % path)
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        die(2, "%s: expected an HDF5 file of ekmcompare base (%s)" % (path, e))
+    with f:
+        for name in ("x", "p_base_runs"):
+            if name not in f:
+                die(2, "%s: no dataset %s (expected the output of ekmcompare base)" % (path, name))
+        for a in ("dx", "centre", "y_period"):
+            if a not in f.attrs:
+                die(2, "%s: no attribute %s (expected the output of ekmcompare base)" % (path, a))
+        x = np.asarray(f["x"][...], dtype=float)
+        runs = np.asarray(f["p_base_runs"][...], dtype=float)
+        dx = float(f.attrs["dx"])
+        centre = float(f.attrs["centre"])
+        ly = float(f.attrs["y_period"])
+        inputs = f.attrs.get("inputs", "")
+        if isinstance(inputs, bytes):
+            inputs = inputs.decode()
+    if runs.ndim != 2 or runs.shape[1] != x.size:
+        die(2, "%s: p_base_runs: expected [runs][%d bins], got shape %s" % (path, x.size, runs.shape))
+    if runs.shape[0] < 2:
+        die(2, "%s: p_base_runs: expected at least 2 runs (independent piles) for a bootstrap, got %d"
+            % (path, runs.shape[0]))
+    if not (dx > 0 and ly > 0):
+        die(2, "%s: expected dx > 0 and y_period > 0, got %g and %g" % (path, dx, ly))
+    return x, dx, centre, ly, runs, [s for s in inputs.split("\n") if s]
+
+
+def last_frame(path):
+    """(box x bounds, box y period, {column: array}) of a dump's last frame."""
+    if not os.path.exists(path):
+        die(3, "%s: no such file (named by the base HDF5's inputs; or give --no-dumps)" % path)
+    frame = None
+    with open(path) as f:
+        lines = iter(f)
+        for line in lines:
+            if not line.startswith("ITEM: TIMESTEP"):
+                continue
+            next(lines)
+            head = next(lines)
+            while not head.startswith("ITEM: NUMBER OF ATOMS"):
+                head = next(lines)
+            n = int(next(lines))
+            next(lines)
+            bx = [float(v) for v in next(lines).split()[:2]]
+            by = [float(v) for v in next(lines).split()[:2]]
+            next(lines)
+            cols = next(lines).split()[2:]
+            rows = [next(lines).split() for _ in range(n)]
+            frame = (bx, by, cols, rows)
+    if frame is None:
+        die(2, "%s: expected a LAMMPS/LIGGGHTS dump, found no ITEM: TIMESTEP" % path)
+    bx, by, cols, rows = frame
+    for c in ("type", "x", "z", "radius", "mass"):
+        if c not in cols:
+            die(2, "%s: ITEM: ATOMS has no column %s (docs/dem.md \"Sand pile\")" % (path, c))
+    a = np.array(rows, dtype=float).reshape(len(rows), len(cols))
+    return bx, by[1] - by[0], {c: a[:, i] for i, c in enumerate(cols)}
+
+
+def heights(dump, x, dx):
+    """(h per base bin, floor grains per base bin, pile mass) of a dump's last frame."""
+    bx, ly, col = last_frame(dump)
+    lo = x[0] - 0.5 * dx
+    L = bx[1] - bx[0]
+    xs = bx[0] + np.mod(col["x"] - bx[0], L)
+    k = np.floor((xs - lo) / dx).astype(int)
+    inside = (k >= 0) & (k < x.size)
+    pile = (col["type"] == 1) & (col["z"] > 0) & inside
+    floor = (col["type"] == 2) & inside
+    h = np.zeros(x.size)
+    np.maximum.at(h, k[pile], col["z"][pile] + col["radius"][pile])
+    nfl = np.bincount(k[floor], minlength=x.size).astype(float)
+    mass = float(col["mass"][(col["type"] == 1) & (col["z"] > 0)].sum())
+    return h, nfl, mass, ly
+
+
+# ------------------------------------------------------------- statistics
+def merge_plan(n, K, path):
+    """Index lists of the merged bins, the central one centred; None if K does not fit."""
+    if K < 1 or (n % 2) != (K % 2):
+        die(1, "--merge %d: expected a number of base bins of the parity of the grid's %d bins "
+            "(%s), so that the central bin stays centred" % (K, n, "odd" if n % 2 else "even"))
+    first = n // 2 - K // 2  # the central merged bin: first .. first + K - 1
+    groups = []
+    # the merged bins from the leftmost that fits to the rightmost
+    lo = first
+    while lo - K >= 0:
+        lo -= K
+    start = lo
+    while start + K <= n:
+        groups.append(list(range(start, start + K)))
+        start += K
+    centre_groups = [i for i, grp in enumerate(groups) if grp[0] == first]
+    if not centre_groups:
+        die(2, "%s: %d bins cannot be merged by %d about the centre" % (path, n, K))
+    return groups, centre_groups[0]
+
+
+def merged(prof, groups):
+    """prof [..., n] -> [..., m]: mean of each group's bins (NaN if any is NaN)."""
+    return np.stack([prof[..., grp].mean(axis=-1) for grp in groups], axis=-1)
+
+
+def dip_stats(P, ic, sx):
+    """Statistics of mean profiles P [..., m] (merged, central bin ic; sx distance of each bin)."""
+    m = P.shape[-1]
+    nside = min(ic, m - 1 - ic)
+    right = P[..., ic:ic + nside + 1]
+    left = P[..., ic - nside:ic + 1][..., ::-1]
+    F = 0.5 * (right + left)
+    Fm = np.where(np.isfinite(F), F, -np.inf)
+    D = 1.0 - F[..., 0] / Fm.max(axis=-1)
+    s_max = sx[ic:ic + nside + 1][Fm.argmax(axis=-1)]
+    out = {"D": D, "s_max": s_max, "F": F}
+    for side, H in (("left", left), ("right", right)):
+        Hm = np.where(np.isfinite(H), H, -np.inf)
+        out["D_" + side] = 1.0 - H[..., 0] / Hm.max(axis=-1)
+        out["x_" + side] = sx[ic:ic + nside + 1][Hm.argmax(axis=-1)]
+    out["D_halves"] = 0.5 * (out["D_left"] + out["D_right"])
+    out["D_halves_spread"] = 0.5 * np.abs(out["D_left"] - out["D_right"])
+    return out
+
+
+def interval(t, boot, level, runs):
+    """Basic bootstrap interval, its half-widths scaled by sqrt(R/(R-1)):
+    resampling R runs gives the variance of their mean times (R-1)/R."""
+    k = math.sqrt(runs / (runs - 1))
+    lo, hi = np.quantile(boot, [0.5 * (1 - level), 0.5 * (1 + level)], axis=0)
+    return t - k * (hi - t), t + k * (t - lo)
+
+
+def boot_indices(rng, R, B):
+    return rng.integers(0, R, size=(B, R))
+
+
+def summarise(name, path, args, rng):
+    x, dx, centre, ly, runs, inputs = read_base(path)
+    R, n = runs.shape
+    info = {"file": path, "runs": R, "bins": n, "dx": dx, "centre": centre, "y_period": ly}
+    W = None
+    if not args.no_dumps:
+        if len(inputs) != R:
+            die(2, "%s: inputs names %d dumps for %d runs (or give --no-dumps)" % (path, len(inputs), R))
+        hs, ns, ms = [], [], []
+        for d in inputs:
+            h, nfl, mass, ly_d = heights(d, x, dx)
+            if abs(ly_d - ly) > 1e-9 * ly:
+                die(2, "%s: box y period %g m, expected the base HDF5's %g m" % (d, ly_d, ly))
+            hs.append(h)
+            ns.append(nfl)
+            ms.append(mass)
+        hs, ns, ms = np.array(hs), np.array(ns), np.array(ms)
+        plate = ns.sum(axis=0) > 0
+        nmean = ns[:, plate].mean()
+        with np.errstate(divide="ignore", invalid="ignore"):
+            scale = np.where(ns > 0, nmean / ns, np.nan)
+        info["floor_grains_per_bin"] = nmean
+        info["floor_count_max_deviation"] = float(np.nanmax(np.abs(1.0 / scale[:, plate] - 1.0)))
+        runs = runs * np.where(np.isfinite(scale), scale, 1.0)
+        rho_b = ms / (ly * (hs[:, plate].sum(axis=1) * dx))
+        W = rho_b[:, None] * args.g * hs
+        W[:, ~plate] = np.nan
+        info["rho_b"] = {"mean": float(rho_b.mean()), "sd": float(rho_b.std(ddof=1))}
+        info["height_max"] = {"mean": float(hs.max(axis=1).mean()), "sd": float(hs.max(axis=1).std(ddof=1))}
+    groups, ic = merge_plan(n, args.merge, path)
+    xm = merged(x, groups)
+    sx = np.abs(xm - centre)
+    Pr = merged(runs, groups)
+    finite = np.isfinite(Pr).all(axis=0)
+    if finite.sum() < 2 or not finite[ic]:
+        die(2, "%s: expected the central bin and one beyond it under the plate in every run" % path)
+    P = Pr.mean(axis=0)
+    st = dip_stats(P, ic, sx)
+    idx = boot_indices(rng, R, args.boot)
+    Pb = Pr[idx].mean(axis=1)
+    sb = dip_stats(Pb, ic, sx)
+    res = dict(info)
+    corr = math.sqrt(R / (R - 1))  # the bootstrap SE of a mean of R runs is sqrt((R-1)/R) of sd/sqrt(R)
+    res["merge"] = args.merge
+    res["bin_width"] = args.merge * dx
+    for key in ("D", "D_left", "D_right", "D_halves", "s_max", "x_left", "x_right"):
+        t = float(st[key])
+        b = sb[key]
+        lo, hi = interval(t, b, args.level, R)
+        res[key] = {"value": t, "se": float(b.std(ddof=1)) * corr, "ci": [float(lo), float(hi)],
+                    "bias": float(b.mean() - t)}
+    res["D_halves"]["spread"] = float(st["D_halves_spread"])
+    sig = res["D"]["se"] * math.sqrt(R)
+    res["design"] = {"sigma_run": sig, "target": args.target,
+                     "runs_for_target_at_3se": int(math.ceil((3 * sig / args.target) ** 2)),
+                     "resolved_at_3se_now": 3 * res["D"]["se"]}
+    res["resolved"] = bool(res["D"]["ci"][0] > 0)
+    # profiles with their intervals
+    Plo, Phi = interval(P, Pb, args.level, R)
+    F = st["F"]
+    Flo, Fhi = interval(F, sb["F"], args.level, R)
+    prof = {"x": xm, "P": P, "P_lo": Plo, "P_hi": Phi, "P_se": Pb.std(axis=0, ddof=1) * corr}
+    nside = F.shape[-1]
+    fold = {"s": sx[ic:ic + nside], "F": F, "F_lo": Flo, "F_hi": Fhi, "F_se": sb["F"].std(axis=0, ddof=1) * corr}
+    if W is not None:
+        Wm = merged(W, groups)
+        with np.errstate(divide="ignore", invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # bins beyond the pile: W = 0
+            rb = Pr[idx].mean(axis=1) / Wm[idx].mean(axis=1)
+            r = P / Wm.mean(axis=0)
+            prof["ratio_se"] = np.nanstd(np.where(np.isfinite(rb), rb, np.nan), axis=0, ddof=1) * corr
+        prof["W"] = Wm.mean(axis=0)
+        prof["ratio"] = np.where(np.isfinite(r), r, np.nan)
+        res["centre_over_local_weight"] = {"value": float(r[ic]), "se": float(np.std(rb[:, ic], ddof=1)) * corr}
+    return res, prof, fold, Pr, (xm, ic, sx)
+
+
+def compare(a, b, data, args, rng):
+    Pa, (xa, ica, sxa) = data[a]
+    Pb, (xb, icb, sxb) = data[b]
+    if xa.shape != xb.shape or not np.allclose(xa, xb, rtol=0, atol=1e-9):
+        die(2, "--compare %s,%s: the two groups have different grids (merged bins %d and %d)"
+            % (a, b, xa.size, xb.size))
+    T = float(dip_stats(Pa.mean(axis=0), ica, sxa)["D"] - dip_stats(Pb.mean(axis=0), icb, sxb)["D"])
+    ba = dip_stats(Pa[boot_indices(rng, len(Pa), args.boot)].mean(axis=1), ica, sxa)["D"]
+    bb = dip_stats(Pb[boot_indices(rng, len(Pb), args.boot)].mean(axis=1), icb, sxb)["D"]
+    se = float(np.sqrt(np.var(ba, ddof=1) * len(Pa) / (len(Pa) - 1) + np.var(bb, ddof=1) * len(Pb) / (len(Pb) - 1)))
+    pooled = np.concatenate([Pa, Pb])
+    na = len(Pa)
+    count = 0
+    for _ in range(args.perm):
+        p = rng.permutation(len(pooled))
+        t = dip_stats(pooled[p[:na]].mean(axis=0), ica, sxa)["D"] - dip_stats(pooled[p[na:]].mean(axis=0), ica, sxa)["D"]
+        count += abs(t) >= abs(T) - 1e-15
+    return {"a": a, "b": b, "runs": [len(Pa), len(Pb)], "D_a_minus_D_b": T, "se": se,
+            "z": T / se if se > 0 else None, "permutations": args.perm,
+            "p_value": (1 + count) / (1 + args.perm)}
+
+
+# ---------------------------------------------------------------- outputs
+def write_atomic(path, writer):
+    d = os.path.dirname(os.path.abspath(path))
+    tmp = os.path.join(d, ".%s.tmp%d" % (os.path.basename(path), os.getpid()))
+    try:
+        writer(tmp)
+        os.replace(tmp, path)
+    except OSError as e:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        die(3, "%s: cannot write (%s)" % (path, e))
+
+
+def clean(v):
+    if isinstance(v, dict):
+        return {k: clean(w) for k, w in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [clean(w) for w in v]
+    if isinstance(v, (np.floating, float)):
+        return None if not math.isfinite(float(v)) else float(v)
+    if isinstance(v, np.integer):
+        return int(v)
+    return v
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(prog=PROG, add_help=True,
+                                 description="dip statistics of sand-pile base-pressure ensembles")
+    ap.add_argument("groups", nargs="+", metavar="NAME=BASE.h5")
+    ap.add_argument("-o", dest="out", required=True, metavar="STATS.json")
+    ap.add_argument("--h5", metavar="PROFILES.h5")
+    ap.add_argument("--csv", metavar="PROFILES.csv")
+    ap.add_argument("--merge", type=int, default=5, help="base bins per bin (default 5)")
+    ap.add_argument("--boot", type=int, default=4000)
+    ap.add_argument("--perm", type=int, default=4000)
+    ap.add_argument("--seed", type=int, default=34)
+    ap.add_argument("--level", type=float, default=0.95)
+    ap.add_argument("--target", type=float, default=0.05, help="dip depth to resolve at 3 SE")
+    ap.add_argument("--g", type=float, default=9.81, help="gravity [m/s^2] for rho_b g h")
+    ap.add_argument("--no-dumps", action="store_true", help="no local weight, no floor counts")
+    ap.add_argument("--compare", action="append", default=[], metavar="A,B")
+    try:
+        args = ap.parse_args(argv)
+    except SystemExit as e:
+        return 1 if e.code else 0
+    if args.boot < 100 or args.perm < 0 or not 0 < args.level < 1 or not args.target > 0:
+        print("%s: expected --boot >= 100, --perm >= 0, 0 < --level < 1, --target > 0" % PROG, file=sys.stderr)
+        return 1
+    try:
+        global h5py
+        import h5py
+    except ImportError:
+        print("%s: h5py missing: run with /usr/bin/python3 (Debian's python3-h5py)" % PROG, file=sys.stderr)
+        return 7
+    try:
+        rng = np.random.default_rng(args.seed)
+        names, out, profs, data = [], {}, {}, {}
+        for gdef in args.groups:
+            name, eq, path = gdef.partition("=")
+            if not eq or not name or not path:
+                die(1, "%s: expected NAME=BASE.h5" % gdef)
+            if name in out:
+                die(1, "%s: group %s given twice" % (gdef, name))
+            res, prof, fold, Pr, grid = summarise(name, path, args, rng)
+            names.append(name)
+            out[name], profs[name], data[name] = res, (prof, fold), (Pr, grid)
+        comps = []
+        for c in args.compare:
+            a, comma, b = c.partition(",")
+            if not comma or a not in out or b not in out:
+                die(1, "--compare %s: expected A,B with two group names of %s" % (c, " ".join(names)))
+            comps.append(compare(a, b, data, args, rng))
+        doc = {"definition": {
+            "D": "1 - F(0)/max F, F the mean profile folded about the centre, on bins of merge x dx",
+            "interval": "basic bootstrap over the runs at level %g, %d resamples, seed %d"
+                        % (args.level, args.boot, args.seed),
+            "design": "runs for a dip depth of target at 3 SE: (3 sigma_run/target)^2, sigma_run = SE(D) sqrt(runs)"},
+            "groups": out, "comparisons": comps}
+        write_atomic(args.out, lambda t: open(t, "w").write(json.dumps(clean(doc), indent=1) + "\n"))
+        if args.csv:
+            def wcsv(t):
+                with open(t, "w") as f:
+                    f.write("group,kind,pos,value,lo,hi,se,W,ratio,ratio_se\n")
+                    for nm in names:
+                        prof, fold = profs[nm]
+                        for i in range(prof["x"].size):
+                            extra = ("%.9g,%.9g,%.9g" % (prof["W"][i], prof["ratio"][i], prof["ratio_se"][i])
+                                     if "W" in prof else ",,")
+                            f.write("%s,P,%.9g,%.9g,%.9g,%.9g,%.9g,%s\n" % (
+                                nm, prof["x"][i], prof["P"][i], prof["P_lo"][i], prof["P_hi"][i], prof["P_se"][i], extra))
+                        for i in range(fold["s"].size):
+                            f.write("%s,F,%.9g,%.9g,%.9g,%.9g,%.9g,,,\n" % (
+                                nm, fold["s"][i], fold["F"][i], fold["F_lo"][i], fold["F_hi"][i], fold["F_se"][i]))
+            write_atomic(args.csv, wcsv)
+        if args.h5:
+            def wh5(t):
+                with h5py.File(t, "w") as f:
+                    f.attrs["definition"] = doc["definition"]["D"]
+                    f.attrs["interval"] = doc["definition"]["interval"]
+                    for nm in names:
+                        prof, fold = profs[nm]
+                        grp = f.create_group(nm)
+                        for k, v in list(prof.items()) + list(fold.items()):
+                            ds = grp.create_dataset(k, data=np.asarray(v, dtype=float))
+                            ds.attrs["units"] = ("m" if k in ("x", "s") else "1" if k.startswith("ratio") else "Pa")
+                        grp.attrs["D"] = out[nm]["D"]["value"]
+                        grp.attrs["D_se"] = out[nm]["D"]["se"]
+            write_atomic(args.h5, wh5)
+    except Fail as e:
+        print("%s: %s" % (PROG, e), file=sys.stderr)
+        return e.code
+    for nm in names:
+        r = out[nm]
+        print("%s: %d runs, D = %.4f +- %.4f (CI %.4f .. %.4f), halves %.4f +- %.4f, s_max %.4g m; "
+              "runs for D = %g at 3 SE: %d" % (nm, r["runs"], r["D"]["value"], r["D"]["se"], r["D"]["ci"][0],
+                                               r["D"]["ci"][1], r["D_halves"]["value"], r["D_halves"]["spread"],
+                                               r["s_max"]["value"], args.target,
+                                               r["design"]["runs_for_target_at_3se"]))
+    for c in comps:
+        print("%s - %s: %.4f +- %.4f, permutation p = %.4g" % (c["a"], c["b"], c["D_a_minus_D_b"], c["se"], c["p_value"]))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
