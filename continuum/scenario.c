@@ -123,6 +123,7 @@ static const key_spec KEYS[] = {
     {"numerics", "normal_coupling", KEY_STRING, 0, 0, 0, NULL},
     {"numerics", "thermal_relax_step", KEY_DOUBLE, SC(numerics.thermal_relax_step), 0, 0, NULL},
     {"numerics", "surface_fill", KEY_INT, SC(numerics.surface_fill), 0, 0, NULL},
+    {"numerics", "solid_lag_tol", KEY_DOUBLE, SC(numerics.solid_lag_tol), 0, 0, NULL},
     {"hypo", "enabled", KEY_INT, SC(hypo.enabled), 0, 0, NULL},
     {"hypo", "T_ratio", KEY_DOUBLE, SC(hypo.T_ratio), 0, 0, NULL},
     {"hypo", "phi_margin", KEY_DOUBLE, SC(hypo.phi_margin), 0, 0, NULL},
@@ -174,6 +175,7 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
         .T_floor = 1e-16,
         .phi_step_max = 0.05,
         .solid_relax_step = 1e-4,
+        .solid_lag_tol = 1e-3,
         .newton_tol = 1e-9,
         .newton_max = 30,
         .normal_coupling = EKM_COUPLING_IMPLICIT,
@@ -807,10 +809,11 @@ static ekm_status check_boundaries_2d(const parse_ctx *c, ekm_scenario *s, ekm_e
             return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] type: expected wall (a side of a 2D box), got %s",
                             key_at, sides[k], ekm_bc_kind_name(sw[k]->kind));
         }
-    if (given(c, "numerics", "surface_fill") && !isfinite(s->width))
-        return EKM_FAIL(err, EKM_EINPUT,
-                        "%s: [numerics] surface_fill: needs [domain] width (a key of a 2D domain)",
-                        where(c, "numerics", "surface_fill", w_, sizeof w_));
+    const char *keys_2d[2] = {"surface_fill", "solid_lag_tol"};
+    for (int k = 0; k < 2; k++)
+        if (given(c, "numerics", keys_2d[k]) && !isfinite(s->width))
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [numerics] %s: needs [domain] width (a key of a 2D domain)",
+                            where(c, "numerics", keys_2d[k], w_, sizeof w_), keys_2d[k]);
     const char *ends[2] = {"bottom", "top"};
     ekm_bc *eb[2] = {&s->bottom, &s->top};
     const char *keys2d[3] = {"t_start", "inlet_x", "inlet_width"};
@@ -922,6 +925,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
           (double)n->surface_fill);
     RANGE(n->solid_relax_step > 0.0 && n->solid_relax_step <= 1.0, "numerics", "solid_relax_step",
           "a number in (0, 1]", n->solid_relax_step);
+    RANGE(n->solid_lag_tol > 0.0 && n->solid_lag_tol <= 1.0, "numerics", "solid_lag_tol",
+          "a number in (0, 1]", n->solid_lag_tol);
     RANGE(n->thermal_relax_step > 0.0 && n->thermal_relax_step <= 10.0, "numerics", "thermal_relax_step",
           "a number in (0, 10]", n->thermal_relax_step);
     RANGE(n->newton_tol > 0.0 && n->newton_tol < 1e-2, "numerics", "newton_tol", "a number in (0, 1e-2)",
@@ -1226,7 +1231,7 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
         return 0; /* not a key: the speed follows the gap */
     if (((strcmp(ks->section, "domain") == 0 &&
           (strcmp(ks->key, "cells_x") == 0 || strcmp(ks->key, "periodic_x") == 0)) ||
-         strcmp(ks->key, "surface_fill") == 0) &&
+         strcmp(ks->key, "surface_fill") == 0 || strcmp(ks->key, "solid_lag_tol") == 0) &&
         !isfinite(s->width))
         return 0; /* keys of a 2D domain only (a width given) */
     if (strcmp(ks->key, "variant") == 0)

@@ -84,6 +84,9 @@ typedef struct {
                                    * one step (dt times its rate, control.h) [-] */
     int surface_fill;             /* 1: a partly filled surface cell is dense material filling part of
                                    * it (2D only, twod/surface2d.c); 0: a state of its mean phi */
+    double solid_lag_tol;         /* 2D: largest change of a solid cell's stress, relative to it, when
+                                   * the law's norm is taken at the step's own rates instead of the
+                                   * lagged ones (twod/regime2d.c) [-] */
 } ekm_numerics;
 
 /* Solid (hypoplastic) regime and its switching thresholds ([hypo]). */

@@ -5,8 +5,9 @@
     /usr/bin/python3 figures/steps2d.py --runs RUNS -o OUTDIR
 
 RUNS holds the runs of scripts/steps2d.sh (NAME.h5, `ekm run` of
-scenarios/thesis_filling_2d.ini); NAME is SET_rN (thermal_relax_step N)
-or SET_dN (dt_max N, "none": the step's own limits). The runs of one SET
+scenarios/thesis_filling_2d.ini); NAME is SET_rN (thermal_relax_step N),
+SET_lN (solid_lag_tol N) or SET_dN (dt_max N, "none": the step's own
+limits). The runs of one SET
 differ only in that number; each is compared with the finest of its set
 (the smallest N, the one with the most steps). Writes into OUTDIR, under
 temporary names renamed when complete:
@@ -60,8 +61,9 @@ from pile2d import ArgParser, q, num, write_atomic  # noqa: E402
 
 PROG = "steps2d.py"
 UNAVAILABLE = 7
-NAME = re.compile(r"^([a-z0-9]+)_([rd])(none|[0-9.e+-]+)$")
-KNOB = {"r": ("numerics.thermal_relax_step", "1"), "d": ("numerics.dt_max", "s")}
+NAME = re.compile(r"^([a-z0-9]+)_([rdl])(none|[0-9.e+-]+)$")
+KNOB = {"r": ("numerics.thermal_relax_step", "1"), "d": ("numerics.dt_max", "s"),
+        "l": ("numerics.solid_lag_tol", "1")}
 
 
 def knob_value(s):
@@ -134,12 +136,12 @@ def main(argv=None):
             try:
                 v = knob_value(mt.group(3))
             except ValueError:
-                print("%s: %s: expected SET_rN.h5 or SET_dN.h5 with N a number or 'none'"
+                print("%s: %s: expected SET_rN.h5, SET_lN.h5 or SET_dN.h5 with N a number or 'none'"
                       % (PROG, C.rel(path)), file=sys.stderr)
                 return C.BAD_INPUT
             sets.setdefault((mt.group(1), mt.group(2)), []).append((v, path))
     if not sets:
-        print("%s: %s: no run named SET_rN.h5 or SET_dN.h5 (scripts/steps2d.sh)" % (PROG, C.rel(a.runs)),
+        print("%s: %s: no run named SET_rN.h5, SET_lN.h5 or SET_dN.h5 (scripts/steps2d.sh)" % (PROG, C.rel(a.runs)),
               file=sys.stderr)
         return C.IO_ERROR
     out = {"program": "figures/steps2d.py", "definitions": __doc__.split("The numbers")[1].strip(),
@@ -201,7 +203,7 @@ def main(argv=None):
         write_atomic(os.path.join(a.outdir, "steps2d.json"), text)
         write_atomic(os.path.join(a.outdir, "steps2d.md"),
                      "# The 2D filling's step-size study (scripts/steps2d.sh, figures/steps2d.py)\n\n"
-                     "knob: thermal_relax_step (runs *_rN) or dt_max in s (*_dN); differences from "
+                     "knob: thermal_relax_step (runs *_rN), solid_lag_tol (*_lN) or dt_max in s (*_dN); differences from "
                      "the first row of each set; wall times with other runs on the machine's "
                      "other core (results/bench.md has the timings).\n\n" + "\n".join(md) + "\n")
     except OSError as e:

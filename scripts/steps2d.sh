@@ -8,6 +8,9 @@
 #              almost every step of this run: dt times the kinetic
 #              pressure's relaxation rate at most N)
 #   s18_rN     the same with the solid regime
+#   s18_lN     the solid regime with [numerics] solid_lag_tol = N (the
+#              solid cells' lag error per step, the limit that sets most
+#              of the bed's steps; the scenario's 5e-2)
 #   s9_dN      the 9 x 30 filling with the solid regime (the grid the
 #              fully implicit solver ran), [numerics] dt_max = N (none:
 #              the step's own limits)
@@ -36,6 +39,10 @@ cases=(
   "f18_r0.02 $f --set numerics.thermal_relax_step=0.02"
   "s18_r0.5 $f --set hypo.enabled=1 --set numerics.thermal_relax_step=0.5"
   "s18_r0.05 $f --set hypo.enabled=1 --set numerics.thermal_relax_step=0.05"
+  "s18_l1e-3 $f --set hypo.enabled=1 --set numerics.solid_lag_tol=1e-3"
+  "s18_l1e-2 $f --set hypo.enabled=1 --set numerics.solid_lag_tol=1e-2"
+  "s18_l5e-2 $f --set hypo.enabled=1 --set numerics.solid_lag_tol=5e-2"
+  "s18_l0.2 $f --set hypo.enabled=1 --set numerics.solid_lag_tol=0.2"
   "s9_dnone $f $s9 --set numerics.thermal_relax_step=0.05"
   "s9_d1e-3 $f $s9 --set numerics.thermal_relax_step=0.05 --set numerics.dt_max=1e-3"
   "s9_d3e-4 $f $s9 --set numerics.thermal_relax_step=0.05 --set numerics.dt_max=3e-4"

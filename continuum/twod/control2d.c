@@ -14,9 +14,12 @@
  *                landing on a bed at the bed's phi
  *   thermal      dt eps P_K/(P_K + P_Y) <= thermal_relax_step (control.h)
  *                in flowing cells
- *   solid        in solid cells dt times the hypoplastic law's relaxation
- *                rate (hypo.h) <= solid_relax_step, but not below the
- *                acoustic step of the cell (control.h)
+ *   solid        the last step's lag error of the solid cells' law
+ *                (regime2d.c: ekm2d_regime_lag_error, at most
+ *                solid_lag_tol; step2d.c): dt_solid = dt 0.9
+ *                solid_lag_tol / error, at most 1.5 dt, but never below
+ *                the acoustic step of the solid cells (control.h), where
+ *                the linearly implicit law is accurate enough (control.c)
  *   dt_max
  * The step grows at most 1.5x per step; after a change of the driving (an
  * inflow opens or closes) it restarts from the acoustic step cfl h /
@@ -34,8 +37,8 @@
 
 /* Which limit set the step (for -ekm_step_monitor). */
 enum { LIM_NONE, LIM_CONVECTIVE, LIM_COMPRESSION, LIM_THERMAL, LIM_ACOUSTIC, LIM_SOLID };
-static const char *const LIMIT_NAMES[] = {"dt_max",   "convective",      "compression", "thermal relaxation",
-                                          "acoustic", "solid relaxation"};
+static const char *const LIMIT_NAMES[] = {"dt_max",   "convective",     "compression", "thermal relaxation",
+                                          "acoustic", "solid lag error"};
 
 typedef struct {
     int which;     /* LIM_* */
@@ -52,7 +55,8 @@ static inline void take(double *dt, limit_at *why, double limit, int which, Pets
 
 /* The limits of the state in u (dm's local array, ghosts current); *why
  * the limit that set it. */
-static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic, limit_at *why)
+static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic, limit_at *why,
+                           double *dt_solid_floor)
 {
     const ekm2d_grid *g = &st->g;
     const ekm_scenario *sc = st->sc;
@@ -60,6 +64,7 @@ static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic,
     const double cfl = sc->numerics.cfl, h = fmin(g->dx, g->dz);
     const ekm2d_end ends[2] = {ekm2d_grid_end(g, 0, st->t), ekm2d_grid_end(g, 1, st->t)};
     double dt = INFINITY;
+    *dt_solid_floor = INFINITY;
     for (PetscInt j = g->z0; j < g->z0 + g->nzl; j++)
         for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
             const double vx = fmax(fabs(u[j][i][g->s_vx]), fabs(u[j][i + 1][g->s_vx]));
@@ -93,13 +98,10 @@ static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic,
             if (compression > 0.0)
                 take(&dt, why, 0.5 * sc->numerics.phi_step_max / compression, LIM_COMPRESSION, i, j);
             if (g->s_solid >= 0 && u[j][i][g->s_solid] > 0.5) {
-                /* a solid cell: its stress is implicit; the accuracy of the
-                 * law's lagged norm limits the step, never below the
-                 * acoustic step (control.c) */
-                const double rate = ekm2d_regime_relaxation(st, u, i, j);
-                const double dt_relax = rate > 0.0 ? sc->numerics.solid_relax_step / rate : INFINITY;
-                take(&dt, why, fmax(dt_relax, cfl * h / (fmax(vx, vz) + ekm_sound_speed(m, phi, T))),
-                     LIM_SOLID, i, j);
+                /* a solid cell: its stress is implicit; the lag error
+                 * (dt_solid) limits it, never below its acoustic step */
+                *dt_solid_floor =
+                    fmin(*dt_solid_floor, cfl * h / (fmax(vx, vz) + ekm_sound_speed(m, phi, T)));
                 continue;
             }
             const double x = fmax(phi - m->phi_co, 0.0);
@@ -120,8 +122,15 @@ static ekm_status max_dt(ekm2d_step *st, int acoustic, double *dt, ekm_error *er
     if (DMGlobalToLocal(g->dm, st->U, INSERT_VALUES, st->Ul) || DMStagVecGetArray(g->dm, st->Ul, &u))
         return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error reading the state");
     limit_at why = {LIM_NONE, -1, -1};
-    double local = max_dt_local(st, u, acoustic, &why), all = local;
+    double floor_local;
+    double local = max_dt_local(st, u, acoustic, &why, &floor_local), all = local;
     DMStagVecRestoreArray(g->dm, st->Ul, &u);
+    MPI_Allreduce(&floor_local, &st->dt_solid_floor, 1, MPI_DOUBLE, MPI_MIN, g->comm);
+    const double dt_solid = fmax(st->dt_solid, st->dt_solid_floor);
+    if (!acoustic && dt_solid < local) {
+        local = dt_solid;
+        why = (limit_at){LIM_SOLID, -1, -1};
+    }
     MPI_Allreduce(&local, &all, 1, MPI_DOUBLE, MPI_MIN, g->comm);
     *dt = fmin(all, st->sc->numerics.dt_max);
     if (st->monitor && !acoustic)
@@ -143,13 +152,13 @@ ekm_status ekm2d_step_advance(ekm2d_step *st, double t_to, ekm_error *err)
         double dt0;
         if ((rc = max_dt(st, 1, &dt0, err)) != EKM_OK)
             return rc;
-        st->dt_prev = dt0 / 1.5;
+        st->dt_prev = dt0 / EKM2D_GROWTH;
     }
     while (st->t < t_to * (1.0 - 1e-12)) {
         double dt;
         if ((rc = max_dt(st, 0, &dt, err)) != EKM_OK)
             return rc;
-        dt = fmin(dt, 1.5 * st->dt_prev);
+        dt = fmin(dt, EKM2D_GROWTH * st->dt_prev);
         if (dt < sc->numerics.dt_min)
             return EKM_FAIL(err, EKM_ENUMERIC,
                             "%s: t = %.9g s: the step limit %.3g s is below dt_min = %g s (2D)", sc->source,
@@ -178,7 +187,7 @@ ekm_status ekm2d_step_advance(ekm2d_step *st, double t_to, ekm_error *err)
             double dt0;
             if ((rc = max_dt(st, 1, &dt0, err)) != EKM_OK)
                 return rc;
-            st->dt_prev = dt0 / 1.5;
+            st->dt_prev = dt0 / EKM2D_GROWTH;
         } else {
             st->dt_prev = dt;
         }

@@ -250,6 +250,8 @@ ekm_status ekm2d_step_stats(ekm2d_step *st, ekm2d_step_info *out, ekm_error *err
     out->newton = st->newton;
     out->newton_total = st->newton_total;
     out->phi_max = phi_all;
+    out->solid_lag_max = st->solid_lag_max;
+    out->solid_floor_steps = st->solid_floor_steps;
     long sw[2] = {st->to_solid, st->to_flow}, sw_all[2];
     MPI_Allreduce(sw, sw_all, 2, MPI_LONG, MPI_SUM, g->comm);
     out->to_solid = sw_all[0];

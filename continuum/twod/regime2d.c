@@ -28,6 +28,13 @@
  *               solid and flowing cells takes the flowing cells'
  *               viscosity (ekm2d_corner_eta).  Momentum is solved twice:
  *               the second pass lags the norm on the first pass's rates.
+ *   lag error   before finish, with the second pass's velocities: the
+ *               largest change of a solid cell's normal stresses, relative
+ *               to the largest of them, when its law's norm is taken at
+ *               these rates instead of the lagged ones (the error of the
+ *               lag, which the first pass's rates reduced but did not
+ *               remove); step2d.c rejects a step whose error exceeds
+ *               [numerics] solid_lag_tol and sizes the next one from it
  *   finish      the new stresses of the solid cells and corners
  *   switch      after an accepted step, switching.h's rules per cell,
  *               row after row upwards (switch_cells)
@@ -254,6 +261,34 @@ void ekm2d_regime_properties(ekm2d_step *st, PetscScalar ***u, double dt)
             BOX(st, hyp_c, i, j) = h;
             BOX(st, t0_c, i, j) = u[j][i][g->s_sxz] * h.xz_scale;
         }
+}
+
+double ekm2d_regime_lag_error(const ekm2d_step *st, PetscScalar ***u, double dt)
+{
+    const ekm2d_grid *g = &st->g;
+    const ekm_scenario *sc = st->sc;
+    double worst = 0.0;
+    for (PetscInt j = g->z0; j < g->z0 + g->nzl; j++)
+        for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
+            if (!solid_at(st, i, j) || !cell_rates_ok(g, i, j) || BOX(st, dry, i, j))
+                continue;
+            const ekm_hypo_implicit *lagged = &BOX(st, hyp, i, j);
+            if (lagged->xz_scale == 0.0) /* stress-free this step (properties) */
+                continue;
+            const ekm_hypo_plane_rate r = cell_rates(st, u, i, j);
+            const ekm_hypo_stress sig = {u[j][i][g->s_sxx], u[j][i][g->s_syy], u[j][i][g->s_szz], 0.0};
+            const ekm_hypo_implicit own = ekm_hypo_prepare_plane(
+                &sc->material, sc->variant, ekm_scenario_law_phi(sc, BOX(st, phi_new, i, j)), dt, &sig, &r);
+            const ekm_hypo_stress a = ekm_hypo_finish_plane(lagged, 0.0, &r),
+                                  b = ekm_hypo_finish_plane(&own, 0.0, &r);
+            const double scale = fmax(fmax(fmax(fabs(a.xx), fabs(a.yy)), fabs(a.zz)),
+                                      fmax(fmax(fabs(b.xx), fabs(b.yy)), fabs(b.zz)));
+            if (!(scale > 0.0))
+                continue;
+            const double diff = fmax(fmax(fabs(a.xx - b.xx), fabs(a.yy - b.yy)), fabs(a.zz - b.zz));
+            worst = fmax(worst, diff / scale);
+        }
+    return worst;
 }
 
 void ekm2d_regime_finish(ekm2d_step *st, PetscScalar ***u)
@@ -508,26 +543,4 @@ ekm_status ekm2d_regime_switch(ekm2d_step *st, ekm_error *err)
     if (pe)
         return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error switching regimes");
     return EKM_OK;
-}
-
-double ekm2d_regime_relaxation(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j)
-{
-    const ekm2d_grid *g = &st->g;
-    const ekm_scenario *sc = st->sc;
-    const double phi = ekm_scenario_law_phi(sc, u[j][i][g->s_phi]);
-    ekm_hypo_plane_rate r = {(u[j][i + 1][g->s_vx] - u[j][i][g->s_vx]) / g->dx,
-                             (u[j + 1][i][g->s_vz] - u[j][i][g->s_vz]) / g->dz, 0.0};
-    /* the shear rates of the four corners, interior differences (a step
-     * limit: the walls' slip rates are not needed to this accuracy) */
-    double relax = ekm_hypo_relaxation_rate_plane(&sc->material, sc->variant, phi, &r);
-    const PetscInt cn[4][2] = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1}};
-    for (int q = 0; q < 4; q++) {
-        const PetscInt a = cn[q][0], b = cn[q][1];
-        if (b <= 0 || b >= g->nz || ekm2d_side_face(g, a))
-            continue;
-        r.gxz = (u[b][a][g->s_vx] - u[b - 1][a][g->s_vx]) / g->dz +
-                (u[b][a][g->s_vz] - u[b][a - 1][g->s_vz]) / g->dx;
-        relax = fmax(relax, ekm_hypo_relaxation_rate_plane(&sc->material, sc->variant, phi, &r));
-    }
-    return relax;
 }

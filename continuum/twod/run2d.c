@@ -121,6 +121,8 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
             {"stats.cell_updates", stats.cell_updates},
             {"stats.mass_final", stats.mass},
             {"stats.mass_in", stats.mass_in},
+            {"stats.solid_lag_max", stats.solid_lag_max},
+            {"stats.solid_floor_steps", (double)stats.solid_floor_steps},
         };
         for (size_t i = 0; i < sizeof attrs / sizeof attrs[0] && st == EKM_OK; i++)
             st = ekm2d_writer_set_attr(w, attrs[i].name, attrs[i].value, err);

@@ -159,6 +159,7 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
     if (!st)
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D step)");
     st->sc = sc;
+    st->dt_solid = st->dt_solid_floor = INFINITY;
     rc = ekm2d_grid_create(sc, comm, &st->g, err);
     if (rc != EKM_OK) {
         free(st);

@@ -92,6 +92,8 @@ ekm_status ekm2d_solver_stats(ekm2d_solver *s, ekm2d_stats *out, ekm_error *err)
                          .phi_max = in.phi_max,
                          .cell_updates = (double)in.steps * s->sc->cells_x * s->sc->cells,
                          .to_solid = in.to_solid,
-                         .to_flow = in.to_flow};
+                         .to_flow = in.to_flow,
+                         .solid_lag_max = in.solid_lag_max,
+                         .solid_floor_steps = in.solid_floor_steps};
     return EKM_OK;
 }

@@ -51,16 +51,19 @@ ekm_status ekm2d_solver_advance(ekm2d_solver *s, double t_to, ekm_error *err);
 ekm_status ekm2d_solver_fields(ekm2d_solver *s, double *const fields[EKM2D_NFIELDS], ekm_error *err);
 
 typedef struct {
-    double t;            /* model time [s] */
-    long steps;          /* accepted time steps */
-    long rejected;       /* rejected steps (retried shorter) */
-    long newton;         /* temperature Newton iterations */
-    double mass;         /* sum rho_p phi dx dz per unit depth [kg/m] */
-    double mass_in;      /* net mass entered through the boundaries per unit depth [kg/m] */
-    double phi_max;      /* largest phi [-] */
-    double cell_updates; /* accepted steps x cells */
-    long to_solid;       /* switches flow -> solid (solid regime) */
-    long to_flow;        /* switches solid -> flow */
+    double t;               /* model time [s] */
+    long steps;             /* accepted time steps */
+    long rejected;          /* rejected steps (retried shorter) */
+    long newton;            /* temperature Newton iterations */
+    double mass;            /* sum rho_p phi dx dz per unit depth [kg/m] */
+    double mass_in;         /* net mass entered through the boundaries per unit depth [kg/m] */
+    double phi_max;         /* largest phi [-] */
+    double cell_updates;    /* accepted steps x cells */
+    long to_solid;          /* switches flow -> solid (solid regime) */
+    long to_flow;           /* switches solid -> flow */
+    double solid_lag_max;   /* the largest lag error of the solid cells' law of an accepted step
+                             * longer than their acoustic step (at most [numerics] solid_lag_tol) [-] */
+    long solid_floor_steps; /* accepted steps at that acoustic step with a larger error */
 } ekm2d_stats;
 
 /* The run's statistics so far (the mass is a reduction over the ranks:

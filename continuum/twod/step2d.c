@@ -403,9 +403,22 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
         PetscLogEventEnd(st->ev_regime, 0, 0, 0, 0);
         ok = ekm2d_velocity_solve(st, u, dt, err);
     }
+    double lag_err = 0.0;
     if (ok > 0 && n_solid) {
         PetscLogEventBegin(st->ev_regime, 0, 0, 0, 0);
-        ekm2d_regime_finish(st, u);
+        const double mine = ekm2d_regime_lag_error(st, u, dt);
+        MPI_Allreduce(&mine, &lag_err, 1, MPI_DOUBLE, MPI_MAX, g->comm);
+        /* at or below the solid cells' acoustic step the step stands
+         * whatever the error (control2d.c) */
+        if (lag_err > st->sc->numerics.solid_lag_tol && dt > st->dt_solid_floor * (1.0 + 1e-12)) {
+            snprintf(st->reason, sizeof st->reason,
+                     "t = %.9g s, dt = %.3g s: a solid cell's stress moves by %.3g of itself when the law's "
+                     "norm is taken at the step's rates (solid_lag_tol = %g)",
+                     st->t, dt, lag_err, st->sc->numerics.solid_lag_tol);
+            ok = 0;
+        } else {
+            ekm2d_regime_finish(st, u);
+        }
         PetscLogEventEnd(st->ev_regime, 0, 0, 0, 0);
     }
     if (ok > 0) {
@@ -442,6 +455,16 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
     PTRY(DMStagVecRestoreArray(g->dm, st->Ul, &u), "DMStagVecRestoreArray");
     PTRY(DMLocalToGlobal(g->dm, st->Ul, INSERT_VALUES, st->U), "DMLocalToGlobal");
     st->mass_in += in_all;
+    /* the solid regime's next step: the lag error grows as dt (a cell
+     * relaxing fast sits on its fixed point, where the error is the
+     * relative change of its rates within the step) to dt^2 (a cell
+     * relaxing slowly); sized for the first */
+    if (dt > st->dt_solid_floor * (1.0 + 1e-12))
+        st->solid_lag_max = fmax(st->solid_lag_max, lag_err);
+    else if (lag_err > st->sc->numerics.solid_lag_tol)
+        st->solid_floor_steps++;
+    st->dt_solid =
+        lag_err > 0.0 ? dt * fmin(EKM2D_GROWTH, 0.9 * st->sc->numerics.solid_lag_tol / lag_err) : INFINITY;
     st->t += dt;
     st->steps++;
     st->newton_total += st->newton;

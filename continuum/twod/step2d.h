@@ -69,16 +69,20 @@ ekm_status ekm2d_step_column(ekm2d_step *st, int i, ekm_state *out, ekm_error *e
 ekm_status ekm2d_step_fields(ekm2d_step *st, double *const fields[], ekm_error *err);
 
 typedef struct {
-    double t;          /* model time [s] */
-    long steps;        /* accepted steps */
-    long rejected;     /* rejected steps */
-    double mass;       /* sum rho_p phi dx dz [kg/m] */
-    double mass_in;    /* net mass entered through the ends [kg/m] */
-    int newton;        /* temperature Newton iterations of the last step */
-    long newton_total; /* ... of every accepted step */
-    double phi_max;    /* largest phi [-] */
-    long to_solid;     /* regime switches flow -> solid so far */
-    long to_flow;      /* ... solid -> flow */
+    double t;               /* model time [s] */
+    long steps;             /* accepted steps */
+    long rejected;          /* rejected steps */
+    double mass;            /* sum rho_p phi dx dz [kg/m] */
+    double mass_in;         /* net mass entered through the ends [kg/m] */
+    int newton;             /* temperature Newton iterations of the last step */
+    long newton_total;      /* ... of every accepted step */
+    double phi_max;         /* largest phi [-] */
+    long to_solid;          /* regime switches flow -> solid so far */
+    long to_flow;           /* ... solid -> flow */
+    double solid_lag_max;   /* the largest lag error of the solid cells' law (regime2d.c) of an
+                             * accepted step longer than their acoustic step [-] */
+    long solid_floor_steps; /* accepted steps at that acoustic step with a larger error than
+                             * [numerics] solid_lag_tol */
 } ekm2d_step_info;
 
 /* Statistics (collective: the mass is a reduction). */

@@ -18,6 +18,9 @@
 #include "model.h"
 #include "step2d.h"
 
+/* The largest growth of the step from one step to the next (control2d.c). */
+#define EKM2D_GROWTH 1.5
+
 struct ekm2d_step {
     ekm2d_grid g;
     const ekm_scenario *sc;
@@ -78,11 +81,17 @@ struct ekm2d_step {
     PetscLogEvent ev_temp;     /* the temperature Newton (assembly and solves) */
     PetscLogEvent ev_regime;   /* the solid regime's phases (regime2d.c) */
     /* the step */
-    ekm2d_end bottom, top; /* the ends at the start of the step */
-    double g_x, g_z;       /* gravity [m/s^2] */
-    double t;              /* [s] */
-    int monitor;           /* -ekm_step_monitor: print each rejection */
-    double dt_prev;        /* the last accepted step (0: none yet) [s] (control2d.c) */
+    ekm2d_end bottom, top;  /* the ends at the start of the step */
+    double g_x, g_z;        /* gravity [m/s^2] */
+    double t;               /* [s] */
+    int monitor;            /* -ekm_step_monitor: print each rejection */
+    double dt_prev;         /* the last accepted step (0: none yet) [s] (control2d.c) */
+    double dt_solid;        /* the solid regime's next step from the last step's lag error (regime2d.c:
+                             * ekm2d_regime_lag_error; INFINITY: no limit) [s] */
+    double dt_solid_floor;  /* the acoustic step of the solid cells at the step's start, all ranks
+                             * (INFINITY: none) [s] (control2d.c) */
+    double solid_lag_max;   /* the largest lag error of an accepted step above dt_solid_floor [-] */
+    long solid_floor_steps; /* accepted steps at dt_solid_floor with an error above solid_lag_tol */
     long steps, rejected;
     double mass_in;    /* [kg/m] */
     int newton;        /* iterations of the last temperature solve */
@@ -167,7 +176,7 @@ double ekm2d_cell_shear2(const ekm2d_step *st, PetscScalar ***u, PetscInt i, Pet
 
 /* The most GMRES iterations with a kept LU factorisation before it is
  * made anew (one rank). */
-#define EKM2D_REFACTOR_ITS 6
+#define EKM2D_REFACTOR_ITS 15
 
 /* From this many cells the velocity system is solved by GMRES with
  * BoomerAMG (setup2d.c), below by a kept LU (one rank) or GMRES with block
@@ -202,8 +211,8 @@ int ekm2d_regime_begin(ekm2d_step *st, PetscScalar ***u);
 void ekm2d_regime_lagged_rates(ekm2d_step *st, PetscScalar ***u);
 void ekm2d_regime_properties(ekm2d_step *st, PetscScalar ***u, double dt);
 void ekm2d_regime_finish(ekm2d_step *st, PetscScalar ***u);
+double ekm2d_regime_lag_error(const ekm2d_step *st, PetscScalar ***u, double dt);
 void ekm2d_regime_vacuum(ekm2d_step *st, PetscScalar ***u);
 ekm_status ekm2d_regime_switch(ekm2d_step *st, ekm_error *err);
-double ekm2d_regime_relaxation(const ekm2d_step *st, PetscScalar ***u, PetscInt i, PetscInt j);
 
 #endif

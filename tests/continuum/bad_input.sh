@@ -38,6 +38,12 @@ check "unknown key" 2 "unknown.ini:[0-9]+: \[material\] foo: unknown key" run un
 sed 's/^phi_cp .*/phi_cp = -0.64/' "$base" > negative.ini
 check "negative phi_cp" 2 "negative.ini.*\[material\] phi_cp: expected" run negative.ini -o out.h5
 check "--set range names the override" 2 "^ekm: --set material.phi_cp: \[material\] phi_cp: expected" run "$base" --set material.phi_cp=-1 -o out.h5
+for key in surface_fill=1 solid_lag_tol=1e-2; do
+    check "2D key $key in 1D" 2 "^ekm: --set numerics.${key%%=*}: \[numerics\] ${key%%=*}: needs \[domain\] width" \
+        run "$base" --set "numerics.$key" -o out.h5
+done
+check "solid_lag_tol range" 2 "\[numerics\] solid_lag_tol: expected a number in \(0, 1\]" \
+    run "$src/scenarios/thesis_filling_2d.ini" --set numerics.solid_lag_tol=0 -o out.h5
 
 sed 's/^eps0 .*/eps0 = 5x0/' "$base" > malformed.ini
 check "malformed number" 2 "malformed.ini:[0-9]+: \[material\] eps0: expected a number, got '5x0'" \
