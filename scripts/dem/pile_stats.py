@@ -33,8 +33,9 @@ the observable"). Per group:
             target)^2
   local weight (unless --no-dumps) from the dumps the HDF5 names (inputs),
             their last frame: the surface height h(x) of each run (the
-            highest z + radius of the pile grains, type 1, on the plate
-            z > 0, in each base bin), the bulk density rho_b = M / (L_y sum
+            highest z + radius of the pile grains, type 1, on the plate:
+            z > 0 and |x - xmid| < lp/2, lp of the run's vars.txt beside
+            the dump, in each base bin), the bulk density rho_b = M / (L_y sum
             h dx) (M the pile's mass), W(x) = rho_b g h(x), and the ratio
             P(x) / W(x) with its bootstrap SE; the floor grains per base bin
             (aligned bins hold the same number; p is renormalised by
@@ -143,6 +144,18 @@ def last_frame(path):
     return bx, by[1] - by[0], {c: a[:, i] for i, c in enumerate(cols)}
 
 
+def plate_width(dump, lx):
+    """lp of the run's vars.txt beside the dump [m]; without it 2 lx (every grain)."""
+    v = os.path.join(os.path.dirname(os.path.abspath(dump)), "vars.txt")
+    if os.path.exists(v):
+        with open(v) as f:
+            for line in f:
+                k, _, val = line.partition("=")
+                if k.strip() == "lp":
+                    return float(val)
+    return 2 * lx
+
+
 def heights(dump, x, dx):
     """(h per base bin, floor grains per base bin, pile mass) of a dump's last frame."""
     bx, ly, col = last_frame(dump)
@@ -151,12 +164,16 @@ def heights(dump, x, dx):
     xs = bx[0] + np.mod(col["x"] - bx[0], L)
     k = np.floor((xs - lo) / dx).astype(int)
     inside = (k >= 0) & (k < x.size)
-    pile = (col["type"] == 1) & (col["z"] > 0) & inside
+    # the pile: grains on the plate (z > 0, |x - xmid| < lp/2, lp from the
+    # run's vars.txt beside the dump; without it the whole box)
+    half = 0.5 * plate_width(dump, L)
+    onp = (col["type"] == 1) & (col["z"] > 0) & (np.abs(col["x"] - 0.5 * (bx[0] + bx[1])) < half)
+    pile = onp & inside
     floor = (col["type"] == 2) & inside
     h = np.zeros(x.size)
     np.maximum.at(h, k[pile], col["z"][pile] + col["radius"][pile])
     nfl = np.bincount(k[floor], minlength=x.size).astype(float)
-    mass = float(col["mass"][(col["type"] == 1) & (col["z"] > 0)].sum())
+    mass = float(col["mass"][onp].sum())
     return h, nfl, mass, ly
 
 

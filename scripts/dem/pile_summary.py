@@ -7,7 +7,8 @@
 A RUN_DIR is a finished case of scripts/dem/run.sh sandpile (run.json,
 vars.txt, atoms.dump). From the last frame of atoms.dump (the pile at rest)
 and the dump contract of docs/dem.md "Sand pile":
-  weight         g * (mass of the pile grains, type 1) [N]
+  weight         g * (mass of the pile grains, type 1, on the plate: z > 0
+                 and |x - xmid| < lp/2, xmid the box's middle) [N]
   base_force     -(sum of fz over the floor grains, type 2) [N]
   base_over_weight
   angle_left, angle_right, angle   pile angle [deg]: a straight line fitted
@@ -100,9 +101,12 @@ def summarise(run):
             fail(2, "%s/atoms.dump: no column %s (docs/dem.md 'Sand pile')" % (run, c))
     ic = {c: cols.index(c) for c in cols}
     d, g, lx = v["d"], v["g"], bx[1] - bx[0]
-    # the pile: grains on the plate (centre above its top; one that rolled
-    # off and falls to the deck's sink is not part of it)
-    grains = [r for r in rows if r[ic["type"]] == "1" and float(r[ic["z"]]) > 0]
+    # the pile: grains on the plate (centre above its top and within its
+    # width lp about the box's middle; one sliding off its edge or falling
+    # to the deck's sink is not part of it; without lp the whole box)
+    xmid, half = 0.5 * (bx[0] + bx[1]), 0.5 * v.get("lp", 2 * lx)
+    grains = [r for r in rows if r[ic["type"]] == "1" and float(r[ic["z"]]) > 0
+              and abs(float(r[ic["x"]]) - xmid) < half]
     floor = [r for r in rows if r[ic["type"]] == "2"]
     mass = sum(float(r[ic["mass"]]) for r in grains)
     if not grains or not mass > 0:
