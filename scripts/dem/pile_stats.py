@@ -64,6 +64,8 @@ import warnings
 
 import numpy as np
 
+import pile_dump  # scripts/dem: the dump reader shared with pile_summary.py
+
 h5py = None  # imported in main (a clear message without it)
 PROG = "pile_stats"
 
@@ -116,44 +118,15 @@ def last_frame(path):
     """(box x bounds, box y period, {column: array}) of a dump's last frame."""
     if not os.path.exists(path):
         die(3, "%s: no such file (named by the base HDF5's inputs; or give --no-dumps)" % path)
-    frame = None
-    with open(path) as f:
-        lines = iter(f)
-        for line in lines:
-            if not line.startswith("ITEM: TIMESTEP"):
-                continue
-            next(lines)
-            head = next(lines)
-            while not head.startswith("ITEM: NUMBER OF ATOMS"):
-                head = next(lines)
-            n = int(next(lines))
-            next(lines)
-            bx = [float(v) for v in next(lines).split()[:2]]
-            by = [float(v) for v in next(lines).split()[:2]]
-            next(lines)
-            cols = next(lines).split()[2:]
-            rows = [next(lines).split() for _ in range(n)]
-            frame = (bx, by, cols, rows)
-    if frame is None:
-        die(2, "%s: expected a LAMMPS/LIGGGHTS dump, found no ITEM: TIMESTEP" % path)
-    bx, by, cols, rows = frame
+    try:
+        fr = pile_dump.last_frame(path)
+    except pile_dump.DumpError as e:
+        die(e.code, str(e))
     for c in ("type", "x", "z", "radius", "mass"):
-        if c not in cols:
+        if c not in fr.cols:
             die(2, "%s: ITEM: ATOMS has no column %s (docs/dem.md \"Sand pile\")" % (path, c))
-    a = np.array(rows, dtype=float).reshape(len(rows), len(cols))
-    return bx, by[1] - by[0], {c: a[:, i] for i, c in enumerate(cols)}
-
-
-def plate_width(dump, lx):
-    """lp of the run's vars.txt beside the dump [m]; without it 2 lx (every grain)."""
-    v = os.path.join(os.path.dirname(os.path.abspath(dump)), "vars.txt")
-    if os.path.exists(v):
-        with open(v) as f:
-            for line in f:
-                k, _, val = line.partition("=")
-                if k.strip() == "lp":
-                    return float(val)
-    return 2 * lx
+    a = np.array(fr.rows, dtype=float).reshape(len(fr.rows), len(fr.cols))
+    return fr.bx, fr.ly, {c: a[:, i] for i, c in enumerate(fr.cols)}
 
 
 def heights(dump, x, dx):
@@ -166,8 +139,8 @@ def heights(dump, x, dx):
     inside = (k >= 0) & (k < x.size)
     # the pile: grains on the plate (z > 0, |x - xmid| < lp/2, lp from the
     # run's vars.txt beside the dump; without it the whole box)
-    half = 0.5 * plate_width(dump, L)
-    onp = (col["type"] == 1) & (col["z"] > 0) & (np.abs(col["x"] - 0.5 * (bx[0] + bx[1])) < half)
+    half = pile_dump.plate_half_width(os.path.dirname(os.path.abspath(dump)), L)
+    onp = (col["type"] == 1) & pile_dump.on_plate(col["x"], col["z"], 0.5 * (bx[0] + bx[1]), half)
     pile = onp & inside
     floor = (col["type"] == 2) & inside
     h = np.zeros(x.size)

@@ -24,7 +24,10 @@ scenario is scenarios/sandpile.ini (lammps, ref: rest_ke 1e-5 J/kg).
      steps): the check falls back to the deck's number: exit 4;
   6. the weight check on the plate: a pile grain on the plate that the
      floor does not carry (a floor force 10% short): exit 4 and the 1%
-     message.
+     message;
+  7. scripts/dem/pile_summary.py (its dump reader: scripts/dem/pile_dump.py,
+     shared with pile_stats.py) on case 2: the pile is the 10 grains on the
+     plate, base force / weight = 1 to 1e-6 (11 grains and 0.909 before).
 Exit 0 if every check holds, 1 otherwise (one line per failed check).
 """
 import json
@@ -88,9 +91,10 @@ def write_run(path, extra=None, carried=True, step=420000, done=420000, short=Fa
         f.write("EKMDEM_PILE floor_fz 0 weight %.9g sunk 0\n" % (mass * G))
         f.write("EKMDEM_DONE natoms %d steps %d\n" % (aid, done))
     with open(os.path.join(path, "vars.txt"), "w") as f:
-        f.write("d = %g\ng = %g\nlx = %g\nlp = %g\nly = %g\n" % (D, G, LX, LP, LY))
+        f.write("d = %g\nseed = 1\ng = %g\nlx = %g\nlp = %g\nly = %g\nsource_width = 8\n" % (D, G, LX, LP, LY))
     json.dump({"scenario": "sandpile", "engine": "lammps", "size": "ref", "point": "source8",
-               "scenario_file": "scenarios/sandpile.ini", "status": "ok"},
+               "scenario_file": "scenarios/sandpile.ini", "status": "ok",
+               "wall_time_s": 1.0, "particles": aid},
               open(os.path.join(path, "run.json"), "w"), indent=1)
     for f in ("deck.in", "log.txt", "pairs.dump"):
         open(os.path.join(path, f), "w").write("synthetic\n")
@@ -123,6 +127,15 @@ def main():
     rc, out = run(write_run(os.path.join(work, "short"), short=True))
     check(rc == 4 and "differs from the weight of the pile by more than 1%" in out,
           "6. a floor force 10%% short of the weight on the plate: exit %d (4 expected)\n%s" % (rc, out))
+    r = subprocess.run(["/usr/bin/python3", "-B", os.path.join(ROOT, "scripts", "dem", "pile_summary.py"),
+                        os.path.join(work, "sliding_off")], capture_output=True, text=True)
+    try:
+        j = json.loads(r.stdout)
+        ok = j["n_grains"] == 10 and abs(j["base_over_weight"] - 1) < 1e-6
+        got = "%d grains, base/weight %.6f" % (j["n_grains"], j["base_over_weight"])
+    except (ValueError, KeyError):
+        ok, got = False, "exit %d: %s" % (r.returncode, r.stderr.strip())
+    check(ok, "7. pile_summary.py: the grain sliding off is not in the pile's weight (%s)" % got)
     return 1 if failures else 0
 
 
