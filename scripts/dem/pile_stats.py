@@ -212,13 +212,13 @@ def dip_stats(P, ic, sx):
     return out
 
 
-def fold_base(x, centre, dx):
+def fold_base(x, centre, dx, path=""):
     """(j, m, s, w) of the fold of a base grid symmetric about centre: bin j
     (x >= centre) pairs with m = n - 1 - j, at s = x_j - centre, weight w (1
     for the central bin, its own mirror, else 2: two bins)."""
     n = x.size
     if not np.allclose(x + x[::-1], 2 * centre, rtol=0, atol=1e-6 * dx):
-        die(2, "the base grid is not symmetric about its centre %g m (ekmcompare base --centre)" % centre)
+        die(2, "%s: the base grid is not symmetric about its centre %g m (ekmcompare base --centre)" % (path, centre))
     j = np.arange(n // 2, n)
     m = n - 1 - j
     return j, m, x[j] - centre, np.where(j == m, 1.0, 2.0)
@@ -291,7 +291,7 @@ def summarise(name, path, args, rng):
         info["rho_b"] = {"mean": float(rho_b.mean()), "sd": float(rho_b.std(ddof=1))}
         info["height_max"] = {"mean": float(hs.max(axis=1).mean()), "sd": float(hs.max(axis=1).std(ddof=1))}
     # the fit estimator on the base bins (before merging)
-    fold = fold_base(x, centre, dx)
+    fold = fold_base(x, centre, dx, path)
     fj, fm, fs, _ = fold
     win = args.fit_window
     inwin = fs <= win * (1 + 1e-9)
