@@ -21,7 +21,15 @@
 # fx fy fz, in that order; in its last frame the floor grains (type 2) are
 # still (v = 0: not time-integrated), and the force on them,
 # -(sum of their fz), equals the weight g * (mass of the pile grains,
-# type 1, on the plate: centre above its top, z > 0) to 1%. With --pressure (simple_shear_p) the
+# type 1, on the plate) to 1%. A pile grain is on the plate if its centre
+# is above the plate's top (z > 0) and within its width (|x - xmid| <
+# lp/2, xmid the middle of the dump's box, lp of vars.txt; without lp the
+# whole box): one sliding off the plate's edge (z > 0 but beyond it) is
+# not part of the pile. The sand pile's rest check is made on the same
+# grains, from the dump's last frame (translational kinetic energy per
+# mass, as the deck's EKMDEM_MASS ke_per_mass, which counts every grain
+# with z > 0) when that frame is the run's last step (EKMDEM_DONE steps),
+# else on the deck's number. With --pressure (simple_shear_p) the
 # barostat: the mean normal stress Pzz over the last half of monitor.txt
 # equals the target `pressure` of vars.txt within 3 block standard errors
 # (monitor_stats.sh). Exit status (docs/exit-codes.md):
@@ -45,7 +53,7 @@ esac
 [ $# -eq 1 ] || { echo "usage: check_run.sh [--filling | --sandpile | --pressure] DIR" >&2; exit 1; }
 dir=$1; fail=0
 # bad STATUS MESSAGE: report a failed check; the first one's status wins
-bad() { echo "check_run: $dir: $2" >&2; [ $fail -ne 0 ] || fail=$1; }
+bad() { echo "check_run: $dir: $2" >&2; [ "$fail" -ne 0 ] || fail=$1; }
 
 [ -f "$dir/run.json" ] || { bad 3 "no run.json"; exit 3; }
 grep -q '"status": "ok"' "$dir/run.json" || bad 2 "status is not ok: $(grep -o '"status": "[a-z_]*"' "$dir/run.json")"
@@ -97,8 +105,11 @@ if [ $filling -eq 1 ]; then
       if (e1 > 1e-9) { print "check_run: " dir ": mass lost after insertion" > "/dev/stderr"; f = 1 }
       if (e2 > 0.01) { print "check_run: " dir ": final mass differs from the inflow target by more than 1%" > "/dev/stderr"; f = 1 }
     }
-    if (ke + 0 > rest + 0) { print "check_run: " dir ": " (what == "sandpile" ? "pile" : "bed") " not at rest" > "/dev/stderr"; f = 1 }
-    exit f }' || { [ $fail -ne 0 ] || fail=4; }
+    # the sand pile: the rest check is made on the dump (grains on the plate), below
+    if (what != "sandpile" && ke + 0 > rest + 0) { print "check_run: " dir ": bed not at rest" > "/dev/stderr"; f = 1 }
+    exit f }' || { [ "$fail" -ne 0 ] || fail=4; }
+  deck_ke=$(echo "$line" | awk '{ for (i = 2; i < NF; i += 2) if ($i == "ke_per_mass") print $(i + 1) }')
+  last_step=$(awk '$1 == "EKMDEM_DONE" { for (i = 2; i < NF; i += 2) if ($i == "steps") s = $(i + 1) } END { print s }' "$dir/screen.txt")
 fi
 if [ $sandpile -eq 1 ] && [ -s "$dir/atoms.dump" ]; then
   # the dump contract: dumps.inc's columns plus fx fy fz
@@ -107,21 +118,38 @@ if [ $sandpile -eq 1 ] && [ -s "$dir/atoms.dump" ]; then
   [ "$have" = "$want" ] || { bad 2 "atoms.dump: columns '$have', expected '$want' (docs/dem.md \"Sand pile\")"; exit "$fail"; }
   g=$(awk '$1 == "g" { print $3 }' "$dir/vars.txt")
   [ -n "$g" ] || { bad 2 "no g in vars.txt"; exit "$fail"; }
+  lp=$(awk '$1 == "lp" { print $3 }' "$dir/vars.txt")
   # the last frame: floor still, its force the pile's weight, and no force
   # on a floor grain no pile grain touches (none low enough, z < 3 of the
   # largest radii above the floor's top, within two largest diameters in
   # x, periodic): floor-floor contacts excluded (the jittered floor grains
   # overlap; their pairwise forces would cancel in the sum)
-  awk -v g="$g" -v dir="$dir" '
-    /^ITEM: TIMESTEP/ { getline step; nf = 0; fz = 0; m = 0; moving = 0; nfl = 0; nlow = 0; rmax = 0; next }
-    /^ITEM: BOX BOUNDS/ { getline; lx = $2 - $1; next }
+  # the pile: type 1 grains on the plate (z > 0, |x - xmid| < lp/2); its
+  # weight, and its kinetic energy per mass for the rest check
+  awk -v g="$g" -v dir="$dir" -v lp="$lp" -v rest="${rest:-}" -v deck_ke="${deck_ke:-}" -v last_step="${last_step:-}" '
+    /^ITEM: TIMESTEP/ { getline step; nf = 0; fz = 0; m = 0; ke = 0; moving = 0; nfl = 0; nlow = 0; rmax = 0; off = 0; next }
+    /^ITEM: BOX BOUNDS/ { getline; lx = $2 - $1; xmid = 0.5 * ($1 + $2); half = (lp == "" ? lx : 0.5 * lp); next }
     /^ITEM: ATOMS/ { for (i = 3; i <= NF; i++) c[$i] = i - 2; inatoms = 1; next }
     /^ITEM:/ { inatoms = 0; next }
     inatoms {
       if ($c["type"] == 2) { nfl++; fx_[nfl] = $c["x"]; fz_[nfl] = $c["fz"]; fz += $c["fz"]; if ($c["vx"] != 0 || $c["vy"] != 0 || $c["vz"] != 0) moving++; if ($c["radius"] > rmax) rmax = $c["radius"] }
-      else if ($c["type"] == 1) { if ($c["z"] > 0) m += $c["mass"]; nlow++; px[nlow] = $c["x"]; pz[nlow] = $c["z"]; if ($c["radius"] > rmax) rmax = $c["radius"] } }
+      else if ($c["type"] == 1) {
+        if ($c["z"] > 0) {
+          dxm = $c["x"] - xmid; if (dxm < 0) dxm = -dxm
+          if (dxm < half) { m += $c["mass"]; ke += 0.5 * $c["mass"] * ($c["vx"] * $c["vx"] + $c["vy"] * $c["vy"] + $c["vz"] * $c["vz"]) }
+          else off++
+        }
+        nlow++; px[nlow] = $c["x"]; pz[nlow] = $c["z"]; if ($c["radius"] > rmax) rmax = $c["radius"] } }
     END {
-      w = g * m; e = (-fz - w) / w; if (e < 0) e = -e
+      w = g * m; e = (m > 0 ? (-fz - w) / w : 1); if (e < 0) e = -e
+      f = 0
+      if (rest != "") {
+        # the rest check on the grains on the plate, if this frame is the run'"'"'s end
+        if (last_step != "" && step + 0 == last_step + 0) { kem = (m > 0 ? ke / m : 0); src = "last frame, grains on the plate" }
+        else { kem = deck_ke; src = "the deck'"'"'s ke_per_mass (the last frame, step " step ", is not the run'"'"'s end, " last_step ")" }
+        printf "sandpile rest: ke/mass %.3g J/kg (%s; %d grains above z = 0 beyond the plate left out), limit %s\n", kem, src, off, rest
+        if (kem + 0 > rest + 0) { print "check_run: " dir ": pile not at rest" > "/dev/stderr"; f = 1 }
+      }
       n = 0
       for (k = 1; k <= nlow; k++) if (pz[k] < 3 * rmax) { n++; lowx[n] = px[k] }
       free = 0; loaded = 0
@@ -134,12 +162,11 @@ if [ $sandpile -eq 1 ] && [ -s "$dir/atoms.dump" ]; then
         if (!touched) { free++; if (fz_[k] != 0) loaded++ }
       }
       printf "sandpile floor: step %d, %d floor grains (%d moving), force on the floor %.6g N, weight of the pile %.6g N (%.4f%%); %d floor grains no pile grain touches, %d of them with a force\n", step, nfl, moving, -fz, w, 100 * e, free, loaded
-      f = 0
       if (moving > 0) { print "check_run: " dir ": floor grains moved (they must not be time-integrated)" > "/dev/stderr"; f = 1 }
       if (!(e <= 0.01)) { print "check_run: " dir ": the force on the floor differs from the weight of the pile by more than 1%" > "/dev/stderr"; f = 1 }
       if (free == 0) print "check_run: " dir ": note: every floor grain is under the pile, the floor-floor exclusion is not checked" > "/dev/stderr"
       if (loaded > 0) { print "check_run: " dir ": " loaded " floor grains no pile grain touches carry a force (floor-floor contacts must be excluded)" > "/dev/stderr"; f = 1 }
-      exit f }' "$dir/atoms.dump" || { [ $fail -ne 0 ] || fail=4; }
+      exit f }' "$dir/atoms.dump" || { [ "$fail" -ne 0 ] || fail=4; }
 fi
 if [ $pressure -eq 1 ]; then
   target=$(awk '$1 == "pressure" { print $3 }' "$dir/vars.txt")
@@ -149,7 +176,7 @@ if [ $pressure -eq 1 ]; then
     printf "pressure control: mean Pzz %.5g +- %.2g Pa, target %s Pa, |mean - target| = %.2f SE\n", m, se, t, (se > 0 ? dev / se : 0)
     found = 1; if (dev > 3 * se) { print "check_run: " dir ": mean Pzz differs from the target by more than 3 standard errors" > "/dev/stderr"; exit 4 } }
     END { if (!found) { print "check_run: " dir ": monitor.txt has no v_Pzz column" > "/dev/stderr"; exit 2 } }' ||
-    { rc=$?; [ $fail -ne 0 ] || fail=$rc; }
+    { rc=$?; [ "$fail" -ne 0 ] || fail=$rc; }
 fi
-[ $fail -eq 0 ] && echo "check_run: $dir: ok"
-exit $fail
+[ "$fail" -eq 0 ] && echo "check_run: $dir: ok"
+exit "$fail"

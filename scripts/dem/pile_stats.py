@@ -31,10 +31,26 @@ the observable"). Per group:
   design    sigma_run = SE(D) sqrt(R), the per-run noise of D; the runs
             needed to resolve a dip depth --target at 3 SE: (3 sigma_run /
             target)^2
+  fit       the lower-noise estimator (issue 34: D on 10 d bins needs about
+            41 runs per group): on the base bins (before merging), the
+            folded profile F(s) for s <= --fit-window (default 0.06 m, 30 d
+            of the reference grains), a least-squares quadratic q(s) = a +
+            b s + c s^2 (each folded bin weighted by the base bins it
+            holds); D_fit = 1 - q(0) / max q over [0, window] (the fitted
+            dip depth, >= 0) and D_ref = 1 - q(0) / q(--fit-ref) (default
+            0.02 m, 10 d: signed, < 0 where p falls from the centre); each
+            with the bootstrap SE and interval as above, its value per run
+            and their sd (sd_runs), the same from each half of each run
+            alone (sd_halves = rms of (left - right)/2) and the runs for
+            --target at 3 SE from each of the three. Its model bias: 0 on a
+            linear wedge profile, 0.245 for a quadratic dip of depth 0.25,
+            and 0.054 on a profile flat over s < 25 d and falling beyond
+            (tests/dem/pile_stats_test.py)
   local weight (unless --no-dumps) from the dumps the HDF5 names (inputs),
             their last frame: the surface height h(x) of each run (the
-            highest z + radius of the pile grains, type 1, on the plate
-            z > 0, in each base bin), the bulk density rho_b = M / (L_y sum
+            highest z + radius of the pile grains, type 1, on the plate:
+            z > 0 and |x - xmid| < lp/2, lp of the run's vars.txt beside
+            the dump, in each base bin), the bulk density rho_b = M / (L_y sum
             h dx) (M the pile's mass), W(x) = rho_b g h(x), and the ratio
             P(x) / W(x) with its bootstrap SE; the floor grains per base bin
             (aligned bins hold the same number; p is renormalised by
@@ -42,8 +58,8 @@ the observable"). Per group:
             reported)
 --compare A,B (repeatable): D_A - D_B with its bootstrap SE (independent
 groups) and a two-sided permutation test over the pooled runs (--perm N
-relabellings): p = (1 + #{|T*| >= |T|}) / (1 + N); the two groups must
-share the grid.
+relabellings): p = (1 + #{|T*| >= |T|}) / (1 + N), and the same for D_fit;
+the two groups must share the grid.
 
 Outputs (each written to a temporary name and renamed): -o STATS.json; --h5
 PROFILES.h5 (a group per NAME: s, F and its interval; x, P and its
@@ -62,6 +78,8 @@ import sys
 import warnings
 
 import numpy as np
+
+import pile_dump  # scripts/dem: the dump reader shared with pile_summary.py
 
 h5py = None  # imported in main (a clear message without it)
 PROG = "pile_stats"
@@ -115,32 +133,15 @@ def last_frame(path):
     """(box x bounds, box y period, {column: array}) of a dump's last frame."""
     if not os.path.exists(path):
         die(3, "%s: no such file (named by the base HDF5's inputs; or give --no-dumps)" % path)
-    frame = None
-    with open(path) as f:
-        lines = iter(f)
-        for line in lines:
-            if not line.startswith("ITEM: TIMESTEP"):
-                continue
-            next(lines)
-            head = next(lines)
-            while not head.startswith("ITEM: NUMBER OF ATOMS"):
-                head = next(lines)
-            n = int(next(lines))
-            next(lines)
-            bx = [float(v) for v in next(lines).split()[:2]]
-            by = [float(v) for v in next(lines).split()[:2]]
-            next(lines)
-            cols = next(lines).split()[2:]
-            rows = [next(lines).split() for _ in range(n)]
-            frame = (bx, by, cols, rows)
-    if frame is None:
-        die(2, "%s: expected a LAMMPS/LIGGGHTS dump, found no ITEM: TIMESTEP" % path)
-    bx, by, cols, rows = frame
+    try:
+        fr = pile_dump.last_frame(path)
+    except pile_dump.DumpError as e:
+        die(e.code, str(e))
     for c in ("type", "x", "z", "radius", "mass"):
-        if c not in cols:
+        if c not in fr.cols:
             die(2, "%s: ITEM: ATOMS has no column %s (docs/dem.md \"Sand pile\")" % (path, c))
-    a = np.array(rows, dtype=float).reshape(len(rows), len(cols))
-    return bx, by[1] - by[0], {c: a[:, i] for i, c in enumerate(cols)}
+    a = np.array(fr.rows, dtype=float).reshape(len(fr.rows), len(fr.cols))
+    return fr.bx, fr.ly, {c: a[:, i] for i, c in enumerate(fr.cols)}
 
 
 def heights(dump, x, dx):
@@ -151,12 +152,16 @@ def heights(dump, x, dx):
     xs = bx[0] + np.mod(col["x"] - bx[0], L)
     k = np.floor((xs - lo) / dx).astype(int)
     inside = (k >= 0) & (k < x.size)
-    pile = (col["type"] == 1) & (col["z"] > 0) & inside
+    # the pile: grains on the plate (z > 0, |x - xmid| < lp/2, lp from the
+    # run's vars.txt beside the dump; without it the whole box)
+    half = pile_dump.plate_half_width(os.path.dirname(os.path.abspath(dump)), L)
+    onp = (col["type"] == 1) & pile_dump.on_plate(col["x"], col["z"], 0.5 * (bx[0] + bx[1]), half)
+    pile = onp & inside
     floor = (col["type"] == 2) & inside
     h = np.zeros(x.size)
     np.maximum.at(h, k[pile], col["z"][pile] + col["radius"][pile])
     nfl = np.bincount(k[floor], minlength=x.size).astype(float)
-    mass = float(col["mass"][(col["type"] == 1) & (col["z"] > 0)].sum())
+    mass = float(col["mass"][onp].sum())
     return h, nfl, mass, ly
 
 
@@ -207,6 +212,43 @@ def dip_stats(P, ic, sx):
     return out
 
 
+def fold_base(x, centre, dx, path=""):
+    """(j, m, s, w) of the fold of a base grid symmetric about centre: bin j
+    (x >= centre) pairs with m = n - 1 - j, at s = x_j - centre, weight w (1
+    for the central bin, its own mirror, else 2: two bins)."""
+    n = x.size
+    if not np.allclose(x + x[::-1], 2 * centre, rtol=0, atol=1e-6 * dx):
+        die(2, "%s: the base grid is not symmetric about its centre %g m (ekmcompare base --centre)" % (path, centre))
+    j = np.arange(n // 2, n)
+    m = n - 1 - j
+    return j, m, x[j] - centre, np.where(j == m, 1.0, 2.0)
+
+
+def fit_dip(P, fold, window, ref):
+    """The dip of a quadratic fitted to the folded profile near the centre.
+
+    P [..., n] profiles on the base grid; fold = fold_base(...). F(s) = (P(c + s)
+    + P(c - s))/2 on the base bins with s <= window, least squares (each bin
+    weighted by the base bins it holds) of q(s) = a + b s + c s^2; returns
+    (D_fit, D_ref, q at the window's grid): D_fit = 1 - q(0) / max q over
+    [0, window] (the fitted dip depth, >= 0), D_ref = 1 - q(0) / q(ref) (the
+    fitted rise from the centre to s = ref: signed, < 0 where p falls from
+    the centre; D_ref <= D_fit)."""
+    j, m, s, w = fold
+    use = s <= window + 1e-9 * max(window, 1e-30)
+    F = 0.5 * (P[..., j[use]] + P[..., m[use]])
+    X = np.stack([np.ones(use.sum()), s[use], s[use] ** 2], axis=1)
+    sw = np.sqrt(w[use])
+    A = np.linalg.pinv(X * sw[:, None]) * sw[None, :]   # beta = A @ F
+    beta = F @ A.T                                       # [..., 3]
+    grid = np.linspace(0.0, s[use].max(), 301)
+    V = np.stack([np.ones_like(grid), grid, grid ** 2], axis=1)
+    q = beta @ V.T
+    q0 = beta[..., 0]
+    qref = beta[..., 0] + beta[..., 1] * ref + beta[..., 2] * ref ** 2
+    return 1.0 - q0 / q.max(axis=-1), 1.0 - q0 / qref, q
+
+
 def interval(t, boot, level, runs):
     """Basic bootstrap interval, its half-widths scaled by sqrt(R/(R-1)):
     resampling R runs gives the variance of their mean times (R-1)/R."""
@@ -248,6 +290,15 @@ def summarise(name, path, args, rng):
         W[:, ~plate] = np.nan
         info["rho_b"] = {"mean": float(rho_b.mean()), "sd": float(rho_b.std(ddof=1))}
         info["height_max"] = {"mean": float(hs.max(axis=1).mean()), "sd": float(hs.max(axis=1).std(ddof=1))}
+    # the fit estimator on the base bins (before merging)
+    fold = fold_base(x, centre, dx, path)
+    fj, fm, fs, _ = fold
+    win = args.fit_window
+    inwin = fs <= win * (1 + 1e-9)
+    if inwin.sum() < 4 or fs[inwin].max() < win - dx:
+        die(2, "%s: the fit window %g m holds %d folded bins (expected at least 4, reaching it)" % (path, win, inwin.sum()))
+    if not np.isfinite(runs[:, np.concatenate([fj[inwin], fm[inwin]])]).all():
+        die(2, "%s: the fit window (s <= %g m) reaches bins without floor grains" % (path, win))
     groups, ic = merge_plan(n, args.merge, path)
     xm = merged(x, groups)
     sx = np.abs(xm - centre)
@@ -271,6 +322,36 @@ def summarise(name, path, args, rng):
         res[key] = {"value": t, "se": float(b.std(ddof=1)) * corr, "ci": [float(lo), float(hi)],
                     "bias": float(b.mean() - t)}
     res["D_halves"]["spread"] = float(st["D_halves_spread"])
+    # the fit estimator: on the mean profile, its bootstrap, and per run
+    Dq, Dr, _ = fit_dip(runs.mean(axis=0), fold, win, args.fit_ref)
+    Dqb, Drb, _ = fit_dip(runs[idx].mean(axis=1), fold, win, args.fit_ref)
+    Dq1, Dr1, _ = fit_dip(runs, fold, win, args.fit_ref)
+    # each half of each run alone (the other half replaced by its mirror):
+    # (half_left - half_right)/2 has the variance of the folded estimate if
+    # the halves' noise is independent (an asymmetric pile makes it larger)
+    halves = []
+    for src, dst in ((fm, fj), (fj, fm)):
+        Ph = runs.copy()
+        Ph[:, dst] = runs[:, src]
+        halves.append(fit_dip(Ph, fold, win, args.fit_ref))
+    for k, (key, t, b, per) in enumerate((("D_fit", Dq, Dqb, Dq1), ("D_ref", Dr, Drb, Dr1))):
+        t = float(t)
+        dh = 0.5 * (halves[0][k] - halves[1][k])
+        sd_halves = float(np.sqrt(np.mean(dh ** 2)))
+        lo, hi = interval(t, b, args.level, R)
+        se = float(b.std(ddof=1)) * corr
+        sd_runs = float(np.std(per, ddof=1))
+        res[key] = {"value": t, "se": se, "ci": [float(lo), float(hi)], "bias": float(b.mean() - t),
+                    "per_run": [float(v) for v in per], "sd_runs": sd_runs,
+                    "per_run_left": [float(v) for v in halves[0][k]],
+                    "per_run_right": [float(v) for v in halves[1][k]], "sd_halves": sd_halves,
+                    "window": win, "ref": args.fit_ref if key == "D_ref" else None,
+                    "design": {"sigma_run": se * math.sqrt(R),
+                               "runs_for_target_at_3se": int(math.ceil((3 * se * math.sqrt(R) / args.target) ** 2)),
+                               "runs_for_target_at_3se_from_sd_runs": int(math.ceil((3 * sd_runs / args.target) ** 2)),
+                               "runs_for_target_at_3se_from_sd_halves": int(math.ceil((3 * sd_halves / args.target) ** 2))}}
+    res["D_fit"]["resolved"] = bool(res["D_fit"]["ci"][0] > 0)
+    res["D_ref"]["resolved"] = bool(res["D_ref"]["ci"][0] > 0)
     sig = res["D"]["se"] * math.sqrt(R)
     res["design"] = {"sigma_run": sig, "target": args.target,
                      "runs_for_target_at_3se": int(math.ceil((3 * sig / args.target) ** 2)),
@@ -282,7 +363,7 @@ def summarise(name, path, args, rng):
     Flo, Fhi = interval(F, sb["F"], args.level, R)
     prof = {"x": xm, "P": P, "P_lo": Plo, "P_hi": Phi, "P_se": Pb.std(axis=0, ddof=1) * corr}
     nside = F.shape[-1]
-    fold = {"s": sx[ic:ic + nside], "F": F, "F_lo": Flo, "F_hi": Fhi, "F_se": sb["F"].std(axis=0, ddof=1) * corr}
+    fold_out = {"s": sx[ic:ic + nside], "F": F, "F_lo": Flo, "F_hi": Fhi, "F_se": sb["F"].std(axis=0, ddof=1) * corr}
     if W is not None:
         Wm = merged(W, groups)
         with np.errstate(divide="ignore", invalid="ignore"), warnings.catch_warnings():
@@ -293,12 +374,12 @@ def summarise(name, path, args, rng):
         prof["W"] = Wm.mean(axis=0)
         prof["ratio"] = np.where(np.isfinite(r), r, np.nan)
         res["centre_over_local_weight"] = {"value": float(r[ic]), "se": float(np.std(rb[:, ic], ddof=1)) * corr}
-    return res, prof, fold, Pr, (xm, ic, sx)
+    return res, prof, fold_out, Pr, (xm, ic, sx), runs, fold
 
 
 def compare(a, b, data, args, rng):
-    Pa, (xa, ica, sxa) = data[a]
-    Pb, (xb, icb, sxb) = data[b]
+    Pa, (xa, ica, sxa) = data[a][:2]
+    Pb, (xb, icb, sxb) = data[b][:2]
     if xa.shape != xb.shape or not np.allclose(xa, xb, rtol=0, atol=1e-9):
         die(2, "--compare %s,%s: the two groups have different grids (merged bins %d and %d)"
             % (a, b, xa.size, xb.size))
@@ -313,9 +394,30 @@ def compare(a, b, data, args, rng):
         p = rng.permutation(len(pooled))
         t = dip_stats(pooled[p[:na]].mean(axis=0), ica, sxa)["D"] - dip_stats(pooled[p[na:]].mean(axis=0), ica, sxa)["D"]
         count += abs(t) >= abs(T) - 1e-15
-    return {"a": a, "b": b, "runs": [len(Pa), len(Pb)], "D_a_minus_D_b": T, "se": se,
-            "z": T / se if se > 0 else None, "permutations": args.perm,
-            "p_value": (1 + count) / (1 + args.perm)}
+    out = {"a": a, "b": b, "runs": [len(Pa), len(Pb)], "D_a_minus_D_b": T, "se": se,
+           "z": T / se if se > 0 else None, "permutations": args.perm,
+           "p_value": (1 + count) / (1 + args.perm)}
+    # the fit estimator D_fit, on the base bins
+    Ra, Rb, fold, win = data[a][2], data[b][2], data[a][3], args.fit_window
+    if Ra.shape[1] != Rb.shape[1]:
+        die(2, "--compare %s,%s: the two groups have different base grids" % (a, b))
+
+    def dfit(P):
+        return fit_dip(P, fold, win, args.fit_ref)[0]
+    Tq = float(dfit(Ra.mean(axis=0)) - dfit(Rb.mean(axis=0)))
+    qa = dfit(Ra[boot_indices(rng, len(Ra), args.boot)].mean(axis=1))
+    qb = dfit(Rb[boot_indices(rng, len(Rb), args.boot)].mean(axis=1))
+    seq = float(np.sqrt(np.var(qa, ddof=1) * len(Ra) / (len(Ra) - 1) + np.var(qb, ddof=1) * len(Rb) / (len(Rb) - 1)))
+    pooled = np.concatenate([Ra, Rb])
+    na = len(Ra)
+    count = 0
+    for _ in range(args.perm):
+        p = rng.permutation(len(pooled))
+        t = dfit(pooled[p[:na]].mean(axis=0)) - dfit(pooled[p[na:]].mean(axis=0))
+        count += abs(t) >= abs(Tq) - 1e-15
+    out["D_fit"] = {"D_a_minus_D_b": Tq, "se": seq, "z": Tq / seq if seq > 0 else None,
+                    "p_value": (1 + count) / (1 + args.perm)}
+    return out
 
 
 # ---------------------------------------------------------------- outputs
@@ -357,14 +459,20 @@ def main(argv):
     ap.add_argument("--level", type=float, default=0.95)
     ap.add_argument("--target", type=float, default=0.05, help="dip depth to resolve at 3 SE")
     ap.add_argument("--g", type=float, default=9.81, help="gravity [m/s^2] for rho_b g h")
+    ap.add_argument("--fit-window", type=float, default=0.06,
+                    help="the fit estimator: largest distance s from the centre [m] (default 0.06: 30 d)")
+    ap.add_argument("--fit-ref", type=float, default=0.02,
+                    help="the fit estimator D_ref: reference distance [m] (default 0.02: 10 d)")
     ap.add_argument("--no-dumps", action="store_true", help="no local weight, no floor counts")
     ap.add_argument("--compare", action="append", default=[], metavar="A,B")
     try:
         args = ap.parse_args(argv)
     except SystemExit as e:
         return 1 if e.code else 0
-    if args.boot < 100 or args.perm < 0 or not 0 < args.level < 1 or not args.target > 0:
-        print("%s: expected --boot >= 100, --perm >= 0, 0 < --level < 1, --target > 0" % PROG, file=sys.stderr)
+    if (args.boot < 100 or args.perm < 0 or not 0 < args.level < 1 or not args.target > 0
+            or not 0 < args.fit_ref <= args.fit_window):
+        print("%s: expected --boot >= 100, --perm >= 0, 0 < --level < 1, --target > 0, "
+              "0 < --fit-ref <= --fit-window" % PROG, file=sys.stderr)
         return 1
     try:
         global h5py
@@ -381,9 +489,9 @@ def main(argv):
                 die(1, "%s: expected NAME=BASE.h5" % gdef)
             if name in out:
                 die(1, "%s: group %s given twice" % (gdef, name))
-            res, prof, fold, Pr, grid = summarise(name, path, args, rng)
+            res, prof, fold, Pr, grid, base_runs, base_fold = summarise(name, path, args, rng)
             names.append(name)
-            out[name], profs[name], data[name] = res, (prof, fold), (Pr, grid)
+            out[name], profs[name], data[name] = res, (prof, fold), (Pr, grid, base_runs, base_fold)
         comps = []
         for c in args.compare:
             a, comma, b = c.partition(",")
@@ -394,7 +502,10 @@ def main(argv):
             "D": "1 - F(0)/max F, F the mean profile folded about the centre, on bins of merge x dx",
             "interval": "basic bootstrap over the runs at level %g, %d resamples, seed %d"
                         % (args.level, args.boot, args.seed),
-            "design": "runs for a dip depth of target at 3 SE: (3 sigma_run/target)^2, sigma_run = SE(D) sqrt(runs)"},
+            "design": "runs for a dip depth of target at 3 SE: (3 sigma_run/target)^2, sigma_run = SE(D) sqrt(runs)",
+            "D_fit": "1 - q(0)/max q over [0, fit_window], q(s) = a + b s + c s^2 least squares on the folded "
+                     "profile's base bins with s <= fit_window (%g m); sd_runs: sd of the per-run values" % args.fit_window,
+            "D_ref": "1 - q(0)/q(fit_ref) (%g m) of the same fit: signed, <= D_fit" % args.fit_ref},
             "groups": out, "comparisons": comps}
         write_atomic(args.out, lambda t: open(t, "w").write(json.dumps(clean(doc), indent=1) + "\n"))
         if args.csv:
@@ -436,8 +547,15 @@ def main(argv):
                                                r["D"]["ci"][1], r["D_halves"]["value"], r["D_halves"]["spread"],
                                                r["s_max"]["value"], args.target,
                                                r["design"]["runs_for_target_at_3se"]))
+        print("%s: fit (s <= %g m): D_fit = %.4f +- %.4f (CI %.4f .. %.4f), D_ref = %.4f +- %.4f, sd over runs %.4f; "
+              "runs for D = %g at 3 SE: %d" % (nm, args.fit_window, r["D_fit"]["value"], r["D_fit"]["se"],
+                                               r["D_fit"]["ci"][0], r["D_fit"]["ci"][1], r["D_ref"]["value"],
+                                               r["D_ref"]["se"], r["D_fit"]["sd_runs"], args.target,
+                                               r["D_fit"]["design"]["runs_for_target_at_3se"]))
     for c in comps:
-        print("%s - %s: %.4f +- %.4f, permutation p = %.4g" % (c["a"], c["b"], c["D_a_minus_D_b"], c["se"], c["p_value"]))
+        print("%s - %s: %.4f +- %.4f, permutation p = %.4g; D_fit: %.4f +- %.4f, p = %.4g"
+              % (c["a"], c["b"], c["D_a_minus_D_b"], c["se"], c["p_value"], c["D_fit"]["D_a_minus_D_b"],
+                 c["D_fit"]["se"], c["D_fit"]["p_value"]))
     return 0
 
 

@@ -7,7 +7,8 @@
 A RUN_DIR is a finished case of scripts/dem/run.sh sandpile (run.json,
 vars.txt, atoms.dump). From the last frame of atoms.dump (the pile at rest)
 and the dump contract of docs/dem.md "Sand pile":
-  weight         g * (mass of the pile grains, type 1) [N]
+  weight         g * (mass of the pile grains, type 1, on the plate: z > 0
+                 and |x - xmid| < lp/2, xmid the box's middle) [N]
   base_force     -(sum of fz over the floor grains, type 2) [N]
   base_over_weight
   angle_left, angle_right, angle   pile angle [deg]: a straight line fitted
@@ -36,44 +37,19 @@ import math
 import os
 import sys
 
+import pile_dump  # scripts/dem: the dump reader shared with pile_stats.py
+
 
 def fail(code, msg):
     print("pile_summary: " + msg, file=sys.stderr)
     sys.exit(code)
 
 
-def last_frame(path):
-    """(box y period, box x bounds, columns, rows) of the last frame."""
-    frame = None
-    with open(path) as f:
-        lines = iter(f)
-        for line in lines:
-            if not line.startswith("ITEM: TIMESTEP"):
-                continue
-            step = int(next(lines))
-            head = next(lines)
-            while not head.startswith("ITEM: NUMBER OF ATOMS"):
-                head = next(lines)
-            n = int(next(lines))
-            next(lines)  # ITEM: BOX BOUNDS
-            bx = [float(v) for v in next(lines).split()[:2]]
-            by = [float(v) for v in next(lines).split()[:2]]
-            next(lines)
-            cols = next(lines).split()[2:]
-            rows = [next(lines).split() for _ in range(n)]
-            frame = (step, by[1] - by[0], bx, cols, rows)
-    if frame is None:
-        fail(2, path + ": no frame")
-    return frame
-
-
 def vars_of(run):
-    out = {}
-    with open(os.path.join(run, "vars.txt")) as f:
-        for line in f:
-            k, _, v = line.partition("=")
-            out[k.strip()] = float(v)
-    return out
+    try:
+        return pile_dump.read_vars(run)
+    except pile_dump.DumpError as e:
+        fail(e.code, str(e))
 
 
 def flank_angle(xs, hs, height):
@@ -94,15 +70,21 @@ def summarise(run):
             fail(3, "%s: no %s" % (run, f))
     rj = json.load(open(os.path.join(run, "run.json")))
     v = vars_of(run)
-    step, ly, bx, cols, rows = last_frame(os.path.join(run, "atoms.dump"))
+    try:
+        step, bx, ly, cols, rows = pile_dump.last_frame(os.path.join(run, "atoms.dump"))
+    except pile_dump.DumpError as e:
+        fail(e.code, str(e))
     for c in ("type", "x", "z", "radius", "mass", "fz"):
         if c not in cols:
             fail(2, "%s/atoms.dump: no column %s (docs/dem.md 'Sand pile')" % (run, c))
     ic = {c: cols.index(c) for c in cols}
     d, g, lx = v["d"], v["g"], bx[1] - bx[0]
-    # the pile: grains on the plate (centre above its top; one that rolled
-    # off and falls to the deck's sink is not part of it)
-    grains = [r for r in rows if r[ic["type"]] == "1" and float(r[ic["z"]]) > 0]
+    # the pile: grains on the plate (centre above its top and within its
+    # width lp about the box's middle; one sliding off its edge or falling
+    # to the deck's sink is not part of it; without lp the whole box)
+    xmid, half = 0.5 * (bx[0] + bx[1]), pile_dump.plate_half_width(run, lx)
+    grains = [r for r in rows if r[ic["type"]] == "1"
+              and pile_dump.on_plate(float(r[ic["x"]]), float(r[ic["z"]]), xmid, half)]
     floor = [r for r in rows if r[ic["type"]] == "2"]
     mass = sum(float(r[ic["mass"]]) for r in grains)
     if not grains or not mass > 0:

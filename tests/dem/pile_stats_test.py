@@ -27,10 +27,22 @@ The dumps go through `ekmcompare base --last 1` and then pile_stats.py:
      module's own functions) the 95% interval covers the true D (0, 0 and
      0.174) in at least 80% (measured: 100%, 92%, 92%; another 200 at 12
      runs: 100%, 96%, 92%, and at 4 runs 100%, 88%, 82%);
-  5. bad input: one line on stderr naming the file, and the documented
+  5. the fit estimator D_fit (a quadratic in s fitted to the folded 2 d
+     profile over s <= 30 d, 1 - q(0)/max q): the noiseless dip (its true
+     depth 0.25: p ~ (1 - u)(1 + 3u) is quadratic in s, maximum at s = 17
+     d) gives 0.245 +- 0.01 (10 d bins: 0.171); the noisy one (16 runs):
+     its interval covers the noiseless value and excludes 0, and the SE
+     times sqrt(16) is the per-run sd within a factor 1.5; no dip
+     (noiseless, p = rho_b g h): D_fit < 0.005 and D_ref = 1 - q(0)/q(10 d)
+     = -0.241 +- 0.01; no dip, noisy: D_fit < 0.03, D_ref below 0 by 3 SE;
+     the noiseless flat top (p flat over s < 25 d): D_fit = 0.054 +- 0.005,
+     the estimator's documented bias on that shape (docs/dem.md); the
+     permutation test on D_fit separates the dip from no dip (p < 0.01);
+  6. bad input: one line on stderr naming the file, and the documented
      exit status: a file that is not HDF5 (2), a missing file (3), an
      HDF5 with one run (2), NAME=FILE without '=' (1), --compare between
-     different grids (2), a dump named by the HDF5 that is gone (3).
+     different grids (2), a dump named by the HDF5 that is gone (3), a fit
+     window wider than the plate (2).
 Exit 0 if every check holds, 1 otherwise (one line per failed check).
 """
 import json
@@ -126,10 +138,13 @@ def main():
     flat = ensemble(ekmcompare, work, "nodip", 0.0, 0.5, 16, 3)
     flat2 = ensemble(ekmcompare, work, "nodip2", 0.0, 0.5, 16, 4)
     plateau = ensemble(ekmcompare, work, "plateau", -1.0, 0.5, 16, 7)
+    exact0 = ensemble(ekmcompare, work, "exact0", 0.0, 0.0, 2, 8)
+    exactflat = ensemble(ekmcompare, work, "exactflat", -1.0, 0.0, 2, 9)
     out = os.path.join(work, "stats.json")
     r = stats("-o", out, "--h5", os.path.join(work, "prof.h5"), "--csv", os.path.join(work, "prof.csv"),
               "--boot", "2000", "--perm", "2000", "--compare", "dip,nodip", "--compare", "nodip,nodip2",
-              "dip=" + dip, "exact=" + exact, "nodip=" + flat, "nodip2=" + flat2, "plateau=" + plateau)
+              "dip=" + dip, "exact=" + exact, "nodip=" + flat, "nodip2=" + flat2, "plateau=" + plateau,
+              "exact0=" + exact0, "exactflat=" + exactflat)
     check(r.returncode == 0, "pile_stats on the synthetic ensembles exits 0 (%s)" % r.stderr.strip())
     if r.returncode != 0:
         return 1
@@ -160,6 +175,26 @@ def main():
     check(comp[("dip", "nodip")]["p_value"] < 0.01, "permutation: dip vs no dip p = %.4g < 0.01" % comp[("dip", "nodip")]["p_value"])
     check(comp[("nodip", "nodip2")]["p_value"] > 0.05,
           "permutation: two no-dip ensembles p = %.4g > 0.05" % comp[("nodip", "nodip2")]["p_value"])
+    # 5. the fit estimator
+    q = g["exact"]["D_fit"]["value"]
+    check(abs(q - 0.25) < 0.01, "fit: the noiseless dip depth 0.25 recovered as D_fit = %.4f (+- 0.01)" % q)
+    lo, hi = g["dip"]["D_fit"]["ci"]
+    check(lo <= q <= hi and lo > 0, "fit: dip, 16 noisy runs: [%.4f, %.4f] covers %.4f and excludes 0" % (lo, hi, q))
+    fd = g["dip"]["D_fit"]
+    ratio = fd["se"] * 4 / fd["sd_runs"]
+    check(1 / 1.5 < ratio < 1.5, "fit: dip: SE sqrt(16) = %.4f against the per-run sd %.4f (ratio %.2f, within 1.5)"
+          % (fd["se"] * 4, fd["sd_runs"], ratio))
+    q0, r0 = g["exact0"]["D_fit"]["value"], g["exact0"]["D_ref"]["value"]
+    check(q0 < 0.005 and abs(r0 + 0.241) < 0.01,
+          "fit: no dip, noiseless: D_fit = %.4f (< 0.005), D_ref = %.4f (-0.241 +- 0.01)" % (q0, r0))
+    nd = g["nodip"]
+    check(nd["D_fit"]["value"] < 0.03 and nd["D_ref"]["value"] + 3 * nd["D_ref"]["se"] < 0,
+          "fit: no dip, noisy: D_fit = %.4f (< 0.03), D_ref = %.4f +- %.4f (below 0 by 3 SE)"
+          % (nd["D_fit"]["value"], nd["D_ref"]["value"], nd["D_ref"]["se"]))
+    qf = g["exactflat"]["D_fit"]["value"]
+    check(abs(qf - 0.054) < 0.005, "fit: flat top (noiseless): D_fit = %.4f, the documented bias 0.054 +- 0.005" % qf)
+    check(comp[("dip", "nodip")]["D_fit"]["p_value"] < 0.01,
+          "fit: permutation dip vs no dip p = %.4g < 0.01" % comp[("dip", "nodip")]["D_fit"]["p_value"])
     # 4. coverage, on profiles made directly (the module's functions)
     rng = np.random.default_rng(5)
     x = (np.arange(65) + 0.5) * 2 * D
@@ -196,6 +231,8 @@ def main():
                    2, "--compare a,b", "different grids")
     os.rename(os.path.join(work, "nodip-run0.dump"), os.path.join(work, "moved.dump"))
     one_line_error(stats("-o", out, "a=" + flat), 3, "nodip-run0.dump", "a dump named by the HDF5 is gone")
+    one_line_error(stats("-o", out, "--no-dumps", "--fit-window", "0.2", "--fit-ref", "0.02", "a=" + dip), 2, dip,
+                   "a fit window wider than the plate")
     check(not [f for f in os.listdir(work) if ".tmp" in f], "no temporary file left behind")
     return 1 if failures else 0
 
