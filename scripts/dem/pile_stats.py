@@ -377,46 +377,39 @@ def summarise(name, path, args, rng):
     return res, prof, fold_out, Pr, (xm, ic, sx), runs, fold
 
 
-def compare(a, b, data, args, rng):
-    Pa, (xa, ica, sxa) = data[a][:2]
-    Pb, (xb, icb, sxb) = data[b][:2]
-    if xa.shape != xb.shape or not np.allclose(xa, xb, rtol=0, atol=1e-9):
-        die(2, "--compare %s,%s: the two groups have different grids (merged bins %d and %d)"
-            % (a, b, xa.size, xb.size))
-    T = float(dip_stats(Pa.mean(axis=0), ica, sxa)["D"] - dip_stats(Pb.mean(axis=0), icb, sxb)["D"])
-    ba = dip_stats(Pa[boot_indices(rng, len(Pa), args.boot)].mean(axis=1), ica, sxa)["D"]
-    bb = dip_stats(Pb[boot_indices(rng, len(Pb), args.boot)].mean(axis=1), icb, sxb)["D"]
+def difference_test(Pa, Pb, stat, args, rng):
+    """stat(mean profile of group a) - stat(mean profile of group b): the
+    difference, its bootstrap standard error over the runs of each group,
+    z and the permutation test's two-sided p value."""
+    T = float(stat(Pa.mean(axis=0)) - stat(Pb.mean(axis=0)))
+    ba = stat(Pa[boot_indices(rng, len(Pa), args.boot)].mean(axis=1))
+    bb = stat(Pb[boot_indices(rng, len(Pb), args.boot)].mean(axis=1))
     se = float(np.sqrt(np.var(ba, ddof=1) * len(Pa) / (len(Pa) - 1) + np.var(bb, ddof=1) * len(Pb) / (len(Pb) - 1)))
     pooled = np.concatenate([Pa, Pb])
     na = len(Pa)
     count = 0
     for _ in range(args.perm):
         p = rng.permutation(len(pooled))
-        t = dip_stats(pooled[p[:na]].mean(axis=0), ica, sxa)["D"] - dip_stats(pooled[p[na:]].mean(axis=0), ica, sxa)["D"]
+        t = stat(pooled[p[:na]].mean(axis=0)) - stat(pooled[p[na:]].mean(axis=0))
         count += abs(t) >= abs(T) - 1e-15
-    out = {"a": a, "b": b, "runs": [len(Pa), len(Pb)], "D_a_minus_D_b": T, "se": se,
-           "z": T / se if se > 0 else None, "permutations": args.perm,
-           "p_value": (1 + count) / (1 + args.perm)}
+    return {"D_a_minus_D_b": T, "se": se, "z": T / se if se > 0 else None,
+            "p_value": (1 + count) / (1 + args.perm)}
+
+
+def compare(a, b, data, args, rng):
+    Pa, (xa, ica, sxa) = data[a][:2]
+    Pb, (xb, icb, sxb) = data[b][:2]
+    if xa.shape != xb.shape or not np.allclose(xa, xb, rtol=0, atol=1e-9):
+        die(2, "--compare %s,%s: the two groups have different grids (merged bins %d and %d)"
+            % (a, b, xa.size, xb.size))
+    old = difference_test(Pa, Pb, lambda P: dip_stats(P, ica, sxa)["D"], args, rng)
+    out = {"a": a, "b": b, "runs": [len(Pa), len(Pb)], "D_a_minus_D_b": old["D_a_minus_D_b"],
+           "se": old["se"], "z": old["z"], "permutations": args.perm, "p_value": old["p_value"]}
     # the fit estimator D_fit, on the base bins
     Ra, Rb, fold, win = data[a][2], data[b][2], data[a][3], args.fit_window
     if Ra.shape[1] != Rb.shape[1]:
         die(2, "--compare %s,%s: the two groups have different base grids" % (a, b))
-
-    def dfit(P):
-        return fit_dip(P, fold, win, args.fit_ref)[0]
-    Tq = float(dfit(Ra.mean(axis=0)) - dfit(Rb.mean(axis=0)))
-    qa = dfit(Ra[boot_indices(rng, len(Ra), args.boot)].mean(axis=1))
-    qb = dfit(Rb[boot_indices(rng, len(Rb), args.boot)].mean(axis=1))
-    seq = float(np.sqrt(np.var(qa, ddof=1) * len(Ra) / (len(Ra) - 1) + np.var(qb, ddof=1) * len(Rb) / (len(Rb) - 1)))
-    pooled = np.concatenate([Ra, Rb])
-    na = len(Ra)
-    count = 0
-    for _ in range(args.perm):
-        p = rng.permutation(len(pooled))
-        t = dfit(pooled[p[:na]].mean(axis=0)) - dfit(pooled[p[na:]].mean(axis=0))
-        count += abs(t) >= abs(Tq) - 1e-15
-    out["D_fit"] = {"D_a_minus_D_b": Tq, "se": seq, "z": Tq / seq if seq > 0 else None,
-                    "p_value": (1 + count) / (1 + args.perm)}
+    out["D_fit"] = difference_test(Ra, Rb, lambda P: fit_dip(P, fold, win, args.fit_ref)[0], args, rng)
     return out
 
 
