@@ -14,12 +14,11 @@
 #   thesis_sandpile_2d/narrow7stop1_56x28_at_{1,1.25,2,3.5}s,
 #   narrow7stop1_112x56_at_{1,1.25,2,2.5}s
 #                             the fast narrow inlet closed at 1 s: the pile
-#                             left to itself (it slumps); 112 x 56 to 2.5 s
-#                             (43 min)
-#   thesis_sandpile_2d/narrow7stop1sf_56x28_at_{1,2,3.5}s, narrow7sf_56x28_at_{1,2}s
-#                             the same and the fed pile with the surface rules
-#                             (surface_fill, phi_vacuum 0.05: docs/model.md
-#                             "Surface cells in 2D")
+#                             left to itself; 112 x 56 to 2.5 s
+#   thesis_sandpile_2d/narrow7stop1norules_56x28_at_{1,2,3.5}s
+#                             the same without the surface rules that the
+#                             pile scenarios set (surface_fill, phi_vacuum
+#                             0.05: docs/model.md "Surface cells in 2D")
 #   thesis_sandpile_2d/wide_56x28
 #                             a 70 mm inlet ("sieve"), 7x the narrow mass flux
 #   thesis_sandpile_2d/2sources7_56x28, 2sources7_*_at_1s, _at_2s
@@ -44,23 +43,22 @@ jobs=${JOBS:-2}
 [ -x "$ekm" ] || { echo "thesis2d.sh: $ekm not built (make build)" >&2; exit 1; }
 mkdir -p "$runs" "$res"
 
-# name scenario settings...: one run
+# name scenario settings...: one run (the long 112 x 56 runs first)
 cases=(
+  "pile_narrow_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set domain.cells_x=112 --set domain.cells=56"
+  "pile_narrow7_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=112 --set domain.cells=56 --set run.t_end=2"
+  "pile_narrow7stop1_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set top.t_stop=1.0 --set run.t_end=2.5 --set domain.cells_x=112 --set domain.cells=56"
   "filling_flow thesis_filling_2d"
   "filling_solid thesis_filling_2d --set hypo.enabled=1"
   "pile_narrow_28x14 thesis_sandpile_2d --set hypo.enabled=1 --set domain.cells_x=28 --set domain.cells=14"
   "pile_narrow_56x28 thesis_sandpile_2d --set hypo.enabled=1"
-  "pile_narrow_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set domain.cells_x=112 --set domain.cells=56"
   "pile_narrow7_28x14 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=28 --set domain.cells=14 --set run.t_end=2"
   "pile_narrow7_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35"
-  "pile_narrow7_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=112 --set domain.cells=56 --set run.t_end=2"
   "pile_wide_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.inlet_width=0.07"
   "pile_2sources7_28x14 thesis_sandpile_2sources_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=28 --set domain.cells=14 --set run.t_end=2"
   "pile_2sources7_56x28 thesis_sandpile_2sources_2d --set hypo.enabled=1 --set top.w=-0.35"
   "pile_narrow7stop1_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set top.t_stop=1.0 --set run.t_end=3.5"
-  "pile_narrow7stop1_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set top.t_stop=1.0 --set run.t_end=2.5 --set domain.cells_x=112 --set domain.cells=56"
-  "pile_narrow7stop1sf_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set top.t_stop=1.0 --set run.t_end=3.5 --set numerics.surface_fill=1 --set numerics.phi_vacuum=0.05"
-  "pile_narrow7sf_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set run.t_end=2 --set numerics.surface_fill=1 --set numerics.phi_vacuum=0.05"
+  "pile_narrow7stop1norules_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set top.t_stop=1.0 --set run.t_end=3.5 --set numerics.surface_fill=0 --set numerics.phi_vacuum=0"
 )
 
 # shellcheck source=scripts/lib/ekm_runs.sh
@@ -95,7 +93,7 @@ for k in 2sources7_28x14 2sources7_56x28; do
   done
 done
 # the pile at rest: the fast narrow inlet closed at 1 s, the pile left to
-# itself until 3.5 s (it slumps: docs/model.md "thesis_sandpile_2d")
+# itself until 3.5 s (docs/model.md "thesis_sandpile_2d")
 for bt in 1 1.25 2 3.5; do
   $py -B "$root/figures/pile2d.py" "$runs/pile_narrow7stop1_56x28.h5" \
     "$res/thesis_sandpile_2d/narrow7stop1_56x28_at_${bt}s" --times 0.5,1,1.5,2,3.5 --base-time "$bt" >&2
@@ -104,15 +102,11 @@ for bt in 1 1.25 2 2.5; do
   $py -B "$root/figures/pile2d.py" "$runs/pile_narrow7stop1_112x56.h5" \
     "$res/thesis_sandpile_2d/narrow7stop1_112x56_at_${bt}s" --times 0.5,1,1.5,2,2.5 --base-time "$bt" >&2
 done
-# the surface rules (docs/model.md "Surface cells in 2D"): the pile left to
-# itself and the fed pile
+# the same pile without the surface rules (docs/model.md "Surface cells in
+# 2D"): it slumps
 for bt in 1 2 3.5; do
-  $py -B "$root/figures/pile2d.py" "$runs/pile_narrow7stop1sf_56x28.h5" \
-    "$res/thesis_sandpile_2d/narrow7stop1sf_56x28_at_${bt}s" --times 0.5,1,1.5,2,3.5 --base-time "$bt" >&2
-done
-for bt in 1 2; do
-  $py -B "$root/figures/pile2d.py" "$runs/pile_narrow7sf_56x28.h5" \
-    "$res/thesis_sandpile_2d/narrow7sf_56x28_at_${bt}s" --times 0.5,1,1.5,2 --base-time "$bt" >&2
+  $py -B "$root/figures/pile2d.py" "$runs/pile_narrow7stop1norules_56x28.h5" \
+    "$res/thesis_sandpile_2d/narrow7stop1norules_56x28_at_${bt}s" --times 0.5,1,1.5,2,3.5 --base-time "$bt" >&2
 done
 # the base rows' phi and P of every pile at its base times (the thesis's
 # claim: P follows phi there)
@@ -123,7 +117,7 @@ runs, out = sys.argv[1], sys.argv[2]
 rows = {}
 for name in ("narrow_56x28", "narrow_112x56", "narrow7_28x14", "narrow7_56x28", "narrow7_112x56",
              "wide_56x28", "2sources7_28x14", "2sources7_56x28", "narrow7stop1_56x28",
-             "narrow7stop1_112x56", "narrow7stop1sf_56x28", "narrow7sf_56x28"):
+             "narrow7stop1_112x56", "narrow7stop1norules_56x28"):
     with h5py.File(os.path.join(runs, "pile_%s.h5" % name), "r") as f:
         t = list(f["t"][:])
         for bt in (1.0, 2.0, 3.5):
