@@ -124,20 +124,32 @@ int ekm_bc_rate_wall(const ekm_bc *bc)
  * rate L rho_p phi c^2 dt / (P dz) > 2 (dense cells near phi_co).  The rest
  * is taken at the start of the step; the steady state (dL/dt = w = 0,
  * P_K + P_Y = P) is the same. */
+ekm_bc_top_cell ekm_bc_top_cell_load(const ekm_scenario *sc, double phi, double T, int solid, double szz,
+                                     double w_below, double dz, double dt)
+{
+    if (solid)
+        return (ekm_bc_top_cell){.load = -szz, .stiffness = 0.0};
+    if (phi < sc->numerics.phi_dry)
+        return (ekm_bc_top_cell){.load = 0.0, .stiffness = 0.0};
+    const ekm_material *m = &sc->material;
+    const ekm_transport c = ekm_transport_coefficients(m, sc->variant, phi, T);
+    const double p_eq = ekm_pressure_kinetic(m, phi, T) + ekm_pressure_yield(m, phi);
+    /* [Pa s]: the viscous and the compression response of szz_top to dL/dt */
+    const double stiffness = c.mu_n + dt * m->rho_p * phi * ekm_sound_speed_squared(m, phi, T);
+    return (ekm_bc_top_cell){.load = p_eq + stiffness * w_below / dz, .stiffness = stiffness};
+}
+
+double ekm_bc_gap_rate_of(const ekm_scenario *sc, ekm_bc_top_cell mean, int n, double dz)
+{
+    const double P = sc->top.pressure;
+    const double k = sc->top.pressure_rate * n * dz / P; /* [m/(s Pa)] */
+    return k * (mean.load - P) / (1.0 + k * mean.stiffness / dz);
+}
+
 double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s, double dt)
 {
     const int j = s->n - 1;
-    const double P = sc->top.pressure;
-    const double k = sc->top.pressure_rate * s->n * s->dz / P; /* [m/(s Pa)] */
-    if (s->solid[j])
-        return k * (-s->szz[j] - P);
-    if (s->phi[j] < sc->numerics.phi_dry)
-        return -k * P;
-    const ekm_material *m = &sc->material;
-    const ekm_transport c = ekm_transport_coefficients(m, sc->variant, s->phi[j], s->T[j]);
-    const double p_eq = ekm_pressure_kinetic(m, s->phi[j], s->T[j]) + ekm_pressure_yield(m, s->phi[j]);
-    /* [Pa s]: the viscous and the compression response of szz_top to dL/dt */
-    const double stiffness =
-        c.mu_n + dt * m->rho_p * s->phi[j] * ekm_sound_speed_squared(m, s->phi[j], s->T[j]);
-    return k * (p_eq + stiffness * s->w[j] / s->dz - P) / (1.0 + k * stiffness / s->dz);
+    const ekm_bc_top_cell top =
+        ekm_bc_top_cell_load(sc, s->phi[j], s->T[j], s->solid[j], s->szz[j], s->w[j], s->dz, dt);
+    return ekm_bc_gap_rate_of(sc, top, s->n, s->dz);
 }

@@ -54,6 +54,23 @@ int ekm_bc_rate_wall(const ekm_bc *bc);
  * of dt [s] (the top cell's response to the wall is implicit, bc.c). */
 double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s, double dt);
 
+/* The load of one top cell on a pressure-controlled wall, linear in the
+ * wall's speed dL/dt: -szz_top = load - stiffness dL/dt / dz (bc.c). */
+typedef struct {
+    double load;      /* -szz_top at dL/dt = 0 [Pa] */
+    double stiffness; /* its response to dL/dt [Pa s] */
+} ekm_bc_top_cell;
+
+/* ... of a top cell at (phi, T) (solid: its stress szz [Pa]) whose lower
+ * face moves at w_below [m/s], height dz [m], for a step of dt [s]. */
+ekm_bc_top_cell ekm_bc_top_cell_load(const ekm_scenario *sc, double phi, double T, int solid, double szz,
+                                     double w_below, double dz, double dt);
+
+/* dL/dt [m/s] of a pressure-controlled top wall over n cells of height dz
+ * [m] whose top cells' mean load and mean stiffness are `mean` (a 2D
+ * box: the means over its columns, the wall moving as one body). */
+double ekm_bc_gap_rate_of(const ekm_scenario *sc, ekm_bc_top_cell mean, int n, double dz);
+
 /* Normal velocity at the boundary face given the interior solution. */
 double ekm_bc_face_w(const ekm_bc_face *b, ekm_side side, const ekm_state *s);
 

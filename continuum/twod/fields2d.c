@@ -219,6 +219,9 @@ ekm_status ekm2d_step_column(ekm2d_step *st, int i, ekm_state *out, ekm_error *e
     }
 #undef AT
     out->t = st->t;
+    out->dz = g->dz;
+    for (int j = 0; j < n; j++)
+        out->z[j] = (j + 0.5) * g->dz;
     free(buf);
     free(sum);
     if (pe)
@@ -246,6 +249,7 @@ ekm_status ekm2d_step_stats(ekm2d_step *st, ekm2d_step_info *out, ekm_error *err
     out->steps = st->steps;
     out->rejected = st->rejected;
     out->mass = all * st->sc->material.rho_p * g->dx * g->dz;
+    out->dz = g->dz;
     out->mass_in = st->mass_in;
     out->newton = st->newton;
     out->newton_total = st->newton_total;

@@ -23,6 +23,11 @@
  * face, z-face (i, j) its bottom face; corner (i, j) its lower left corner.
  * A state uniform in x is the 1D state in every column: vx of the x-faces
  * of row j is the 1D u_j, vz of the z-faces of row j the 1D w_j.
+ *
+ * A top wall held at a normal pressure ([top] pressure) moves as one body
+ * and the grid stretches with it, as the 1D grid (step.c): dz = L/nz
+ * changes every step and z-face j moves at j w_grid, w_grid = (dL/dt)/nz;
+ * the mass and heat fluxes are taken relative to the moving faces.
  */
 #ifndef EKM2D_GRID2D_H
 #define EKM2D_GRID2D_H
@@ -36,7 +41,9 @@ typedef struct {
     const ekm_scenario *sc;
     MPI_Comm comm;
     int nx, nz;                 /* cells along x and z */
-    double dx, dz;              /* cell sizes [m] */
+    double dx, dz;              /* cell sizes [m] (dz changes with a moving top wall) */
+    int top_moving;             /* 1: the top wall is held at a pressure and moves (the grid stretches) */
+    double w_grid;              /* moving top wall: its speed over nz, z-face j moves at j w_grid [m/s] */
     int periodic;               /* 1: periodic in x */
     double side_conductance[2]; /* side walls x = 0, x = width: 1/(dx/2 + slip_length) [1/m] */
     int n_inlets[2];            /* bottom, top: the inlet segments (one: the whole end without) */
@@ -59,6 +66,7 @@ typedef struct {
     double phi_in;     /* inflow: the entering phi [-] */
     double u_in, T_in; /* inflow: the entering vx [m/s] and T [m^2/s^2] */
     double u_wall;     /* wall: tangential speed [m/s] */
+    double w_wall;     /* wall: its normal speed (a moving top wall: dL/dt; else 0) [m/s] */
     double
         conductance; /* wall (also an inflow end beside its inlet): 1/(dz/2 + slip_length) [1/m]; free: 0 */
     int n_inlets;    /* inflow: its segments q < n_inlets, face columns lo[q] .. hi[q] */
@@ -85,6 +93,13 @@ static inline int ekm2d_inlet_face(const ekm2d_grid *g, const ekm2d_end *e, Pets
         if (i >= e->inlet_lo[q] && i <= e->inlet_hi[q])
             return 1;
     return 0;
+}
+
+/* vz of z-face column i of end e when it is prescribed [m/s]: an open
+ * inlet face's w, a wall's speed (0 unless it moves), else 0. */
+static inline double ekm2d_end_face_w(const ekm2d_grid *g, const ekm2d_end *e, PetscInt i)
+{
+    return e->kind == EKM_BC_WALL ? e->w_wall : ekm2d_inlet_face(g, e, i) ? e->w : 0.0;
 }
 
 /* Cell (i, j) exists (in the domain, or a periodic image). */

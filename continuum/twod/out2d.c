@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bc.h"
 #include "h5.h"
 #include "h5out.h"
 #include "schema.h"
@@ -31,12 +32,16 @@ struct ekm2d_writer {
     double dx, dz;     /* cell sizes [m] */
     size_t nt, max_nt; /* frames written, at most */
     double *times;     /* [max_nt] output times [s], for the XDMF sidecar */
+    double *dz_frame;  /* [max_nt] each frame's cell size along z [m] (a moving top wall) */
+    double *lo;        /* [max_nt] each frame's lower end along z: 0 [m] */
     int *regime;       /* [nz * nx] the frame's regime as int32 */
 };
 
 static void free_writer(ekm2d_writer *w)
 {
     free(w->times);
+    free(w->dz_frame);
+    free(w->lo);
     free(w->regime);
     free(w);
 }
@@ -89,6 +94,9 @@ static ekm_status write_layout(ekm2d_writer *w, int ranks, ekm_error *err)
         st = write_centres(w->file, "z", w->nz, w->dz, err);
     if (st == EKM_OK)
         st = ekm_h5_create_series(w->file, "t", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("t"), NULL, err);
+    if (st == EKM_OK && ekm_bc_pressure_wall(&w->sc->top))
+        st = ekm_h5_create_series(w->file, "gap", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("gap"), NULL,
+                                  err);
     for (int k = 0; k < EKM2D_NFIELDS && st == EKM_OK; k++)
         st = ekm_h5_create_series(w->file, FIELD_NAMES[k], k == EKM2D_REGIME ? EKM_H5_INT : EKM_H5_DOUBLE, 3,
                                   frame_dims, 1, ekm_field_units(FIELD_NAMES[k]), NULL, err);
@@ -127,8 +135,10 @@ ekm_status ekm2d_writer_open(ekm2d_writer **out, const char *path, const ekm_sce
     w->dz = sc->length / (double)nz;
     w->max_nt = max_frames;
     w->times = malloc((max_frames ? max_frames : 1) * sizeof *w->times);
+    w->dz_frame = malloc((max_frames ? max_frames : 1) * sizeof *w->dz_frame);
+    w->lo = calloc(max_frames ? max_frames : 1, sizeof *w->lo);
     w->regime = malloc(nx * nz * sizeof *w->regime);
-    if (!w->times || !w->regime) {
+    if (!w->times || !w->dz_frame || !w->lo || !w->regime) {
         free_writer(w);
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory opening %s (%zu x %zu cells, %zu frames)", path, nx,
                         nz, max_frames);
@@ -165,8 +175,8 @@ static ekm_status check_finite(const ekm2d_writer *w, double t, const double *co
     return EKM_OK;
 }
 
-ekm_status ekm2d_writer_append(ekm2d_writer *w, double t, const double *const fields[EKM2D_NFIELDS],
-                               ekm_error *err)
+ekm_status ekm2d_writer_append(ekm2d_writer *w, double t, double dz,
+                               const double *const fields[EKM2D_NFIELDS], ekm_error *err)
 {
     if (w->nt == w->max_nt)
         return EKM_FAIL(err, EKM_EINTERNAL, "%s: frame %zu at t = %g s: more frames than the %zu announced",
@@ -174,6 +184,11 @@ ekm_status ekm2d_writer_append(ekm2d_writer *w, double t, const double *const fi
     if (!isfinite(t))
         return EKM_FAIL(err, EKM_ENUMERIC, "%s: frame %zu: the time is not finite (%g); nothing written",
                         w->path, w->nt, t);
+    if (!(dz > 0.0) || !isfinite(dz))
+        return EKM_FAIL(err, EKM_ENUMERIC,
+                        "%s: frame %zu at t = %g s: the cell size dz = %g m is not a positive finite number; "
+                        "nothing written",
+                        w->path, w->nt, t, dz);
     ekm_status st = check_finite(w, t, fields, err);
     if (st != EKM_OK)
         return st;
@@ -181,12 +196,16 @@ ekm_status ekm2d_writer_append(ekm2d_writer *w, double t, const double *const fi
     for (size_t c = 0; c < n; c++)
         w->regime[c] = (int)lround(fields[EKM2D_REGIME][c]);
     st = ekm_h5_append(w->file, "t", &t, err);
+    const double gap = dz * (double)w->nz; /* [m] */
+    if (st == EKM_OK && ekm_bc_pressure_wall(&w->sc->top))
+        st = ekm_h5_append(w->file, "gap", &gap, err);
     for (int k = 0; k < EKM2D_NFIELDS && st == EKM_OK; k++)
         st = ekm_h5_append(w->file, FIELD_NAMES[k],
                            k == EKM2D_REGIME ? (const void *)w->regime : (const void *)fields[k], err);
     if (st != EKM_OK)
         return st;
-    w->times[w->nt++] = t;
+    w->times[w->nt] = t;
+    w->dz_frame[w->nt++] = dz;
     return EKM_OK;
 }
 
@@ -196,7 +215,8 @@ ekm_status ekm2d_writer_set_attr(ekm2d_writer *w, const char *name, double value
 }
 
 /* The frames' views and the sidecar of the 2D grid (x from 0 along
- * ParaView's X, z from 0 along its Z), then both renamed into place. */
+ * ParaView's X, z from 0 along its Z, each frame with its dz), then both
+ * renamed into place. */
 ekm_status ekm2d_writer_commit(ekm2d_writer *w, ekm_error *err)
 {
     ekm_xdmf_field fields[EKM2D_NFIELDS];
@@ -208,11 +228,13 @@ ekm_status ekm2d_writer_commit(ekm2d_writer *w, ekm_error *err)
                                     .nt = w->nt,
                                     .t = w->times,
                                     .fields = fields,
+                                    .lo = w->lo,
+                                    .dz = w->dz_frame,
                                     .nfields = EKM2D_NFIELDS,
                                     .nx = w->nx,
                                     .x0 = 0.0,
                                     .dx = w->dx};
-    const ekm_status st = ekm_xdmf_commit_fixed(w->file, &series, 0.0, w->dz, err);
+    const ekm_status st = ekm_xdmf_commit_with(w->file, &series, err);
     w->file = NULL;
     free_writer(w);
     return st;

@@ -5,6 +5,10 @@
  *   /x                      cell centres along x [m], double[nx]
  *   /z                      cell centres along z [m], double[nz]
  *   /t                      output times [s], double[nt]
+ *   /gap                    with a pressure-controlled top wall: the height
+ *                           of each frame [m], double[nt] (/z: the centres
+ *                           of the scenario's length; frame k's are
+ *                           (j + 1/2) gap[k]/nz)
  *   /phi /vx /vz /T /P /sxx /szz /sxz   double[nt][nz][nx] (x fastest), SI,
  *                           cell-centred (the face velocities and corner
  *                           stresses interpolated to the centres, fields2d.c)
@@ -43,11 +47,12 @@ typedef struct ekm2d_writer ekm2d_writer;
  * is recorded.  Rank 0 only. */
 ekm_status ekm2d_writer_open(ekm2d_writer **out, const char *path, const ekm_scenario *sc, int ranks,
                              size_t max_frames, ekm_error *err);
-/* Append one frame at time t [s]: fields[k] is field k on the nz x nx
+/* Append one frame at time t [s] with cell size dz [m] along z (length
+ * / nz unless the top wall moves): fields[k] is field k on the nz x nx
  * cells, x fastest (fields[k][iz * nx + ix]).  A value that is not finite
  * is EKM_ENUMERIC naming the field, cell and time (nothing is written). */
-ekm_status ekm2d_writer_append(ekm2d_writer *w, double t, const double *const fields[EKM2D_NFIELDS],
-                               ekm_error *err);
+ekm_status ekm2d_writer_append(ekm2d_writer *w, double t, double dz,
+                               const double *const fields[EKM2D_NFIELDS], ekm_error *err);
 /* A number as a root attribute (run statistics), before commit. */
 ekm_status ekm2d_writer_set_attr(ekm2d_writer *w, const char *name, double value, ekm_error *err);
 /* Close, write the XDMF sidecar, rename both into place, free w. */

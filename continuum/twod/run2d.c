@@ -97,7 +97,7 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
         if (st == EKM_OK)
             st = ekm2d_solver_fields(sol, fields, err);
         if (st == EKM_OK && rank == 0)
-            st = ekm2d_writer_append(w, stats.t, (const double *const *)fields, err);
+            st = ekm2d_writer_append(w, stats.t, stats.dz, (const double *const *)fields, err);
         code = (int)st;
         MPI_Bcast(&code, 1, MPI_INT, 0, PETSC_COMM_WORLD);
         if (code != EKM_OK && st == EKM_OK)

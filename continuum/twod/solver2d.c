@@ -88,6 +88,7 @@ ekm_status ekm2d_solver_stats(ekm2d_solver *s, ekm2d_stats *out, ekm_error *err)
                          .rejected = in.rejected,
                          .newton = in.newton_total,
                          .mass = in.mass,
+                         .dz = in.dz,
                          .mass_in = in.mass_in,
                          .phi_max = in.phi_max,
                          .cell_updates = (double)in.steps * s->sc->cells_x * s->sc->cells,

@@ -56,6 +56,7 @@ typedef struct {
     long rejected;          /* rejected steps (retried shorter) */
     long newton;            /* temperature Newton iterations */
     double mass;            /* sum rho_p phi dx dz per unit depth [kg/m] */
+    double dz;              /* cell size along z [m] (a moving top wall: the gap / cells) */
     double mass_in;         /* net mass entered through the boundaries per unit depth [kg/m] */
     double phi_max;         /* largest phi [-] */
     double cell_updates;    /* accepted steps x cells */

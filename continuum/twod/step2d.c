@@ -6,6 +6,8 @@
  * fluxes F = v phi [m/s]). */
 #include "step2d_impl.h"
 
+#include "bc.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,36 +42,68 @@ ekm_status ekm2d_step_supported(const ekm_scenario *sc, ekm_error *err)
             return EKM_FAIL(err, EKM_EUNAVAILABLE,
                             "%s: [%s] type = %s: the 2D step has wall, free and inflow ends (issue 33)",
                             sc->source, k ? "top" : "bottom", ekm_bc_kind_name(bc->kind));
-        if (bc->kind == EKM_BC_WALL && (isfinite(bc->pressure) || isfinite(bc->shear_rate)))
-            return EKM_FAIL(
-                err, EKM_EUNAVAILABLE,
-                "%s: [%s] pressure: a pressure-controlled wall is not in the 2D step yet (issue 33)",
-                sc->source, k ? "top" : "bottom");
+        if (bc->kind == EKM_BC_WALL && isfinite(bc->shear_rate))
+            return EKM_FAIL(err, EKM_EUNAVAILABLE,
+                            "%s: [%s] shear_rate: a wall whose speed follows the gap is not in the 2D step",
+                            sc->source, k ? "top" : "bottom");
+        if (bc->kind == EKM_BC_WALL && isfinite(bc->pressure) && !k)
+            return EKM_FAIL(err, EKM_EUNAVAILABLE,
+                            "%s: [bottom] pressure: only the top wall may be held at a pressure", sc->source);
     }
     return EKM_OK;
 }
 
 /* ---- phase 1: boundaries ------------------------------------------------------------------------ */
 
-/* The ends at the step's start and the face velocities they fix: vz of
- * the end faces (an inlet's w, a wall's 0, a free end the adjacent
- * interior face's), vx of side-wall faces (0); gravity at the end of the
- * step (step.c's rule). */
-static void boundaries(ekm2d_step *st, PetscScalar ***u, double dt)
+/* A moving top wall's speed dL/dt for a step of dt [m/s] (bc.h): the
+ * wall moves as one body under the mean load of the top cells at the
+ * step's start (collective). */
+static double gap_rate(const ekm2d_step *st, PetscScalar ***u, double dt)
 {
     const ekm2d_grid *g = &st->g;
+    double sum[2] = {0.0, 0.0}, all[2];
+    if (g->z0 + g->nzl == g->nz) {
+        const PetscInt j = g->nz - 1;
+        for (PetscInt i = g->x0; i < g->x0 + g->nxl; i++) {
+            const int solid = g->s_solid >= 0 && u[j][i][g->s_solid] > 0.5;
+            const ekm_bc_top_cell c =
+                ekm_bc_top_cell_load(st->sc, u[j][i][g->s_phi], u[j][i][g->s_T], solid,
+                                     solid ? u[j][i][g->s_szz] : 0.0, u[j][i][g->s_vz], g->dz, dt);
+            sum[0] += c.load;
+            sum[1] += c.stiffness;
+        }
+    }
+    MPI_Allreduce(sum, all, 2, MPI_DOUBLE, MPI_SUM, g->comm);
+    const ekm_bc_top_cell mean = {.load = all[0] / g->nx, .stiffness = all[1] / g->nx};
+    return ekm_bc_gap_rate_of(st->sc, mean, g->nz, g->dz);
+}
+
+/* The ends at the step's start and the face velocities they fix: vz of
+ * the end faces (an inlet's w, a wall's speed, a free end the adjacent
+ * interior face's), vx of side-wall faces (0); gravity at the end of the
+ * step (step.c's rule).  A moving top wall: its speed of the step. */
+static void boundaries(ekm2d_step *st, PetscScalar ***u, double dt)
+{
+    ekm2d_grid *g = &st->g;
     st->bottom = ekm2d_grid_end(g, 0, st->t);
     st->top = ekm2d_grid_end(g, 1, st->t);
+    st->dz_start = st->dz_new = g->dz;
+    if (g->top_moving) {
+        st->gap_rate = gap_rate(st, u, dt);
+        st->top.w_wall = st->gap_rate;
+        g->w_grid = st->gap_rate / g->nz;
+        st->dz_new = g->dz + dt * st->gap_rate / g->nz;
+    }
     for (PetscInt i = g->gx0; i < g->gx0 + g->gnx; i++) {
         if (g->gz0 == 0) {
             const ekm2d_end *e = &st->bottom;
-            u[0][i][g->s_vz] = e->kind == EKM_BC_FREE ? (g->nz > 1 ? u[1][i][g->s_vz] : 0.0)
-                                                      : (ekm2d_inlet_face(g, e, i) ? e->w : 0.0);
+            u[0][i][g->s_vz] =
+                e->kind == EKM_BC_FREE ? (g->nz > 1 ? u[1][i][g->s_vz] : 0.0) : ekm2d_end_face_w(g, e, i);
         }
         if (g->gz0 + g->gnz > g->nz) {
             const ekm2d_end *e = &st->top;
             u[g->nz][i][g->s_vz] =
-                e->kind == EKM_BC_FREE ? u[g->nz - 1][i][g->s_vz] : (ekm2d_inlet_face(g, e, i) ? e->w : 0.0);
+                e->kind == EKM_BC_FREE ? u[g->nz - 1][i][g->s_vz] : ekm2d_end_face_w(g, e, i);
         }
     }
     for (PetscInt j = g->gz0; j < g->gz0 + g->gnz; j++)
@@ -102,14 +136,18 @@ static int mass_update(ekm2d_step *st, PetscScalar ***u, double dt)
             BOX(st, Fz, i, j) = fz;
         }
     const double rx = dt / g->dx, rz = dt / g->dz;
+    /* a moving top wall: the cell's content over its new height */
+    const double inv_dz_new = 1.0 / st->dz_new;
     int ok = 1;
     for (PetscInt j = Z0; j < Z1; j++)
         for (PetscInt i = X0; i < X1; i++) {
             if (!ekm2d_cell_ok(g, i, j))
                 continue;
             const double phi = u[j][i][g->s_phi];
-            const double phi_new = phi - rz * (BOX(st, Fz, i, j + 1) - BOX(st, Fz, i, j)) -
-                                   rx * (BOX(st, Fx, i + 1, j) - BOX(st, Fx, i, j));
+            const double dFz = BOX(st, Fz, i, j + 1) - BOX(st, Fz, i, j),
+                         dFx = BOX(st, Fx, i + 1, j) - BOX(st, Fx, i, j);
+            const double phi_new = g->top_moving ? (phi * g->dz - dt * dFz - g->dz * rx * dFx) * inv_dz_new
+                                                 : phi - rz * dFz - rx * dFx;
             BOX(st, phi_new, i, j) = phi_new;
             const int owned = i >= g->x0 && i < g->x0 + g->nxl && j >= g->z0 && j < g->z0 + g->nzl;
             if (owned && ok &&
@@ -162,6 +200,7 @@ static void convect_temperature(ekm2d_step *st, PetscScalar ***u, double dt)
 {
     const ekm2d_grid *g = &st->g;
     const double rho_p = st->sc->material.rho_p, rx = dt / g->dx, rz = dt / g->dz;
+    const double dz_new = st->dz_new; /* a moving top wall: the cells' new height */
     for (PetscInt j = g->gz0; j < g->gz0 + g->gnz; j++)
         for (PetscInt i = g->gx0; i < g->gx0 + g->gnx; i++) {
             if (!ekm2d_cell_ok(g, i, j))
@@ -185,8 +224,11 @@ static void convect_temperature(ekm2d_step *st, PetscScalar ***u, double dt)
                 }
                 q[k] = F * Tq;
             }
+            const double phiT = u[j][i][g->s_phi] * u[j][i][g->s_T];
             BOX(st, rhoT, i, j) =
-                rho_p * (u[j][i][g->s_phi] * u[j][i][g->s_T] - rz * (q[1] - q[0]) - rx * (q[3] - q[2]));
+                g->top_moving
+                    ? rho_p / dz_new * (phiT * g->dz - dt * (q[1] - q[0]) - g->dz * rx * (q[3] - q[2]))
+                    : rho_p * (phiT - rz * (q[1] - q[0]) - rx * (q[3] - q[2]));
         }
 }
 
@@ -206,6 +248,7 @@ static void convect_momentum(ekm2d_step *st, PetscScalar ***u, double dt)
 {
     const ekm2d_grid *g = &st->g;
     const double rho_p = st->sc->material.rho_p, rx = dt / g->dx, rz = dt / g->dz;
+    const double dz_new = st->dz_new; /* a moving top wall: the cells' new height */
     const PetscInt vx = g->s_vx, vz = g->s_vz;
     for (PetscInt j = g->z0; j < g->z0 + g->nzl + 1 && j <= g->nz; j++)
         for (PetscInt i = g->x0; i < g->x0 + g->nxl + 1; i++) {
@@ -223,7 +266,11 @@ static void convect_momentum(ekm2d_step *st, PetscScalar ***u, double dt)
                 if (!ekm2d_side_face(g, i + 1))
                     mr = carried(0.5 * (BOX(st, Fx, i + 1, j - 1) + BOX(st, Fx, i + 1, j)), u[j][i][vz],
                                  u[j][i + 1][vz]);
-                BOX(st, rhs_z, i, j) = rho_p * (phi_face * u[j][i][vz] - rz * (ma - mb) - rx * (mr - ml));
+                BOX(st, rhs_z, i, j) =
+                    g->top_moving
+                        ? rho_p / dz_new *
+                              (phi_face * u[j][i][vz] * g->dz - dt * (ma - mb) - g->dz * rx * (mr - ml))
+                        : rho_p * (phi_face * u[j][i][vz] - rz * (ma - mb) - rx * (mr - ml));
             }
             /* vx at x-face (i, j), not on a side wall */
             if (j < g->z0 + g->nzl && j < g->nz && !ekm2d_side_face(g, i) && (g->periodic || i < g->nx)) {
@@ -240,9 +287,24 @@ static void convect_momentum(ekm2d_step *st, PetscScalar ***u, double dt)
                                          : carried(Fb, u[j - 1][i][vx], u[j][i][vx]);
                 const double ma = j == g->nz - 1 ? Fa * (Fa < 0.0 ? st->top.u_in : u[j][i][vx])
                                                  : carried(Fa, u[j][i][vx], u[j + 1][i][vx]);
-                BOX(st, rhs_x, i, j) = rho_p * (phi_face * u[j][i][vx] - rz * (ma - mb) - rx * (mr - ml));
+                BOX(st, rhs_x, i, j) =
+                    g->top_moving
+                        ? rho_p / dz_new *
+                              (phi_face * u[j][i][vx] * g->dz - dt * (ma - mb) - g->dz * rx * (mr - ml))
+                        : rho_p * (phi_face * u[j][i][vx] - rz * (ma - mb) - rx * (mr - ml));
             }
         }
+}
+
+/* A moving top wall: the grid takes its new height after the transport
+ * (phases 2-3), and the ends' data follow it (step.c's order). */
+static void stretch_grid(ekm2d_step *st)
+{
+    ekm2d_grid *g = &st->g;
+    g->dz = st->dz_new;
+    st->bottom = ekm2d_grid_end(g, 0, st->t);
+    st->top = ekm2d_grid_end(g, 1, st->t);
+    st->top.w_wall = st->gap_rate;
 }
 
 /* ---- phase 4: properties ------------------------------------------------------------------------- */
@@ -346,6 +408,7 @@ static ekm_status refresh_ghosts(ekm2d_step *st, PetscScalar ****u, ekm_error *e
 
 static ekm_status reject(ekm2d_step *st, PetscScalar ***u, int *accepted, ekm_error *err)
 {
+    st->g.dz = st->dz_start;
     PTRY(DMStagVecRestoreArray(st->g.dm, st->Ul, &u), "DMStagVecRestoreArray");
     PTRY(VecCopy(st->U_back, st->U), "VecCopy");
     st->rejected++;
@@ -376,6 +439,8 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
     if (mass_ok && rc == EKM_OK) {
         convect_temperature(st, u, dt);
         convect_momentum(st, u, dt);
+        if (g->top_moving)
+            stretch_grid(st);
         properties(st);
     }
     PetscLogEventEnd(st->ev_explicit, 0, 0, 0, 0);
@@ -404,13 +469,14 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
         ok = ekm2d_velocity_solve(st, u, dt, err);
     }
     double lag_err = 0.0;
+    /* at or below the solid cells' acoustic step the step stands
+     * whatever the lag error (control2d.c) */
+    const int above_floor = dt > st->dt_solid_floor * (1.0 + 1e-12);
     if (ok > 0 && n_solid) {
         PetscLogEventBegin(st->ev_regime, 0, 0, 0, 0);
         const double mine = ekm2d_regime_lag_error(st, u, dt);
         MPI_Allreduce(&mine, &lag_err, 1, MPI_DOUBLE, MPI_MAX, g->comm);
-        /* at or below the solid cells' acoustic step the step stands
-         * whatever the error (control2d.c) */
-        if (lag_err > st->sc->numerics.solid_lag_tol && dt > st->dt_solid_floor * (1.0 + 1e-12)) {
+        if (lag_err > st->sc->numerics.solid_lag_tol && above_floor) {
             snprintf(st->reason, sizeof st->reason,
                      "t = %.9g s, dt = %.3g s: a solid cell's stress moves by %.3g of itself when the law's "
                      "norm is taken at the step's rates (solid_lag_tol = %g)",
@@ -459,7 +525,7 @@ ekm_status ekm2d_step_apply(ekm2d_step *st, double dt, int *accepted, ekm_error 
      * relaxing fast sits on its fixed point, where the error is the
      * relative change of its rates within the step) to dt^2 (a cell
      * relaxing slowly); sized for the first */
-    if (dt > st->dt_solid_floor * (1.0 + 1e-12))
+    if (above_floor)
         st->solid_lag_max = fmax(st->solid_lag_max, lag_err);
     else if (lag_err > st->sc->numerics.solid_lag_tol)
         st->solid_floor_steps++;

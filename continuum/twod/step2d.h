@@ -73,6 +73,7 @@ typedef struct {
     long steps;             /* accepted steps */
     long rejected;          /* rejected steps */
     double mass;            /* sum rho_p phi dx dz [kg/m] */
+    double dz;              /* cell size along z [m] (a moving top wall: the gap / cells) */
     double mass_in;         /* net mass entered through the ends [kg/m] */
     int newton;             /* temperature Newton iterations of the last step */
     long newton_total;      /* ... of every accepted step */

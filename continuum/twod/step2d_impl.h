@@ -94,6 +94,9 @@ struct ekm2d_step {
     long solid_floor_steps; /* accepted steps at dt_solid_floor with an error above solid_lag_tol */
     long steps, rejected;
     double mass_in;    /* [kg/m] */
+    double gap_rate;   /* a moving top wall: its speed dL/dt this step [m/s] */
+    double dz_start;   /* ... dz at the step's start [m] (restored by a rejection) */
+    double dz_new;     /* ... dz after the step [m] (no moving wall: dz) */
     int newton;        /* iterations of the last temperature solve */
     long newton_total; /* ... of every accepted step */
     char reason[600];
@@ -113,12 +116,19 @@ static inline double ekm2d_flux_x(const ekm2d_grid *g, PetscScalar ***u, PetscIn
     return v == 0.0 ? 0.0 : v * (v > 0.0 ? u[j][i - 1][g->s_phi] : u[j][i][g->s_phi]);
 }
 
-/* ... through z-face (i, j) (along +z); an end face carries its inlet's
- * phi_in when the flow enters (nothing beside the inlet), its cell's phi
- * when it leaves. */
+/* ... through z-face (i, j) (along +z), relative to the face (a moving
+ * top wall: face j moves at j w_grid, the walls carry none); an end face
+ * carries its inlet's phi_in when the flow enters (nothing beside the
+ * inlet), its cell's phi when it leaves. */
 static inline double ekm2d_flux_z(const ekm2d_grid *g, const ekm2d_end *bottom, const ekm2d_end *top,
                                   PetscScalar ***u, PetscInt i, PetscInt j)
 {
+    if (g->top_moving) {
+        if (j == 0 || j == g->nz)
+            return 0.0;
+        const double v = u[j][i][g->s_vz] - j * g->w_grid;
+        return v == 0.0 ? 0.0 : v * (v > 0.0 ? u[j - 1][i][g->s_phi] : u[j][i][g->s_phi]);
+    }
     const double v = u[j][i][g->s_vz];
     if (j == 0)
         return v * (v > 0.0 ? (ekm2d_inlet_face(g, bottom, i) ? bottom->phi_in : 0.0) : u[0][i][g->s_phi]);

@@ -81,7 +81,7 @@ static void vf_add(const ekm2d_step *st, vform *f, DMStagStencilLocation loc, Pe
         if (e->kind == EKM_BC_FREE) {
             j = j == 0 ? 1 : g->nz - 1;
         } else {
-            f->c += a * (ekm2d_inlet_face(g, e, i) ? e->w : 0.0);
+            f->c += a * ekm2d_end_face_w(g, e, i);
             return;
         }
     }
@@ -275,9 +275,10 @@ static void coupling_phi(ekm2d_step *st, PetscScalar ***u)
                 else if (j == g->nz)
                     p = v < 0.0 ? (ekm2d_inlet_face(g, &st->top, i) ? st->top.phi_in : 0.0)
                                 : BOX(st, phi_new, i, j - 1);
-                else {
+                else { /* upwind by the velocity relative to the face (a moving top wall) */
                     const double a = BOX(st, phi_new, i, j - 1), b = BOX(st, phi_new, i, j);
-                    p = v > 0.0 ? a : v < 0.0 ? b : 0.5 * (a + b);
+                    const double v_rel = v - j * g->w_grid;
+                    p = v_rel > 0.0 ? a : v_rel < 0.0 ? b : 0.5 * (a + b);
                 }
                 BOX(st, pu_z, i, j) = p;
             }
@@ -285,7 +286,9 @@ static void coupling_phi(ekm2d_step *st, PetscScalar ***u)
 }
 
 /* div(phi_up v) of cell (i, j) as a form [1/s] (a side wall carries no
- * flux; a prescribed end face its known flux). */
+ * flux; a prescribed end face its known flux).  A moving top wall: the
+ * walls carry none relative to the grid, and the grid's own part of the
+ * interior faces' is left out (step.c: known, and 0 once the gap holds). */
 static void divergence_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f)
 {
     const ekm2d_grid *g = &st->g;
@@ -293,8 +296,10 @@ static void divergence_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform 
     f->c = 0.0;
     vf_add(st, f, DMSTAG_LEFT, i + 1, j, BOX(st, pu_x, i + 1, j) / g->dx);
     vf_add(st, f, DMSTAG_LEFT, i, j, -BOX(st, pu_x, i, j) / g->dx);
-    vf_add(st, f, DMSTAG_DOWN, i, j + 1, BOX(st, pu_z, i, j + 1) / g->dz);
-    vf_add(st, f, DMSTAG_DOWN, i, j, -BOX(st, pu_z, i, j) / g->dz);
+    if (!(g->top_moving && j + 1 == g->nz))
+        vf_add(st, f, DMSTAG_DOWN, i, j + 1, BOX(st, pu_z, i, j + 1) / g->dz);
+    if (!(g->top_moving && j == 0))
+        vf_add(st, f, DMSTAG_DOWN, i, j, -BOX(st, pu_z, i, j) / g->dz);
 }
 
 /* Row (loc, i, j) = form f (its constant moved to the right-hand side); added
@@ -419,7 +424,7 @@ static PetscErrorCode assemble(ekm2d_step *st, double dt)
                     if (e->kind == EKM_BC_FREE)
                         PetscCall(follow_row(st, i, j, j == 0 ? 1 : g->nz - 1));
                     else
-                        PetscCall(fixed_row(st, DMSTAG_DOWN, i, j, ekm2d_inlet_face(g, e, i) ? e->w : 0.0));
+                        PetscCall(fixed_row(st, DMSTAG_DOWN, i, j, ekm2d_end_face_w(g, e, i)));
                 } else {
                     PetscCall(momentum_row(st, DMSTAG_DOWN, i, j, dt));
                 }

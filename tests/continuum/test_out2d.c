@@ -145,7 +145,8 @@ static void write_run(fixture *fx, const char *path)
     for (int it = 0; it < NT; it++) {
         const double *fields[EKM2D_NFIELDS];
         fill_frame(fx, it, fields);
-        assert_int_equal(ekm2d_writer_append(w, 0.5 * it, fields, &err), EKM_OK);
+        assert_int_equal(ekm2d_writer_append(w, 0.5 * it, fx->sc.length / fx->sc.cells, fields, &err),
+                         EKM_OK);
     }
     assert_int_equal(ekm2d_writer_set_attr(w, "stats.steps", 42.0, &err), EKM_OK);
     /* no file before commit */
@@ -274,10 +275,10 @@ static void test_not_finite(void **state)
     assert_int_equal(ekm2d_writer_open(&w, path, &fx->sc, 1, NT, &err), EKM_OK);
     const double *fields[EKM2D_NFIELDS];
     fill_frame(fx, 0, fields);
-    assert_int_equal(ekm2d_writer_append(w, 0.0, fields, &err), EKM_OK);
+    assert_int_equal(ekm2d_writer_append(w, 0.0, fx->sc.length / fx->sc.cells, fields, &err), EKM_OK);
     fill_frame(fx, 1, fields);
     fx->values[EKM2D_SXZ][1 * NX + 2] = NAN; /* ix 2, iz 1 */
-    assert_int_equal(ekm2d_writer_append(w, 0.5, fields, &err), EKM_ENUMERIC);
+    assert_int_equal(ekm2d_writer_append(w, 0.5, fx->sc.length / fx->sc.cells, fields, &err), EKM_ENUMERIC);
     assert_non_null(strstr(err.message, "field sxz is not finite"));
     assert_non_null(strstr(err.message, "ix 2, iz 1"));
     assert_non_null(strstr(err.message, "t = 0.5 s"));
@@ -296,7 +297,7 @@ static void test_abort(void **state)
     assert_int_equal(ekm2d_writer_open(&w, path, &fx->sc, 1, NT, &err), EKM_OK);
     const double *fields[EKM2D_NFIELDS];
     fill_frame(fx, 0, fields);
-    assert_int_equal(ekm2d_writer_append(w, 0.0, fields, &err), EKM_OK);
+    assert_int_equal(ekm2d_writer_append(w, 0.0, fx->sc.length / fx->sc.cells, fields, &err), EKM_OK);
     ekm2d_writer_abort(w);
     ekm2d_writer_abort(NULL); /* harmless */
     assert_int_equal(files_named(fx->dir, "abort2d"), 0);
@@ -314,8 +315,8 @@ static void test_limits(void **state)
     assert_int_equal(ekm2d_writer_open(&w, path, &fx->sc, 1, 1, &err), EKM_OK);
     const double *fields[EKM2D_NFIELDS];
     fill_frame(fx, 0, fields);
-    assert_int_equal(ekm2d_writer_append(w, 0.0, fields, &err), EKM_OK);
-    assert_int_equal(ekm2d_writer_append(w, 0.5, fields, &err), EKM_EINTERNAL);
+    assert_int_equal(ekm2d_writer_append(w, 0.0, fx->sc.length / fx->sc.cells, fields, &err), EKM_OK);
+    assert_int_equal(ekm2d_writer_append(w, 0.5, fx->sc.length / fx->sc.cells, fields, &err), EKM_EINTERNAL);
     ekm2d_writer_abort(w);
     assert_int_equal(ekm2d_writer_open(&w, path, &fx->sc, 1, (size_t)1e9, &err), EKM_EINPUT);
     assert_null(w);
