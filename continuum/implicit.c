@@ -260,8 +260,9 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
 
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz, double rho_p,
                                     const double *phi, const double *rhoT_star, const double *lambda,
-                                    const ekm_source_coeffs *src, const unsigned char *dry, double T_floor,
-                                    double tol, int newton_max, double *T, int *iterations, ekm_error *err)
+                                    const ekm_source_coeffs *src, const unsigned char *dry, double phi_vacuum,
+                                    double T_floor, double tol, int newton_max, double *T, int *iterations,
+                                    ekm_error *err)
 {
     const double a = 2.0 / 3.0 * dt / (dz * dz);
     /* Face conductances (lagged); lam_face[j] is the face between cells
@@ -269,7 +270,9 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
     double *lam_face = wk->aux;
     lam_face[0] = 0.0;
     for (int j = 1; j < n; j++)
-        lam_face[j] = harmonic(lambda[j - 1], lambda[j]);
+        lam_face[j] = phi_vacuum > 0.0 && (phi[j - 1] < phi_vacuum) != (phi[j] < phi_vacuum)
+                          ? 0.0
+                          : harmonic(lambda[j - 1], lambda[j]);
     lam_face[n] = 0.0;
     for (int it = 1; it <= newton_max; it++) {
         /* S and dS/dT of every cell first, without branches (a loop the

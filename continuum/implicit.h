@@ -102,12 +102,17 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
  * estimated from Newton's quadratic convergence, is below tol relative:
  * |dT_k| < sqrt(tol) T (error ~ dT_k^2), or, once the updates contract,
  * |dT_k|^3 / |dT_{k-1}|^2 < tol T (error ~ C dT_k^2 with C ~ |dT_k| /
- * |dT_{k-1}|^2 measured).  Returns EKM_ENUMERIC when Newton does not
- * converge in newton_max iterations (the caller retries with a smaller
- * step). */
+ * |dT_{k-1}|^2 measured).  phi_vacuum > 0: a face between a cell below
+ * phi_vacuum and a cell at or above it conducts nothing (the vacuum rule:
+ * a dilute "vapour" over a free surface, whose kinetic conductivity does
+ * not fall with phi, would heat the surface for ever; docs/model.md
+ * "Surface cells in 2D"); 0: off.  Returns EKM_ENUMERIC when Newton does
+ * not converge in newton_max iterations (the caller retries with a
+ * smaller step). */
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz, double rho_p,
                                     const double *phi, const double *rhoT_star, const double *lambda,
-                                    const ekm_source_coeffs *src, const unsigned char *dry, double T_floor,
-                                    double tol, int newton_max, double *T, int *iterations, ekm_error *err);
+                                    const ekm_source_coeffs *src, const unsigned char *dry, double phi_vacuum,
+                                    double T_floor, double tol, int newton_max, double *T, int *iterations,
+                                    ekm_error *err);
 
 #endif

@@ -488,8 +488,9 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
                                                       st->u2[j], st->w2[j]);
     }
     if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src,
-                                 st->dry_T, sc->numerics.T_floor, sc->numerics.newton_tol,
-                                 sc->numerics.newton_max, s->T, iterations, &serr) != EKM_OK) {
+                                 st->dry_T, sc->numerics.phi_vacuum, sc->numerics.T_floor,
+                                 sc->numerics.newton_tol, sc->numerics.newton_max, s->T, iterations,
+                                 &serr) != EKM_OK) {
         snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s, dt = %.3g s: %.400s", s->t, dt,
                  serr.message);
         return 0;

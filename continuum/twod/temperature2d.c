@@ -8,8 +8,9 @@
  *   S(T) = k_a sqrt(T) + k_y / sqrt(T) - k_d sqrt(T) (T + nu Y)   [W/m^3]
  *
  * with the face conductances l [kg/(m s)] lagged (the harmonic mean of the
- * two cells' lambda at (phi*, T*); none at the ends, the side walls and
- * next to an empty cell) and the source's coefficients from the new
+ * two cells' lambda at (phi*, T*); none at the ends, the side walls, next
+ * to an empty cell and, with [numerics] phi_vacuum > 0, between a cell
+ * below phi_vacuum and a cell above it) and the source's coefficients from the new
  * velocities (model.h's ekm_temperature_source_coeffs_plane: the shear
  * rate the mean square of the cell's corners that carry one, the normal
  * rates its own).  Newton's method on the 5-point system, with the 1D
@@ -114,10 +115,16 @@ static conduction cell_conduction(const ekm2d_step *st, PetscInt i, PetscInt j, 
     const double az = 2.0 / 3.0 * dt / (g->dz * g->dz), ax = 2.0 / 3.0 * dt / (g->dx * g->dx);
     conduction c = {.nb = {{i, j - 1}, {i, j + 1}, {i - 1, j}, {i + 1, j}}};
     const double here = lam(st, i, j);
+    const double vac = st->sc->numerics.phi_vacuum;
+    const int vapour = BOX(st, phi_new, i, j) < vac;
     for (int k = 0; k < 4; k++) {
         const PetscInt ni = c.nb[k][0], nj = c.nb[k][1];
         const int across_side = k >= 2 && ekm2d_side_face(g, k == 2 ? i : i + 1);
-        const double l = nj < 0 || nj >= g->nz || across_side ? 0.0 : harmonic(here, lam(st, ni, nj));
+        double l = nj < 0 || nj >= g->nz || across_side ? 0.0 : harmonic(here, lam(st, ni, nj));
+        /* the vacuum rule ([numerics] phi_vacuum > 0): a face between a
+         * cell below phi_vacuum and a cell above conducts nothing (implicit.h) */
+        if (vac > 0.0 && l > 0.0 && vapour != (BOX(st, phi_new, ni, nj) < vac))
+            l = 0.0;
         c.a[k] = (k < 2 ? az : ax) * l;
         c.sum_al += c.a[k];
         if (c.a[k] != 0.0)

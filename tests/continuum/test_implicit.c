@@ -53,6 +53,53 @@ static void test_shear_faces_known_solution(void **state)
     ekm_implicit_free(wk);
 }
 
+/* Temperature, conduction only (no source), adiabatic ends: a dense bed
+ * (cells 0-1, phi 0.6, T 1e-8 m^2/s^2) under a hot dilute vapour (cells
+ * 2-3, phi 0.01, T 1e-3), every lambda 1 kg/(m s).  Without the vacuum
+ * rule heat flows into the bed and sum rho T is conserved; with
+ * phi_vacuum = 0.05 the face between bed and vapour conducts nothing:
+ * each part keeps its T. */
+static void test_temperature_vacuum_insulates(void **state)
+{
+    (void)state;
+    enum { M = 4 };
+    const double rho_p = 1600.0, dt = 1e-3, dz = 2.5e-3;
+    const double phi[M] = {0.6, 0.6, 0.01, 0.01}, T0[M] = {1e-8, 1e-8, 1e-3, 1e-3}, lambda[M] = {1, 1, 1, 1};
+    double rhoT[M], T[M];
+    ekm_source_coeffs src[M];
+    memset(src, 0, sizeof src);
+    unsigned char dry[M] = {0};
+    double energy = 0.0;
+    for (int j = 0; j < M; j++) {
+        rhoT[j] = rho_p * phi[j] * T0[j];
+        energy += rhoT[j];
+    }
+    ekm_implicit_work *wk = ekm_implicit_alloc(M);
+    assert_non_null(wk);
+    ekm_error err = {0};
+    for (int rule = 0; rule < 2; rule++) {
+        memcpy(T, T0, sizeof T);
+        int its = 0;
+        assert_int_equal(ekm_implicit_temperature(wk, M, dt, dz, rho_p, phi, rhoT, lambda, src, dry,
+                                                  rule ? 0.05 : 0.0, 1e-16, 1e-12, 20, T, &its, &err),
+                         EKM_OK);
+        double e = 0.0;
+        for (int j = 0; j < M; j++)
+            e += rho_p * phi[j] * T[j];
+        if (!(fabs(e - energy) <= 1e-12 * energy))
+            fail_msg("vacuum rule %d: sum rho T %.17g, want %.17g", rule, e, energy);
+        if (rule) {
+            for (int j = 0; j < M; j++)
+                if (!(fabs(T[j] - T0[j]) <= 1e-12 * T0[j]))
+                    fail_msg("vacuum rule: cell %d: T %.17g, want %.17g (each part keeps its T)", j, T[j],
+                             T0[j]);
+        } else if (!(T[1] > 100.0 * T0[1])) {
+            fail_msg("no vacuum rule: the bed's top cell should heat (T %.3g from %.3g)", T[1], T0[1]);
+        }
+    }
+    ekm_implicit_free(wk);
+}
+
 /* Normal solve: rho_f w_f - dt/dz^2 (mu_f (w_{f+1} - w_f) - mu_{f-1} (w_f - w_{f-1})) = rhs_f
  * at the interior faces, mu_j the viscosity of cell j (between faces j and
  * j+1), w_0 and w_n prescribed. */
@@ -123,6 +170,7 @@ int main(void)
         cmocka_unit_test(test_shear_faces_known_solution),
         cmocka_unit_test(test_normal_velocity_known_solution),
         cmocka_unit_test(test_singular_refused),
+        cmocka_unit_test(test_temperature_vacuum_insulates),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
