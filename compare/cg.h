@@ -1,5 +1,5 @@
 /* cg.h: coarse-grained fields of one snapshot, and the derived profiles
- * (MODEL.md section 8).
+ * (docs/model-notes.md section 8).
  *
  * Per snapshot, on the bins of a cg_grid along the profile axis s, with
  * lateral area A and bin weights W_ik of particle i in bin k [1/m]:

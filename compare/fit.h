@@ -1,7 +1,7 @@
 /* fit.h: calibration of EKM material parameters on steady homogeneous
  * simple shear (`ekmcompare fit --rheology`, docs/compare.md).
  *
- * Model: ekm_homog_shear (continuum/homogeneous.h) at each point's phi
+ * Model: ekm_homog_shear (law/homogeneous.h) at each point's phi
  * and gdot, which are taken as exact. Residuals (model - data)/SE for
  * the chosen observables (P, |sxz|, T, mu). GSL multifit_nlinear trust
  * region (Levenberg-Marquardt) in transformed parameters: log for the

@@ -1,4 +1,4 @@
-/* kernel.h: 1D coarse-graining kernels and the output grid (MODEL.md s.8).
+/* kernel.h: 1D coarse-graining kernels and the output grid (docs/model-notes.md section 8).
  *
  * A kernel W(x) of a particle at distance x, normalised to 1 over the line,
  * enters the fields through its bin integrals: the weight of a particle at

@@ -66,7 +66,7 @@ static const char usage_text[] =
     "  --quiet              no notes on stderr\n"
     "\n"
     "score: interpolate ekm's output onto the DEM grid and times; per field the relative L2\n"
-    "error and the noise-normalised error (MODEL.md section 9); prints a markdown table.\n"
+    "error and the noise-normalised error (docs/model-notes.md section 9); prints a markdown table.\n"
     "  --dem FILE --ekm FILE  inputs (ekmcompare cg output; ekm output)\n"
     "  --fields LIST        default: phi,vx,vz,T,P,sxz,szz (those in both files)\n"
     "  -o FILE              JSON output\n"

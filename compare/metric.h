@@ -1,4 +1,4 @@
-/* metric.h: the scoring metric of MODEL.md section 9, as a pure function
+/* metric.h: the scoring metric of docs/model-notes.md section 9, as a pure function
  * of the matched points (no files: score.c reads, interpolates and
  * writes).
  *

@@ -1,5 +1,5 @@
 /* scalars.h: scalar observables of a slab profile with their standard
- * errors (MODEL.md section 9: "what papers quote"), as pure functions of
+ * errors (docs/model-notes.md section 9: "what papers quote"), as pure functions of
  * one profile (no files: score.c reads, interpolates and writes).
  *
  * A profile is n points z[k] (increasing, m) with bin averages and their

@@ -1,5 +1,5 @@
 /* score.h: `ekmcompare score`: the EKM against coarse-grained DEM
- * (MODEL.md section 9).
+ * (docs/model-notes.md section 9).
  *
  * The EKM fields (ekm's HDF5: /z, /t, [nt][nz] fields) are interpolated
  * linearly in z and t onto the DEM grid and times (cg HDF5: axis dataset,

@@ -1,4 +1,4 @@
-/* bc.h: boundary conditions at the two ends of the slab (MODEL.md 5).
+/* bc.h: boundary conditions at the two ends of the slab (docs/model-notes.md section 5).
  *
  * Each kind is one function that describes its boundary face for the
  * current state: the normal velocity there (prescribed, or following the

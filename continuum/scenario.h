@@ -14,6 +14,7 @@
 #include <stddef.h>
 
 #include "model.h"
+#include "switching.h"
 #include "status.h"
 
 typedef enum {
@@ -88,34 +89,6 @@ typedef struct {
                                    * the law's norm is taken at the step's own rates instead of the
                                    * lagged ones (twod/regime2d.c) [-] */
 } ekm_numerics;
-
-/* Solid (hypoplastic) regime and its switching thresholds ([hypo]). */
-typedef struct {
-    int enabled;                 /* 0: flow regimes only (the EKM alone) */
-    double T_ratio;              /* flow -> solid when T < T_ratio * Y (P_K/P_Y < T_ratio) [-] */
-    double phi_margin;           /* flow -> solid only when phi > phi_co + phi_margin [-] */
-    double phi_loose;            /* a loose cell (phi <= phi_co + phi_margin) on a solid one turns
-                                  * solid (elastic) only when phi >= phi_loose [-] */
-    double rest_rate;            /* flow -> solid only when w' <= rest_rate (compressing or at rest) [1/s] */
-    double yield_tol;            /* solid -> flow when f_Y >= -yield_tol and the rate is not
-                                  * compression-dominated [-] */
-    double jump_tol;             /* ... and when the stress differs from the flow stress of the
-                                  * current rates by at most jump_tol (relative) [-] */
-    double phi_fixed;            /* 0: the rate law's density-dependent constants (P_Y, R, f, a1,
-                                  * a2) and its limit surface at the cell's phi; > 0: at this phi
-                                  * instead (thesis 6.2.2, "material constants independent of the
-                                  * density": an element test of the law) [-] */
-    int log;                     /* 1: one line per switch on stderr */
-    int carry_over;              /* 1 (always, not a scenario key): the stress (flow -> solid) and T
-                                  * (solid -> flow) carry over and solid -> flow waits for the
-                                  * jump_tol match; 0 only for tests that show a real stress jump is
-                                  * detected: the solid starts at -P_Y (isotropic), T stays frozen,
-                                  * no jump_tol gate */
-    int initial_solid;           /* [initial] solid: material cells start solid */
-    double initial_stress_ratio; /* [initial] stress_ratio: their stress is -ratio P_Y (isotropic) [-] */
-    int initial_settled;         /* [initial] settled: instead, phi and stress of a layer at rest
-                                  * under the initial gravity, at yield pressure (state.c) */
-} ekm_hypo_params;
 
 /* Where a key's value came from. */
 typedef enum {

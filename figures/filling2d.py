@@ -41,12 +41,12 @@ Definitions (also written into filling2d.json, "definitions"):
   engineering rate, 2 |kappa_xz|: |du/dz| in simple shear), compression
   rate |div v| = |dvx/dx + dvz/dz| (the thesis's |kappa_ll|);
 - P_Y = rho_p T0 (phi - phi_co) g(phi) above phi_co, 0 below, and P_K =
-  rho_p phi T g(phi), g = 1/(1 - phi/phi_cp): continuum/model.c,
+  rho_p phi T g(phi), g = 1/(1 - phi/phi_cp): law/model.c,
   ekm_pressure_yield and ekm_pressure_kinetic, with the run's material.*;
   P_eq = P_K + P_Y, the viscous pressure P - P_eq (= -zeta div v in a
   flowing cell, the thesis's P~ = -zeta kappa_ll; in a solid cell the
   hypoplastic stress's departure from P_eq at the cell's frozen T);
-- sigma_s = sqrt(s:s), s the stress deviator (MODEL.md section 1, the
+- sigma_s = sqrt(s:s), s the stress deviator (docs/model-notes.md section 1, the
   thesis's invariant; sqrt(J2) = sigma_s/sqrt(2)), of plane strain with the
   out-of-plane stress syy = -3 P - sxx - szz: the output's P is -(sxx +
   syy + szz)/3 in every wet cell (continuum/twod/fields2d.c: model.h's
@@ -183,7 +183,7 @@ class Run(C.Run2D):
                 min(int(math.floor(pz / self.dz)), self.z.size - 1))
 
 
-# --- the model's formulas (continuum/model.c), vectorised -----------------------------
+# --- the model's formulas (law/model.c), vectorised -----------------------------
 
 def g_factor(m, phi):
     """ekm_g: 1/(1 - phi/phi_cp)."""
@@ -420,13 +420,13 @@ DEFINITIONS = {
              "are (0 in an empty cell): shear_rate = |dvx/dz + dvz/dx| (2 |kappa_xz|, |du/dz| in simple "
              "shear), compression_rate = |div v| = |dvx/dx + dvz/dz| (the thesis's |kappa_ll|)",
     "speed": "|v| = sqrt(vx^2 + vz^2) at the cell centre",
-    "P_Y": "rho_p T0 (phi - phi_co) / (1 - phi/phi_cp) above phi_co, 0 below (continuum/model.c "
+    "P_Y": "rho_p T0 (phi - phi_co) / (1 - phi/phi_cp) above phi_co, 0 below (law/model.c "
            "ekm_pressure_yield, the run's material.*)",
-    "P_K": "rho_p phi T / (1 - phi/phi_cp) (continuum/model.c ekm_pressure_kinetic)",
+    "P_K": "rho_p phi T / (1 - phi/phi_cp) (law/model.c ekm_pressure_kinetic)",
     "P_viscous": "P - P_eq, P_eq = P_K + P_Y: -zeta div v in a flowing cell (the thesis's P~ = "
                  "-zeta kappa_ll); in a solid cell the hypoplastic stress's departure from P_eq at its "
                  "frozen T",
-    "sigma_s": "sqrt(s:s), s the deviator of (sxx, syy, szz, sxz) (MODEL.md section 1; sqrt(J2) = "
+    "sigma_s": "sqrt(s:s), s the deviator of (sxx, syy, szz, sxz) (docs/model-notes.md section 1; sqrt(J2) = "
                "sigma_s / sqrt(2)), syy = -3 P - sxx - szz: the output P is -(sxx + syy + szz)/3 in "
                "every wet cell (continuum/twod/fields2d.c; ekm_stress_plane's isotropic part in a "
                "flowing cell, the state's syy in a solid one)",
@@ -674,7 +674,7 @@ def captions(run, res, prov):
             "viscous heating and dissipation at the cell's phi and rates, %s variant) in m^2/s^2; (c) "
             "speed |v| in m/s; (d) shear rate |dvx/dz + dvz/dx| and compression rate |div v| in 1/s, "
             "central differences of the cell-centred velocities with the neighbouring cells; (e) yield "
-            "pressure P_Y (continuum/model.c), shear stress sigma_s = sqrt(s:s) of the plane-strain "
+            "pressure P_Y (law/model.c), shear stress sigma_s = sqrt(s:s) of the plane-strain "
             "deviator (syy = -3P - sxx - szz) and viscous pressure |P - P_eq|, P_eq = P_K + P_Y (open "
             "circles where P - P_eq < 0), in Pa, right axis scaled with the bulk density rho_b = "
             "rho_p = %g kg/m^3; (f) sigma_s/P, the thesis's 1/7 dashed. Marked: %s; %s. Empty frames "

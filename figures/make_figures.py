@@ -15,7 +15,7 @@ the list of the files written (one path a line):
                           a time-series scenario (filling): space-time maps
                           phi(z, t) of DEM and EKM, and the bed height h(t)
   rheology_simple_shear   P and |sxz|/P against shear rate at each phi: DEM,
-                          EKM runs and the EKM's closed form (MODEL.md 7)
+                          EKM runs and the EKM's closed form (docs/model-notes.md section 7)
   rheology_fit            mu(I), phi(I), P/(rho_p d^2 gdot^2), T/(d gdot)^2
                           against phi: DEM of both simple-shear sweeps, the
                           closed form of every parameter set, residuals

@@ -10,7 +10,7 @@
 # that the figures read a point's phi and rate from the table).
 # Writes RES/scores.json and RES/scores.md (atomically) and prints the
 # markdown table. One row per scenario x sweep point x scored field, with
-# the relative L2 error and the noise-normalised error (MODEL.md section 9)
+# the relative L2 error and the noise-normalised error (docs/model-notes.md section 9)
 # of EKM vs LIGGGHTS, EKM vs LAMMPS and LIGGGHTS vs LAMMPS (the floor).
 # A comparison that cannot exist (engine cannot run the scenario, or not in
 # ENGINES) is "n/a"; one whose score file is missing (failed step) is

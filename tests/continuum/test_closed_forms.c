@@ -1,4 +1,4 @@
-/* Solver runs against the closed forms of MODEL.md section 7. */
+/* Solver runs against the closed forms of docs/model-notes.md section 7. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>

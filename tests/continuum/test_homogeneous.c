@@ -1,5 +1,5 @@
-/* ekm_homog_shear (continuum/homogeneous.c) against the closed forms of
- * MODEL.md section 7 (nu = 1 and general nu, both variants, below and
+/* ekm_homog_shear (law/homogeneous.c) against the closed forms of
+ * docs/model-notes.md section 7 (nu = 1 and general nu, both variants, below and
  * above phi_co), and against the solver's steady state of a wall-driven
  * homogeneous Couette case (scenarios/simple_shear.ini). */
 #include <math.h>
@@ -27,7 +27,7 @@ static void assert_rel(const char *what, double got, double want, double tol)
                  tol);
 }
 
-/* MODEL.md section 7, written out independently of model.c. */
+/* docs/model-notes.md section 7, written out independently of model.c. */
 static void closed_form(const ekm_material *m, double phi, double gdot, double *T, double *P, double *mu)
 {
     const double g = 1.0 / (1.0 - phi / m->phi_cp);
@@ -71,7 +71,8 @@ static void test_closed_forms(void **state)
                     assert_true(fabs(S) < 1e-12 * heat);
                     cases++;
                 }
-    printf("homogeneous shear: %d cases, worst relative error against MODEL.md 7: %.2e\n", cases, worst);
+    printf("homogeneous shear: %d cases, worst relative error against docs/model-notes.md section 7: %.2e\n",
+           cases, worst);
 }
 
 static void test_bad_arguments(void **state)

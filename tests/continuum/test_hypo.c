@@ -1,6 +1,6 @@
-/* The hypoplastic rate law (continuum/hypo.h): the homogeneous law
+/* The hypoplastic rate law (law/hypo.h): the homogeneous law
  * integrated with GSL odeiv2 (rk8pd, tight tolerances) as the reference,
- * against the closed forms of MODEL.md sections 4 and 7 (thesis 6.2.2). */
+ * against the closed forms of docs/model-notes.md sections 4 and 7 (thesis 6.2.2). */
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 #include <math.h>
@@ -181,7 +181,7 @@ static void test_shear_critical_state(void **state)
         mu, mu_exact, fy, tr / (3 * PY));
     assert_true(fabs(fy) < 1e-6);
     assert_true(fabs(tr / (-3.0 * PY) - 1.0) < 1e-6);
-    assert_true(fabs(mu / mu_exact - 1.0) < 1e-6); /* MODEL.md 7: the EKM's friction */
+    assert_true(fabs(mu / mu_exact - 1.0) < 1e-6); /* docs/model-notes.md section 7: the EKM's friction */
 }
 
 /* The stepper's linearly implicit step: fixed point exactly the limit

@@ -1,4 +1,4 @@
-/* Constitutive functions against values computed by hand from MODEL.md
+/* Constitutive functions against values computed by hand from docs/model-notes.md
  * section 2 (both variants, nu = 0.8 != 1), and the closed forms they
  * must satisfy. */
 #include <math.h>
@@ -99,7 +99,7 @@ static void test_source_derivative(void **state)
 }
 
 /* The local balance is a root of S, and equals the closed forms of
- * MODEL.md 7 for nu = 1: simple shear T = 2 eta0 gdot^2/(3 phi eps0)
+ * docs/model-notes.md section 7 for nu = 1: simple shear T = 2 eta0 gdot^2/(3 phi eps0)
  * at any phi; pure compression T = 2 (4/3 eta0 + zeta0) w'^2/(3 phi eps0). */
 static void test_local_balance(void **state)
 {

@@ -272,7 +272,7 @@ static ekm_status cycle_frame(void *ctx, const ekm_state *s, const ekm_stepper *
 /* The driven sample as an ODE (GSL rk8pd, tight tolerances), independent
  * of the stepper: y = (sigma, ln phi), w' = w_piston(t)/L, the thesis law
  * d(sigma)/dt = f A_h (w' - (sigma + P_Y)/(R P_Y) |w'|) with P_Y, R and f
- * at the current phi (MODEL.md 4) or at phi_fixed, d(ln phi)/dt = -w'. */
+ * at the current phi (docs/model-notes.md section 4) or at phi_fixed, d(ln phi)/dt = -w'. */
 typedef struct {
     const ekm_material *m;
     double dw, phi_fixed;
@@ -496,7 +496,7 @@ static void test_column_incline(void **state)
  * tilt rate and the square of the thickness: the 2 cm layer tilted at 0.5
  * deg/s of earlier versions reached 6.5e-8 m/s).  The test computes that
  * response independently from the stress state of every frame
- * (tilt_response: the law of MODEL.md 4 solved for the strain rates that
+ * (tilt_response: the law of docs/model-notes.md section 4 solved for the strain rates that
  * give the stress rates of the growing load) and asserts
  *  - velocities below 1e-9 m/s in every step while the whole layer is
  *    solid, up to the failure (a step hook), the law's response below
@@ -555,7 +555,7 @@ static ekm_status tilt_step(void *ctx, const ekm_state *s, const ekm_stepper *st
     return EKM_OK;
 }
 
-/* MODEL.md 4 (full variant) limit function of a cell's stress. */
+/* docs/model-notes.md section 4 (full variant) limit function of a cell's stress. */
 static double tilt_fY(const ekm_material *m, double phi, const ekm_hypo_stress *sg)
 {
     const double PY = ekm_pressure_yield(m, phi);

@@ -3,7 +3,7 @@
  * stops there; a chute above its friction angle started from rest is not
  * steady within its maximum time (it ends there with steady = 0 and a
  * positive acceleration); Couette at a fixed normal pressure reaches
- * szz = -P and the phi of MODEL.md section 7's closed form for that P and
+ * szz = -P and the phi of docs/model-notes.md section 7's closed form for that P and
  * the final shear rate; with the top wall's speed following the gap
  * ([top] shear_rate) the shear rate is the one imposed as well. */
 #include <gsl/gsl_errno.h>
@@ -123,7 +123,7 @@ static double pressure_mismatch(double phi, void *params)
 }
 
 /* The phi of steady homogeneous shear at normal pressure P and shear rate
- * gdot (MODEL.md section 7: the root is unique, P grows with phi), by
+ * gdot (docs/model-notes.md section 7: the root is unique, P grows with phi), by
  * GSL's Brent solver on (1e-6, phi_cp). */
 static double phi_at_pressure(const ekm_material *m, ekm_variant v, double gdot, double P)
 {

@@ -1,4 +1,4 @@
-/* ekm_steady_solve (steady_solve.h): the closed forms of MODEL.md 7 to
+/* ekm_steady_solve (steady_solve.h): the closed forms of docs/model-notes.md section 7 to
  * 1e-8, agreement with the time stepper run to its steady state, the
  * stepper does not move the solution, no steady state, unsupported
  * scenarios. */
@@ -96,7 +96,7 @@ static void test_couette(void **state)
     solve_ok(&c, "scenarios/simple_shear.ini", NULL, 0);
     const double gdot = (c.sc.top.velocity - c.sc.bottom.velocity) / c.sc.length;
     check_homogeneous_shear(&c, c.sc.phi_init, gdot);
-    /* T = 2 eta0 gdot^2 / (3 phi eps0) (MODEL.md 7) */
+    /* T = 2 eta0 gdot^2 / (3 phi eps0) (docs/model-notes.md section 7) */
     const ekm_material *m = &c.sc.material;
     assert_true(fabs(c.s->T[0] / (2.0 * m->eta0 * gdot * gdot / (3.0 * c.s->phi[0] * m->eps0)) - 1.0) < 1e-8);
     case_free(&c);
@@ -157,7 +157,7 @@ static void test_couette_slip_pressure(void **state)
  * Discrete closed form: the shear stress at each face inside the layer
  * (harmonic face eta times the face gradient) equals tan(theta) times the
  * normal weight of the material above the face; and in the interior of
- * the layer phi approaches 3 eta0 eps0 / (2 tan^2 theta) (MODEL.md 7: the
+ * the layer phi approaches 3 eta0 eps0 / (2 tan^2 theta) (docs/model-notes.md section 7: the
  * local limit; here with conduction and the grid, so to 2e-3). */
 static void check_chute(double angle, int check_phi)
 {

@@ -1,4 +1,4 @@
-/* The flow <-> solid switching rules (continuum/switching.h), one rule per
+/* The flow <-> solid switching rules (law/switching.h), one rule per
  * case, on the default [hypo] thresholds (scenario.c) and the material of
  * scenarios/settled_layer_2d's kind (phi_co 0.60, phi_cp 0.64). */
 #include <math.h>

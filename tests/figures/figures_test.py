@@ -413,7 +413,7 @@ def param_sets(src, work):
         for k, p, r in rheology.residuals(fd, fd.models[0]):
             if p.sweep != "fixed volume":
                 continue
-            if k == 0:   # nu = 1, phi < phi_co: mu = sqrt(3 eta0 eps0 / (2 phi)) (MODEL.md 7)
+            if k == 0:   # nu = 1, phi < phi_co: mu = sqrt(3 eta0 eps0 / (2 phi)) (docs/model-notes.md section 7)
                 want = np.sqrt(3 * m["eta0"] * m["eps0"] / (2 * p.phi))
                 check(abs(r * p.mu_se + p.mu - want) < 1e-9 * want, "sets: thesis mu at phi %g: %g, want %g"
                       % (p.phi, r * p.mu_se + p.mu, want))

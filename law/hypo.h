@@ -1,5 +1,5 @@
 /* hypo.h: the hypoplastic (solid-like) regime of the EKM in the slab, as
- * pure functions (MODEL.md section 4, docs/model.md "Solid regime").
+ * pure functions (docs/model-notes.md section 4, docs/model.md "Solid regime").
  *
  * Full variant (cleaned tensor form of thesis 5.4.8-5.4.11), stress state
  * sigma_xx, sigma_yy, sigma_zz, sigma_xz [Pa] (negative in compression),
@@ -31,7 +31,7 @@
  *   R = sqrt(3 eps0 zeta0 / (2 phi)),  f_Y = ((sigma + P_Y)/(R P_Y))^2 - 1;
  *
  * the shear stress follows the deviatoric part of the full law (the thesis
- * has none).  The thesis's Chapter 5 typos (MODEL.md 10) are not copied:
+ * has none).  The thesis's Chapter 5 typos (docs/model-notes.md section 10) are not copied:
  * L^-1 is never needed, N is derived afresh from the flow rule, and f
  * scales the stiffness.
  *
@@ -60,7 +60,7 @@ typedef struct {
 /* Density factor f(phi) of the stiffness (0 at phi <= phi_co). */
 double ekm_hypo_density_factor(const ekm_material *m, double phi);
 
-/* R of the variant at phi (MODEL.md 4). */
+/* R of the variant at phi (docs/model-notes.md section 4). */
 double ekm_hypo_R(const ekm_material *m, ekm_variant v, double phi);
 
 /* ||kappa|| [1/s] for u' = du_dz, w' = dw_dz (thesis variant: |w'|). */

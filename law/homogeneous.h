@@ -11,7 +11,7 @@
  * it cancels for every nu and both variants (w' = 0: the normal viscosity
  * never enters), leaving T = 2 eta0 gdot^2 / (3 phi eps0) (docs/model.md,
  * "Steady homogeneous shear").  Then P = P_K + P_Y, |sigma_xz| = eta gdot
- * and mu = |sigma_xz| / P.  gdot = |du/dz| (MODEL.md section 7), not the
+ * and mu = |sigma_xz| / P.  gdot = |du/dz| (docs/model-notes.md section 7), not the
  * invariant sqrt(kappa^D : kappa^D).
  */
 #ifndef EKM_HOMOGENEOUS_H

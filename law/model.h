@@ -1,7 +1,7 @@
 /* model.h: the EKM constitutive law in the flow regimes, as pure functions
  * of the local state (phi, T) and the velocity gradients.
  *
- * Conventions (MODEL.md sections 1-3, docs/model.md): SI units; T is the
+ * Conventions (docs/model-notes.md sections 1-3, docs/model.md): SI units; T is the
  * granular temperature per degree of freedom [m^2/s^2]; stress negative in
  * compression, P = -tr(sigma)/3 positive in compression.  With
  *
@@ -35,7 +35,7 @@
 
 typedef enum { EKM_VARIANT_FULL = 0, EKM_VARIANT_THESIS = 1 } ekm_variant;
 
-/* Material constants, SI, rho_p factored out (MODEL.md section 1). */
+/* Material constants, SI, rho_p factored out (docs/model-notes.md section 1). */
 typedef struct {
     double rho_p;   /* particle material density [kg/m^3] */
     double phi_co;  /* cross-over volume fraction, onset of yield pressure [-] */
@@ -215,7 +215,7 @@ static inline double ekm_source_balance(const ekm_source_coeffs *c)
  *   phi eps0 T^2 + (phi eps0 nu Y - 2/3 Ka) T - 2/3 Kb = 0,
  *   Ka = eta0 u2 + c_n w2,  Kb = Y (nu eta0 u2 + c_n' w2)
  * (c_n, c_n' the normal-viscosity lengths of the variant).  For steady
- * simple shear this is T = 2 eta0 gdot^2/(3 phi eps0) (MODEL.md 7). */
+ * simple shear this is T = 2 eta0 gdot^2/(3 phi eps0) (docs/model-notes.md section 7). */
 double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v, double phi, double u2, double w2);
 
 /* d(P_K + P_Y)/dphi at constant T [Pa]: how the equilibrium pressure

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# rooms_check.sh: the folders ("rooms", README "What is here") include one
+# another one way only.  Each tracked C file's #include "X.h" is resolved
+# to the room (top folder) that holds X.h (its own room's first; a name
+# held by several other rooms is an error), and a room may include only
+# the rooms listed for it below (its own always):
+#
+#   common     -
+#   law        common            (the constitutive law: pure functions)
+#
+# Other rooms are not checked yet (issue 35 moves the scenario service and
+# the calibration out of continuum/ and compare/ first).
+#
+#   tests/style/rooms_check.sh SOURCE_DIR
+#
+# Exit status: 0 the rules hold; 1 a rule broken (one line per include on
+# stderr: file:line, the header, its room); 2 usage; 77 (skipped) outside
+# a git checkout.
+set -uo pipefail
+[ $# -eq 1 ] || { echo "usage: rooms_check.sh SOURCE_DIR" >&2; exit 2; }
+cd "$1" || { echo "rooms_check.sh: $1: not a directory" >&2; exit 2; }
+git rev-parse --git-dir > /dev/null 2>&1 || { echo "rooms_check.sh: $1: not a git checkout: skipped"; exit 77; }
+
+declare -A allowed=([common]="" [law]="common")
+
+# header name -> the rooms holding one of that name (the first path component)
+declare -A rooms_of
+while IFS= read -r h; do
+  name=${h##*/}
+  rooms_of[$name]="${rooms_of[$name]:-} ${h%%/*}"
+done < <(git ls-files '*.h' | grep -v -E '^(tests|fuzz|bench)/')
+
+bad=0
+checked=0
+for room in "${!allowed[@]}"; do
+  while IFS= read -r f; do
+    checked=$((checked + 1))
+    while IFS=: read -r line header; do
+      held=${rooms_of[$header]:-}
+      [ -z "$held" ] && continue # a system header or a generated one
+      case " $held " in *" $room "*) continue ;; esac # its own room's
+      read -r -a holders <<< "$held"
+      if [ "${#holders[@]}" -ne 1 ]; then
+        echo "rooms_check.sh: $f:$line: \"$header\" is held by several rooms ($held): ambiguous" >&2
+        bad=1
+        continue
+      fi
+      target=${holders[0]}
+      case " ${allowed[$room]} " in *" $target "*) continue ;; esac
+      echo "rooms_check.sh: $f:$line: includes \"$header\" of $target/, which $room/ may not (it may: ${allowed[$room]:-nothing})" >&2
+      bad=1
+    done < <(grep -n -o -E '^#include "[^"]+"' "$f" | sed -E 's/#include "([^"]+)"/\1/; s#[^:]*/##2')
+  done < <(git ls-files "$room/*.c" "$room/*.h")
+done
+if [ "$bad" -ne 0 ]; then
+  exit 1
+fi
+echo "rooms_check.sh: $checked files of ${!allowed[*]}: every include within its room's rules"
