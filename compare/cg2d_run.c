@@ -14,7 +14,7 @@
 #include "window.h"
 #include "kernel.h"
 #include "stats.h"
-#include "steady.h"
+#include "steadiness.h"
 #include "xdmf.h"
 
 #define CG2D_MAX_CELLS 5e7 /* most cells of a grid */
@@ -226,7 +226,7 @@ static ekm_status read_run(cg2d_state *st, const cg_run_opts *ro, size_t irun, e
     const cg_run_opts *o = st->o;
     double t_start = -INFINITY;
     ekm_status rc = EKM_OK;
-    if (o->steady && (rc = cg_steady_start(ro, &t_start, err)))
+    if (o->steady && (rc = cg_steadiness_start(ro, &t_start, err)))
         return rc;
     cg_input src;
     cg_input_init(&src, ro);

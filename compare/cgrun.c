@@ -1,6 +1,6 @@
 /* cgrun.c: the `ekmcompare cg` pipeline (see cgrun.h): the options, the
  * grid, and the loop over the selected snapshots; the steps are in
- * cg_input.c (dumps -> particles), contacts.c (pair dumps), steady.c
+ * cg_input.c (dumps -> particles), contacts.c (pair dumps), steadiness.c
  * (--steady), window.c (averaging windows) and cg_output.c (writers). */
 #include "cgrun.h"
 
@@ -16,7 +16,7 @@
 #include "cg_input.h"
 #include "cg_output.h"
 #include "kernel.h"
-#include "steady.h"
+#include "steadiness.h"
 #include "window.h"
 
 cg_run_opts cg_run_opts_default(void)
@@ -149,7 +149,7 @@ ekm_status cg_run(const cg_run_opts *o, ekm_error *err)
     if (rc)
         return rc;
     double t_start = -INFINITY;
-    if (o->steady && (rc = cg_steady_start(o, &t_start, err)))
+    if (o->steady && (rc = cg_steadiness_start(o, &t_start, err)))
         return rc;
     info.steady = o->steady;
     info.t_start = t_start;

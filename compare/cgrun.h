@@ -11,7 +11,7 @@
  * the centre of mass, then to average.
  *
  * The steps, one module each: cg_input.h (dumps -> selected snapshots ->
- * particles), contacts.h (pair dumps -> contacts), steady.h (the steady
+ * particles), contacts.h (pair dumps -> contacts), steadiness.h (the steady
  * start), cg.h (kernel sums of one snapshot), window.h (averaging windows
  * and standard errors), cg_output.h (HDF5 and CSV writers).
  */

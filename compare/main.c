@@ -13,7 +13,7 @@
 #include "fit_cli.h"
 #include "h5.h"
 #include "score.h"
-#include "steady.h"
+#include "steadiness.h"
 
 #define MAX_STRESS_NAME 64
 
@@ -583,10 +583,10 @@ static ekm_status cmd_steady(int argc, char **argv, ekm_error *err)
     double *v = NULL;
     size_t n = 0;
     if (!rc)
-        rc = cg_steady_monitor_read(path, column, &v, &n, err);
+        rc = cg_steadiness_monitor_read(path, column, &v, &n, err);
     if (rc)
         return rc;
-    cg_steady_verdict r = cg_steady_drift(v, n, tol);
+    cg_steadiness_verdict r = cg_steadiness_drift(v, n, tol);
     free(v);
     fputs("{\"steady\": ", stdout);
     fputs(!r.known ? "null" : r.steady ? "true" : "false", stdout);

@@ -14,7 +14,7 @@
  * levels with at least 8 blocks (the plateau; level 0 if there are fewer).
  * Non-finite values (empty bins) are skipped.
  *
- * The start of the steady state (MSER-5) is in steady.h.
+ * The start of the steady state (MSER-5) is in steadiness.h.
  */
 #ifndef CG_STATS_H
 #define CG_STATS_H

@@ -1,6 +1,6 @@
 #include "run.h"
 
-#include "steady.h"
+#include "steady_stop.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -56,14 +56,14 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
     ekm_status rc;
     if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
         return rc;
-    ekm_steady steady = {0};
+    ekm_steady_stop steady = {0};
     const int until_steady = sc->stop == EKM_STOP_STEADY;
     int is_steady = 0;
     if (until_steady) {
-        if ((rc = ekm_steady_init(&steady, s->n, err)) != EKM_OK)
+        if ((rc = ekm_steady_stop_init(&steady, s->n, err)) != EKM_OK)
             return rc;
-        if ((rc = ekm_steady_check(&steady, sc, s, &is_steady, err)) != EKM_OK) {
-            ekm_steady_free(&steady);
+        if ((rc = ekm_steady_stop_check(&steady, sc, s, &is_steady, err)) != EKM_OK) {
+            ekm_steady_stop_free(&steady);
             return rc;
         }
     }
@@ -126,7 +126,7 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
             track_phi(stats, s);
             if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
                 goto done;
-            if (until_steady && (rc = ekm_steady_check(&steady, sc, s, &is_steady, err)) != EKM_OK)
+            if (until_steady && (rc = ekm_steady_stop_check(&steady, sc, s, &is_steady, err)) != EKM_OK)
                 goto done;
         }
         if (hooks && hooks->progress && now_s() - last_progress > 0.25) {
@@ -154,10 +154,10 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
         stats->steady = steady.steady;
         stats->steady_drift = steady.drift;
         stats->steady_time = steady.steady_time;
-        stats->steady_acceleration = ekm_steady_acceleration(&steady, sc);
+        stats->steady_acceleration = ekm_steady_stop_acceleration(&steady, sc);
     }
 done:
     if (until_steady)
-        ekm_steady_free(&steady);
+        ekm_steady_stop_free(&steady);
     return rc;
 }

@@ -4,7 +4,7 @@
  * is halved on a rejected step down to dt_min (below it: EKM_ENUMERIC with
  * the last rejection's reason; also when the limit itself is below dt_min,
  * naming the limit and the cell); frames at output_dt, progress line.
- * [run] stop = steady: the steady-state test of steady.h at every output;
+ * [run] stop = steady: the steady-state test of steady_stop.h at every output;
  * the run ends at the first output where it holds (t_end: the longest). */
 #ifndef EKM_RUN_H
 #define EKM_RUN_H
@@ -43,7 +43,7 @@ typedef struct {
     int fail_cell;               /* the failing cell (-1: none) */
     double fail_phi;             /* its phi then (the law's, as fail_fY) [-] */
     ekm_hypo_stress fail_stress; /* its stress then [Pa] */
-    /* [run] stop = steady (steady.h): */
+    /* [run] stop = steady (steady_stop.h): */
     int steady;                 /* 1: ended steady, 0: reached t_end unsteady */
     double steady_drift;        /* drift at the last output [1/s] */
     double steady_time;         /* start of the held steady window [s], NAN: never */

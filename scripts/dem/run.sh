@@ -348,7 +348,7 @@ run_case() { # run_case TAG "name value ..."
   # --- steady state: last quarter of the monitor series vs the one before ---
   local steady=null drift=null
   if [ "$st" = ok ] && [ -s "$dir/monitor.txt" ]; then
-    # one definition of "steady" (compare/steady.c, docs/compare.md):
+    # one definition of "steady" (compare/steadiness.c, docs/compare.md):
     # relative drift of the mean of the last quarter of the monitor series
     # against the quarter before, 4 significant digits, steady if <= tol
     local verdict

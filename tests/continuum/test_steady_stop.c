@@ -1,4 +1,4 @@
-/* [run] stop = steady (steady.h) and the pressure-controlled top wall
+/* [run] stop = steady (steady_stop.h) and the pressure-controlled top wall
  * (bc.h, step.h): a homogeneous Couette case with a known steady state
  * stops there; a chute above its friction angle started from rest is not
  * steady within its maximum time (it ends there with steady = 0 and a

@@ -1,4 +1,4 @@
-#include "steady.h"
+#include "steady_stop.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -8,21 +8,21 @@
 #define FLOOR_U   1e-4 /* [m/s] */
 #define FLOOR_T   1e-8 /* [m^2/s^2] */
 
-ekm_status ekm_steady_init(ekm_steady *sd, int n, ekm_error *err)
+ekm_status ekm_steady_stop_init(ekm_steady_stop *sd, int n, ekm_error *err)
 {
-    *sd = (ekm_steady){.n = n, .t_prev = -1.0, .drift = NAN, .steady_since = NAN, .steady_time = NAN};
+    *sd = (ekm_steady_stop){.n = n, .t_prev = -1.0, .drift = NAN, .steady_since = NAN, .steady_time = NAN};
     sd->phi = calloc((size_t)n, sizeof *sd->phi);
     sd->u = calloc((size_t)n, sizeof *sd->u);
     sd->T = calloc((size_t)n, sizeof *sd->T);
     sd->mask = calloc((size_t)n, 1);
     if (!sd->phi || !sd->u || !sd->T || !sd->mask) {
-        ekm_steady_free(sd);
+        ekm_steady_stop_free(sd);
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the steady-state test (%d cells)", n);
     }
     return EKM_OK;
 }
 
-void ekm_steady_free(ekm_steady *sd)
+void ekm_steady_stop_free(ekm_steady_stop *sd)
 {
     free(sd->phi);
     free(sd->u);
@@ -51,7 +51,7 @@ static double relative_change(const double *a, const double *b, const unsigned c
     return sqrt(diff) / fmax(sqrt(norm), floor * sqrt((double)count));
 }
 
-static ekm_status record(ekm_steady *sd, double t, double v, ekm_error *err)
+static ekm_status record(ekm_steady_stop *sd, double t, double v, ekm_error *err)
 {
     if (sd->n_hist == sd->cap) {
         const size_t cap = sd->cap ? 2 * sd->cap : 64;
@@ -71,8 +71,8 @@ static ekm_status record(ekm_steady *sd, double t, double v, ekm_error *err)
     return EKM_OK;
 }
 
-ekm_status ekm_steady_check(ekm_steady *sd, const ekm_scenario *sc, const ekm_state *s, int *stop,
-                            ekm_error *err)
+ekm_status ekm_steady_stop_check(ekm_steady_stop *sd, const ekm_scenario *sc, const ekm_state *s, int *stop,
+                                 ekm_error *err)
 {
     const int n = s->n;
     const double phi_dry = sc->numerics.phi_dry;
@@ -116,7 +116,7 @@ ekm_status ekm_steady_check(ekm_steady *sd, const ekm_scenario *sc, const ekm_st
     return EKM_OK;
 }
 
-double ekm_steady_acceleration(const ekm_steady *sd, const ekm_scenario *sc)
+double ekm_steady_stop_acceleration(const ekm_steady_stop *sd, const ekm_scenario *sc)
 {
     if (sd->n_hist < 2)
         return 0.0;

@@ -1,4 +1,4 @@
-/* steady.h: the one definition of "steady" in ekmbench.
+/* steadiness.h: the one definition of "steady" in ekmbench.
  *
  * Two questions, two tools:
  *
@@ -21,39 +21,39 @@
  *    mass and, on a non-periodic axis, the centre of mass of every
  *    selected snapshot, and starts at the later of the two.
  */
-#ifndef CG_STEADY_H
-#define CG_STEADY_H
+#ifndef CG_STEADINESS_H
+#define CG_STEADINESS_H
 
 #include <stddef.h>
 
 #include "cgrun.h"
 #include "status.h"
 
-#define CG_STEADY_MIN_SAMPLES 8 /* fewest samples the drift criterion judges */
+#define CG_STEADINESS_MIN_SAMPLES 8 /* fewest samples the drift criterion judges */
 
 typedef struct {
     size_t samples; /* n */
-    int known;      /* 0: fewer than CG_STEADY_MIN_SAMPLES samples, no verdict */
+    int known;      /* 0: fewer than CG_STEADINESS_MIN_SAMPLES samples, no verdict */
     double drift;   /* the relative drift, rounded to 4 significant digits [-] */
     double tol;     /* the tolerance it was held against [-] */
     int steady;     /* known && drift <= tol */
-} cg_steady_verdict;
+} cg_steadiness_verdict;
 
 /* The drift criterion on v[0..n-1] (finite values) with tolerance tol. */
-cg_steady_verdict cg_steady_drift(const double *v, size_t n, double tol);
+cg_steadiness_verdict cg_steadiness_drift(const double *v, size_t n, double tol);
 
 /* Steady-state start index of x[0..n-1] by MSER-5 (0 if n < 10). */
-size_t cg_steady_mser(const double *x, size_t n);
+size_t cg_steadiness_mser(const double *x, size_t n);
 
 /* The monitor series of a DEM run: column `column` (1-based, as awk's $N)
  * of the lines of path that do not start with '#' and have at least
  * max(2, column) blank-separated fields; every such value must be a
  * finite number. *v is malloc'ed (free() it), *n its length. */
-ekm_status cg_steady_monitor_read(const char *path, int column, double **v, size_t *n, ekm_error *err);
+ekm_status cg_steadiness_monitor_read(const char *path, int column, double **v, size_t *n, ekm_error *err);
 
 /* `cg --steady`: read the selection of o once and return the time at
  * which the steady window starts (MSER-5, see above; notes and a warning
  * on o->log). */
-ekm_status cg_steady_start(const cg_run_opts *o, double *t_start, ekm_error *err);
+ekm_status cg_steadiness_start(const cg_run_opts *o, double *t_start, ekm_error *err);
 
 #endif

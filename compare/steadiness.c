@@ -1,6 +1,6 @@
-/* steady.c: the drift criterion, MSER-5 and the steady start of
- * `cg --steady` (see steady.h). */
-#include "steady.h"
+/* steadiness.c: the drift criterion, MSER-5 and the steady start of
+ * `cg --steady` (see steadiness.h). */
+#include "steadiness.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -13,13 +13,13 @@
 
 #define MSER_BATCH 5 /* MSER batch size [snapshots] */
 
-cg_steady_verdict cg_steady_drift(const double *v, size_t n, double tol)
+cg_steadiness_verdict cg_steadiness_drift(const double *v, size_t n, double tol)
 {
-    cg_steady_verdict r;
+    cg_steadiness_verdict r;
     memset(&r, 0, sizeof r);
     r.samples = n;
     r.tol = tol;
-    if (n < CG_STEADY_MIN_SAMPLES)
+    if (n < CG_STEADINESS_MIN_SAMPLES)
         return r;
     size_t q = n / 4;
     double a = 0, b = 0;
@@ -45,7 +45,7 @@ cg_steady_verdict cg_steady_drift(const double *v, size_t n, double tol)
     return r;
 }
 
-size_t cg_steady_mser(const double *x, size_t n)
+size_t cg_steadiness_mser(const double *x, size_t n)
 {
     size_t nb = n / MSER_BATCH;
     if (nb < 2)
@@ -91,7 +91,7 @@ static ekm_status push(double **a, size_t *n, size_t *cap, double v, ekm_error *
     return EKM_OK;
 }
 
-ekm_status cg_steady_start(const cg_run_opts *o, double *t_start, ekm_error *err)
+ekm_status cg_steadiness_start(const cg_run_opts *o, double *t_start, ekm_error *err)
 {
     cg_input src;
     cg_input_init(&src, o);
@@ -121,9 +121,9 @@ ekm_status cg_steady_start(const cg_run_opts *o, double *t_start, ekm_error *err
         if (nts == 0) {
             rc = EKM_FAIL(err, EKM_EINPUT, "%s: no snapshots selected", o->inputs[0]);
         } else {
-            size_t k = cg_steady_mser(ke, nke);
+            size_t k = cg_steadiness_mser(ke, nke);
             if (!periodic) {
-                size_t k2 = cg_steady_mser(com, ncom);
+                size_t k2 = cg_steadiness_mser(com, ncom);
                 if (k2 > k)
                     k = k2;
             }
@@ -173,7 +173,7 @@ static size_t split_fields(char *line, char **field, size_t max)
     }
 }
 
-ekm_status cg_steady_monitor_read(const char *path, int column, double **v, size_t *n, ekm_error *err)
+ekm_status cg_steadiness_monitor_read(const char *path, int column, double **v, size_t *n, ekm_error *err)
 {
     *v = NULL;
     *n = 0;

@@ -1,4 +1,4 @@
-/* steady.h: the steady-state test of a run with [run] stop = steady.
+/* steady_stop.h: the steady-state test of a run with [run] stop = steady.
  *
  * At every output time t_k (the check cadence is output_dt) the drift is
  * the largest of the relative changes per unit model time since the
@@ -19,8 +19,8 @@
  * mass-weighted mean velocity Q / sum(phi dz) over the last steady_window
  * (or the whole run when shorter) [m/s^2].
  */
-#ifndef EKM_STEADY_H
-#define EKM_STEADY_H
+#ifndef EKM_STEADY_STOP_H
+#define EKM_STEADY_STOP_H
 
 #include "scenario.h"
 #include "state.h"
@@ -38,18 +38,18 @@ typedef struct {
     double steady_time;      /* steady_since when it became steady [s], NAN: never */
     size_t n_hist, cap;      /* mean-velocity history of every check */
     double *hist_t, *hist_v; /* [s], [m/s] */
-} ekm_steady;
+} ekm_steady_stop;
 
-ekm_status ekm_steady_init(ekm_steady *sd, int n, ekm_error *err);
-void ekm_steady_free(ekm_steady *sd);
+ekm_status ekm_steady_stop_init(ekm_steady_stop *sd, int n, ekm_error *err);
+void ekm_steady_stop_free(ekm_steady_stop *sd);
 
 /* The check at an output time: updates the drift; *stop = 1 when the run
  * is steady (held over steady_window). */
-ekm_status ekm_steady_check(ekm_steady *sd, const ekm_scenario *sc, const ekm_state *s, int *stop,
-                            ekm_error *err);
+ekm_status ekm_steady_stop_check(ekm_steady_stop *sd, const ekm_scenario *sc, const ekm_state *s, int *stop,
+                                 ekm_error *err);
 
 /* d(mean vx)/dt over the last steady_window of checks [m/s^2] (0 with
  * fewer than two checks). */
-double ekm_steady_acceleration(const ekm_steady *sd, const ekm_scenario *sc);
+double ekm_steady_stop_acceleration(const ekm_steady_stop *sd, const ekm_scenario *sc);
 
 #endif
