@@ -29,10 +29,11 @@
 #
 # Runs go to RUNS (default runs/thesis2d/, not committed); a run whose .h5
 # exists is not run again (delete it to redo), so the script resumes after
-# an interruption. One core per run, JOBS runs at a time (default 2). The
+# an interruption. FIGURES_ONLY=1: no runs, the figures and numbers of the
+# runs made so far (the others' figures are left as they are). One core per run, JOBS runs at a time (default 2). The
 # 112 x 56 piles take about 25 min each, the rest a few minutes each
 # (2026-12-06, this 2-core machine).
-# usage: scripts/thesis2d.sh [BUILD_DIR]     env: RUNS, JOBS
+# usage: scripts/thesis2d.sh [BUILD_DIR]     env: RUNS, JOBS, FIGURES_ONLY
 set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -63,49 +64,58 @@ cases=(
 
 # shellcheck source=scripts/lib/ekm_runs.sh
 . "$root/scripts/lib/ekm_runs.sh"
-ekm_runs thesis2d
+[ "${FIGURES_ONLY:-0}" = 1 ] || ekm_runs thesis2d
 
 py=/usr/bin/python3
+# draw SCRIPT RUN.h5 OUTDIR [ARGS...]: one figure script on one run; with
+# FIGURES_ONLY=1 a run not made yet is skipped with a line
+draw() {
+  if [ ! -f "$2" ] && [ "${FIGURES_ONLY:-0}" = 1 ]; then
+    echo "thesis2d: $2 not made yet: its figures are left as they are" >&2
+    return 0
+  fi
+  $py -B "$@" >&2
+}
 for k in flow solid; do
-  $py -B "$root/figures/filling2d.py" "$runs/filling_$k.h5" "$res/thesis_filling_2d/$k" >&2
+  draw "$root/figures/filling2d.py" "$runs/filling_$k.h5" "$res/thesis_filling_2d/$k" >&2
 done
 for k in narrow_28x14 narrow_56x28 narrow_112x56 narrow7_56x28 wide_56x28; do
-  $py -B "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/$k" >&2
+  draw "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/$k" >&2
 done
 # the piles of the faster inflows stand before the layer reaches the side
 # walls (at 3.5 s the plate is covered): their numbers at 1 and 2 s (the
 # fast narrow inlet at 3 resolutions, run to 2 s on 28 x 14 and 112 x 56)
 for k in narrow7_28x14 narrow7_56x28 narrow7_112x56 wide_56x28; do
   for bt in 1 2; do
-    $py -B "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/${k}_at_${bt}s" \
+    draw "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/${k}_at_${bt}s" \
       --times 0.5,1,1.5,2 --base-time "$bt" >&2
   done
 done
 # two sources (thesis Fig. 4.20): the inlets and the base profile's maxima
 # and minima marked; the box is full by 3.5 s (the two inlets pour twice
 # the fast narrow inlet's mass), so also at 1 and 2 s
-$py -B "$root/figures/pile2d.py" "$runs/pile_2sources7_56x28.h5" "$res/thesis_sandpile_2d/2sources7_56x28" \
+draw "$root/figures/pile2d.py" "$runs/pile_2sources7_56x28.h5" "$res/thesis_sandpile_2d/2sources7_56x28" \
   --extrema >&2
 for k in 2sources7_28x14 2sources7_56x28; do
   for bt in 1 2; do
-    $py -B "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/${k}_at_${bt}s" \
+    draw "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/${k}_at_${bt}s" \
       --times 0.5,1,1.5,2 --base-time "$bt" --extrema >&2
   done
 done
 # the pile at rest: the fast narrow inlet closed at 1 s, the pile left to
 # itself until 3.5 s (docs/model.md "thesis_sandpile_2d")
 for bt in 1 1.25 2 3.5; do
-  $py -B "$root/figures/pile2d.py" "$runs/pile_narrow7stop1_56x28.h5" \
+  draw "$root/figures/pile2d.py" "$runs/pile_narrow7stop1_56x28.h5" \
     "$res/thesis_sandpile_2d/narrow7stop1_56x28_at_${bt}s" --times 0.5,1,1.5,2,3.5 --base-time "$bt" >&2
 done
 for bt in 1 1.25 2 2.5; do
-  $py -B "$root/figures/pile2d.py" "$runs/pile_narrow7stop1_112x56.h5" \
+  draw "$root/figures/pile2d.py" "$runs/pile_narrow7stop1_112x56.h5" \
     "$res/thesis_sandpile_2d/narrow7stop1_112x56_at_${bt}s" --times 0.5,1,1.5,2,2.5 --base-time "$bt" >&2
 done
 # the same pile without the surface rules (docs/model.md "Surface cells in
 # 2D"): it slumps
 for bt in 1 2 3.5; do
-  $py -B "$root/figures/pile2d.py" "$runs/pile_narrow7stop1norules_56x28.h5" \
+  draw "$root/figures/pile2d.py" "$runs/pile_narrow7stop1norules_56x28.h5" \
     "$res/thesis_sandpile_2d/narrow7stop1norules_56x28_at_${bt}s" --times 0.5,1,1.5,2,3.5 --base-time "$bt" >&2
 done
 # the base rows' phi and P of every pile at its base times (the thesis's
@@ -118,7 +128,10 @@ rows = {}
 for name in ("narrow_56x28", "narrow_112x56", "narrow7_28x14", "narrow7_56x28", "narrow7_112x56",
              "wide_56x28", "2sources7_28x14", "2sources7_56x28", "narrow7stop1_56x28",
              "narrow7stop1_112x56", "narrow7stop1norules_56x28"):
-    with h5py.File(os.path.join(runs, "pile_%s.h5" % name), "r") as f:
+    path = os.path.join(runs, "pile_%s.h5" % name)
+    if not os.path.exists(path):   # a partial batch (FIGURES_ONLY): the runs made so far
+        continue
+    with h5py.File(path, "r") as f:
         t = list(f["t"][:])
         for bt in (1.0, 2.0, 3.5):
             if bt > t[-1] + 1e-9:
@@ -143,31 +156,30 @@ import json, os, sys
 d = sys.argv[1]
 def v(q, fmt, scale=1.0):
     return "-" if q is None or q.get("value") is None else fmt % (q["value"] * scale)
-rows, versions = [], set()
+rows = []
 for name in sorted(os.listdir(d)):
     path = os.path.join(d, name, "pile2d.json")
     if not os.path.isfile(path):
         continue
     with open(path) as fh:
         j = json.load(fh)
-    versions.add(j["input"]["code_version"])
     b, bp = j["base_time"], j["base_time"]["base_pressure"]
     slopes = ", ".join("-" if b[k]["angle"].get("value") is None else
                        v(b[k]["angle"], "%.1f") + " +- " + v(b[k].get("se"), "%.1f")
                        for k in ("slope_left", "slope_right"))
     dip = b["dip"]["value"]
-    rows.append("| %s | %s | %s | %s | %s | %s | %s | %s |" % (
+    rows.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
         name, v(b["time"], "%g"), b["bed"], v(b["height"], "%.1f", 1e3), slopes,
         v(b["phi_apex_minus_flank"], "%+.1e"), v(bp["ratio_centre_to_max"], "%.3f"),
-        "-" if dip is None else ("yes" if dip else "no")))
+        "-" if dip is None else ("yes" if dip else "no"), j["input"]["code_version"]))
 out = os.path.join(d, "summary.md")
 with open(out + ".tmp", "w") as fh:
     fh.write("# thesis_sandpile_2d: every pile at its base time\n\n"
              "Written by scripts/thesis2d.sh from each folder's pile2d.json (figures/pile2d.py: "
-             "the definitions); code version %s.\n\n"
+             "the definitions); the code version of each run in its row.\n\n"
              "| folder | t [s] | bed | height [mm] | slopes left, right [deg] (+- se) "
-             "| phi apex - flank | P(centre)/P(max) | dip (3 sigma) |\n|---|---|---|---|---|---|---|---|\n"
-             % ", ".join(sorted(versions)) + "\n".join(rows) + "\n")
+             "| phi apex - flank | P(centre)/P(max) | dip (3 sigma) | code |\n"
+             "|---|---|---|---|---|---|---|---|---|\n" + "\n".join(rows) + "\n")
 os.replace(out + ".tmp", out)
 PY
 echo "thesis2d: figures and numbers in $res" >&2
