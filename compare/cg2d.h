@@ -57,6 +57,10 @@ enum cg2d_field {
 };
 #define CG2D_NFIELD_KINETIC CG2D_F_CXX /* fields without a contact stress */
 
+/* The most blocks one averaging window keeps (cg_blocks bmax) for its
+ * standard errors (cg2d_run.h). */
+#define CG2D_BLOCKS 16
+
 /* Name of 2D field f ("phi"; units in the field schema, common/schema.h). */
 const char *cg2d_field_name(int f);
 

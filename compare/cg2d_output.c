@@ -8,7 +8,6 @@
 #include <string.h>
 
 #include "atomic.h"
-#include "cg2d_run.h"
 #include "cg_output.h"
 #include "h5.h"
 #include "schema.h"

@@ -10,7 +10,7 @@
 #include <stddef.h>
 
 #include "cg2d.h"
-#include "cgrun.h"
+#include "cg_opts.h"
 #include "status.h"
 
 /* The fields of the closed windows (or of the ensemble: one). */

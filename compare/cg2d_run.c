@@ -351,7 +351,7 @@ ekm_status cg2d_run(const cg_run_opts *o, ekm_error *err)
 {
     ekm_status rc = check_options(o, err);
     if (!rc)
-        rc = cg_run_refuse_inputs(o, err);
+        rc = cg_opts_refuse_inputs(o, err);
     if (rc)
         return rc;
     char *inputs = calloc(4096, 1);

@@ -5,8 +5,8 @@
  *
  * One run (the default): the inputs are the files of one run, in time
  * order, as in 1D; windows (--every, --window) and standard errors by
- * blocking over snapshots (stats.h), with at most CG2D_BLOCKS blocks per
- * window (the block store is CG2D_BLOCKS x 17 values per cell).
+ * blocking over snapshots (stats.h), with at most CG2D_BLOCKS (cg2d.h) blocks
+ * per window (the block store is CG2D_BLOCKS x 17 values per cell).
  *
  * Ensemble (--ensemble): every input is one independent run (another
  * seed); each run's selected snapshots are averaged (one window per run,
@@ -20,10 +20,8 @@
 #ifndef CG_CG2D_RUN_H
 #define CG_CG2D_RUN_H
 
-#include "cgrun.h"
+#include "cg_opts.h"
 #include "status.h"
-
-#define CG2D_BLOCKS 16 /* block store size of one window (cg_blocks bmax) */
 
 ekm_status cg2d_run(const cg_run_opts *o, ekm_error *err);
 

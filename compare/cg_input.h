@@ -21,7 +21,7 @@
 #include <stdint.h>
 
 #include "cg.h"
-#include "cgrun.h"
+#include "cg_opts.h"
 #include "contacts.h"
 #include "dump.h"
 #include "status.h"

@@ -109,7 +109,7 @@ ekm_status cg_output_h5(const cg_run_opts *o, const cg_grid *g, const cg_window_
     ekm_status rc = check_values(o, g, r, nfield, err);
     if (rc)
         return rc;
-    ekm_h5_file *w; /* (its path and its sidecar's checked against the inputs by cgrun.c) */
+    ekm_h5_file *w; /* (its path and its sidecar's checked against the inputs by cg_opts.c) */
     if ((rc = ekm_h5_create(&w, o->out, err)))
         return rc;
     size_t n = g->n;

@@ -12,7 +12,7 @@
 #include <stddef.h>
 
 #include "cg.h"
-#include "cgrun.h"
+#include "cg_opts.h"
 #include "status.h"
 #include "kernel.h"
 #include "window.h"

@@ -17,7 +17,7 @@
 #include <stddef.h>
 
 #include "cg.h"
-#include "cgrun.h"
+#include "cg_opts.h"
 #include "dump.h"
 #include "status.h"
 

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "ekm_version.h"
-#include "cgrun.h"
+#include "cg_run.h"
 #include "status.h"
 #include "atomic.h"
 #include "base.h"
@@ -227,7 +227,7 @@ static ekm_status get_stress(const char *s, stress_names *sn, cg_run_opts *o, ek
 
 static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
 {
-    cg_run_opts o = cg_run_opts_default();
+    cg_run_opts o = cg_opts_default();
     o.log = stderr;
     stress_names sn;
     pair_names pn;

@@ -26,7 +26,7 @@
 
 #include <stddef.h>
 
-#include "cgrun.h"
+#include "cg_opts.h"
 #include "status.h"
 
 #define CG_STEADINESS_MIN_SAMPLES 8 /* fewest samples the drift criterion judges */

@@ -17,7 +17,7 @@ static ekm_bc_face bc_wall(const ekm_bc *bc, ekm_side side, const ekm_state *s)
     ekm_bc_face b = {0};
     b.w = 0.0;
     b.wall_conductance = 1.0 / (0.5 * s->dz + bc->slip_length);
-    b.u_wall = ekm_bc_rate_wall(bc) ? bc->velocity + bc->shear_rate * s->n * s->dz : bc->velocity;
+    b.u_wall = ekm_boundary_rate_wall(bc) ? bc->velocity + bc->shear_rate * s->n * s->dz : bc->velocity;
     return b;
 }
 
@@ -106,11 +106,6 @@ double ekm_bc_face_w(const ekm_bc_face *b, ekm_side side, const ekm_state *s)
 int ekm_bc_pressure_wall(const ekm_bc *bc)
 {
     return bc->kind == EKM_BC_WALL && !isnan(bc->pressure);
-}
-
-int ekm_bc_rate_wall(const ekm_bc *bc)
-{
-    return bc->kind == EKM_BC_WALL && !isnan(bc->shear_rate);
 }
 
 /* dL/dt = rate L (-szz_top - P)/P with szz_top = -(P_K + P_Y) + mu_n (dL/dt

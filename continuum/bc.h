@@ -47,9 +47,6 @@ ekm_bc_face ekm_bc_evaluate(const ekm_bc *bc, ekm_side side, double t, const ekm
 /* 1: bc is a wall held at a normal pressure (its gap moves). */
 int ekm_bc_pressure_wall(const ekm_bc *bc);
 
-/* 1: bc is a wall whose tangential speed follows the gap (shear_rate). */
-int ekm_bc_rate_wall(const ekm_bc *bc);
-
 /* dL/dt [m/s] of a pressure-controlled top wall for the state s and a step
  * of dt [s] (the top cell's response to the wall is implicit, bc.c). */
 double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s, double dt);

@@ -12,10 +12,9 @@
 #include "ekm_version.h"
 #include "h5out.h"
 #include "homog_cli.h"
-#include "resolve.h"
 #include "run.h"
 #include "scenario.h"
-#include "scenario_json.h"
+#include "scenario_cli.h"
 #include "state.h"
 #include "steady_cli.h"
 #include "step.h"
@@ -270,58 +269,6 @@ static int cmd_run(int argc, char **argv)
     return code;
 }
 
-static int cmd_scenario(int argc, char **argv)
-{
-    const char *ini = NULL, *engine = NULL, *size = NULL, *point = NULL, *material = NULL;
-    int json = 0;
-    const char **sets = calloc((size_t)argc + 1, sizeof *sets);
-    size_t n_sets = 0;
-    if (!sets) {
-        fprintf(stderr, "ekm: out of memory\n");
-        return ekm_status_exit_code(EKM_ENOMEM);
-    }
-    for (int i = 0; i < argc; i++) {
-        if (strcmp(argv[i], "--engine") == 0 && i + 1 < argc)
-            engine = argv[++i];
-        else if (strcmp(argv[i], "--size") == 0 && i + 1 < argc)
-            size = argv[++i];
-        else if (strcmp(argv[i], "--point") == 0 && i + 1 < argc)
-            point = argv[++i];
-        else if (strcmp(argv[i], "--material") == 0 && i + 1 < argc)
-            material = argv[++i];
-        else if (strcmp(argv[i], "--set") == 0 && i + 1 < argc)
-            sets[n_sets++] = argv[++i];
-        else if (strcmp(argv[i], "--json") == 0)
-            json = 1;
-        else if (argv[i][0] == '-' || ini) {
-            fprintf(stderr, "ekm scenario: unexpected argument '%s' (see ekm --help)\n", argv[i]);
-            free(sets);
-            return ekm_status_exit_code(EKM_EUSAGE);
-        } else
-            ini = argv[i];
-    }
-    if (!ini || !json) {
-        fprintf(stderr, "ekm scenario: %s (see ekm --help)\n",
-                !ini ? "missing scenario file" : "missing --json (the output format)");
-        free(sets);
-        return ekm_status_exit_code(EKM_EUSAGE);
-    }
-    ekm_error err = {0};
-    ekm_scenario sc;
-    ekm_resolved res = {0};
-    ekm_status st = ekm_scenario_load_material(&sc, ini, material, sets, n_sets, &err);
-    free(sets);
-    if (st == EKM_OK)
-        st = ekm_resolve(&sc, engine, size, &res, &err);
-    if (st == EKM_OK && point)
-        st = ekm_resolve_keep_point(&res, point, &err);
-    if (st == EKM_OK)
-        st = ekm_json_write_resolved(stdout, &sc, &res, &err);
-    ekm_resolve_free(&res);
-    ekm_scenario_free(&sc);
-    return st == EKM_OK ? 0 : fail(&err, st);
-}
-
 int main(int argc, char **argv)
 {
     gsl_set_error_handler_off();
@@ -343,7 +290,7 @@ int main(int argc, char **argv)
     if (strcmp(argv[1], "run") == 0)
         return cmd_run(argc - 2, argv + 2);
     if (strcmp(argv[1], "scenario") == 0)
-        return cmd_scenario(argc - 2, argv + 2);
+        return ekm_scenario_cli_main(argc - 2, argv + 2, "ekm", "ekm scenario");
     if (strcmp(argv[1], "homog") == 0)
         return ekm_homog_cli_main(argc - 2, argv + 2);
     if (strcmp(argv[1], "steady") == 0)

@@ -141,15 +141,15 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
     stats->wall_s = now_s() - started;
     stats->mass_final = ekm_state_mass(s, rho_p);
     stats->mass_in = s->mass_in;
-    stats->to_solid = st->to_solid;
-    stats->to_flow = st->to_flow;
-    stats->jump_max = st->jump_max;
-    stats->fail_time = st->fail_time;
-    stats->fail_angle = st->fail_angle;
-    stats->fail_fY = st->fail_fY;
-    stats->fail_cell = st->fail_cell;
-    stats->fail_phi = st->fail_phi;
-    stats->fail_stress = st->fail_stress;
+    stats->to_solid = st->regime.to_solid;
+    stats->to_flow = st->regime.to_flow;
+    stats->jump_max = st->regime.jump_max;
+    stats->fail_time = st->regime.fail_time;
+    stats->fail_angle = st->regime.fail_angle;
+    stats->fail_fY = st->regime.fail_fY;
+    stats->fail_cell = st->regime.fail_cell;
+    stats->fail_phi = st->regime.fail_phi;
+    stats->fail_stress = st->regime.fail_stress;
     if (until_steady) {
         stats->steady = steady.steady;
         stats->steady_drift = steady.drift;

@@ -13,6 +13,7 @@
 #include "homogeneous.h"
 #include "model.h"
 #include "run.h"
+#include "rates.h"
 #include "step.h"
 
 #define MAX_RESOLVES       60   /* new solves after the empty set changed */
@@ -162,7 +163,7 @@ ekm_status ekm_steady_supported(const ekm_scenario *sc, ekm_error *err)
             return EKM_FAIL(err, EKM_EINPUT,
                             "%s: [%s] type = %s: its mass changes with time, ekm steady needs wall or "
                             "free ends (use ekm run)",
-                            sc->source, names[k], ekm_bc_kind_name(kind));
+                            sc->source, names[k], ekm_boundary_kind_name(kind));
     }
     if (sc->bottom.kind == EKM_BC_FREE && ekm_scenario_gravity_z(sc) < 0.0)
         return EKM_FAIL(err, EKM_EINPUT,
@@ -182,7 +183,7 @@ static void rates_at(ss_problem *p, double dz, ekm_bc_face *bb, ekm_bc_face *bt)
     *bt = ekm_bc_evaluate(&p->sc->top, EKM_SIDE_TOP, 0.0, s);
     bb->u_wall -= p->u_ref;
     bt->u_wall -= p->u_ref;
-    ekm_step_shear_rates(s, bb, bt, p->dry, p->u2, p->w2);
+    ekm_rates_shear(s, bb, bt, p->dry, p->u2, p->w2);
 }
 
 /* The cumulative phi the one of cell j sums on from (the next cell's; 0
@@ -368,7 +369,7 @@ static void classify(ss_problem *p, const ekm_state *s)
     const double phi_dry = sc->numerics.phi_dry;
     p->dz0 = s->dz;
     double c = 0.0, u_scale = fmax(fabs(sc->bottom.velocity), fabs(sc->top.velocity));
-    if (ekm_bc_rate_wall(&sc->top))
+    if (ekm_boundary_rate_wall(&sc->top))
         u_scale = fmax(u_scale, fabs(sc->top.velocity + sc->top.shear_rate * n * s->dz));
     for (int j = 0; j < n; j++) {
         p->dry[j] = s->phi[j] < phi_dry;
@@ -1051,7 +1052,7 @@ static int local_guess(const ekm_scenario *sc, const ekm_state *g, ekm_state *s)
 {
     const double g_x = ekm_scenario_gravity_x(sc), g_z = ekm_scenario_gravity_z(sc);
     if (sc->bottom.kind != EKM_BC_WALL || sc->top.kind != EKM_BC_FREE || !(g_z < 0.0) || g_x == 0.0 ||
-        ekm_bc_rate_wall(&sc->bottom))
+        ekm_boundary_rate_wall(&sc->bottom))
         return 0;
     const double target = fabs(g_x / g_z), phi_dry = sc->numerics.phi_dry;
     ekm_homog_state h;
@@ -1112,8 +1113,9 @@ static int local_guess(const ekm_scenario *sc, const ekm_state *g, ekm_state *s)
 static int couette_guess(const ekm_scenario *sc, const ekm_state *g, ekm_state *s)
 {
     const ekm_bc *b = &sc->bottom, *t = &sc->top;
-    if (b->kind != EKM_BC_WALL || t->kind != EKM_BC_WALL || ekm_bc_rate_wall(b) || ekm_bc_rate_wall(t) ||
-        ekm_scenario_gravity_x(sc) != 0.0 || ekm_scenario_gravity_z(sc) != 0.0 || sc->angle_rate != 0.0)
+    if (b->kind != EKM_BC_WALL || t->kind != EKM_BC_WALL || ekm_boundary_rate_wall(b) ||
+        ekm_boundary_rate_wall(t) || ekm_scenario_gravity_x(sc) != 0.0 || ekm_scenario_gravity_z(sc) != 0.0 ||
+        sc->angle_rate != 0.0)
         return 0;
     const double U = t->velocity - b->velocity;
     if (!(fabs(U) > 0.0))

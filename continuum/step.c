@@ -7,6 +7,7 @@
 
 #include "bc.h"
 #include "control.h"
+#include "rates.h"
 #include "regime.h"
 
 /* The thermal relaxation limit at the end of a step: dt times the rate of
@@ -49,34 +50,34 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->dry_face = calloc(f, 1);
     st->wk = ekm_implicit_alloc(n);
     st->backup = ekm_state_alloc(n, sc->length);
-    st->hyp = calloc(c, sizeof *st->hyp);
-    st->u2_old = calloc(c, sizeof(double));
-    st->dw_old = calloc(c, sizeof(double));
-    st->du_face_old = calloc(f, sizeof(double));
-    st->kface = calloc(f, sizeof(double));
-    st->t0face = calloc(f, sizeof(double));
-    st->solid_face = calloc(f, 1);
-    st->dry_T = calloc(c, 1);
-    st->T_keep = calloc(c, sizeof(double));
     st->rhs_face0 = calloc(f, sizeof(double));
     st->dP_dphi = calloc(c, sizeof(double));
     st->phi_coupled = calloc(f, sizeof(double));
     st->g_cell = calloc(c, sizeof(double));
     st->Y_cell = calloc(c, sizeof(double));
     st->T_change = calloc(c, sizeof(double));
-    st->fail_time = -1.0;
-    st->fail_cell = -1;
     st->moving = ekm_bc_pressure_wall(&sc->top);
     if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P || !st->eta ||
         !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src || !st->rho_face ||
-        !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face || !st->wk || !st->backup || !st->hyp ||
-        !st->u2_old || !st->dw_old || !st->du_face_old || !st->kface || !st->t0face || !st->solid_face ||
-        !st->dry_T || !st->T_keep || !st->rhs_face0 || !st->dP_dphi || !st->phi_coupled || !st->g_cell ||
-        !st->Y_cell || !st->T_change) {
+        !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face || !st->wk || !st->backup ||
+        !st->rhs_face0 || !st->dP_dphi || !st->phi_coupled || !st->g_cell || !st->Y_cell || !st->T_change) {
         ekm_step_free(st);
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper (%d cells)", n);
         return NULL;
     }
+    if (ekm_regime_alloc(&st->regime, n, err) != EKM_OK) {
+        ekm_step_free(st);
+        return NULL;
+    }
+    st->flow = (ekm_regime_flow){.sc = sc,
+                                 .dry = st->dry,
+                                 .phi_new = st->phi_new,
+                                 .u2 = st->u2,
+                                 .P = st->P,
+                                 .mu_n = st->mu_n,
+                                 .lambda = st->lambda,
+                                 .T_star = st->T_star,
+                                 .eta = st->eta};
     if (sc->numerics.convection == EKM_CONVECTION_TVD) {
         const ekm_limiter *lim;
         if (ekm_limiter_find(sc->numerics.limiter, &lim, err) != EKM_OK) {
@@ -113,16 +114,8 @@ void ekm_step_free(ekm_stepper *st)
     free(st->dry_face);
     ekm_implicit_free(st->wk);
     ekm_state_free(st->backup);
-    free(st->hyp);
-    free(st->u2_old);
-    free(st->dw_old);
-    free(st->du_face_old);
-    free(st->kface);
-    free(st->t0face);
-    free(st->solid_face);
-    free(st->dry_T);
-    free(st->T_keep);
     free(st->rhs_face0);
+    ekm_regime_free(&st->regime);
     free(st->dP_dphi);
     free(st->phi_coupled);
     free(st->g_cell);
@@ -260,42 +253,6 @@ static void properties(ekm_stepper *st, int n)
     }
 }
 
-void ekm_step_shear_rates(const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
-                          const unsigned char *dry, double *u2, double *w2)
-{
-    const int n = s->n;
-    const double inv_dz = 1.0 / s->dz;
-    /* the squared gradient at the face below cell j, carried to the next
-     * cell (each face once) */
-    double below = 0.0;
-    int has_below = 0;
-    if (bb->wall_conductance > 0.0) {
-        const double g = (s->u[0] - bb->u_wall) * bb->wall_conductance;
-        below = g * g;
-        has_below = 1;
-    }
-    for (int j = 0; j < n; j++) {
-        double sum = has_below ? below : 0.0;
-        int count = has_below;
-        if (j < n - 1) {
-            const double g = (s->u[j + 1] - s->u[j]) * inv_dz;
-            below = g * g;
-            has_below = !dry[j];
-            if (!dry[j + 1]) {
-                sum += below;
-                count++;
-            }
-        } else if (bt->wall_conductance > 0.0) {
-            const double g = (bt->u_wall - s->u[n - 1]) * bt->wall_conductance;
-            sum += g * g;
-            count++;
-        }
-        u2[j] = count == 2 ? 0.5 * sum : sum;
-        const double dw = (s->w[j + 1] - s->w[j]) * inv_dz;
-        w2[j] = dw * dw;
-    }
-}
-
 #define DEG (3.14159265358979323846 / 180.0)
 
 /* Phase 1: the face data of both ends at time t, the boundary face
@@ -416,9 +373,9 @@ static int shear_momentum(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, 
     }
     ekm_status shear_rc;
     if (n_solid) {
-        ekm_regime_shear_faces(st, s, bb, bt, dt);
-        shear_rc = ekm_implicit_shear_faces(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->kface,
-                                            st->t0face, st->dry, bb->u_wall, bt->u_wall, s->u, &serr);
+        ekm_regime_shear_faces(&st->regime, &st->flow, s, bb, bt, dt);
+        shear_rc = ekm_implicit_shear_faces(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->regime.kface,
+                                            st->regime.t0face, st->dry, bb->u_wall, bt->u_wall, s->u, &serr);
     } else {
         shear_rc = ekm_implicit_shear_velocity(st->wk, n, dt, s->dz, rho_cell, st->rhs_cell, st->eta, st->dry,
                                                sb, stp, s->u, &serr);
@@ -445,8 +402,8 @@ static int momentum(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, const 
     for (int pass = 0; pass < (n_solid ? 2 : 1); pass++) {
         if (pass == 1) {
             memcpy(st->rhs_face, st->rhs_face0, ((size_t)n + 1) * sizeof *st->rhs_face);
-            ekm_regime_lagged_rates(st, s, bb, bt, st->dry);
-            ekm_regime_properties(st, s, dt);
+            ekm_regime_lagged_rates(&st->regime, s, bb, bt, st->dry);
+            ekm_regime_properties(&st->regime, &st->flow, s, dt);
         }
         if (!normal_momentum(st, s, bb, bt, dt) || !shear_momentum(st, s, bb, bt, dt, n_solid))
             return 0;
@@ -466,8 +423,8 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
     ekm_error serr;
     memcpy(s->phi, st->phi_new, (size_t)n * sizeof *s->phi);
     if (n_solid)
-        ekm_regime_finish(st, s, bb, bt);
-    ekm_step_shear_rates(s, bb, bt, st->dry, st->u2, st->w2);
+        ekm_regime_finish(&st->regime, &st->flow, s, bb, bt);
+    ekm_rates_shear(s, bb, bt, st->dry, st->u2, st->w2);
     /* The first Newton iterate: T* plus the change the last step made,
      * scaled to this dt (heating, dissipation and conduction change
      * slowly from step to step: near a steady state the guess is then
@@ -477,7 +434,7 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
     const double change_scale = st->dt_change > 0.0 ? dt / st->dt_change : 0.0;
     const double T_floor = sc->numerics.T_floor;
     for (int j = 0; j < n; j++) {
-        st->dry_T[j] = st->dry[j] || (n_solid && s->solid[j]);
+        st->regime.dry_T[j] = st->dry[j] || (n_solid && s->solid[j]);
         const double guess = st->T_star[j] + change_scale * st->T_change[j];
         s->T[j] = max2(max2(guess, 0.1 * st->T_star[j]), T_floor);
         if (st->dry[j]) {
@@ -488,7 +445,7 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
                                                       st->u2[j], st->w2[j]);
     }
     if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src,
-                                 st->dry_T, sc->numerics.phi_vacuum, sc->numerics.T_floor,
+                                 st->regime.dry_T, sc->numerics.phi_vacuum, sc->numerics.T_floor,
                                  sc->numerics.newton_tol, sc->numerics.newton_max, s->T, iterations,
                                  &serr) != EKM_OK) {
         snprintf(st->reject_reason, sizeof st->reject_reason, "t = %.9g s, dt = %.3g s: %.400s", s->t, dt,
@@ -496,13 +453,13 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
         return 0;
     }
     for (int j = 0; j < n; j++)
-        st->T_change[j] = st->dry_T[j] ? 0.0 : s->T[j] - st->T_star[j];
+        st->T_change[j] = st->regime.dry_T[j] ? 0.0 : s->T[j] - st->T_star[j];
     st->dt_change = dt;
     for (int j = 0; j < n; j++) {
         if (st->dry[j])
             s->u[j] = 0.0;
         else if (n_solid && s->solid[j])
-            s->T[j] = st->T_keep[j];
+            s->T[j] = st->regime.T_keep[j];
     }
     return 1;
 }
@@ -540,7 +497,7 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     /* 1. boundaries (and, with solid cells, their lagged rates) */
     ekm_bc_face bb, bt;
     boundaries(st, s, dt, &bb, &bt);
-    const int n_solid = ekm_regime_begin(st, s, &bb, &bt);
+    const int n_solid = ekm_regime_begin(&st->regime, &st->flow, s, &bb, &bt);
     /* 2. mass */
     if (!mass_update(st, s, &bb, &bt, dt))
         return reject(st, s, accepted);
@@ -551,7 +508,7 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     /* 4. properties */
     properties(st, n);
     if (n_solid)
-        ekm_regime_properties(st, s, dt);
+        ekm_regime_properties(&st->regime, &st->flow, s, dt);
     /* 5-6. normal and shear momentum */
     if (!momentum(st, s, &bb, &bt, dt, n_solid))
         return reject(st, s, accepted);
@@ -590,13 +547,13 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     s->t += dt;
     s->steps++;
     /* 9. regimes */
-    const long switches = st->to_solid + st->to_flow;
+    const long switches = st->regime.to_solid + st->regime.to_flow;
     if (st->sc->hypo.enabled)
-        ekm_regime_switch(st, s, &bb, &bt);
+        ekm_regime_switch(&st->regime, &st->flow, s, &bb, &bt);
     st->newton_iterations = iterations;
     /* the rate of the check holds for the next step's limit unless a cell
      * switched (solid cells have none) */
-    st->end_rate_valid = implicit && st->to_solid + st->to_flow == switches;
+    st->end_rate_valid = implicit && st->regime.to_solid + st->regime.to_flow == switches;
     st->end_rate_step = s->steps;
     st->end_rate = end_rate;
     st->end_rate_cell = end_cell;

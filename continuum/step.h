@@ -41,8 +41,8 @@
 
 #include "bc.h"
 #include "flux.h"
-#include "hypo.h"
 #include "implicit.h"
+#include "regime.h"
 #include "scenario.h"
 #include "state.h"
 
@@ -64,25 +64,10 @@ typedef struct {
     double *rhs_cell;                /* n */
     unsigned char *dry, *dry_face;   /* n, n+1 */
     ekm_implicit_work *wk;
-    ekm_state *backup; /* state before the step, for rejection */
-    /* solid regime (regime.h) */
-    ekm_hypo_implicit *hyp;    /* the prepared rate-law step of each solid cell, n */
-    double *u2_old, *dw_old;   /* squared shear rate, w' at the start of the step, n */
-    double *du_face_old;       /* u' at faces at the start of the step (lagged norm of solid faces), n+1 */
-    double *kface, *t0face;    /* shear solve face coefficients, n+1 */
-    unsigned char *solid_face; /* n+1 */
-    unsigned char *dry_T;      /* cells without a T equation (empty or solid), n */
-    double *T_keep;            /* T of solid cells, n */
-    double *rhs_face0;         /* face momentum after convection (second pass), n+1 */
-    long to_solid, to_flow;    /* switches so far */
-    double jump_max;           /* largest relative stress jump at a switch [-] */
-    double fail_time;          /* time of the first solid -> flow switch [s] (-1: none) */
-    double fail_angle;         /* gravity angle then [deg] */
-    double fail_fY;            /* f_Y of the failing cell's stress then [-] */
-    int fail_cell;             /* the failing cell (-1: none) */
-    double fail_phi; /* its phi (the law's: [hypo] phi_fixed when set) [-] and its stress then [Pa] (sigma_xz:
-                        mean of its faces) */
-    ekm_hypo_stress fail_stress;
+    ekm_state *backup;       /* state before the step, for rejection */
+    ekm_regime_work regime;  /* the solid regime's arrays and switch counts (regime.h) */
+    ekm_regime_flow flow;    /* this stepper's arrays as the solid regime sees them */
+    double *rhs_face0;       /* face momentum after convection (second pass), n+1 */
     int moving;              /* 1: pressure-controlled top wall, the grid stretches */
     double gap_rate;         /* dL/dt of this step [m/s] (moving) */
     double dz_new;           /* cell height at the end of this step [m] (moving) */
@@ -106,12 +91,6 @@ typedef struct {
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err);
 void ekm_step_free(ekm_stepper *st);
-
-/* Squared shear rate u2 at cells from the face gradients of u (faces next
- * to an empty cell, dry != 0, or a stress-free end carry none) and w2 = w'^2
- * [1/s^2], n each. */
-void ekm_step_shear_rates(const ekm_state *s, const ekm_bc_face *bb, const ekm_bc_face *bt,
-                          const unsigned char *dry, double *u2, double *w2);
 
 /* Advance s by dt.  *accepted = 0 means the step was rejected (reason in
  * st->reject_reason, s unchanged): retry with a smaller dt.  A non-OK

@@ -1,4 +1,4 @@
-/* fuzz_scenario.c: fuzz target for the scenario reader (continuum/scenario.c,
+/* fuzz_scenario.c: fuzz target for the scenario reader (scenario/scenario.c,
  * resolve.c, the JSON of `ekm scenario`) and --set parsing.
  *
  * libFuzzer entry point: the input's first line is one --set override

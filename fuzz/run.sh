@@ -51,8 +51,9 @@ else
     exe="$out/fuzz_scenario"
     # the version string of the resolved JSON (cmake generates the real one)
     printf '#define EKMBENCH_VERSION "fuzz"\n' > "$out/ekm_version.h"
-    build=(clang "${flags[@]}" -I"$root/continuum" -I"$root/common" -I"$out"
-           "$here/fuzz_scenario.c" "$root"/continuum/{scenario,resolve,scenario_json,model,flux,bc}.c
+    build=(clang "${flags[@]}" -I"$root/scenario" -I"$root/law" -I"$root/common" -I"$out"
+           "$here/fuzz_scenario.c" "$root"/scenario/{scenario,tool_keys,number,boundary,resolve,scenario_json}.c
+           "$root"/law/model.c
            "$root"/common/{status,schema,utf8}.c -linih -ljansson -lm -o "$exe")
     # an input is "--set line" + the file: each shipped scenario without and
     # with an override

@@ -13,29 +13,36 @@ DEM_ENGINES   := liggghts lammps
 DEM_SIZE       = $(or $(SIZE),smoke)
 DEM_FLAGS      = $(if $(filter 1,$(FORCE)),-f) -n $(or $(NP),1) $(foreach s,$(DEMSET),-s $(s))
 
-.PHONY: dem dem-all dem-deps dem-collision dem-calibrate
+.PHONY: dem dem-all dem-deps dem-tools dem-collision dem-calibrate
+
+EKMSCENARIO := $(BUILD)/scenario/ekmscenario
+
+# What the runner calls: ekmscenario (the resolved scenario) and ekmcompare
+# (its `steady` judges a run's monitor series); not ekm.
+dem-tools: $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS) --target ekmscenario ekmcompare
 
 dem-deps:
 	@scripts/deps.sh dem
 
-dem: dem-deps build
+dem: dem-deps dem-tools
 	@test -n "$(SCENARIO)" -a -n "$(ENGINE)" || \
 	  { echo "usage: make dem SCENARIO=<$(DEM_SCENARIOS)> ENGINE=<$(DEM_ENGINES)> SIZE=<smoke|ref> [NP=n] [FORCE=1]" >&2; exit 1; }
-	EKM=$(abspath $(EKM)) scripts/dem/run.sh $(DEM_FLAGS) $(SCENARIO) $(ENGINE) $(DEM_SIZE)
+	EKMSCENARIO=$(abspath $(EKMSCENARIO)) scripts/dem/run.sh $(DEM_FLAGS) $(SCENARIO) $(ENGINE) $(DEM_SIZE)
 
 # Runs every case one after the other; unsupported pairs
 # (dem_inputs/<engine>/<scenario>.unsupported) are skipped, any failure
 # makes the target fail after all have run. run.sh reads the scenario
-# through `ekm scenario --json`, hence `build`.
-dem-all: dem-deps build
+# through `ekmscenario --json`, hence `dem-tools`.
+dem-all: dem-deps dem-tools
 	@rc=0; for s in $(DEM_SCENARIOS); do for e in $(DEM_ENGINES); do \
 	  [ -e dem_inputs/$$e/$$s.unsupported ] && continue; \
-	  EKM=$(abspath $(EKM)) scripts/dem/run.sh $(DEM_FLAGS) $$s $$e $(DEM_SIZE) || rc=1; \
+	  EKMSCENARIO=$(abspath $(EKMSCENARIO)) scripts/dem/run.sh $(DEM_FLAGS) $$s $$e $(DEM_SIZE) || rc=1; \
 	done; done; exit $$rc
 
-dem-collision: dem-deps build
-	EKM=$(abspath $(EKM)) scripts/dem/collision.sh -o runs liggghts
-	EKM=$(abspath $(EKM)) scripts/dem/collision.sh -o runs lammps
+dem-collision: dem-deps dem-tools
+	EKMSCENARIO=$(abspath $(EKMSCENARIO)) scripts/dem/collision.sh -o runs liggghts
+	EKMSCENARIO=$(abspath $(EKMSCENARIO)) scripts/dem/collision.sh -o runs lammps
 
-dem-calibrate: dem-deps build
-	EKM=$(abspath $(EKM)) scripts/dem/collision.sh --calibrate -o runs $(or $(ENGINE),lammps)
+dem-calibrate: dem-deps dem-tools
+	EKMSCENARIO=$(abspath $(EKMSCENARIO)) scripts/dem/collision.sh --calibrate -o runs $(or $(ENGINE),lammps)

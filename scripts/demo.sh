@@ -17,7 +17,7 @@ mkdir -p "$out"
 echo "== 1. ekm: every continuum scenario -> runs/demo/continuum/"
 for ini in "$root"/scenarios/*.ini; do
   name=$(basename "$ini" .ini)
-  nx=$("$root/$build/continuum/ekm" scenario "$ini" --json | jq -r '.keys["domain.cells_x"].value // "1"')
+  nx=$("$root/$build/scenario/ekmscenario" "$ini" --json | jq -r '.keys["domain.cells_x"].value // "1"')
   if [ "$nx" != 1 ]; then
     if ! "$root/$build/continuum/ekm" --help | grep -q "this ekm has the 2D solver"; then
       echo "$name: 2D: this ekm is built without the 2D solver (docs/build.md), skipped"; continue

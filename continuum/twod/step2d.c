@@ -41,7 +41,7 @@ ekm_status ekm2d_step_supported(const ekm_scenario *sc, ekm_error *err)
         if (bc->kind != EKM_BC_WALL && bc->kind != EKM_BC_FREE && bc->kind != EKM_BC_INFLOW)
             return EKM_FAIL(err, EKM_EUNAVAILABLE,
                             "%s: [%s] type = %s: the 2D step has wall, free and inflow ends (issue 33)",
-                            sc->source, k ? "top" : "bottom", ekm_bc_kind_name(bc->kind));
+                            sc->source, k ? "top" : "bottom", ekm_boundary_kind_name(bc->kind));
         if (bc->kind == EKM_BC_WALL && isfinite(bc->shear_rate))
             return EKM_FAIL(err, EKM_EUNAVAILABLE,
                             "%s: [%s] shear_rate: a wall whose speed follows the gap is not in the 2D step",

@@ -12,8 +12,8 @@
 # the box at the end equals the mass inserted (to 1e-9 relative) and the
 # scenario's target rho phi |w| A t_stop to 1%, and the bed is at rest
 # (kinetic energy per unit mass below [dem] rest_ke, as the scenario reader
-# resolves it for the run's scenario file, engine and size: `ekm scenario
-# ... --json`, EKM= names the binary). With --sandpile the rest check, the
+# resolves it for the run's scenario file, engine and size: `ekmscenario
+# ... --json`, EKMSCENARIO= names the ekmscenario binary). With --sandpile the rest check, the
 # source's insertion (the mass inserted, EKMDEM_MASS inserted, equals its
 # target to 1%; the final mass, the grains still on the plate, is
 # a result: what rolls off the plate is deleted), and the dump contract of
@@ -79,9 +79,9 @@ if [ $filling -eq 1 ]; then
   line=$(grep '^EKMDEM_MASS' "$dir/screen.txt")
   [ -n "$line" ] || { bad 2 "no EKMDEM_MASS line in screen.txt"; exit "$fail"; }
   ini=$root/$(jq -r .scenario_file "$dir/run.json")
-  ekm=${EKM:-$root/build/continuum/ekm}
-  [ -x "$ekm" ] || { echo "check_run: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
-  resolved=$("$ekm" scenario "$ini" --engine "$(jq -r .engine "$dir/run.json")" \
+  ekmscenario=${EKMSCENARIO:-$root/build/scenario/ekmscenario}
+  [ -x "$ekmscenario" ] || { echo "check_run: ekmscenario not built: run make build (no executable $ekmscenario)" >&2; exit 7; }
+  resolved=$("$ekmscenario" "$ini" --engine "$(jq -r .engine "$dir/run.json")" \
              --size "$(jq -r .size "$dir/run.json")" --json) || exit
   rest=$(jq -r '.keys["dem.rest_ke"].value // empty' <<< "$resolved")
   [ -n "$rest" ] || { bad 2 "$ini: [dem] rest_ke: missing key"; exit "$fail"; }

@@ -7,8 +7,8 @@
 #       collisions at 0.1, 0.5, 1 and 2 m/s; prints the realised restitution
 #       of each and fails (exit 4) if any differs from [dem] restitution by
 #       more than TOL (default 0.01).
-#       [dem] restitution as the scenario reader resolves it (`ekm scenario
-#       FILE --engine ENGINE --size smoke --json`; EKM= names the binary).
+#       [dem] restitution as the scenario reader resolves it (`ekmscenario
+#       FILE --engine ENGINE --size smoke --json`; EKMSCENARIO= names the ekmscenario binary).
 #   scripts/dem/collision.sh --calibrate [-c FILE] ENGINE
 #       bisects the engine's input coefficient until the mean realised
 #       restitution equals [dem] restitution; prints the value to put in
@@ -29,9 +29,9 @@ while [ $# -gt 0 ]; do
 done
 [ $# -eq 1 ] || { echo "usage: collision.sh [-o OUT] [-c FILE] [-t TOL] [--calibrate] ENGINE" >&2; exit 1; }
 engine=$1
-ekm=${EKM:-$root/build/continuum/ekm}
-[ -x "$ekm" ] || { echo "collision.sh: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
-resolved=$("$ekm" scenario "$ini" --engine "$engine" --size smoke --json) || exit
+ekmscenario=${EKMSCENARIO:-$root/build/scenario/ekmscenario}
+[ -x "$ekmscenario" ] || { echo "collision.sh: ekmscenario not built: run make build (no executable $ekmscenario)" >&2; exit 7; }
+resolved=$("$ekmscenario" "$ini" --engine "$engine" --size smoke --json) || exit
 target=$(jq -r '.keys["dem.restitution"].value // empty' <<< "$resolved")
 [ -n "$target" ] || { echo "collision.sh: $ini: [dem] restitution: missing key" >&2; exit 2; }
 [ -n "$out" ] || out=$(mktemp -d)

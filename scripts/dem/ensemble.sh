@@ -4,7 +4,7 @@
 #   scripts/dem/ensemble.sh [-f] [-o DIR] [-m K] [-s key=value]... SCENARIO ENGINE SIZE
 #
 # The ensemble has [dem] seeds members (the <engine>.<size>. lookup of the
-# resolved scenario, `ekm scenario ... --json`); member k = 1..N runs every
+# resolved scenario, `ekmscenario ... --json`); member k = 1..N runs every
 # sweep point of the scenario through scripts/dem/run.sh with -s seed=P_k,
 # where P_1 is [dem] seed and P_k the 3(k-1)-th prime after it (the decks
 # use seed and the next two primes, seed2 and seed3: every member has its
@@ -45,9 +45,9 @@ scen=$1; engine=$2; size=$3
 [[ $scen =~ ^[A-Za-z0-9_-]+$ ]] || usage "bad scenario name '$scen'"
 ini=$root/scenarios/$scen.ini
 [ -r "$ini" ] || { echo "$prog: no scenario file $ini" >&2; exit 2; }
-ekm=${EKM:-$root/build/continuum/ekm}
-[ -x "$ekm" ] || { echo "$prog: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
-resolved=$("$ekm" scenario "$ini" --engine "$engine" --size "$size" --json) || exit
+ekmscenario=${EKMSCENARIO:-$root/build/scenario/ekmscenario}
+[ -x "$ekmscenario" ] || { echo "$prog: ekmscenario not built: run make build (no executable $ekmscenario)" >&2; exit 7; }
+resolved=$("$ekmscenario" "$ini" --engine "$engine" --size "$size" --json) || exit
 n=$(jq -r '.keys["dem.seeds"].value // empty' <<< "$resolved")
 seed=$(jq -r '.keys["dem.seed"].value // empty' <<< "$resolved")
 [ -n "$n" ] || { echo "$prog: $ini: [dem] seeds: missing for engine $engine, size $size" >&2; exit 2; }

@@ -40,9 +40,9 @@ if [ $# -lt 1 ] || [ $# -gt 3 ]; then
   usage "usage: pile_rounds.sh [-o DIR] [-r MU_R] [-M MASS] [-e ENGINES] [-l LAWS] SIZE [FIRST [LAST]]"
 fi
 size=$1
-ekm=${EKM:-$root/build/continuum/ekm}
-[ -x "$ekm" ] || { echo "$prog: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
-n=$("$ekm" scenario "$root/scenarios/sandpile.ini" --engine lammps --size "$size" --json |
+ekmscenario=${EKMSCENARIO:-$root/build/scenario/ekmscenario}
+[ -x "$ekmscenario" ] || { echo "$prog: ekmscenario not built: run make build (no executable $ekmscenario)" >&2; exit 7; }
+n=$("$ekmscenario" "$root/scenarios/sandpile.ini" --engine lammps --size "$size" --json |
     jq -r '.keys["dem.seeds"].value // empty') || exit
 [ -n "$n" ] || { echo "$prog: scenarios/sandpile.ini: [dem] seeds: missing for size $size" >&2; exit 2; }
 first=${2:-1}; last=${3:-$n}

@@ -20,9 +20,9 @@
 #   -p        print the deck variables of every point ("== TAG" and then
 #             vars.txt as it would be written), and run nothing
 #
-# Every value comes from the resolved scenario, `ekm scenario FILE --engine
-# ENGINE --size SIZE --json` (docs/resolved-scenario.md; EKM= names the ekm
-# binary, default build/continuum/ekm; EKMCOMPARE= the ekmcompare binary,
+# Every value comes from the resolved scenario, `ekmscenario FILE --engine
+# ENGINE --size SIZE --json` (docs/resolved-scenario.md; EKMSCENARIO= names
+# the ekmscenario binary, default build/scenario/ekmscenario; EKMCOMPARE= the ekmcompare binary,
 # default beside it, whose `steady` command judges the monitor series): shared values (geometry, gravity,
 # wall speeds, inflow) from its continuum sections, DEM-only values from
 # [dem], the sweep points from its points; docs/dem.md lists the mapping to
@@ -87,9 +87,9 @@ deck=$root/dem_inputs/$engine/$scen.in
 [ -r "$deck" ] || { echo "$prog: no deck $deck: $engine cannot run '$scen'" >&2; exit 7; }
 
 # --- the resolved scenario ------------------------------------------------
-ekm=${EKM:-$root/build/continuum/ekm}
-[ -x "$ekm" ] || { echo "$prog: ekm not built: run make build (no executable $ekm)" >&2; exit 7; }
-ekmcompare=${EKMCOMPARE:-$(dirname "$(dirname "$ekm")")/compare/ekmcompare}
+ekmscenario=${EKMSCENARIO:-$root/build/scenario/ekmscenario}
+[ -x "$ekmscenario" ] || { echo "$prog: ekmscenario not built: run make build (no executable $ekmscenario)" >&2; exit 7; }
+ekmcompare=${EKMCOMPARE:-$(dirname "$(dirname "$ekmscenario")")/compare/ekmcompare}
 [ -x "$ekmcompare" ] || { echo "$prog: ekmcompare not built: run make build (no executable $ekmcompare)" >&2; exit 7; }
 command -v jq > /dev/null || { echo "$prog: jq not installed (scripts/deps.sh base)" >&2; exit 7; }
 setargs=()
@@ -100,7 +100,7 @@ for s in "${sets[@]+"${sets[@]}"}"; do
   [[ $s == [A-Za-z]*=* ]] || { echo "$prog: -s '$s': expected KEY=VALUE (a [dem] key, e.g. -s t_flow=2)" >&2; exit 2; }
   setargs+=(--set "dem.$s")
 done
-resolved=$("$ekm" scenario "$ini" --engine "$engine" --size "$size" "${setargs[@]+"${setargs[@]}"}" --json)
+resolved=$("$ekmscenario" "$ini" --engine "$engine" --size "$size" "${setargs[@]+"${setargs[@]}"}" --json)
 rc=$?
 [ $rc -eq 0 ] || exit $rc   # the reader named file, line and key on stderr
 # K[section.key] = value as written; F[...] = where it came from

@@ -9,7 +9,7 @@
 #include <gsl/gsl_rng.h>
 #include <zlib.h>
 
-#include "cgrun.h"
+#include "cg_run.h"
 #include "h5.h"
 #include "synth.h"
 #include "test_util.h"
@@ -65,7 +65,7 @@ static void read_field(const char *path, const char *name, profile *p)
 static void run_cg_x(const char *dump, const char *out, const char *kernel, double width, size_t bins,
                      cg_tmode tmode, size_t every, int exact)
 {
-    cg_run_opts o = cg_run_opts_default();
+    cg_run_opts o = cg_opts_default();
     o.exact = exact;
     const char *in[1] = {dump};
     o.inputs = in;
@@ -233,7 +233,7 @@ static void test_steady_multifile(void **state)
         assert_int_equal(synth_write(tmp_path(names[i], sizeof names[i], nm), &o), 0);
         in[i] = names[i];
     }
-    cg_run_opts ro = cg_run_opts_default();
+    cg_run_opts ro = cg_opts_default();
     char out[512];
     ro.inputs = in;
     ro.ninputs = 6;
@@ -395,7 +395,7 @@ static void test_contact_stress(void **state)
     o.S0 = 300;
     char dump[512], out[512];
     assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "stress.dump"), &o), 0);
-    cg_run_opts ro = cg_run_opts_default();
+    cg_run_opts ro = cg_opts_default();
     const char *in[1] = {dump};
     ro.inputs = in;
     ro.ninputs = 1;
@@ -517,7 +517,7 @@ static void write_packing(const char *atoms, const char *pos, const char *ids)
 
 static void run_contacts(const char *atoms, const char *pairs, int idmode, int exact, const char *out)
 {
-    cg_run_opts o = cg_run_opts_default();
+    cg_run_opts o = cg_opts_default();
     const char *in[1] = {atoms}, *pin[1] = {pairs};
     static const char *posc[9] = {"c_pc[1]", "c_pc[2]",  "c_pc[3]",  "c_pc[4]", "c_pc[5]",
                                   "c_pc[6]", "c_pc[10]", "c_pc[11]", "c_pc[12]"};
@@ -631,7 +631,7 @@ static void test_real_chute(void **state)
         snprintf(atoms, sizeof atoms, CG_FIXTURES "/chute_%s_atoms.dump.gz", eng[e]);
         snprintf(pairs, sizeof pairs, CG_FIXTURES "/chute_%s_pairs.dump.gz", eng[e]);
         for (int mode = 0; mode < 2; mode++) {
-            cg_run_opts o = cg_run_opts_default();
+            cg_run_opts o = cg_opts_default();
             const char *in[1] = {atoms}, *pin[1] = {pairs};
             o.inputs = in;
             o.ninputs = 1;
@@ -683,7 +683,7 @@ static void test_real_chute(void **state)
 static void test_deck_dump(void **state)
 {
     (void)state;
-    cg_run_opts o = cg_run_opts_default();
+    cg_run_opts o = cg_opts_default();
     const char *in[1] = {CG_FIXTURES "/liggghts_deck.dump"};
     char out[512];
     o.inputs = in;

@@ -11,7 +11,7 @@
 #include <math.h>
 
 #include "base.h"
-#include "cgrun.h"
+#include "cg_run.h"
 #include "dump.h"
 #include "h5.h"
 #include "synth.h"
@@ -118,7 +118,7 @@ static void test_mass_volume(void **state)
             synth_opts so = dump2d();
             so.xwalls = walls;
             assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "cg2d_mass.dump"), &so), 0);
-            cg_run_opts o = cg_run_opts_default();
+            cg_run_opts o = cg_opts_default();
             o.axis2 = 0;
             o.kernel = ik ? "lucy" : "gauss";
             o.width = 0.0025;
@@ -176,7 +176,7 @@ static void test_1d_from_2d(void **state)
     const char *stress[6] = {"c_s[1]", "c_s[2]", "c_s[3]", "c_s[4]", "c_s[5]", "c_s[6]"};
     for (int ik = 0; ik < 2; ik++) {
         const char *kernel = ik ? "lucy" : "gauss";
-        cg_run_opts o1 = cg_run_opts_default();
+        cg_run_opts o1 = cg_opts_default();
         o1.exact = 1;
         o1.kernel = kernel;
         o1.tmode = CG_T_CONSISTENT;
@@ -250,7 +250,7 @@ static void test_particle_temperature(void **state)
     so.natoms = 6000;
     assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "cg2d_T.dump"), &so), 0);
     const char *in[1] = {dump};
-    cg_run_opts o1 = cg_run_opts_default();
+    cg_run_opts o1 = cg_opts_default();
     o1.exact = 1;
     o1.width = 0.003;
     cg_run_opts o2 = o1;
@@ -290,7 +290,7 @@ static void test_ensemble(void **state)
     so.seed = 4242;
     so.u0 = 0.3;
     assert_int_equal(synth_write(tmp_path(d2, sizeof d2, "cg2d_ens2.dump"), &so), 0);
-    cg_run_opts o = cg_run_opts_default();
+    cg_run_opts o = cg_opts_default();
     o.axis2 = 0;
     o.width = 0.0025;
     const char *in1[1] = {d1}, *in2[1] = {d2}, *both[2] = {d1, d2};
@@ -333,7 +333,7 @@ static void test_window_se(void **state)
     synth_opts so = dump2d();
     assert_int_equal(synth_write(tmp_path(d, sizeof d, "cg2d_se.dump"), &so), 0);
     const char *in[1] = {d};
-    cg_run_opts opt = cg_run_opts_default();
+    cg_run_opts opt = cg_opts_default();
     opt.axis2 = 0;
     opt.width = 0.0025;
     run(&opt, in, 1, tmp_path(o, sizeof o, "cg2d_se.h5"));
@@ -393,7 +393,7 @@ static void test_pair_contacts(void **state)
     const char *atoms = CG_FIXTURES "/chute_liggghts_atoms.dump.gz",
                *pairs = CG_FIXTURES "/chute_liggghts_pairs.dump.gz";
     char out[512];
-    cg_run_opts o = cg_run_opts_default();
+    cg_run_opts o = cg_opts_default();
     o.axis2 = 0;
     o.dt = 1e-5;
     o.every = 1;

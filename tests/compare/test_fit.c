@@ -15,7 +15,7 @@
 #include <unistd.h>
 #include <cmocka.h>
 
-#include "cgrun.h"
+#include "cg_run.h"
 #include "fit.h"
 #include "fit_data.h"
 #include "h5.h"
@@ -333,7 +333,7 @@ static void test_real_cg_output(void **state)
     o.S0 = 300.0;
     char dump[512], out[512];
     assert_int_equal(synth_write(tmp_path(dump, sizeof dump, "fit_shear.dump"), &o), 0);
-    cg_run_opts ro = cg_run_opts_default();
+    cg_run_opts ro = cg_opts_default();
     const char *in[1] = {dump};
     ro.inputs = in;
     ro.ninputs = 1;

@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "flux.h"
+#include "scenario.h"
 
 static void assert_close(double got, double want, const char *what, double at)
 {
@@ -77,6 +78,33 @@ static void test_limiter_unknown(void **state)
         listed++;
     }
     assert_int_equal(listed, N_LIMITERS);
+}
+
+/* The scenario's list of limiters (EKM_SCENARIO_LIMITERS, what the reader
+ * accepts) and the solver's registry name the same limiters: each listed
+ * one is found, and the registry's own list (its unknown-name message)
+ * is the scenario's, in the same order. */
+static void test_limiter_list_is_the_scenarios(void **state)
+{
+    (void)state;
+    char list[128];
+    snprintf(list, sizeof list, "%s", EKM_SCENARIO_LIMITERS);
+    size_t n = 0;
+    for (char *name = strtok(list, " "); name; name = strtok(NULL, " ")) {
+        const ekm_limiter *lim = NULL;
+        ekm_error err = {0};
+        assert_int_equal(ekm_limiter_find(name, &lim, &err), EKM_OK);
+        assert_string_equal(lim->name, name);
+        n++;
+    }
+    assert_int_equal(n, N_LIMITERS);
+    ekm_error err = {0};
+    const ekm_limiter *lim = NULL;
+    assert_int_equal(ekm_limiter_find("none", &lim, &err), EKM_EINPUT);
+    char want[256];
+    snprintf(want, sizeof want, "[numerics] limiter: unknown limiter 'none' (known: %s)",
+             EKM_SCENARIO_LIMITERS);
+    assert_string_equal(err.message, want);
 }
 
 /* q_j = j^2 on 5 cells; inflow values -1 (bottom) and 20 (top). */
@@ -149,8 +177,11 @@ static void test_face_momentum(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_limiter_values), cmocka_unit_test(test_limiter_unknown),
-        cmocka_unit_test(test_upwind_fluxes),  cmocka_unit_test(test_tvd_fluxes),
+        cmocka_unit_test(test_limiter_values),
+        cmocka_unit_test(test_limiter_unknown),
+        cmocka_unit_test(test_limiter_list_is_the_scenarios),
+        cmocka_unit_test(test_upwind_fluxes),
+        cmocka_unit_test(test_tvd_fluxes),
         cmocka_unit_test(test_face_momentum),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

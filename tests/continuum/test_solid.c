@@ -548,7 +548,7 @@ static ekm_status tilt_step(void *ctx, const ekm_state *s, const ekm_stepper *st
     tilt_ctx *c = ctx;
     int solid, wet;
     const double v = layer_velocity(s, st, &solid, &wet);
-    if (solid == wet && st->fail_time < 0.0) {
+    if (solid == wet && st->regime.fail_time < 0.0) {
         c->solid_steps++;
         c->v_step_max = fmax(c->v_step_max, v);
     }
@@ -634,7 +634,7 @@ static ekm_status tilt_frame(void *ctx, const ekm_state *s, const ekm_stepper *s
         fy_max = fmax(fy_max, tilt_fY(m, s->phi[j], &sg));
     }
     const double angle = ekm_scenario_angle_at(st->sc, s->t);
-    if (solid == wet && st->fail_time < 0.0) {
+    if (solid == wet && st->regime.fail_time < 0.0) {
         if (!c->all_solid_frames)
             c->t_all_solid = s->t;
         c->all_solid_frames++;

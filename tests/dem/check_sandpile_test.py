@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """check_sandpile_test.py: check_run.sh --sandpile on synthetic finished runs.
 
-    tests/dem/check_sandpile_test.py WORKDIR      (EKM= names the ekm binary)
+    tests/dem/check_sandpile_test.py WORKDIR      (EKMSCENARIO= names the ekmscenario binary)
 
 No DEM engine: each case is a run folder written by hand (run.json status
 ok, vars.txt, screen.txt with the deck's EKMDEM lines, atoms.dump with the

@@ -29,9 +29,9 @@ grep -q "nodem.ini: no \[dem\] section" "$out/last.txt" || { echo "FAIL: message
 sed '/^friction *=/d' "$root/scenarios/chute.ini" > "$out/nokey.ini"
 expect 2 "missing [dem] key" "$run" -o "$out" -c "$out/nokey.ini" collision lammps smoke
 grep -q "nokey.ini: \[dem\] friction: missing key" "$out/last.txt" || { echo "FAIL: message does not name the missing key"; fail=1; }
-# engine or ekm missing: exit 7
-expect 7 "ekm not built" env EKM=$out/no-such-ekm "$run" -o "$out" chute lammps smoke
-grep -q "ekm not built: run make build" "$out/last.txt" || { echo "FAIL: no 'ekm not built' line"; fail=1; }
+# engine or ekmscenario missing: exit 7
+expect 7 "ekmscenario not built" env EKMSCENARIO=$out/no-such-ekmscenario "$run" -o "$out" chute lammps smoke
+grep -q "ekmscenario not built: run make build" "$out/last.txt" || { echo "FAIL: no 'ekmscenario not built' line"; fail=1; }
 expect 7 "engine missing" env LAMMPS_EXE=no-such-lmp "$run" -o "$out" chute lammps smoke
 # deck error: exit 4, status deck_error, engine message kept. The reader
 # refuses values an engine would reject (dt <= 0, poisson >= 0.5), so the

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """make_synthetic.py: a small synthetic campaign results folder for the
 tests of figures/make_figures.py, with the shapes, datasets and attributes
-of the real ones (compare/cgrun.c, continuum/h5out.c, scripts/campaign/).
+of the real ones (compare/cg_run.c, continuum/h5out.c, scripts/campaign/).
 
     /usr/bin/python3 make_synthetic.py --layout ref|smoke OUT
 

@@ -1,4 +1,4 @@
-# The scenario reader's promises (continuum/scenario.c, resolve.c): each
+# The scenario reader's promises (scenario/scenario.c, resolve.c): each
 # case of reader/cases.sh is one test, named for the way the reader once
 # broke the promise (issue 13).
 set(EKM_READER_CASES ${CMAKE_CURRENT_SOURCE_DIR}/reader/cases.sh)

@@ -7,9 +7,16 @@
 #
 #   common     -
 #   law        common            (the constitutive law: pure functions)
+#   scenario   law common        (the scenario service; the law's parameter structs)
 #
-# Other rooms are not checked yet (issue 35 moves the scenario service and
-# the calibration out of continuum/ and compare/ first).
+# Other rooms are not checked yet (issue 35 moves the calibration out of
+# compare/ first).
+#
+# Then, over every room: no import circles between modules. A module is a
+# file name without its extension (dir/x.c with dir/x.h; a private header
+# dir/x_impl.h belongs to dir/x); module A uses module B when a file of A
+# includes B's header (resolved in A's own folder first, then by its name
+# anywhere). The uses must form no loop (tsort).
 #
 #   tests/style/rooms_check.sh SOURCE_DIR
 #
@@ -21,7 +28,7 @@ set -uo pipefail
 cd "$1" || { echo "rooms_check.sh: $1: not a directory" >&2; exit 2; }
 git rev-parse --git-dir > /dev/null 2>&1 || { echo "rooms_check.sh: $1: not a git checkout: skipped"; exit 77; }
 
-declare -A allowed=([common]="" [law]="common")
+declare -A allowed=([common]="" [law]="common" [scenario]="law common")
 
 # header name -> the rooms holding one of that name (the first path component)
 declare -A rooms_of
@@ -52,7 +59,42 @@ for room in "${!allowed[@]}"; do
     done < <(grep -n -o -E '^#include "[^"]+"' "$f" | sed -E 's/#include "([^"]+)"/\1/; s#[^:]*/##2')
   done < <(git ls-files "$room/*.c" "$room/*.h")
 done
+
+# module graph: one "A B" line per use of module B by module A
+declare -A header_path # header name -> its one path, "" when several
+while IFS= read -r h; do
+  name=${h##*/}
+  if [ -n "${header_path[$name]+set}" ]; then header_path[$name]=""; else header_path[$name]=$h; fi
+done < <(git ls-files '*.h' | grep -v -E '^(tests|fuzz|bench)/')
+edges=$(mktemp)
+trap 'rm -f "$edges"' EXIT
+modules=0
+while IFS= read -r f; do
+  modules=$((modules + 1))
+  dir=${f%/*}
+  from=${f%.[ch]}
+  from=${from%_impl}
+  echo "$from $from" >> "$edges"
+  while IFS= read -r header; do
+    if [ -f "$dir/$header" ]; then
+      target=$dir/$header
+    else
+      target=${header_path[${header##*/}]:-}
+    fi
+    [ -z "$target" ] && continue # a system or generated header, or ambiguous (above)
+    to=${target%.h}
+    to=${to%_impl}
+    [ "$to" = "$from" ] || echo "$from $to" >> "$edges"
+  done < <(grep -o -E '^#include "[^"]+"' "$f" | sed -E 's/#include "([^"]+)"/\1/')
+done < <(git ls-files '*.c' '*.h' | grep -v -E '^(tests|fuzz|bench)/')
+loop=$(tsort < "$edges" 2>&1 > /dev/null | grep -v 'input contains a loop' | sed 's/^tsort: /  /')
+if [ -n "$loop" ]; then
+  echo "rooms_check.sh: an import circle between modules (the modules of a loop, as tsort finds it):" >&2
+  printf '%s\n' "$loop" >&2
+  bad=1
+fi
+
 if [ "$bad" -ne 0 ]; then
   exit 1
 fi
-echo "rooms_check.sh: $checked files of ${!allowed[*]}: every include within its room's rules"
+echo "rooms_check.sh: $checked files of ${!allowed[*]}: every include within its room's rules; $modules files of every room: no import circle"

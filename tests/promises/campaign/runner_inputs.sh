@@ -13,7 +13,7 @@ set -u
 case=$1 src=$2 build=$3 work=$4/$1
 command -v jq > /dev/null || { echo "jq not installed: skipped"; exit 77; }
 rm -rf "$work"; mkdir -p "$work"
-export EKM=$build/continuum/ekm
+export EKMSCENARIO=$build/scenario/ekmscenario
 run=$src/scripts/dem/run.sh
 fails=0
 fail() { echo "FAIL: $*" >&2; fails=$((fails + 1)); }

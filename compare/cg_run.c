@@ -1,8 +1,8 @@
-/* cgrun.c: the `ekmcompare cg` pipeline (see cgrun.h): the options, the
+/* cg_run.c: the `ekmcompare cg` pipeline (see cg_run.h): the
  * grid, and the loop over the selected snapshots; the steps are in
  * cg_input.c (dumps -> particles), contacts.c (pair dumps), steadiness.c
  * (--steady), window.c (averaging windows) and cg_output.c (writers). */
-#include "cgrun.h"
+#include "cg_run.h"
 
 #include "xdmf.h"
 
@@ -18,17 +18,6 @@
 #include "kernel.h"
 #include "steadiness.h"
 #include "window.h"
-
-cg_run_opts cg_run_opts_default(void)
-{
-    cg_run_opts o;
-    memset(&o, 0, sizeof o);
-    o.axis = 2;
-    o.axis2 = -1;
-    o.kernel = "gauss";
-    o.tmode = CG_T_PARTICLE;
-    return o;
-}
 
 #define CG_MAX_BINS 1e7 /* most bins of a grid sized by dz */
 
@@ -73,44 +62,6 @@ static ekm_status make_grid(const cg_run_opts *o, const cg_input *src, double wi
     return EKM_OK;
 }
 
-/* Every output must be writable, and none may replace an input (dumps and
- * pair dumps), nor the HDF5 output's sidecar or the HDF5 output the CSV:
- * refused before any work. */
-ekm_status cg_run_refuse_inputs(const cg_run_opts *o, ekm_error *err)
-{
-    size_t n = o->ninputs + o->npairs;
-    const char **in = malloc((n + 1) * sizeof *in);
-    if (!in)
-        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    for (size_t i = 0; i < o->ninputs; i++)
-        in[i] = o->inputs[i];
-    for (size_t i = 0; i < o->npairs; i++)
-        in[o->ninputs + i] = o->pairs[i];
-    ekm_status rc = EKM_OK;
-    if (o->out)
-        rc = ekm_xdmf_check_name(o->out, "-o", err);
-    if (!rc && o->out)
-        rc = ekm_atomic_check_target(o->out, err);
-    if (!rc && o->csv)
-        rc = ekm_atomic_check_target(o->csv, err);
-    if (!rc && o->out)
-        rc = ekm_atomic_refuse_input(o->out, in, n, err);
-    if (!rc && o->out) { /* nor may its XDMF sidecar (written beside it) */
-        char xdmf[EKM_ATOMIC_PATH_MAX + 8];
-        ekm_xdmf_path(o->out, xdmf, sizeof xdmf);
-        rc = ekm_atomic_refuse_input(xdmf, in, n, err);
-        if (!rc && o->csv)
-            rc = ekm_atomic_refuse_input(xdmf, &o->csv, 1, err);
-    }
-    if (!rc && o->csv) {
-        if (o->out)
-            in[n++] = o->out;
-        rc = ekm_atomic_refuse_input(o->csv, in, n, err);
-    }
-    free(in);
-    return rc;
-}
-
 ekm_status cg_run(const cg_run_opts *o, ekm_error *err)
 {
     if (o->axis2 >= 0)
@@ -145,7 +96,7 @@ ekm_status cg_run(const cg_run_opts *o, ekm_error *err)
                  o->npaircols == 9 ? "positions" : "atom ids");
     else
         snprintf(info.stress, sizeof info.stress, "kinetic only");
-    ekm_status rc = cg_run_refuse_inputs(o, err);
+    ekm_status rc = cg_opts_refuse_inputs(o, err);
     if (rc)
         return rc;
     double t_start = -INFINITY;

@@ -2,8 +2,8 @@
  * [campaign] [figures]) and the resolved scenario (docs/resolved-scenario.md).
  *
  * The scenario reader (scenario.h) checks every key of these sections as it
- * reads it (ekm_resolve_check_key: known name, valid <engine>./<size>.
- * prefix, value of the key's type) and keeps it as written. ekm_resolve()
+ * reads it (tool_keys.h: known name, valid <engine>./<size>. prefix, value
+ * of the key's type) and keeps it as written. ekm_resolve()
  * then picks, for one engine and size, the value of every key (the lookup
  * rule <engine>.<size>.k, <size>.k, <engine>.k, k, default; a --set of the
  * plain k beats every variant), fills the defaults (also the derived ones:
@@ -18,32 +18,6 @@
 
 #include "scenario.h"
 #include "status.h"
-
-/* 1 if section is one of the other tools' sections: dem compare campaign figures. */
-int ekm_resolve_is_tool_section(const char *section);
-
-/* Check one key of a tool section as written (key with its prefix) and its
- * value. Returns 1 when they are valid; otherwise 0 and why holds the
- * message without the file:line, e.g. "[dem] ref.lx: expected a number, got '2x'". */
-int ekm_resolve_check_key(const char *section, const char *key, const char *value, char *why, size_t size);
-
-/* The one number syntax of every scenario key (docs/scenario-format.md): a
- * decimal floating-point literal, the whole value ([-+]? digits [. digits]
- * [e [-+] digits], or [-+]? . digits ...; no blanks, hex, inf or nan),
- * finite and without overflow or underflow. Returns 1 and *out (out may be
- * NULL), or 0. */
-int ekm_resolve_parse_number(const char *value, double *out);
-
-/* A list of numbers separated by blanks (spaces, tabs), the syntax of the
- * sweep lists ([dem] rates) and of [bottom]/[top] inlet_x: each a number as
- * ekm_resolve_parse_number reads it. Returns 1 when value is such a list
- * of at least one number, with *n their count and out[0 .. min(*n, max))
- * the first max of them (out may be NULL); otherwise 0. */
-int ekm_resolve_parse_numbers(const char *value, double *out, size_t max, size_t *n);
-
-/* A decimal integer, the whole value ([-+]? digits) within long long:
- * 1 and *out (out may be NULL), or 0. */
-int ekm_resolve_parse_integer(const char *value, long long *out);
 
 /* One resolved key. */
 typedef struct {

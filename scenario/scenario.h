@@ -13,53 +13,19 @@
 
 #include <stddef.h>
 
+#include "boundary.h"
 #include "model.h"
 #include "switching.h"
 #include "status.h"
-
-typedef enum {
-    EKM_BC_WALL = 0, /* impermeable, adiabatic, tangential speed + slip length */
-    EKM_BC_INFLOW,   /* prescribed phi, w, u, T; closes to a wall at t_stop */
-    EKM_BC_OUTFLOW,  /* zero gradient of every field */
-    EKM_BC_FREE,     /* open to vacuum: zero stress, material may leave */
-    EKM_BC_PISTON    /* prescribed w(t) = w, w_return alternating each half period; no slip */
-} ekm_bc_kind;
-
-/* The most inlet segments one end may have ([bottom]/[top] inlet_x, a list). */
-#define EKM_INLETS_MAX 8
-
-typedef struct {
-    ekm_bc_kind kind;
-    double velocity;    /* wall: tangential velocity u of the wall; a top wall with shear_rate:
-                         * its speed at zero gap, [bottom] velocity (set by the reader: the wall
-                         * moves at velocity + shear_rate L(t), bc.h) [m/s] */
-    double slip_length; /* wall: Navier slip length, 0 = no slip [m] */
-    double phi;         /* inflow: volume fraction entering [-] */
-    double w;           /* inflow: normal velocity along +z [m/s] */
-    double u;           /* inflow: tangential velocity [m/s] */
-    double T;           /* inflow: granular temperature [m^2/s^2] */
-    double t_stop;      /* inflow: time it closes to a resting wall [s] */
-    double t_start;     /* inflow, 2D: time it opens; a resting wall before [s] */
-    /* inflow, 2D: the centres of the inlet segments, [0] .. [n_inlets - 1] [m] */
-    double inlet_x[EKM_INLETS_MAX];
-    int n_inlets;         /* inflow, 2D: how many segments (1 unless inlet_x lists more) */
-    double inlet_width;   /* inflow, 2D: width of each inlet segment, NAN: the whole end; the end's
-                           * faces whose centres lie in one are the inlet, the rest a resting wall [m] */
-    double period;        /* piston: period of the velocity program [s] */
-    double w_return;      /* piston: w in the second half of each period, NAN: -w [m/s] */
-    double pressure;      /* wall (top only): normal stress held on the moving wall, NAN: the wall
-                           * stays put (bc.h, the gap L(t)) [Pa] */
-    double pressure_rate; /* wall with pressure: relative gap speed per relative stress
-                           * mismatch, dL/dt = rate L (P_top - P)/P [1/s] */
-    double shear_rate;    /* wall with pressure (top only): the wall's tangential speed is
-                           * [bottom] velocity + shear_rate L(t) at every instant, so the walls
-                           * impose the shear rate while the gap L(t) moves; NAN: none [1/s] */
-} ekm_bc;
 
 /* When a run ends ([run] stop): at t_end, or when steady (run.h). */
 typedef enum { EKM_STOP_T_END = 0, EKM_STOP_STEADY = 1 } ekm_stop;
 
 typedef enum { EKM_CONVECTION_UPWIND = 0, EKM_CONVECTION_TVD = 1 } ekm_convection;
+
+/* The TVD limiters [numerics] limiter may name; the solver's registry
+ * (continuum/flux.h) has each of them (tests/continuum/test_flux.c). */
+#define EKM_SCENARIO_LIMITERS "minmod vanleer superbee mc"
 
 /* How the normal momentum solve takes the pressure gradient (step.h): implicit,
  * linearised in the next mass update (the step is not bound by the sound
@@ -69,7 +35,7 @@ typedef enum { EKM_COUPLING_IMPLICIT = 0, EKM_COUPLING_EXPLICIT = 1 } ekm_coupli
 typedef struct {
     double cfl; /* Courant number on |w| (+ the sound speed with explicit coupling) [-] */
     ekm_convection convection;
-    char limiter[16];             /* TVD limiter name (flux.h registry) */
+    char limiter[16];             /* TVD limiter name: one of EKM_SCENARIO_LIMITERS */
     double dt_max;                /* largest time step [s] */
     double dt_min;                /* smallest step before giving up [s] */
     double phi_dry;               /* below this phi a cell is empty (vacuum) [-] */
@@ -214,7 +180,5 @@ double ekm_scenario_angle_at(const ekm_scenario *s, double t);
 /* The phi at which the hypoplastic law of a cell at phi takes its
  * density-dependent constants: phi, or [hypo] phi_fixed when set. */
 double ekm_scenario_law_phi(const ekm_scenario *s, double phi);
-
-const char *ekm_bc_kind_name(ekm_bc_kind k);
 
 #endif

@@ -1,419 +1,15 @@
 /* resolve.c: the keys of the other tools' sections, their lookup rule and
  * defaults, and the sweep points (resolve.h, docs/resolved-scenario.md). */
 #include "resolve.h"
-#include "schema.h"
+
+#include "number.h"
+#include "tool_keys.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-typedef enum {
-    TYPE_NUMBER,  /* a decimal floating-point literal */
-    TYPE_INTEGER, /* a decimal integer */
-    TYPE_FLAG,    /* 0 or 1 */
-    TYPE_NUMBERS, /* numbers separated by blanks (a sweep list) */
-    TYPE_STRING,  /* free text */
-    TYPE_WORD,    /* a name: a letter, then letters, digits, '_' */
-    TYPE_FIELDS,  /* field names separated by commas */
-    TYPE_ENUM     /* one of the words of `choices` */
-} tool_type;
-
-/* The sweep a [dem] key belongs to: its keys make the scenario one.
- * SWEEP_SHEAR: a key of both simple-shear sweeps (phis x rates, or
- * pressures x rates); without phis or pressures it is the phi sweep. */
-typedef enum {
-    SWEEP_NONE = 0,
-    SWEEP_THETA,
-    SWEEP_SHEAR,
-    SWEEP_PHI_RATE,
-    SWEEP_P_RATE,
-    SWEEP_SOURCE
-} sweep_kind;
-
-typedef struct {
-    const char *section;
-    const char *key;
-    tool_type type;
-    const char *choices; /* TYPE_ENUM: the allowed words, blank-separated */
-    const char *dflt;    /* default as written, or NULL (none, or derived below) */
-    sweep_kind sweep;    /* the sweep this key belongs to, or SWEEP_NONE */
-} tool_key;
-
-/* Registry of the other tools' keys (docs/scenario-format.md). */
-static const tool_key TOOL_KEYS[] = {
-    {"dem", "diameter", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "spread", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "youngs", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "poisson", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "restitution", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "restitution_input", TYPE_NUMBER, NULL, NULL, SWEEP_NONE}, /* default: restitution */
-    {"dem", "friction", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "dt", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "seed", TYPE_INTEGER, NULL, "15485863", SWEEP_NONE},
-    {"dem", "thermo_every", TYPE_INTEGER, NULL, "1000", SWEEP_NONE},
-    {"dem", "dump_every", TYPE_INTEGER, NULL, "5000", SWEEP_NONE},
-    {"dem", "lx", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "ly", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "t_end", TYPE_NUMBER, NULL, NULL, SWEEP_NONE}, /* default: [run] t_end */
-    {"dem", "rest_ke", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "t_settle", TYPE_NUMBER, NULL, NULL, SWEEP_THETA},
-    {"dem", "t_flow", TYPE_NUMBER, NULL, NULL, SWEEP_THETA},
-    {"dem", "angles", TYPE_NUMBERS, NULL, NULL, SWEEP_THETA}, /* default: [gravity] angle */
-    {"dem", "pressure", TYPE_NUMBER, NULL, NULL, SWEEP_NONE}, /* default: [top] pressure */
-    {"dem", "wall_damping", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "t_compress", TYPE_NUMBER, NULL, "0", SWEEP_NONE},
-    {"dem", "t_run", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "strain", TYPE_NUMBER, NULL, NULL, SWEEP_SHEAR},
-    {"dem", "phis", TYPE_NUMBERS, NULL, NULL, SWEEP_PHI_RATE},    /* default: [initial] phi */
-    {"dem", "pressures", TYPE_NUMBERS, NULL, NULL, SWEEP_P_RATE}, /* no default */
-    {"dem", "rates", TYPE_NUMBERS, NULL, NULL, SWEEP_SHEAR},      /* default: the walls' rate */
-    {"dem", "p_gain", TYPE_NUMBER, NULL, NULL, SWEEP_NONE},
-    {"dem", "dump_strain", TYPE_NUMBER, NULL, NULL, SWEEP_NONE}, /* per point dump_every of a shear sweep */
-    /* the sand pile: poured from a source of each width over the floor */
-    {"dem", "pile_mass", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},
-    {"dem", "pour_rate", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},
-    {"dem", "pour_speed", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},
-    {"dem", "pour_height", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},
-    {"dem", "source_widths", TYPE_NUMBERS, NULL, NULL, SWEEP_SOURCE},
-    {"dem", "plate_width", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},    /* the floor's extent [d] */
-    {"dem", "hopper_gap", TYPE_NUMBER, NULL, NULL, SWEEP_SOURCE},     /* hopper above the apex [d] */
-    {"dem", "hopper_stages", TYPE_INTEGER, NULL, NULL, SWEEP_SOURCE}, /* times the hopper is raised */
-    {"dem", "rolling_friction", TYPE_NUMBER, NULL, "0", SWEEP_NONE},  /* mu_r: torque limit mu_r R* F_n */
-    {"dem", "seeds", TYPE_INTEGER, NULL, NULL, SWEEP_NONE}, /* ensemble size (scripts/dem/ensemble.sh) */
-    {"dem", "timeout", TYPE_INTEGER, NULL, "900", SWEEP_NONE},
-    {"dem", "require_steady", TYPE_FLAG, NULL, "0", SWEEP_NONE},
-    {"dem", "steady_tol", TYPE_NUMBER, NULL, "0.05", SWEEP_NONE},
-    {"compare", "cg_options", TYPE_STRING, NULL, NULL, SWEEP_NONE},
-    {"compare", "fields", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
-    {"compare", "ekm_time", TYPE_ENUM, "last interp", "interp", SWEEP_NONE},
-    {"compare", "shift", TYPE_NUMBER, NULL, "0", SWEEP_NONE},
-    {"compare", "support", TYPE_NUMBER, NULL, "0.1", SWEEP_NONE},
-    {"compare", "scalars", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
-    /* the calibration (docs/campaign.md "Calibration"): the training set
-     * the scenario's points belong to, and how that set is fitted */
-    {"campaign", "train", TYPE_WORD, NULL, "none", SWEEP_NONE},
-    {"campaign", "fit", TYPE_ENUM, "rheology scenario", NULL, SWEEP_NONE},
-    {"campaign", "fit_params", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
-    {"campaign", "fit_fields", TYPE_FIELDS, NULL, NULL, SWEEP_NONE},
-    {"campaign", "fit_engine", TYPE_ENUM, "lammps liggghts", "lammps", SWEEP_NONE},
-    {"campaign", "fit_starts", TYPE_INTEGER, NULL, NULL, SWEEP_NONE},
-};
-#define N_TOOL_KEYS (sizeof TOOL_KEYS / sizeof TOOL_KEYS[0])
-
-/* The sections of the other tools; [figures] has no keys yet. */
-static const char *const TOOL_SECTIONS[] = {"dem", "compare", "campaign", "figures"};
-static const char *const ENGINES[] = {"liggghts", "lammps"};
-static const char *const SIZES[] = {"smoke", "ref"};
-
-#define VALUE_SIZE sizeof(((ekm_entry *)0)->value)
-
-int ekm_resolve_is_tool_section(const char *section)
-{
-    for (size_t i = 0; i < sizeof TOOL_SECTIONS / sizeof TOOL_SECTIONS[0]; i++)
-        if (strcmp(section, TOOL_SECTIONS[i]) == 0)
-            return 1;
-    return 0;
-}
-
-static int word_in(const char *const *words, size_t n, const char *w, size_t len)
-{
-    for (size_t i = 0; i < n; i++)
-        if (strlen(words[i]) == len && strncmp(words[i], w, len) == 0)
-            return 1;
-    return 0;
-}
-
-/* Split a key as written into its prefix (engine., size. or engine.size.)
- * and its base name. Returns 0 for any other prefix. */
-static int split_key(const char *written, const char **base)
-{
-    const char *d1 = strchr(written, '.');
-    if (!d1) {
-        *base = written;
-        return 1;
-    }
-    const size_t n1 = (size_t)(d1 - written);
-    const char *d2 = strchr(d1 + 1, '.');
-    if (!d2) {
-        *base = d1 + 1;
-        return word_in(ENGINES, 2, written, n1) || word_in(SIZES, 2, written, n1);
-    }
-    *base = d2 + 1;
-    return word_in(ENGINES, 2, written, n1) && word_in(SIZES, 2, d1 + 1, (size_t)(d2 - d1 - 1)) &&
-           !strchr(d2 + 1, '.');
-}
-
-static const tool_key *find_key(const char *section, const char *base)
-{
-    for (size_t i = 0; i < N_TOOL_KEYS; i++)
-        if (strcmp(TOOL_KEYS[i].section, section) == 0 && strcmp(TOOL_KEYS[i].key, base) == 0)
-            return &TOOL_KEYS[i];
-    return NULL;
-}
-
-/* A decimal floating-point literal: [-+]? (digits [. digits*] | . digits)
- * ([eE] [-+]? digits)?, representable (no overflow or underflow). */
-static int is_number(const char *v, size_t len, double *out)
-{
-    size_t i = 0, digits = 0;
-    if (i < len && (v[i] == '-' || v[i] == '+'))
-        i++;
-    while (i < len && v[i] >= '0' && v[i] <= '9')
-        i++, digits++;
-    if (i < len && v[i] == '.') {
-        i++;
-        while (i < len && v[i] >= '0' && v[i] <= '9')
-            i++, digits++;
-    }
-    if (digits == 0)
-        return 0;
-    if (i < len && (v[i] == 'e' || v[i] == 'E')) {
-        i++;
-        if (i < len && (v[i] == '-' || v[i] == '+'))
-            i++;
-        size_t exp_digits = 0;
-        while (i < len && v[i] >= '0' && v[i] <= '9')
-            i++, exp_digits++;
-        if (exp_digits == 0)
-            return 0;
-    }
-    if (i != len)
-        return 0;
-    char buf[VALUE_SIZE];
-    if (len >= sizeof buf)
-        return 0;
-    memcpy(buf, v, len);
-    buf[len] = '\0';
-    char *end;
-    errno = 0;
-    const double x = strtod(buf, &end);
-    if (*end != '\0' || errno == ERANGE || !isfinite(x))
-        return 0;
-    if (out)
-        *out = x;
-    return 1;
-}
-
-/* A decimal integer: [-+]? digits, within long long. */
-static int is_integer(const char *v, long long *out)
-{
-    const char *p = v + (*v == '-' || *v == '+');
-    if (!*p || strspn(p, "0123456789") != strlen(p))
-        return 0;
-    char *end;
-    errno = 0;
-    const long long x = strtoll(v, &end, 10);
-    if (errno == ERANGE)
-        return 0;
-    if (out)
-        *out = x;
-    return 1;
-}
-
-int ekm_resolve_parse_number(const char *value, double *out)
-{
-    return is_number(value, strlen(value), out);
-}
-
-int ekm_resolve_parse_integer(const char *value, long long *out)
-{
-    return is_integer(value, out);
-}
-
-#define BLANKS " \t"
-
-int ekm_resolve_parse_numbers(const char *value, double *out, size_t max, size_t *n)
-{
-    *n = 0;
-    for (const char *p = value + strspn(value, BLANKS); *p; p += strspn(p, BLANKS)) {
-        const size_t len = strcspn(p, BLANKS);
-        double x;
-        if (!is_number(p, len, &x))
-            return 0;
-        if (out && *n < max)
-            out[*n] = x;
-        p += len;
-        (*n)++;
-    }
-    return *n > 0;
-}
-
-static int is_number_list(const char *v)
-{
-    size_t n;
-    return ekm_resolve_parse_numbers(v, NULL, 0, &n);
-}
-
-static int is_field_list(const char *v)
-{
-    const char *p = v;
-    for (;;) {
-        const size_t len = strcspn(p, ",");
-        if (len == 0 || !((p[0] >= 'A' && p[0] <= 'Z') || (p[0] >= 'a' && p[0] <= 'z')))
-            return 0;
-        for (size_t i = 1; i < len; i++)
-            if (!((p[i] >= 'A' && p[i] <= 'Z') || (p[i] >= 'a' && p[i] <= 'z') ||
-                  (p[i] >= '0' && p[i] <= '9') || p[i] == '_'))
-                return 0;
-        if (p[len] == '\0')
-            return 1;
-        p += len + 1;
-    }
-}
-
-/* Whether every name of a valid field list is a field of common/schema.h;
- * otherwise 0 and what was expected, naming the first unknown one. */
-static int fields_in_schema(const char *v, char *expected, size_t size)
-{
-    for (const char *p = v; *p;) {
-        const size_t len = strcspn(p, ",");
-        char name[64];
-        snprintf(name, sizeof name, "%.*s", (int)len, p);
-        if (!ekm_field_lookup(name)) {
-            snprintf(expected, size, "field names of the schema (common/schema.c), not '%s'", name);
-            return 0;
-        }
-        p += len + (p[len] == ',');
-    }
-    return 1;
-}
-
-static int is_choice(const char *choices, const char *v)
-{
-    const size_t n = strlen(v);
-    for (const char *p = choices; *p; p += strspn(p, " ")) {
-        const size_t len = strcspn(p, " ");
-        if (len == n && n > 0 && strncmp(p, v, n) == 0)
-            return 1;
-        p += len;
-    }
-    return 0;
-}
-
-/* The range of a [dem] key whose value has its type, or NULL when the
- * value is in range (or the key has no range): docs/scenario-format.md. */
-static const char *dem_range(const char *base, const char *value)
-{
-    const double x = strtod(value, NULL);
-    static const struct {
-        const char *key, *expected;
-        double lo, hi;
-        int lo_open, hi_open; /* 1: the bound itself is outside; hi = HUGE_VAL: none */
-    } R[] = {
-        {"diameter", "a diameter > 0 [m]", 0, HUGE_VAL, 1, 1},
-        {"dt", "a time step > 0 [s]", 0, HUGE_VAL, 1, 1},
-        {"youngs", "a modulus > 0 [Pa]", 0, HUGE_VAL, 1, 1},
-        {"friction", "a friction coefficient >= 0", 0, HUGE_VAL, 0, 1},
-        {"poisson", "a Poisson ratio in (-1, 0.5)", -1, 0.5, 1, 1},
-        {"restitution", "a restitution in (0, 1]", 0, 1, 1, 0},
-        {"restitution_input", "a restitution in (0, 1]", 0, 1, 1, 0},
-        {"timeout", "a timeout >= 1 [s]", 1, HUGE_VAL, 0, 1},
-        {"dump_every", "an interval >= 1 [steps]", 1, HUGE_VAL, 0, 1},
-        {"thermo_every", "an interval >= 1 [steps]", 1, HUGE_VAL, 0, 1},
-        {"steady_tol", "a tolerance > 0", 0, HUGE_VAL, 1, 1},
-        {"spread", "a size spread in [0, 1)", 0, 1, 0, 1},
-        {"lx", "a length > 0 [d]", 0, HUGE_VAL, 1, 1},
-        {"ly", "a length > 0 [d]", 0, HUGE_VAL, 1, 1},
-        {"t_end", "a time > 0 [s]", 0, HUGE_VAL, 1, 1},
-        {"t_settle", "a time >= 0 [s]", 0, HUGE_VAL, 0, 1},
-        {"t_flow", "a time > 0 [s]", 0, HUGE_VAL, 1, 1},
-        {"t_run", "a time > 0 [s]", 0, HUGE_VAL, 1, 1},
-        {"t_compress", "a time >= 0 [s]", 0, HUGE_VAL, 0, 1},
-        {"rest_ke", "a kinetic energy per mass > 0 [J/kg]", 0, HUGE_VAL, 1, 1},
-        {"pressure", "a normal stress > 0 [Pa]", 0, HUGE_VAL, 1, 1},
-        {"wall_damping", "a damping rate >= 0 [1/s]", 0, HUGE_VAL, 0, 1},
-        {"strain", "a strain > 0", 0, HUGE_VAL, 1, 1},
-        {"p_gain", "a gain > 0", 0, HUGE_VAL, 1, 1},
-        {"pile_mass", "a mass > 0 [kg]", 0, HUGE_VAL, 1, 1},
-        {"pour_rate", "a mass rate > 0 [kg/s]", 0, HUGE_VAL, 1, 1},
-        {"pour_speed", "a speed > 0 [m/s]", 0, HUGE_VAL, 1, 1},
-        {"pour_height", "a height > 0 [d]", 0, HUGE_VAL, 1, 1},
-        {"plate_width", "a width > 0 [d]", 0, HUGE_VAL, 1, 1},
-        {"hopper_gap", "a gap >= 0 [d]", 0, HUGE_VAL, 0, 1},
-        {"hopper_stages", "a number of stages >= 1", 1, HUGE_VAL, 0, 1},
-        {"rolling_friction", "a rolling friction coefficient >= 0", 0, HUGE_VAL, 0, 1},
-        {"seeds", "an ensemble size >= 1", 1, HUGE_VAL, 0, 1},
-    };
-    for (size_t i = 0; i < sizeof R / sizeof R[0]; i++)
-        if (strcmp(R[i].key, base) == 0) {
-            const int low_ok = R[i].lo_open ? x > R[i].lo : x >= R[i].lo;
-            const int high_ok = R[i].hi_open ? x < R[i].hi : x <= R[i].hi;
-            return low_ok && high_ok ? NULL : R[i].expected;
-        }
-    return NULL;
-}
-
-int ekm_resolve_check_key(const char *section, const char *key, const char *value, char *why, size_t size)
-{
-    const char *base;
-    if (!split_key(key, &base)) {
-        snprintf(why, size,
-                 "[%s] %s: unknown prefix (expected k, <engine>.k, <size>.k or <engine>.<size>.k; "
-                 "engine liggghts or lammps, size smoke or ref)",
-                 section, key);
-        return 0;
-    }
-    const tool_key *tk = find_key(section, base);
-    if (!tk) {
-        snprintf(why, size, "[%s] %s: unknown key", section, key);
-        return 0;
-    }
-    if (strlen(value) >= VALUE_SIZE) {
-        snprintf(why, size, "[%s] %s: value longer than allowed: '%s'", section, key, value);
-        return 0;
-    }
-    const char *expected = NULL;
-    char choices[128];
-    switch (tk->type) {
-    case TYPE_NUMBER:
-        if (!is_number(value, strlen(value), NULL))
-            expected = "a number";
-        break;
-    case TYPE_INTEGER:
-        if (!is_integer(value, NULL))
-            expected = "an integer";
-        break;
-    case TYPE_FLAG:
-        if (strcmp(value, "0") != 0 && strcmp(value, "1") != 0)
-            expected = "0 or 1";
-        break;
-    case TYPE_NUMBERS:
-        if (!is_number_list(value))
-            expected = "numbers separated by blanks";
-        break;
-    case TYPE_STRING: break;
-    case TYPE_WORD:
-        if (!((value[0] >= 'A' && value[0] <= 'Z') || (value[0] >= 'a' && value[0] <= 'z')) ||
-            strspn(value, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") != strlen(value))
-            expected = "a name (a letter, then letters, digits or '_')";
-        else if (strcmp(section, "campaign") == 0 && strcmp(base, "train") == 0 &&
-                 strcmp(value, "thesis") == 0)
-            expected = "a training-set name other than 'thesis' (the scenarios' own [material])";
-        break;
-    case TYPE_FIELDS:
-        if (!is_field_list(value))
-            expected = "field names separated by commas (e.g. phi,vx,T)";
-        else if (strcmp(section, "compare") == 0 && strcmp(base, "fields") == 0 &&
-                 !fields_in_schema(value, choices, sizeof choices))
-            expected = choices; /* [compare] scalars names scalars and sets, not fields */
-        break;
-    case TYPE_ENUM:
-        if (!is_choice(tk->choices, value)) {
-            snprintf(choices, sizeof choices, "one of %s", tk->choices);
-            expected = choices;
-        }
-        break;
-    }
-    if (!expected && strcmp(section, "dem") == 0)
-        expected = dem_range(base, value);
-    if (expected) {
-        snprintf(why, size, "[%s] %s: expected %s, got '%s'", section, key, expected, value);
-        return 0;
-    }
-    return 1;
-}
 
 /* --- resolving --------------------------------------------------------------------- */
 
@@ -475,14 +71,14 @@ static int section_given(const ekm_scenario *s, const char *section)
 }
 
 /* The family of a sweep, for the one-sweep-only rule, and its name. */
-static int sweep_family(sweep_kind k)
+static int sweep_family(ekm_sweep_kind k)
 {
-    return k == SWEEP_THETA ? 1 : k == SWEEP_SOURCE ? 3 : k == SWEEP_NONE ? 0 : 2;
+    return k == EKM_SWEEP_THETA ? 1 : k == EKM_SWEEP_SOURCE ? 3 : k == EKM_SWEEP_NONE ? 0 : 2;
 }
 
-static const char *sweep_family_name(sweep_kind k)
+static const char *sweep_family_name(ekm_sweep_kind k)
 {
-    return k == SWEEP_THETA ? "inclined-flow" : k == SWEEP_SOURCE ? "sand-pile" : "simple-shear";
+    return k == EKM_SWEEP_THETA ? "inclined-flow" : k == EKM_SWEEP_SOURCE ? "sand-pile" : "simple-shear";
 }
 
 /* Which sweep the scenario's [dem] keys (any variant) make it: an inclined
@@ -491,22 +87,22 @@ static const char *sweep_family_name(sweep_kind k)
  * pressure (strain rates pressures: over pressures x rates), a sand pile
  * (pile_mass pour_rate pour_speed pour_height source_widths: over the
  * source widths), or none. */
-static ekm_status sweep_of(const ekm_scenario *s, sweep_kind *kind, ekm_error *err)
+static ekm_status sweep_of(const ekm_scenario *s, ekm_sweep_kind *kind, ekm_error *err)
 {
-    *kind = SWEEP_NONE;
+    *kind = EKM_SWEEP_NONE;
     const char *first = NULL, *list = NULL; /* the first sweep key; the phis or pressures key */
     for (size_t i = 0; i < s->n_tool_entries; i++) {
         const ekm_entry *e = &s->tool_entries[i];
         const char *base;
-        if (strncmp(e->name, "dem.", 4) != 0 || !split_key(e->name + 4, &base))
+        if (strncmp(e->name, "dem.", 4) != 0 || !ekm_tool_keys_split(e->name + 4, &base))
             continue;
-        const tool_key *tk = find_key("dem", base);
-        if (!tk || tk->sweep == SWEEP_NONE)
+        const ekm_tool_key *tk = ekm_tool_keys_find("dem", base);
+        if (!tk || tk->sweep == EKM_SWEEP_NONE)
             continue;
         char from[600];
         entry_from(s, e, from, sizeof from);
-        if (*kind != SWEEP_NONE && sweep_family(tk->sweep) != sweep_family(*kind)) {
-            const int pile = tk->sweep == SWEEP_SOURCE || *kind == SWEEP_SOURCE;
+        if (*kind != EKM_SWEEP_NONE && sweep_family(tk->sweep) != sweep_family(*kind)) {
+            const int pile = tk->sweep == EKM_SWEEP_SOURCE || *kind == EKM_SWEEP_SOURCE;
             return EKM_FAIL(err, EKM_EINPUT,
                             "%s: [dem] %s: a key of the %s sweep, but [dem] %s is one of the %s sweep: "
                             "expected the keys of one sweep only (inclined flow: t_settle t_flow angles; "
@@ -515,36 +111,37 @@ static ekm_status sweep_of(const ekm_scenario *s, sweep_kind *kind, ekm_error *e
                             pile ? "; sand pile: pile_mass pour_rate pour_speed pour_height source_widths"
                                  : "");
         }
-        if ((tk->sweep == SWEEP_PHI_RATE && *kind == SWEEP_P_RATE) ||
-            (tk->sweep == SWEEP_P_RATE && *kind == SWEEP_PHI_RATE))
+        if ((tk->sweep == EKM_SWEEP_PHI_RATE && *kind == EKM_SWEEP_P_RATE) ||
+            (tk->sweep == EKM_SWEEP_P_RATE && *kind == EKM_SWEEP_PHI_RATE))
             return EKM_FAIL(err, EKM_EINPUT,
                             "%s: [dem] %s: a list of the %s sweep, but [dem] %s is one of the %s sweep: "
                             "expected phis (shear at fixed volume) or pressures (shear at fixed pressure), "
                             "not both",
-                            from, e->name + 4, tk->sweep == SWEEP_P_RATE ? "pressure x rate" : "phi x rate",
-                            list, *kind == SWEEP_P_RATE ? "pressure x rate" : "phi x rate");
+                            from, e->name + 4,
+                            tk->sweep == EKM_SWEEP_P_RATE ? "pressure x rate" : "phi x rate", list,
+                            *kind == EKM_SWEEP_P_RATE ? "pressure x rate" : "phi x rate");
         if (!first)
             first = e->name + 4;
-        if (tk->sweep == SWEEP_PHI_RATE || tk->sweep == SWEEP_P_RATE) {
+        if (tk->sweep == EKM_SWEEP_PHI_RATE || tk->sweep == EKM_SWEEP_P_RATE) {
             *kind = tk->sweep;
             list = e->name + 4;
-        } else if (*kind == SWEEP_NONE) {
+        } else if (*kind == EKM_SWEEP_NONE) {
             *kind = tk->sweep;
         }
     }
-    if (*kind == SWEEP_SHEAR)
-        *kind = SWEEP_PHI_RATE;
+    if (*kind == EKM_SWEEP_SHEAR)
+        *kind = EKM_SWEEP_PHI_RATE;
     return EKM_OK;
 }
 
 static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, const char *section,
-                                       sweep_kind sweep, ekm_error *err)
+                                       ekm_sweep_kind sweep, ekm_error *err)
 {
-    for (size_t i = 0; i < N_TOOL_KEYS; i++) {
-        const tool_key *tk = &TOOL_KEYS[i];
+    for (size_t i = 0; i < ekm_tool_keys_count(); i++) {
+        const ekm_tool_key *tk = ekm_tool_keys_at(i);
         if (strcmp(tk->section, section) != 0)
             continue;
-        char name[64], from[600], value[VALUE_SIZE];
+        char name[64], from[600], value[EKM_VALUE_MAX];
         snprintf(name, sizeof name, "%s.%s", section, tk->key);
         const ekm_entry *e = pick(s, section, tk->key, r->engine, r->size);
         ekm_status st = EKM_OK;
@@ -564,11 +161,12 @@ static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, c
                 src = ekm_resolve_find(r, "run.t_end");
             else if (strcmp(name, "dem.pressure") == 0)
                 src = ekm_resolve_find(r, "top.pressure");
-            else if (strcmp(name, "dem.angles") == 0 && sweep == SWEEP_THETA)
+            else if (strcmp(name, "dem.angles") == 0 && sweep == EKM_SWEEP_THETA)
                 src = ekm_resolve_find(r, "gravity.angle");
-            else if (strcmp(name, "dem.phis") == 0 && sweep == SWEEP_PHI_RATE)
+            else if (strcmp(name, "dem.phis") == 0 && sweep == EKM_SWEEP_PHI_RATE)
                 src = ekm_resolve_find(r, "initial.phi");
-            else if (strcmp(name, "dem.rates") == 0 && (sweep == SWEEP_PHI_RATE || sweep == SWEEP_P_RATE))
+            else if (strcmp(name, "dem.rates") == 0 &&
+                     (sweep == EKM_SWEEP_PHI_RATE || sweep == EKM_SWEEP_P_RATE))
                 /* the imposed rate of a rate-held top wall, else the walls'
                  * (as scripts/dem/run.sh computed it: awk printf "%.10g") */
                 snprintf(value, sizeof value, "%.10g",
@@ -588,14 +186,15 @@ static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, c
 /* The blank-separated items of a list, each at most 63 characters. */
 typedef struct {
     size_t n;
-    char item[VALUE_SIZE / 2][64];
+    char item[EKM_VALUE_MAX / 2][64];
 } item_list;
 
 static ekm_status split_list(const ekm_resolve_key *k, item_list *out, ekm_error *err)
 {
     out->n = 0;
-    for (const char *p = k->value + strspn(k->value, BLANKS); *p; p += strspn(p, BLANKS)) {
-        const size_t len = strcspn(p, BLANKS);
+    for (const char *p = k->value + strspn(k->value, EKM_NUMBER_BLANKS); *p;
+         p += strspn(p, EKM_NUMBER_BLANKS)) {
+        const size_t len = strcspn(p, EKM_NUMBER_BLANKS);
         const char *key = k->as[0] ? k->as : k->name + 4;
         if (len >= sizeof out->item[0])
             return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: list item longer than %zu characters", k->from,
@@ -724,7 +323,7 @@ static ekm_status dump_every_of(const ekm_resolve_key *dump_strain, const ekm_re
     return EKM_OK;
 }
 
-static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kind sweep, ekm_error *err)
+static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, ekm_sweep_kind sweep, ekm_error *err)
 {
     const ekm_resolve_key *angles = ekm_resolve_find(r, "dem.angles");
     const ekm_resolve_key *phis = ekm_resolve_find(r, "dem.phis"), *rates = ekm_resolve_find(r, "dem.rates");
@@ -735,12 +334,13 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
     if (!a)
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory resolving the scenario");
     ekm_status st = EKM_OK;
-    if (sweep == SWEEP_THETA && angles) {
+    if (sweep == EKM_SWEEP_THETA && angles) {
         st = split_list(angles, &a[0], err);
         if (st == EKM_OK)
             st = add_list_points(r, &a[0], "theta", "theta", "gravity.angle", err);
-    } else if ((sweep == SWEEP_PHI_RATE && phis && rates) || (sweep == SWEEP_P_RATE && pressures && rates)) {
-        const int by_p = sweep == SWEEP_P_RATE;
+    } else if ((sweep == EKM_SWEEP_PHI_RATE && phis && rates) ||
+               (sweep == EKM_SWEEP_P_RATE && pressures && rates)) {
+        const int by_p = sweep == EKM_SWEEP_P_RATE;
         st = split_list(by_p ? pressures : phis, &a[0], err);
         char phi_range[64];
         snprintf(phi_range, sizeof phi_range, "volume fractions in (0, phi_cp = %g)", s->material.phi_cp);
@@ -788,7 +388,7 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
                 }
                 snprintf(p->set[p->n_sets++], sizeof p->set[0], "bottom.velocity=%.10g", -v);
             }
-    } else if (sweep == SWEEP_SOURCE) {
+    } else if (sweep == EKM_SWEEP_SOURCE) {
         const ekm_resolve_key *widths = ekm_resolve_find(r, "dem.source_widths");
         if (!widths)
             st = EKM_FAIL(err, EKM_EINPUT,
@@ -801,7 +401,7 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, sweep_kin
             st = check_sweep_items(s, r, widths, &a[0], 0.0, 0.0, "source widths > 0 [d]", err);
         if (st == EKM_OK)
             st = add_list_points(r, &a[0], "source", "source_width", NULL, err);
-    } else if (sweep == SWEEP_P_RATE) {
+    } else if (sweep == EKM_SWEEP_P_RATE) {
         st = EKM_FAIL(err, EKM_EINPUT,
                       "%s: [dem] pressures: missing for this engine and size (only other variants are given; "
                       "a pressure x rate sweep needs its list of normal stresses)",
@@ -817,9 +417,9 @@ ekm_status ekm_resolve(const ekm_scenario *s, const char *engine, const char *si
                        ekm_error *err)
 {
     memset(r, 0, sizeof *r);
-    if (engine && !word_in(ENGINES, 2, engine, strlen(engine)))
+    if (engine && !ekm_tool_keys_is_engine(engine))
         return EKM_FAIL(err, EKM_EINPUT, "--engine %s: unknown engine (expected liggghts or lammps)", engine);
-    if (size && !word_in(SIZES, 2, size, strlen(size)))
+    if (size && !ekm_tool_keys_is_size(size))
         return EKM_FAIL(err, EKM_EINPUT, "--size %s: unknown size (expected smoke or ref)", size);
     snprintf(r->engine, sizeof r->engine, "%s", engine ? engine : "");
     snprintf(r->size, sizeof r->size, "%s", size ? size : "");
@@ -828,7 +428,7 @@ ekm_status ekm_resolve(const ekm_scenario *s, const char *engine, const char *si
     for (size_t i = 0; i < ekm_scenario_key_count() && st == EKM_OK; i++) {
         const char *section, *key;
         ekm_scenario_key_name(i, &section, &key);
-        char name[64], from[600], value[VALUE_SIZE];
+        char name[64], from[600], value[EKM_VALUE_MAX];
         snprintf(name, sizeof name, "%s.%s", section, key);
         const ekm_entry *e = ekm_scenario_entry_find(s->entries, s->n_entries, name);
         if (e) {
@@ -838,17 +438,17 @@ ekm_status ekm_resolve(const ekm_scenario *s, const char *engine, const char *si
             st = add_key(r, name, value, "default", NULL, err);
         }
     }
-    sweep_kind sweep = SWEEP_NONE;
+    ekm_sweep_kind sweep = EKM_SWEEP_NONE;
     if (st == EKM_OK)
         st = sweep_of(s, &sweep, err);
     if (st == EKM_OK && section_given(s, "dem"))
         st = resolve_tool_section(s, r, "dem", sweep, err);
     if (st == EKM_OK && section_given(s, "compare"))
-        st = resolve_tool_section(s, r, "compare", SWEEP_NONE, err);
+        st = resolve_tool_section(s, r, "compare", EKM_SWEEP_NONE, err);
     if (st == EKM_OK && section_given(s, "campaign"))
-        st = resolve_tool_section(s, r, "campaign", SWEEP_NONE, err);
+        st = resolve_tool_section(s, r, "campaign", EKM_SWEEP_NONE, err);
     if (st == EKM_OK)
-        st = build_points(s, r, section_given(s, "dem") ? sweep : SWEEP_NONE, err);
+        st = build_points(s, r, section_given(s, "dem") ? sweep : EKM_SWEEP_NONE, err);
     return st;
 }
 

@@ -1,9 +1,8 @@
 /* scenario.c: defaults, INI reading (inih) and validation of a scenario. */
 #include "scenario.h"
 
-#include "bc.h"
-#include "flux.h"
-#include "resolve.h"
+#include "number.h"
+#include "tool_keys.h"
 #include "utf8.h"
 
 #include <ctype.h>
@@ -284,7 +283,7 @@ static int check_header(parse_ctx *c, const char *s)
     char name[SECTION_NAME_MAX] = "";
     if (len < (int)sizeof name)
         snprintf(name, sizeof name, "%.*s", len, s + 1);
-    if (len >= (int)sizeof name || (!section_known(name) && !ekm_resolve_is_tool_section(name)))
+    if (len >= (int)sizeof name || (!section_known(name) && !ekm_tool_keys_is_section(name)))
         return fail_at_line(c, "[%.*s]: unknown section (the sections are " SECTION_LIST ")", len, s + 1);
     for (size_t i = 0; i < c->n_sections; i++)
         if (strcmp(c->sections[i].name, name) == 0)
@@ -389,25 +388,25 @@ static int fail_once(parse_ctx *c, ekm_status code, const char *fmt, const char 
 
 static int parse_double(const char *v, double *out)
 {
-    return ekm_resolve_parse_number(v, out);
+    return ekm_number_parse(v, out);
 }
 
 static int parse_int(const char *v, int *out)
 {
     long long x;
-    if (!ekm_resolve_parse_integer(v, &x) || x < -2147483647LL || x > 2147483647LL)
+    if (!ekm_number_parse_integer(v, &x) || x < -2147483647LL || x > 2147483647LL)
         return 0;
     *out = (int)x;
     return 1;
 }
 
 /* [bottom]/[top] inlet_x: 1 to EKM_INLETS_MAX numbers separated by blanks
- * (the sweep lists' syntax, resolve.h) into x[], their count into the
+ * (the sweep lists' syntax, number.h) into x[], their count into the
  * end's n_inlets; 0 after recording the error. */
 static int parse_inlets(parse_ctx *c, const char *section, const char *key, const char *value, double *x)
 {
     size_t n = 0;
-    if (!ekm_resolve_parse_numbers(value, x, EKM_INLETS_MAX, &n))
+    if (!ekm_number_parse_list(value, x, EKM_INLETS_MAX, &n))
         return fail_once(c, EKM_EINPUT,
                          "[%s] %s: expected a number or numbers separated by blanks (the "
                          "inlet centres [m]), got '%s'",
@@ -487,12 +486,12 @@ static int handler(void *user, const char *section, const char *key, const char 
     if (c->material_only && strcmp(section, "material") != 0)
         return fail_once(c, EKM_EINPUT, "[%s] %s: a material file holds only [material] (and comments)%s",
                          section, key, "");
-    if (ekm_resolve_is_tool_section(section)) {
+    if (ekm_tool_keys_is_section(section)) {
         /* the other tools' keys: checked here, resolved by resolve.c */
         char why[700];
         if (!ekm_utf8_valid(value))
             return fail_once(c, EKM_EINPUT, "[%s] %s: expected UTF-8 text%s", section, key, "");
-        if (!ekm_resolve_check_key(section, key, value, why, sizeof why))
+        if (!ekm_tool_keys_check(section, key, value, why, sizeof why))
             return fail_once(c, EKM_EINPUT, "%s%s%s", why, "", "");
         if (refuse_duplicate(c, c->s->tool_entries, c->s->n_tool_entries, section, key))
             return 0;
@@ -558,20 +557,9 @@ static int handler(void *user, const char *section, const char *key, const char 
                      : strcmp(section, "top") == 0  ? &c->s->top
                      : strcmp(section, "left") == 0 ? &c->s->left
                                                     : &c->s->right;
-        if (strcmp(value, "wall") == 0)
-            bc->kind = EKM_BC_WALL;
-        else if (strcmp(value, "inflow") == 0)
-            bc->kind = EKM_BC_INFLOW;
-        else if (strcmp(value, "outflow") == 0)
-            bc->kind = EKM_BC_OUTFLOW;
-        else if (strcmp(value, "free") == 0)
-            bc->kind = EKM_BC_FREE;
-        else if (strcmp(value, "piston") == 0)
-            bc->kind = EKM_BC_PISTON;
-        else
-            return fail_once(c, EKM_EINPUT,
-                             "[%s] %s: expected one of wall inflow outflow free piston, got '%s'", section,
-                             key, value);
+        if (!ekm_boundary_kind_of(value, &bc->kind))
+            return fail_once(c, EKM_EINPUT, "[%s] %s: expected one of " EKM_BOUNDARY_KIND_NAMES ", got '%s'",
+                             section, key, value);
     } else if ((strcmp(key, "pressure") == 0 || strcmp(key, "shear_rate") == 0) &&
                strcmp(value, "none") == 0) {
         *(double *)(base + ks->offset) = NAN; /* the wall stays put / moves at its velocity (the defaults) */
@@ -651,7 +639,7 @@ static int type_in(const char *list, const char *type)
 static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char *side, const ekm_bc *bc,
                            ekm_error *err)
 {
-    const char *type = ekm_bc_kind_name(bc->kind);
+    const char *type = ekm_boundary_kind_name(bc->kind);
     for (size_t k = 0; k < N_KEYS; k++)
         if (strcmp(KEYS[k].section, side) == 0 && KEYS[k].only_for_bc && c->seen[k] &&
             !type_in(KEYS[k].only_for_bc, type)) {
@@ -712,7 +700,7 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
                 err, EKM_EINPUT,
                 "%s: [top] shear_rate: needs [bottom] type = wall (the top wall moves at [bottom] "
                 "velocity + shear_rate * gap), got %s",
-                where(c, side, "shear_rate", w_, sizeof w_), ekm_bc_kind_name(s->bottom.kind));
+                where(c, side, "shear_rate", w_, sizeof w_), ekm_boundary_kind_name(s->bottom.kind));
     }
     if (bc->kind == EKM_BC_PISTON) {
         RANGE(bc->w != 0.0, side, "w", "a velocity != 0 [m/s]", bc->w);
@@ -807,7 +795,7 @@ static ekm_status check_boundaries_2d(const parse_ctx *c, ekm_scenario *s, ekm_e
             char key_at[600];
             snprintf(key_at, sizeof key_at, "%s", where(c, sides[k], "type", w_, sizeof w_));
             return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] type: expected wall (a side of a 2D box), got %s",
-                            key_at, sides[k], ekm_bc_kind_name(sw[k]->kind));
+                            key_at, sides[k], ekm_boundary_kind_name(sw[k]->kind));
         }
     const char *keys_2d[2] = {"surface_fill", "solid_lag_tol"};
     for (int k = 0; k < 2; k++)
@@ -841,6 +829,19 @@ static ekm_status check_boundaries_2d(const parse_ctx *c, ekm_scenario *s, ekm_e
             return st;
     }
     return EKM_OK;
+}
+
+/* 1 if word is one of the blank-separated words of list. */
+static int word_listed(const char *list, const char *word)
+{
+    const size_t n = strlen(word);
+    for (const char *p = list + strspn(list, " "); *p; p += strspn(p, " ")) {
+        const size_t len = strcspn(p, " ");
+        if (len == n && strncmp(p, word, n) == 0)
+            return 1;
+        p += len;
+    }
+    return 0;
 }
 
 static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error *err)
@@ -932,12 +933,10 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(n->newton_tol > 0.0 && n->newton_tol < 1e-2, "numerics", "newton_tol", "a number in (0, 1e-2)",
           n->newton_tol);
     RANGE(n->newton_max >= 1, "numerics", "newton_max", "an integer >= 1", n->newton_max);
-    const ekm_limiter *lim;
-    ekm_error lerr;
-    if (ekm_limiter_find(n->limiter, &lim, &lerr) != EKM_OK) {
+    if (!word_listed(EKM_SCENARIO_LIMITERS, n->limiter)) {
         char w_[600];
-        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", where(c, "numerics", "limiter", w_, sizeof w_),
-                        lerr.message);
+        return EKM_FAIL(err, EKM_EINPUT, "%s: [numerics] limiter: unknown limiter '%s' (known: %s)",
+                        where(c, "numerics", "limiter", w_, sizeof w_), n->limiter, EKM_SCENARIO_LIMITERS);
     }
     const ekm_hypo_params *h = &s->hypo;
     RANGE(h->enabled == 0 || h->enabled == 1, "hypo", "enabled", "0 or 1", h->enabled);
@@ -980,7 +979,7 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
         st = check_bc(c, s, "left", &s->left, err);
     if (st == EKM_OK)
         st = check_bc(c, s, "right", &s->right, err);
-    if (st == EKM_OK && ekm_bc_rate_wall(&s->top))
+    if (st == EKM_OK && ekm_boundary_rate_wall(&s->top))
         s->top.velocity = s->bottom.velocity; /* its speed at zero gap (bc.h) */
     return st;
 }
@@ -1220,14 +1219,14 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
                        : strcmp(ks->section, "left") == 0  ? &s->left
                        : strcmp(ks->section, "right") == 0 ? &s->right
                                                            : NULL;
-    if (ks->only_for_bc && !type_in(ks->only_for_bc, ekm_bc_kind_name(bc->kind)))
+    if (ks->only_for_bc && !type_in(ks->only_for_bc, ekm_boundary_kind_name(bc->kind)))
         return 0;
     const int box_2d = isfinite(s->width) && s->cells_x > 1;
     if ((strcmp(ks->section, "left") == 0 || strcmp(ks->section, "right") == 0) && (!box_2d || s->periodic_x))
         return 0; /* the side walls of a 2D box only */
     if (bc && (strcmp(ks->key, "t_start") == 0 || strcmp(ks->key, "inlet_x") == 0) && !isfinite(s->width))
         return 0; /* keys of a 2D domain only */
-    if (bc && strcmp(ks->key, "velocity") == 0 && ekm_bc_rate_wall(bc))
+    if (bc && strcmp(ks->key, "velocity") == 0 && ekm_boundary_rate_wall(bc))
         return 0; /* not a key: the speed follows the gap */
     if (((strcmp(ks->section, "domain") == 0 &&
           (strcmp(ks->key, "cells_x") == 0 || strcmp(ks->key, "periodic_x") == 0)) ||
@@ -1244,7 +1243,7 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
     else if (strcmp(ks->key, "stop") == 0)
         snprintf(value, size, "%s", s->stop == EKM_STOP_STEADY ? "steady" : "t_end");
     else if (bc && strcmp(ks->key, "type") == 0)
-        snprintf(value, size, "%s", ekm_bc_kind_name(bc->kind));
+        snprintf(value, size, "%s", ekm_boundary_kind_name(bc->kind));
     else if (ks->type == KEY_DOUBLE) {
         const double x = *(const double *)(base + ks->offset);
         if (!isfinite(x))
@@ -1290,16 +1289,4 @@ double ekm_scenario_gravity_x(const ekm_scenario *s)
 double ekm_scenario_gravity_z(const ekm_scenario *s)
 {
     return -s->gravity * cos(s->angle_deg * DEG);
-}
-
-const char *ekm_bc_kind_name(ekm_bc_kind k)
-{
-    switch (k) {
-    case EKM_BC_WALL: return "wall";
-    case EKM_BC_INFLOW: return "inflow";
-    case EKM_BC_OUTFLOW: return "outflow";
-    case EKM_BC_FREE: return "free";
-    case EKM_BC_PISTON: return "piston";
-    }
-    return "?";
 }

@@ -1,22 +1,9 @@
-/* cgrun.h: the `ekmcompare cg` pipeline: dumps -> selected snapshots ->
- * particles -> kernel sums -> windows of block averages -> fields with
- * standard errors -> HDF5 (and CSV), written atomically.
- *
- * Snapshots are streamed file after file (memory is one snapshot plus the
- * block store); a step already seen (restart overlap between files) is
- * skipped. The time of a snapshot is ITEM: TIME when the dump has it,
- * otherwise step x dt (--dt); times increase strictly (cg_snapshot_time).
- * --steady reads the selection twice: first to find the steady start by
- * MSER-5 on the kinetic energy per unit mass and (on a non-periodic axis)
- * the centre of mass, then to average.
- *
- * The steps, one module each: cg_input.h (dumps -> selected snapshots ->
- * particles), contacts.h (pair dumps -> contacts), steadiness.h (the steady
- * start), cg.h (kernel sums of one snapshot), window.h (averaging windows
- * and standard errors), cg_output.h (HDF5 and CSV writers).
+/* cg_opts.h: the options of one `ekmcompare cg` run (1D profile or 2D
+ * grid: cg_run.h, cg2d_run.h), their defaults, and the check that its
+ * outputs replace none of its inputs.
  */
-#ifndef CG_CGRUN_H
-#define CG_CGRUN_H
+#ifndef CG_OPTS_H
+#define CG_OPTS_H
 
 #include <stdint.h>
 #include <stdio.h>
@@ -67,14 +54,12 @@ typedef struct {
     int ensemble;            /* 2D: 1: every input is an independent run (--ensemble) */
 } cg_run_opts;
 
-cg_run_opts cg_run_opts_default(void);
-
-/* The 1D profile, or with o->axis2 >= 0 the 2D grid (cg2d_run.h). */
-ekm_status cg_run(const cg_run_opts *o, ekm_error *err);
+/* The defaults: axis z, the Gaussian kernel of the mean diameter, ... */
+cg_run_opts cg_opts_default(void);
 
 /* Every output of o must be writable, and none may replace an input
  * (dumps, pair dumps), the HDF5 output's XDMF sidecar or (the CSV) the
  * HDF5 output. */
-ekm_status cg_run_refuse_inputs(const cg_run_opts *o, ekm_error *err);
+ekm_status cg_opts_refuse_inputs(const cg_run_opts *o, ekm_error *err);
 
 #endif
