@@ -18,7 +18,7 @@ DEM_FLAGS      = $(if $(filter 1,$(FORCE)),-f) -n $(or $(NP),1) $(foreach s,$(DE
 EKMSCENARIO := $(BUILD)/scenario/ekmscenario
 
 # What the runner calls: ekmscenario (the resolved scenario) and ekmcompare
-# (its `steady` judges a run's monitor series); not ekm.
+# (its `steady` judges a run's monitor series); not the ekm program.
 dem-tools: $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS) --target ekmscenario ekmcompare
 
