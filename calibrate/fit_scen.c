@@ -11,15 +11,10 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "bc.h"
-#include "fields.h"
 #include "h5.h"
-#include "run.h"
+#include "point.h"
 #include "scenario.h"
 #include "score.h"
-#include "state.h"
-#include "step.h"
-#include "steady_solve.h"
 
 static const char *const field_names[CG_FITSC_NFIELD] = {"phi", "vx", "T", "P", "sxz"};
 
@@ -46,6 +41,8 @@ static char *dup_str(const char *s)
 
 static void case_free(cg_fitsc_case *c)
 {
+    if (c->sc_loaded)
+        ekm_scenario_free(&c->sc);
     free(c->dem);
     free(c->scenario);
     for (size_t i = 0; i < c->nset; i++)
@@ -347,29 +344,35 @@ ekm_status cg_fitsc_load(cg_fitsc_problem *pb, const char *cases_path, ekm_error
             st = read_dem(cases_path, i, c, err);
         if (st != EKM_OK)
             break;
-        ekm_scenario sc;
         ekm_error serr = {0};
-        ekm_status ls = ekm_scenario_load(&sc, c->scenario, (const char *const *)c->set, c->nset, &serr);
+        ekm_status ls = ekm_scenario_load(&c->sc, c->scenario, (const char *const *)c->set, c->nset, &serr);
+        c->sc_loaded = ls == EKM_OK;
         if (ls != EKM_OK) {
             st = EKM_FAIL(err, ls, "%s: cases[%zu].scenario: %s", cases_path, i, serr.message);
         } else {
-            c->phi_init_max = sc.phi_init;
-            if (sc.bottom.kind == EKM_BC_INFLOW)
-                c->phi_init_max = fmax(c->phi_init_max, sc.bottom.phi);
-            if (sc.top.kind == EKM_BC_INFLOW)
-                c->phi_init_max = fmax(c->phi_init_max, sc.top.phi);
-            /* the initial grid; a pressure-held wall moves it (the EKM's
-             * state stretches it with the gap, step.c), so its candidates
-             * are not cut to the initial domain */
-            const int moving = ekm_bc_pressure_wall(&sc.bottom) || ekm_bc_pressure_wall(&sc.top);
-            ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
-            if (!s)
+            const ekm_scenario *sc = &c->sc;
+            c->phi_init_max = sc->phi_init;
+            if (sc->bottom.kind == EKM_BC_INFLOW)
+                c->phi_init_max = fmax(c->phi_init_max, sc->bottom.phi);
+            if (sc->top.kind == EKM_BC_INFLOW)
+                c->phi_init_max = fmax(c->phi_init_max, sc->top.phi);
+            /* the initial grid (cell centres of `cells` equal cells over
+             * `length`); a pressure-held wall moves it (the EKM's state
+             * stretches it with the gap), so its candidates are not cut to
+             * the initial domain */
+            const int moving =
+                ekm_boundary_pressure_wall(&sc->bottom) || ekm_boundary_pressure_wall(&sc->top);
+            double *z = malloc((size_t)sc->cells * sizeof *z);
+            if (!z)
                 st = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-            else
-                st = find_candidates(cases_path, i, c, moving ? NULL : s->z, (size_t)s->n, pb->support, err);
-            ekm_state_free(s);
+            const double dz = sc->length / sc->cells; /* as ekm_state_alloc */
+            for (int j = 0; z && j < sc->cells; j++)
+                z[j] = (j + 0.5) * dz;
+            if (z)
+                st =
+                    find_candidates(cases_path, i, c, moving ? NULL : z, (size_t)sc->cells, pb->support, err);
+            free(z);
         }
-        ekm_scenario_free(&sc);
         pb->nres += c->nres;
     }
     json_decref(root);
@@ -395,161 +398,35 @@ ekm_status cg_fitsc_start_material(const cg_fitsc_problem *pb, ekm_material *m, 
 
 /* ---- the residuals ---- */
 
-/* Run case c at material m; the EKM's profiles at its last state into
- * prof[f] (n values each) and the cell centres of that state into ze: the
- * state's own grid, which a pressure-held wall stretches with its current
- * gap at every step (step.c stretch_grid), the centres an ekm output
- * writes as its /z row of that frame and `score` takes (cg_score_centres). */
-/* Largest |a - b| of phi, vx and T over the column, each relative to b's
- * largest magnitude (steady_agree.py's measure, without P). */
-static double state_difference(const ekm_state *a, const ekm_state *b)
+/* Solve case c at the fitted parameters of m (its other material constants
+ * its scenario's own) by the campaign's steady policy (point.h; with
+ * pb->check_final, Newton's state checked against a run); the profiles and
+ * cell centres into *pt. Non-zero: the solve failed. */
+static int run_case(const cg_fitsc_problem *pb, cg_fitsc_case *c, const ekm_material *m, ekm_point *pt)
 {
-    const double *fa[3] = {a->phi, a->u, a->T}, *fb[3] = {b->phi, b->u, b->T};
-    double worst = 0.0;
-    for (int f = 0; f < 3; f++) {
-        double scale = 0.0, diff = 0.0;
-        for (int j = 0; j < b->n; j++) {
-            scale = fmax(scale, fabs(fb[f][j]));
-            diff = fmax(diff, fabs(fa[f][j] - fb[f][j]));
-        }
-        const double rel = scale > 0.0 ? diff / scale : (diff > 0.0 ? INFINITY : 0.0);
-        worst = isnan(rel) ? INFINITY : fmax(worst, rel);
-    }
-    return worst;
-}
-
-/* The EKM state a case is scored at, as the campaign makes it (workflow
- * rule ekm, scripts/campaign/ekm_step.sh): a scenario that runs to its
- * steady state ([run] stop = steady) is solved by Newton from its initial
- * state (ekm_steady_solve, the solve of `ekm steady`); one that has none
- * there (EKM_ENOTSTEADY), or that the steady solver does not take, is run
- * by time stepping from its initial state (ekm_run, as `ekm run`).  With
- * check (the fitted material, once), the Newton state is also compared
- * with the time-stepped run as the campaign does: kept when the run ended
- * steady and agrees within CG_FITSC_AGREE_TOL, else the run's state is
- * used (c->check_*).  Non-zero: the run failed. */
-static int solve_case(const ekm_scenario *sc, ekm_state *s, ekm_stepper *stp, cg_fitsc_case *c, int check,
-                      ekm_error *e)
-{
-    ekm_state_init(s, sc);
-    ekm_error why = {0};
-    ekm_run_stats stats;
-    if (sc->stop == EKM_STOP_STEADY && ekm_steady_supported(sc, &why) == EKM_OK) {
-        const ekm_status rc = ekm_steady_solve(sc, s, NULL, &why);
-        if (rc == EKM_OK && !check) {
-            c->last_solver = CG_FITSC_SOLVER_STEADY;
-            c->steady_solves++;
-            return 0;
-        }
-        if (rc == EKM_OK) {
-            ekm_state *r = ekm_state_alloc(s->n, sc->length);
-            if (!r) {
-                EKM_FAIL(e, EKM_ENOMEM, "out of memory");
-                return 1;
-            }
-            ekm_state_init(r, sc);
-            const int bad = ekm_run(sc, r, stp, NULL, &stats, e) != EKM_OK;
-            if (!bad) {
-                c->check_done = 1;
-                c->check_difference = state_difference(s, r);
-                c->check_run_steady = stats.steady;
-                c->check_agrees = stats.steady && c->check_difference <= CG_FITSC_AGREE_TOL;
-                if (c->check_agrees) {
-                    c->last_solver = CG_FITSC_SOLVER_STEADY;
-                    c->steady_solves++;
-                } else {
-                    ekm_state_copy(s, r);
-                    c->last_solver = CG_FITSC_SOLVER_RUN;
-                    c->stepped_runs++;
-                }
-            }
-            ekm_state_free(r);
-            return bad;
-        }
-        if (rc != EKM_ENOTSTEADY) {
-            *e = why;
-            return 1;
-        }
-        ekm_state_init(s, sc); /* no steady state by Newton: time stepping decides */
-    }
-    c->last_solver = CG_FITSC_SOLVER_RUN;
-    c->stepped_runs++;
-    return ekm_run(sc, s, stp, NULL, &stats, e) != EKM_OK;
-}
-
-static int run_case(const cg_fitsc_problem *pb, cg_fitsc_case *c, const ekm_material *m, double **ze_out,
-                    double *prof[CG_FITSC_NFIELD], size_t *nze)
-{
-    const size_t nov = c->nset + pb->nparams;
-    char **ov = calloc(nov ? nov : 1, sizeof *ov);
-    char(*buf)[96] = malloc((pb->nparams ? pb->nparams : 1) * sizeof *buf);
-    if (!ov || !buf) {
-        free(ov);
-        free(buf);
-        return 1;
-    }
-    for (size_t k = 0; k < c->nset; k++)
-        ov[k] = c->set[k];
-    for (size_t k = 0; k < pb->nparams; k++) {
-        snprintf(buf[k], sizeof buf[k], "material.%s=%.17g", cg_fit_param_name(pb->param[k]),
-                 cg_fit_param_get(m, pb->param[k]));
-        ov[c->nset + k] = buf[k];
-    }
-    ekm_scenario sc;
+    ekm_material mc = c->sc.material;
+    for (size_t k = 0; k < pb->nparams; k++)
+        cg_fit_param_set(&mc, pb->param[k], cg_fit_param_get(m, pb->param[k]));
     ekm_error e = {0};
-    int bad = ekm_scenario_load(&sc, c->scenario, (const char *const *)ov, nov, &e) != EKM_OK;
-    free(ov);
-    free(buf);
-    ekm_state *s = NULL;
-    ekm_stepper *stp = NULL;
-    if (!bad) {
-        s = ekm_state_alloc(sc.cells, sc.length);
-        stp = s ? ekm_step_alloc(&sc, &e) : NULL;
-        bad = !s || !stp;
+    const double t0 = now_s();
+    const int bad = ekm_point_solve(&c->sc, &mc, pb->check_final, pt, &e) != EKM_OK;
+    c->wall_last_s = now_s() - t0;
+    c->wall_total_s += c->wall_last_s;
+    c->runs++;
+    if (bad)
+        return 1;
+    c->last_solver = pt->solver == EKM_POINT_NEWTON ? CG_FITSC_SOLVER_STEADY : CG_FITSC_SOLVER_RUN;
+    if (pt->solver == EKM_POINT_NEWTON)
+        c->steady_solves++;
+    else
+        c->stepped_runs++;
+    if (pt->checked) {
+        c->check_done = 1;
+        c->check_difference = pt->agreement;
+        c->check_run_steady = pt->run_steady;
+        c->check_agrees = pt->solver == EKM_POINT_NEWTON;
     }
-    if (!bad) {
-        const double t0 = now_s();
-        bad = solve_case(&sc, s, stp, c, pb->check_final, &e);
-        c->wall_last_s = now_s() - t0;
-        c->wall_total_s += c->wall_last_s;
-        c->runs++;
-    }
-    if (!bad) {
-        const size_t n = (size_t)s->n;
-        double *block = malloc(n * (CG_FITSC_NFIELD + 2) * sizeof *block);
-        int *regime = malloc(n * sizeof *regime);
-        if (!block || !regime) {
-            free(block);
-            free(regime);
-            bad = 1;
-        } else {
-            double *vz = block + n * CG_FITSC_NFIELD, *szz = vz + n;
-            for (int f = 0; f < CG_FITSC_NFIELD; f++)
-                prof[f] = block + (size_t)f * n;
-            ekm_fields fl = {.vx = prof[CG_FITSC_VX],
-                             .vz = vz,
-                             .P = prof[CG_FITSC_P],
-                             .sxz = prof[CG_FITSC_SXZ],
-                             .szz = szz,
-                             .regime = regime};
-            ekm_fields_compute(&sc, s, s->t, &fl); /* what ekm writes (h5out.c) */
-            memcpy(prof[CG_FITSC_PHI], s->phi, n * sizeof(double));
-            memcpy(prof[CG_FITSC_T], s->T, n * sizeof(double));
-            free(regime);
-            *ze_out = malloc(n * sizeof **ze_out);
-            if (!*ze_out) {
-                free(block);
-                bad = 1;
-            } else {
-                memcpy(*ze_out, s->z, n * sizeof(double));
-                *nze = n;
-            }
-        }
-    }
-    ekm_step_free(stp);
-    ekm_state_free(s);
-    ekm_scenario_free(&sc);
-    return bad;
+    return 0;
 }
 
 int cg_fitsc_residuals(cg_fitsc_problem *pb, const ekm_material *m, double *r)
@@ -559,12 +436,13 @@ int cg_fitsc_residuals(cg_fitsc_problem *pb, const ekm_material *m, double *r)
     int bad = 0;
     for (size_t ci = 0; ci < pb->ncases && !bad; ci++) {
         cg_fitsc_case *c = &pb->cases[ci];
-        double *ze = NULL, *prof[CG_FITSC_NFIELD] = {NULL};
-        size_t nze = 0;
-        if (run_case(pb, c, m, &ze, prof, &nze)) {
+        ekm_point pt;
+        if (run_case(pb, c, m, &pt)) {
             bad = 1;
             break;
         }
+        const double *ze = pt.z, *prof[CG_FITSC_NFIELD] = {pt.phi, pt.vx, pt.T, pt.P, pt.sxz};
+        const size_t nze = pt.n;
         wall += c->wall_last_s;
         const double sw = sqrt(c->weight);
         c->chi2 = 0.0;
@@ -593,8 +471,7 @@ int cg_fitsc_residuals(cg_fitsc_problem *pb, const ekm_material *m, double *r)
             c->chi2 += c->chi2_field[f];
         }
         chi2 += c->chi2;
-        free(ze);
-        free(prof[0]);
+        ekm_point_free(&pt);
     }
     pb->evaluations++;
     pb->ekm_wall_s += wall;

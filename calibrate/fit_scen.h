@@ -38,6 +38,8 @@
 #include <stddef.h>
 
 #include "fit.h"
+#include "point.h"
+#include "scenario.h"
 #include "status.h"
 
 /* Profiles a residual can be formed of. */
@@ -57,8 +59,8 @@ enum cg_fitsc_field { CG_FITSC_PHI, CG_FITSC_VX, CG_FITSC_T, CG_FITSC_P, CG_FITS
  * the runs' own round-off for hundreds of evaluations. */
 /* The Newton state of a case at the fitted material is kept when the
  * time-stepped run agrees within this fraction of its maxima (the
- * campaign's test, scripts/campaign/steady_agree.py). */
-#define CG_FITSC_AGREE_TOL 5e-2
+ * campaign's test, continuum/point.h). */
+#define CG_FITSC_AGREE_TOL EKM_POINT_AGREE_TOL
 #define CG_FITSC_XTOL      1e-6
 #define CG_FITSC_GTOL      1e-6
 #define CG_FITSC_FTOL      1e-8
@@ -67,7 +69,7 @@ enum cg_fitsc_field { CG_FITSC_PHI, CG_FITSC_VX, CG_FITSC_T, CG_FITSC_P, CG_FITS
 
 const char *cg_fitsc_field_name(int f); /* "phi", "vx", "T", "P", "sxz" */
 
-/* How a case's EKM state was made (solve_case in fit_scen.c). */
+/* How a case's EKM state was made (continuum/point.h). */
 enum cg_fitsc_solver { CG_FITSC_SOLVER_NONE, CG_FITSC_SOLVER_STEADY, CG_FITSC_SOLVER_RUN };
 
 typedef struct {
@@ -101,7 +103,9 @@ typedef struct {
     int check_done;          /* 1: compared */
     int check_run_steady;    /* the run ended steady */
     int check_agrees;        /* 1: the Newton state was kept */
-    double check_difference; /* largest difference of phi, vx, T over the run's maxima [-] */
+    double check_difference; /* ekm_point_agreement of the two states [-] */
+    ekm_scenario sc;         /* the case's scenario with its overrides, read once */
+    int sc_loaded;           /* 1: sc holds one (ekm_scenario_free) */
 } cg_fitsc_case;
 
 typedef struct {
@@ -117,7 +121,7 @@ typedef struct {
     long evaluations;
     double started_s;  /* monotonic clock at the start */
     double ekm_wall_s; /* all EKM runs [s] */
-    int check_final;   /* 1 while the fitted material is evaluated (solve_case's check) */
+    int check_final;   /* 1 while the fitted material is evaluated (ekm_point_solve's check) */
 } cg_fitsc_problem;
 
 /* Read CASES.json and every case's DEM file and scenario (with its set).

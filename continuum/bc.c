@@ -103,11 +103,6 @@ double ekm_bc_face_w(const ekm_bc_face *b, ekm_side side, const ekm_state *s)
     return side == EKM_SIDE_BOTTOM ? s->w[1] : s->w[s->n - 1];
 }
 
-int ekm_bc_pressure_wall(const ekm_bc *bc)
-{
-    return bc->kind == EKM_BC_WALL && !isnan(bc->pressure);
-}
-
 /* dL/dt = rate L (-szz_top - P)/P with szz_top = -(P_K + P_Y) + mu_n (dL/dt
  * - w_{n-1})/dz of a flowing top cell (fields.h) taken at the end of the
  * step, linearised: its viscous term at the new dL/dt, and its equilibrium

@@ -44,9 +44,6 @@ typedef struct {
 /* The face description of boundary `side` at time t. */
 ekm_bc_face ekm_bc_evaluate(const ekm_bc *bc, ekm_side side, double t, const ekm_state *s);
 
-/* 1: bc is a wall held at a normal pressure (its gap moves). */
-int ekm_bc_pressure_wall(const ekm_bc *bc);
-
 /* dL/dt [m/s] of a pressure-controlled top wall for the state s and a step
  * of dt [s] (the top cell's response to the wall is implicit, bc.c). */
 double ekm_bc_gap_rate(const ekm_scenario *sc, const ekm_state *s, double dt);

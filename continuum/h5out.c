@@ -105,7 +105,7 @@ static ekm_status write_layout(ekm_h5_writer *w, ekm_error *err)
     for (int f = 0; f < N_FIELDS && st == EKM_OK; f++)
         st = ekm_h5_create_series(w->file, FIELD_NAMES[f], f == F_REGIME ? EKM_H5_INT : EKM_H5_DOUBLE, 2, dz,
                                   1, ekm_field_units(FIELD_NAMES[f]), NULL, err);
-    if (st == EKM_OK && ekm_bc_pressure_wall(&w->sc->top))
+    if (st == EKM_OK && ekm_boundary_pressure_wall(&w->sc->top))
         st = ekm_h5_create_series(w->file, "gap", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("gap"), NULL,
                                   err);
     if (st == EKM_OK)
@@ -211,7 +211,7 @@ ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error 
         st = ekm_h5_append(w->file, FIELD_NAMES[f],
                            f == F_REGIME ? (const void *)w->regime : (const void *)w->buf[f], err);
     const double gap = s->n * s->dz; /* [m] */
-    if (st == EKM_OK && ekm_bc_pressure_wall(&w->sc->top))
+    if (st == EKM_OK && ekm_boundary_pressure_wall(&w->sc->top))
         st = ekm_h5_append(w->file, "gap", &gap, err);
     if (st != EKM_OK)
         return st;

@@ -8,6 +8,7 @@
 
 #include "atomic.h"
 #include "bc.h"
+#include "agree_cli.h"
 #include "cli_args.h"
 #include "ekm_version.h"
 #include "h5out.h"
@@ -35,6 +36,7 @@ static void usage(FILE *fp)
             "                 --phi LO:HI:N --rate R[,R,...] --json\n"
             "       ekm steady FILE.ini [-o OUT.h5] [--from RUN.h5] [--material FIT.ini]\n"
             "                  [--set section.key=value ...] [--quiet]\n"
+            "       ekm agree NEWTON.h5 RUN.h5 [--tol X]\n"
             "       ekm --help | --version\n"
             "\n"
             "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
@@ -63,6 +65,12 @@ static void usage(FILE *fp)
             "  --size S         smoke or ref: choose the <size>.k variants and the sweep\n"
             "  --point TAG      keep only that sweep point\n"
             "  --json           the output format (required)\n"
+            "\n"
+            "ekm agree: does the last state of an `ekm steady` output (NEWTON) agree with\n"
+            "the steady state an `ekm run` output (RUN) reached? Agree: the run ended\n"
+            "steady and phi, vx, T, P (where both have material) and the gap differ by\n"
+            "at most X (default 5e-2) of the run's maxima. One line on stdout; exit 0\n"
+            "agree, 6 disagree (the campaign's test, continuum/point.h).\n"
             "\n"
             "ekm homog prints the EKM's steady homogeneous simple shear of FILE.ini's\n"
             "material and [model] variant (docs/model.md, \"ekm homog\") as one JSON\n"
@@ -226,7 +234,7 @@ static int cmd_run(int argc, char **argv)
             };
             for (size_t i = 0; sc.stop == EKM_STOP_STEADY && i < 4 && st == EKM_OK; i++)
                 st = ekm_h5_writer_set_attr(fc.writer, steady_attrs[i].name, steady_attrs[i].value, &err);
-            if (st == EKM_OK && ekm_bc_pressure_wall(&sc.top))
+            if (st == EKM_OK && ekm_boundary_pressure_wall(&sc.top))
                 st = ekm_h5_writer_set_attr(fc.writer, "gap_final", s->n * s->dz, &err);
         }
         if (st == EKM_OK)
@@ -259,7 +267,7 @@ static int cmd_run(int argc, char **argv)
         else if (sc.stop == EKM_STOP_STEADY)
             printf("%-20s NOT steady at t_end = %.6g s (drift %.2e 1/s, acceleration %.3e m/s^2)\n", "", s->t,
                    stats.steady_drift, stats.steady_acceleration);
-        if (ekm_bc_pressure_wall(&sc.top))
+        if (ekm_boundary_pressure_wall(&sc.top))
             printf("%-20s gap %.6g m (initial %.6g m) at top pressure %.6g Pa\n", "", s->n * s->dz, sc.length,
                    sc.top.pressure);
     }
@@ -291,6 +299,8 @@ int main(int argc, char **argv)
         return cmd_run(argc - 2, argv + 2);
     if (strcmp(argv[1], "scenario") == 0)
         return ekm_scenario_cli_main(argc - 2, argv + 2, "ekm", "ekm scenario");
+    if (strcmp(argv[1], "agree") == 0)
+        return ekm_agree_cli_main(argc - 2, argv + 2);
     if (strcmp(argv[1], "homog") == 0)
         return ekm_homog_cli_main(argc - 2, argv + 2);
     if (strcmp(argv[1], "steady") == 0)

@@ -61,7 +61,7 @@ ekm_status ekm_steady_read_guess(const char *path, const ekm_scenario *sc, ekm_s
                       "%s: /z has %zu cells, the scenario %d ([domain] cells): --from needs a run on the "
                       "same grid",
                       path, cells, n);
-    if (st == EKM_OK && !ekm_bc_pressure_wall(&sc->top)) {
+    if (st == EKM_OK && !ekm_boundary_pressure_wall(&sc->top)) {
         /* a fixed grid: the centres of the scenario's cells (the last frame's) */
         const double dz = sc->length / n;
         const double *zl = rank == 2 ? z + (dims[0] - 1) * dims[1] : z;
@@ -73,7 +73,7 @@ ekm_status ekm_steady_read_guess(const char *path, const ekm_scenario *sc, ekm_s
                               path, j, zl[j], (j + 0.5) * dz, sc->length);
     }
     double gap = NAN;
-    if (st == EKM_OK && ekm_bc_pressure_wall(&sc->top)) {
+    if (st == EKM_OK && ekm_boundary_pressure_wall(&sc->top)) {
         /* the gap of the last frame (a pressure wall stretches the grid) */
         double *g = NULL;
         st = ekm_h5_read_double(f, "gap", &rank, dims, &g, err);
@@ -157,7 +157,7 @@ static ekm_status write_output(const char *out, const ekm_scenario *sc, const ek
         st = ekm_h5_writer_set_attr_array(w, "steady.residual", rep->residual, (size_t)rep->iterations, err);
     if (st == EKM_OK)
         st = ekm_h5_writer_set_attr_array(w, "steady.delta", rep->delta, (size_t)rep->iterations, err);
-    if (st == EKM_OK && ekm_bc_pressure_wall(&sc->top))
+    if (st == EKM_OK && ekm_boundary_pressure_wall(&sc->top))
         st = ekm_h5_writer_set_attr(w, "gap_final", rep->gap, err);
     if (st == EKM_OK)
         return ekm_h5_writer_commit(w, err);
@@ -214,7 +214,7 @@ int ekm_steady_cli_main(int argc, char **argv)
         code = steady_fail(&err, st);
     else if (!quiet) {
         char gap[64] = "";
-        if (ekm_bc_pressure_wall(&sc.top))
+        if (ekm_boundary_pressure_wall(&sc.top))
             snprintf(gap, sizeof gap, "  gap %.9g m", rep.gap);
         printf(
             "%-20s steady  %3d Newton iterations in %d attempts (%.3g s of model time stepped, %ld steps)  "

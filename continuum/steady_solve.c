@@ -98,7 +98,7 @@ static ekm_status problem_alloc(ss_problem *p, const ekm_scenario *sc, ekm_error
     memset(p, 0, sizeof *p);
     p->sc = sc;
     p->n = sc->cells;
-    p->moving = ekm_bc_pressure_wall(&sc->top);
+    p->moving = ekm_boundary_pressure_wall(&sc->top);
     p->nv = p->moving ? 4 : 3;
     p->from_top = !p->moving;
     p->N = p->n * p->nv;
@@ -1125,7 +1125,7 @@ static int couette_guess(const ekm_scenario *sc, const ekm_state *g, ekm_state *
     for (int j = 0; j < n; j++)
         mass += g->phi[j] * g->dz;
     const double slip = b->slip_length + t->slip_length, phi_cp = sc->material.phi_cp;
-    const int pressure = ekm_bc_pressure_wall(t);
+    const int pressure = ekm_boundary_pressure_wall(t);
     ekm_homog_state h;
     ekm_error herr;
 #define GDOT_OF(phi) (fabs(U) / (mass / (phi) + slip))

@@ -56,7 +56,7 @@ ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
     st->g_cell = calloc(c, sizeof(double));
     st->Y_cell = calloc(c, sizeof(double));
     st->T_change = calloc(c, sizeof(double));
-    st->moving = ekm_bc_pressure_wall(&sc->top);
+    st->moving = ekm_boundary_pressure_wall(&sc->top);
     if (!st->F || !st->qF || !st->phi_new || !st->rhoU || !st->rhoT || !st->T_star || !st->P || !st->eta ||
         !st->mu_n || !st->lambda || !st->u2 || !st->w2 || !st->mom_c || !st->src || !st->rho_face ||
         !st->rhs_face || !st->rhs_cell || !st->dry || !st->dry_face || !st->wk || !st->backup ||

@@ -31,6 +31,11 @@ int ekm_boundary_kind_of(const char *name, ekm_bc_kind *kind)
     return 0;
 }
 
+int ekm_boundary_pressure_wall(const ekm_bc *bc)
+{
+    return bc->kind == EKM_BC_WALL && !isnan(bc->pressure);
+}
+
 int ekm_boundary_rate_wall(const ekm_bc *bc)
 {
     return bc->kind == EKM_BC_WALL && !isnan(bc->shear_rate);

@@ -54,6 +54,9 @@ int ekm_boundary_kind_of(const char *name, ekm_bc_kind *kind);
 /* The kinds' names separated by blanks, for an error message. */
 #define EKM_BOUNDARY_KIND_NAMES "wall inflow outflow free piston"
 
+/* 1 if bc is a wall held at a normal pressure (its gap moves: pressure set). */
+int ekm_boundary_pressure_wall(const ekm_bc *bc);
+
 /* 1 if bc is a wall whose tangential speed follows its gap (shear_rate set). */
 int ekm_boundary_rate_wall(const ekm_bc *bc);
 

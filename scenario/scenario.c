@@ -984,6 +984,30 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     return st;
 }
 
+ekm_status ekm_scenario_set_material(ekm_scenario *s, const ekm_material *m, ekm_error *err)
+{
+    /* the reader's context rebuilt from the keys s was read with: which
+     * keys were given, and where (the messages name FILE:LINE or --set) */
+    parse_ctx c = {.s = s, .file = s->source, .err = err};
+    for (size_t i = 0; i < s->n_entries; i++) {
+        const ekm_entry *e = &s->entries[i];
+        for (size_t k = 0; k < N_KEYS; k++) {
+            const size_t ls = strlen(KEYS[k].section);
+            if (strncmp(e->name, KEYS[k].section, ls) == 0 && e->name[ls] == '.' &&
+                strcmp(e->name + ls + 1, KEYS[k].key) == 0) {
+                c.seen[k] = 1;
+                c.seen_line[k] = e->origin == EKM_FROM_SET ? 0 : e->line;
+            }
+        }
+    }
+    const ekm_material keep = s->material;
+    s->material = *m;
+    const ekm_status st = check_scenario(&c, s, err);
+    if (st != EKM_OK)
+        s->material = keep;
+    return st;
+}
+
 /* Parse one text into c (t->name names it in the messages). */
 static ekm_status parse_text(parse_ctx *c, const ekm_scenario_text *t, ekm_error *err)
 {

@@ -144,6 +144,14 @@ ekm_status ekm_scenario_load(ekm_scenario *s, const char *path, const char *cons
 ekm_status ekm_scenario_load_material(ekm_scenario *s, const char *path, const char *material_path,
                                       const char *const *overrides, size_t n_overrides, ekm_error *err);
 
+/* Give s the material m, checked as its [material] section would be when
+ * read (ekm_material_check and the scenario's checks that involve the
+ * material: phi_cp above the initial and inflow phi, the [hypo] volume
+ * fractions); a refused material is EKM_EINPUT (the message names the key
+ * where s was given it) and leaves s as it was. For callers that solve one
+ * scenario at many materials (continuum/point.h, the calibration). */
+ekm_status ekm_scenario_set_material(ekm_scenario *s, const ekm_material *m, ekm_error *err);
+
 /* The same reading texts already in memory (what a file holds): file, and
  * material (NULL: none) as --material's file; no file is opened. */
 ekm_status ekm_scenario_load_texts(ekm_scenario *s, const ekm_scenario_text *file,

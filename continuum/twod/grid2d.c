@@ -47,7 +47,7 @@ ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *
     g->dx = sc->width / sc->cells_x;
     g->dz = sc->length / sc->cells;
     g->periodic = sc->periodic_x;
-    g->top_moving = ekm_bc_pressure_wall(&sc->top);
+    g->top_moving = ekm_boundary_pressure_wall(&sc->top);
     g->side_conductance[0] = 1.0 / (0.5 * g->dx + sc->left.slip_length);
     g->side_conductance[1] = 1.0 / (0.5 * g->dx + sc->right.slip_length);
     const ekm_bc *ends[2] = {&sc->bottom, &sc->top};

@@ -94,7 +94,7 @@ static ekm_status write_layout(ekm2d_writer *w, int ranks, ekm_error *err)
         st = write_centres(w->file, "z", w->nz, w->dz, err);
     if (st == EKM_OK)
         st = ekm_h5_create_series(w->file, "t", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("t"), NULL, err);
-    if (st == EKM_OK && ekm_bc_pressure_wall(&w->sc->top))
+    if (st == EKM_OK && ekm_boundary_pressure_wall(&w->sc->top))
         st = ekm_h5_create_series(w->file, "gap", EKM_H5_DOUBLE, 1, NULL, 64, ekm_field_units("gap"), NULL,
                                   err);
     for (int k = 0; k < EKM2D_NFIELDS && st == EKM_OK; k++)
@@ -197,7 +197,7 @@ ekm_status ekm2d_writer_append(ekm2d_writer *w, double t, double dz,
         w->regime[c] = (int)lround(fields[EKM2D_REGIME][c]);
     st = ekm_h5_append(w->file, "t", &t, err);
     const double gap = dz * (double)w->nz; /* [m] */
-    if (st == EKM_OK && ekm_bc_pressure_wall(&w->sc->top))
+    if (st == EKM_OK && ekm_boundary_pressure_wall(&w->sc->top))
         st = ekm_h5_append(w->file, "gap", &gap, err);
     for (int k = 0; k < EKM2D_NFIELDS && st == EKM_OK; k++)
         st = ekm_h5_append(w->file, FIELD_NAMES[k],

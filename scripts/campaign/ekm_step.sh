@@ -6,7 +6,7 @@
 #                  `ekm steady` (Newton, verified by the time stepper:
 #                  docs/model.md "Steady solver") and `ekm run` from the
 #                  scenario's initial state; the Newton state is used when
-#                  it agrees with the run's (scripts/campaign/steady_agree.py:
+#                  it agrees with the run's (`ekm agree`, continuum/point.h:
 #                  the run ended steady, phi, vx, T, P and the gap within
 #                  5e-2 of the run's maxima: the run stops at its own
 #                  steady test, 1.1e-2 short of the fixed point on the
@@ -24,7 +24,6 @@ set -uo pipefail
 [ $# -ge 4 ] || { echo "ekm_step.sh: usage: ekm_step.sh EKM STOP OUT FILE.ini [OPTIONS...]" >&2; exit 1; }
 ekm=$1 stop=$2 out=$3
 shift 3
-root=$(cd "$(dirname "$0")/../.." && pwd)
 [ "$stop" = steady ] || exec "$ekm" run "$@" -o "$out" --quiet
 tmp=$(mktemp -d "$(dirname "$out")/.ekm_step.XXXXXX") || exit 3
 trap 'rm -rf "$tmp"' EXIT
@@ -37,9 +36,9 @@ rc=$?
 "$ekm" steady "$@" -o "$out" --quiet
 rc=$?
 if [ $rc -eq 0 ]; then
-  verdict=$(/usr/bin/python3 "$root/scripts/campaign/steady_agree.py" "$out" "$tmp/run.h5" 5e-2)
+  verdict=$("$ekm" agree "$out" "$tmp/run.h5" --tol 5e-2)
   arc=$?
-  [ $arc -le 1 ] || exit 4
+  [ $arc -eq 0 ] || [ $arc -eq 6 ] || exit $arc
   if [ $arc -eq 0 ]; then
     echo "campaign: $out: ekm steady (Newton) $verdict with ekm run"
     exit 0

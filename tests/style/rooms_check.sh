@@ -11,6 +11,8 @@
 #   continuum  scenario law common
 #   compare    common            (coarse-graining and scores: no EKM, no scenario)
 #   calibrate  compare continuum scenario law common
+#              (of continuum/ only point.h: the EKM solved in-process at a
+#              material, by the one steady policy; no solver internals)
 #
 # A room's main.c (its program's front) may also include the rooms listed
 # in `front`: compare/main.c runs the calibration's `ekmcompare fit`.
@@ -34,6 +36,8 @@ git rev-parse --git-dir > /dev/null 2>&1 || { echo "rooms_check.sh: $1: not a gi
 declare -A allowed=([common]="" [law]="common" [scenario]="law common" [continuum]="scenario law common"
   [compare]="common" [calibrate]="compare continuum scenario law common")
 declare -A front=([compare]="calibrate")
+# "ROOM>TARGET": the only headers of TARGET that ROOM may include
+declare -A only=([calibrate > continuum]="point.h")
 
 # header name -> the rooms holding one of that name (the first path component)
 declare -A rooms_of
@@ -58,6 +62,12 @@ for room in "${!allowed[@]}"; do
         continue
       fi
       target=${holders[0]}
+      if [ -n "${only[$room > $target]+set}" ]; then
+        case " ${only[$room > $target]} " in *" $header "*) continue ;; esac
+        echo "rooms_check.sh: $f:$line: includes \"$header\" of $target/, which $room/ may not (of $target/ only: ${only[$room > $target]})" >&2
+        bad=1
+        continue
+      fi
       case " ${allowed[$room]} " in *" $target "*) continue ;; esac
       if [ "${f##*/}" = main.c ]; then
         case " ${front[$room]:-} " in *" $target "*) continue ;; esac
