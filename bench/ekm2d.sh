@@ -99,9 +99,9 @@ jq -n --argjson r1 "$r1" --argjson r2 "$r2" --argjson s "$speedup" --arg st1 "$s
   --argjson tp "$pile_s" --argjson np "$pile_steps" --arg stp "$st_pile" --argjson b "$breakdown" \
   --argjson b1 "$b1" --argjson b2 "$b2" --argjson s256 "$speedup256" --arg st256 "$st256" --arg st256r "$st256r" '{
   rows: [
-    {benchmark: "2D EKM thesis_filling_2d (18 x 60 cells, its thermal_relax_step = 0.2: docs/model.md \"The step'"'"'s accuracy in 2D\") to t = 4 s on 1 core (\($nf) steps)",
+    {benchmark: "2D EKM thesis_filling_2d (18 x 60 cells, its thermal_relax_step = 0.2: docs/model/twod.md \"The step'"'"'s accuracy in 2D\") to t = 4 s on 1 core (\($nf) steps)",
      value: $tf, unit: "s", target: "< 60 s (goal 10 s, issue 33)", status: $stf},
-    {benchmark: "2D EKM thesis_filling_2d with the solid regime, 18 x 60 cells to t = 4 s on 1 core (\($ns) steps, its solid_lag_tol = 5e-2: docs/model.md \"The step'"'"'s accuracy in 2D\")",
+    {benchmark: "2D EKM thesis_filling_2d with the solid regime, 18 x 60 cells to t = 4 s on 1 core (\($ns) steps, its solid_lag_tol = 5e-2: docs/model/twod.md \"The step'"'"'s accuracy in 2D\")",
      value: $ts, unit: "s", target: "< 60 s (goal 10 s, issue 33)", status: $sts},
     {benchmark: "2D EKM cell-updates/s on 1 core (thesis_filling_2d, 18 x 60 cells, first \($w) s)",
      value: $r1, unit: "cell-updates/s", target: "1e7 (goal, issue 33)", status: $st1},

@@ -3,7 +3,7 @@
 # the N^2 claim, before and after the implicit pressure coupling), for chute
 # and shear_cell at 100, 1000 and 10000 cells, with [numerics]
 # normal_coupling = explicit (before: the acoustic CFL, the step ~ 1/N) and
-# implicit (after: convective CFL and the accuracy limits, docs/model.md
+# implicit (after: convective CFL and the accuracy limits, docs/model/slab.md
 # "Implicit pressure coupling"). Each run starts from the scenario's initial
 # state and runs a fixed model time, the same for both couplings: 0.25 s at
 # 100 and 1000 cells, 2 ms at 10000 cells (the explicit run at 10000 cells

@@ -1,5 +1,5 @@
 /* homog_cli.c: `ekm homog FILE.ini [--material FIT.ini] [--set S.K=V ...]
- * --phi LO:HI:N --rate R[,R,...] --json` (homog_cli.h, docs/model.md
+ * --phi LO:HI:N --rate R[,R,...] --json` (homog_cli.h, docs/model/law.md
  * "ekm homog").  The values are ekm_homog_shear's, printed with 17
  * significant digits (they read back exactly). */
 #include "homog_cli.h"

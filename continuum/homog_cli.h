@@ -1,7 +1,7 @@
 /* homog_cli.h: `ekm homog`, the EKM's steady homogeneous simple shear
  * (ekm_homog_shear, homogeneous.h) of a scenario's material on a grid of
  * volume fractions and shear rates, as one JSON object on stdout
- * (docs/model.md, "ekm homog"). */
+ * (docs/model/law.md, "ekm homog"). */
 #ifndef EKM_HOMOG_CLI_H
 #define EKM_HOMOG_CLI_H
 

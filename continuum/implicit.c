@@ -328,7 +328,7 @@ ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, dou
                  * + its diagonal) and the local balance S(Tb) = 0, and
                  * above max(T*', Tb) the source falls (dS/dT < 0), so the
                  * row is positive there and Newton descends to the root
-                 * (docs/model.md "Temperature step"). */
+                 * (docs/model/slab.md "Temperature step"). */
                 const double T_cond = (rhoT_star[j] + a * (l_above * T_above + l_below * T_below)) /
                                       (rho + a * (l_below + l_above));
                 const double Tt = fmax(fmax(ekm_source_balance(&src[j]), T_cond), T_floor);

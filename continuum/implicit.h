@@ -38,7 +38,7 @@ typedef struct {
     double conductance; /* shear solve: 1/(dz/2 + slip length), 0: stress-free [1/m] */
 } ekm_implicit_end;
 
-/* The implicit pressure coupling of the normal solve (docs/model.md,
+/* The implicit pressure coupling of the normal solve (docs/model/slab.md,
  * "Implicit pressure coupling"): the pressure of cell j at the end of the
  * step, linearised in the next mass update,
  *   P**_j = P*_j + K_j (phi**_j - phi*_j),  phi**_j - phi*_j = -dt/dz (F_{j+1} - F_j),
@@ -105,7 +105,7 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
  * |dT_{k-1}|^2 measured).  phi_vacuum > 0: a face between a cell below
  * phi_vacuum and a cell at or above it conducts nothing (the vacuum rule:
  * a dilute "vapour" over a free surface, whose kinetic conductivity does
- * not fall with phi, would heat the surface for ever; docs/model.md
+ * not fall with phi, would heat the surface for ever; docs/model/slab.md
  * "Surface cells in 2D"); 0: off.  Returns EKM_ENUMERIC when Newton does
  * not converge in newton_max iterations (the caller retries with a
  * smaller step). */

@@ -2,7 +2,7 @@
  * [--material FIT.ini] [--set S.K=V ...] [--quiet]`: the steady state of
  * the scenario by ekm_steady_solve (steady_solve.h), written as `ekm run`
  * writes its output (one time level) with the solver's report as root
- * attributes (docs/model.md "Steady solver"). */
+ * attributes (docs/model/steady.md "Steady solver"). */
 #ifndef EKM_STEADY_CLI_H
 #define EKM_STEADY_CLI_H
 

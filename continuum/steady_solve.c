@@ -375,7 +375,7 @@ static void classify(ss_problem *p, const ekm_state *s)
         p->dry[j] = s->phi[j] < phi_dry;
         /* the top of a dilute tail: a cell with some material above a
          * thinner one joined by a face with material is filled by the
-         * stepper (it creeps up, docs/model.md): it has material */
+         * stepper (it creeps up, docs/model/steady.md): it has material */
         if (p->dry[j] && j > 0 && s->phi[j] > 0.0 && !p->dry[j - 1] && s->phi[j - 1] < PHI_FRINGE &&
             0.5 * (s->phi[j - 1] + s->phi[j]) >= phi_dry)
             p->dry[j] = 0;
@@ -767,7 +767,7 @@ static void store(ss_problem *p, ekm_state *s)
  * frozen one (the faces with an upward w join their run), but in the
  * fringe: a cell with material that thinned below phi_dry, or a face
  * whose cells are both below PHI_FRINGE, keeps its frozen kind
- * (docs/model.md: the emptiness rule has no exact fixed point at a dilute
+ * (docs/model/steady.md: the emptiness rule has no exact fixed point at a dilute
  * tail's top). */
 static int topology_changed(ss_problem *p, const ekm_state *s)
 {

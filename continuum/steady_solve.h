@@ -1,6 +1,6 @@
 /* steady_solve.h: the steady state of a slab scenario by Newton's method on
  * the discrete steady equations of the time stepper (step.h), globalised
- * by pseudo-transient continuation (docs/model.md "Steady solver").
+ * by pseudo-transient continuation (docs/model/steady.md "Steady solver").
  *
  * The steady state is the fixed point of ekm_step_apply with w = 0 on every
  * face: phi is then unchanged by the mass update, and
@@ -47,7 +47,7 @@
  * times the gap over the velocity scale of model time, change each of
  * phi, vx, T, the volume flux w phi and the gap by less than
  * EKM_STEADY_VERIFY_TOL in the max norm relative to the field's scale
- * (verify in steady_solve.c; docs/model.md "Steady solver").
+ * (verify in steady_solve.c; docs/model/steady.md "Steady solver").
  */
 #ifndef EKM_STEADY_SOLVE_H
 #define EKM_STEADY_SOLVE_H

@@ -525,7 +525,7 @@ ekm_status ekm_step_apply(ekm_stepper *st, ekm_state *s, double dt, int *accepte
     /* implicit coupling: the thermal relaxation limit (control.c, taken at
      * the start of the step) must hold at its end too: a step that heats a
      * cold cell (a shear start-up) is otherwise longer than the pressure's
-     * relaxation time it creates (docs/model.md "Implicit pressure
+     * relaxation time it creates (docs/model/slab.md "Implicit pressure
      * coupling") */
     int end_cell = -1;
     double end_rate = 0.0;

@@ -686,7 +686,7 @@ def default_ekm():
 
 
 def homog(ekm, ini, pset, phis, rates):
-    """`ekm homog` (docs/model.md): the EKM's steady homogeneous simple
+    """`ekm homog` (docs/model/law.md): the EKM's steady homogeneous simple
     shear of scenario file ini with the set's material, at the volume
     fractions phis = (lo, hi, n) times the rates [1/s]. Returns the parsed
     JSON ({"material": .., "units": .., "points": [..]})."""
@@ -709,5 +709,5 @@ def homog(ekm, ini, pset, phis, rates):
         js = json.loads(p.stdout)
         js["points"], js["material"]
     except (ValueError, KeyError, TypeError):
-        raise InputError("parameter set %s: ekm homog: output is not the JSON of docs/model.md" % pset.name)
+        raise InputError("parameter set %s: ekm homog: output is not the JSON of docs/model/law.md" % pset.name)
     return js

@@ -30,7 +30,7 @@ into OUTDIR, each file under a temporary name renamed when complete:
 "Scaled with the bulk density" (thesis Figs 4.10, 4.12, 4.17, 4.18): the
 thesis gives its material parameters per rho_b with rho_b = 1600 kg/m^3
 (Section 4.6.2), the density the project calls rho_p ([material] rho_p,
-the factor taken out of every material constant: docs/model.md, "Units and
+the factor taken out of every material constant: docs/model/law.md, "Units and
 conventions"). So the plotted pressure is P / rho_p [Pa/(kg m^-3) = m^2/s^2]
 with the run's material.rho_p, not P / (rho_p phi).
 

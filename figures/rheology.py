@@ -17,7 +17,7 @@ P and T (as `ekmcompare fit --rheology` takes them), and for phi the
 model's phi at the point's I and rate.
 
 The closed form is never written out here: it is libekm's ekm_homog_shear,
-through `ekm homog` (docs/model.md) with scenarios/simple_shear.ini's
+through `ekm homog` (docs/model/law.md) with scenarios/simple_shear.ini's
 [material] (thesis) or RES/calibration/<set>/fit.ini (a fitted set). rho_p
 scaling the DEM pressure is the thesis set's (the grains'); d is the CG's
 mean grain diameter.

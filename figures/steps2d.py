@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """steps2d.py: how the 2D box filling's results depend on the step size
-(scripts/steps2d.sh runs it; docs/model.md "The step's accuracy in 2D").
+(scripts/steps2d.sh runs it; docs/model/twod.md "The step's accuracy in 2D").
 
     /usr/bin/python3 figures/steps2d.py --runs RUNS -o OUTDIR
 

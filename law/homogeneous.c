@@ -1,5 +1,5 @@
 /* homogeneous.c: steady homogeneous simple shear of the EKM (see
- * homogeneous.h and docs/model.md, "Steady homogeneous shear"). */
+ * homogeneous.h and docs/model/law.md, "Steady homogeneous shear"). */
 #include "homogeneous.h"
 
 #include <math.h>

@@ -9,7 +9,7 @@
  *
  * in which eta and eps carry the same factor (1 + nu r(T)), r = Y/T > 0;
  * it cancels for every nu and both variants (w' = 0: the normal viscosity
- * never enters), leaving T = 2 eta0 gdot^2 / (3 phi eps0) (docs/model.md,
+ * never enters), leaving T = 2 eta0 gdot^2 / (3 phi eps0) (docs/model/law.md,
  * "Steady homogeneous shear").  Then P = P_K + P_Y, |sigma_xz| = eta gdot
  * and mu = |sigma_xz| / P.  gdot = |du/dz| (docs/model-notes.md section 7), not the
  * invariant sqrt(kappa^D : kappa^D).

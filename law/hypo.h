@@ -1,5 +1,5 @@
 /* hypo.h: the hypoplastic (solid-like) regime of the EKM in the slab, as
- * pure functions (docs/model-notes.md section 4, docs/model.md "Solid regime").
+ * pure functions (docs/model-notes.md section 4, docs/model/solid.md "Solid regime").
  *
  * Full variant (cleaned tensor form of thesis 5.4.8-5.4.11), stress state
  * sigma_xx, sigma_yy, sigma_zz, sigma_xz [Pa] (negative in compression),

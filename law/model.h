@@ -1,7 +1,7 @@
 /* model.h: the EKM constitutive law in the flow regimes, as pure functions
  * of the local state (phi, T) and the velocity gradients.
  *
- * Conventions (docs/model-notes.md sections 1-3, docs/model.md): SI units; T is the
+ * Conventions (docs/model-notes.md sections 1-3, docs/model/law.md): SI units; T is the
  * granular temperature per degree of freedom [m^2/s^2]; stress negative in
  * compression, P = -tr(sigma)/3 positive in compression.  With
  *

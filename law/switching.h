@@ -2,7 +2,7 @@
  * the solid (hypoplastic) regime, as pure functions of the cell's state
  * and rates: one set of rules for the 1D step (regime.c) and the 2D
  * solver (twod/solver2d.c), thresholds in [hypo] (scenario.h,
- * docs/model.md).
+ * docs/model/solid.md).
  *
  * The rates are those of plane strain: exx, ezz and the shear rate
  * gamma = |du/dz + dw/dx|; the slab has exx = 0, ezz = w', gamma = |u'|.

@@ -26,13 +26,13 @@ for ini in "$root"/scenarios/*.ini; do
       thesis_filling_2d)
         # the box filling on 9 x 30 cells (half the thesis's grid) to its
         # end, t = 4 s, on 2 ranks (about a minute; the thesis's 18 x 60:
-        # docs/model.md "The thesis's 2D cases")
+        # docs/model/twod.md "The thesis's 2D cases")
         bash "$root/tests/mpirun.sh" 2 "$root/$build/continuum/ekm" run "$ini" --set domain.cells_x=9 \
           --set domain.cells=30 -o "$out/${name}_9x30.h5" ;;
       thesis_sandpile_2d)
         # a small sand pile: 28 x 14 cells (5 mm), the 10 mm inlet at 0.35
         # m/s (7x the scenario's mass flux: at the scenario's the grains run
-        # out into a flat layer, docs/model.md "thesis_sandpile_2d"), the
+        # out into a flat layer, docs/model/twod.md "thesis_sandpile_2d"), the
         # solid regime, to t = 1 s (8 s of CPU); then its base pressure
         "$root/$build/continuum/ekm" run "$ini" --set domain.cells_x=28 --set domain.cells=14 \
           --set top.w=-0.35 --set run.t_end=1 --set run.output_dt=0.25 --set hypo.enabled=1 \

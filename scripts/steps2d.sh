@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # scripts/steps2d.sh: how the 2D filling's results depend on the step
-# size (docs/model.md "The step's accuracy in 2D"); figures/steps2d.py
+# size (docs/model/twod.md "The step's accuracy in 2D"); figures/steps2d.py
 # tabulates them into results/ekm2d/step_study/.
 #
 #   f18_rN     thesis_filling_2d, 18 x 60 cells, flow regimes, with

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# scripts/thesis2d.sh: the thesis's 2D cases (docs/model.md "The thesis's
+# scripts/thesis2d.sh: the thesis's 2D cases (docs/model/twod.md "The thesis's
 # 2D cases") run by ekm and drawn by figures/filling2d.py and
 # figures/pile2d.py into results/ekm2d/ (the committed reference results):
 #
@@ -18,7 +18,7 @@
 #   thesis_sandpile_2d/narrow7stop1norules_56x28_at_{1,2,3.5}s
 #                             the same without the surface rules that the
 #                             pile scenarios set (surface_fill, phi_vacuum
-#                             0.05: docs/model.md "Surface cells in 2D")
+#                             0.05: docs/model/twod.md "Surface cells in 2D")
 #   thesis_sandpile_2d/wide_56x28
 #                             a 70 mm inlet ("sieve"), 7x the narrow mass flux
 #   thesis_sandpile_2d/2sources7_56x28, 2sources7_*_at_1s, _at_2s
@@ -103,7 +103,7 @@ for k in 2sources7_28x14 2sources7_56x28; do
   done
 done
 # the pile at rest: the fast narrow inlet closed at 1 s, the pile left to
-# itself until 3.5 s (docs/model.md "thesis_sandpile_2d")
+# itself until 3.5 s (docs/model/twod.md "thesis_sandpile_2d")
 for bt in 1 1.25 2 3.5; do
   draw "$root/figures/pile2d.py" "$runs/pile_narrow7stop1_56x28.h5" \
     "$res/thesis_sandpile_2d/narrow7stop1_56x28_at_${bt}s" --times 0.5,1,1.5,2,3.5 --base-time "$bt" >&2
@@ -112,7 +112,7 @@ for bt in 1 1.25 2 2.5; do
   draw "$root/figures/pile2d.py" "$runs/pile_narrow7stop1_112x56.h5" \
     "$res/thesis_sandpile_2d/narrow7stop1_112x56_at_${bt}s" --times 0.5,1,1.5,2,2.5 --base-time "$bt" >&2
 done
-# the same pile without the surface rules (docs/model.md "Surface cells in
+# the same pile without the surface rules (docs/model/twod.md "Surface cells in
 # 2D"): it slumps
 for bt in 1 2 3.5; do
   draw "$root/figures/pile2d.py" "$runs/pile_narrow7stop1norules_56x28.h5" \
@@ -150,7 +150,7 @@ with open(tmp, "w") as fh:
 os.replace(tmp, out)
 PY
 # one table of every pile's numbers at its base time (pile2d.json), the
-# numbers docs/model.md "The thesis's 2D cases" quotes
+# numbers docs/model/twod.md "The thesis's 2D cases" quotes
 $py -B - "$res/thesis_sandpile_2d" <<'PY'
 import json, os, sys
 d = sys.argv[1]

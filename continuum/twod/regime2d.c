@@ -1,5 +1,5 @@
 /* regime2d.c: the solid (hypoplastic) regime of the semi-implicit 2D step,
- * the 1D step's regime.c in plane strain (step2d.h, docs/model.md "The
+ * the 1D step's regime.c in plane strain (step2d.h, docs/model/twod.md "The
  * semi-implicit 2D step").
  *
  * State (grid2d.h): a solid cell carries sxx, syy, szz [Pa]; a corner

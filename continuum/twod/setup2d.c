@@ -69,7 +69,7 @@ static ekm_status initial_state(ekm2d_step *st, const ekm_state *init, ekm_error
  * GMRES's preconditioner, kept across steps while it converges in few
  * iterations (ekm2d_kept_solve), on several ranks GMRES with block Jacobi
  * (ILU) to 1e-12 (BoomerAMG's setup per solve costs more there: the 9 x
- * 30 filling on 2 ranks 54 s against 16 s).  Measured on one core (docs/model.md "Linear solvers in
+ * 30 filling on 2 ranks 54 s against 16 s).  Measured on one core (docs/model/twod.md "Linear solvers in
  * 2D", a dense layer settling, 10 steps): the velocity solves of 32 x 32
  * cells 0.054 s with LU against 0.100 s with BoomerAMG, of 64 x 64 0.40
  * against 0.28 s, of 256 x 256 39 against 9.5 s (equal fields to 4e-15);

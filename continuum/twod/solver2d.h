@@ -1,6 +1,6 @@
 /* solver2d.h: the EKM in 2D (x horizontal, z vertical, plane strain):
  * the run API that ekm run (run2d.c) and the tests drive, over the
- * semi-implicit step (step2d.h; docs/model.md "The semi-implicit 2D
+ * semi-implicit step (step2d.h; docs/model/twod.md "The semi-implicit 2D
  * step").
  *
  * Grid (grid2d.h): nx x nz cells of dx = width/nx by dz = length/nz on a

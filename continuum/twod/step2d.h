@@ -1,6 +1,6 @@
 /* step2d.h: one semi-implicit time step of the EKM in 2D (x horizontal, z
  * vertical, plane strain), the 1D solver's step (step.h) in two
- * dimensions, phase by phase (docs/model.md "2D solver"):
+ * dimensions, phase by phase (docs/model/twod.md "2D solver"):
  *
  *   1. boundaries   the ends' face velocities at the start of the step
  *                   (grid2d.h), gravity at its end

@@ -1,5 +1,5 @@
 /* surface2d.c: partly filled surface cells as dense material filling part
- * of the cell ([numerics] surface_fill = 1; docs/model.md "Surface cells in 2D").
+ * of the cell ([numerics] surface_fill = 1; docs/model/twod.md "Surface cells in 2D").
  *
  * A free surface cuts the top cell of a bed: grains at about the bed's
  * density fill the lower part of the cell, vacuum the rest. Read as an

@@ -14,7 +14,7 @@
  * velocities (model.h's ekm_temperature_source_coeffs_plane: the shear
  * rate the mean square of the cell's corners that carry one, the normal
  * rates its own).  Newton's method on the 5-point system, with the 1D
- * solver's rules (docs/model.md "Temperature step"): the first iterate T*
+ * solver's rules (docs/model/slab.md "Temperature step"): the first iterate T*
  * plus the last step's change scaled to dt; the local balance S = 0 at the
  * first iteration where the source is stiff and it fits the cell's
  * equation better; a cell whose diagonal is not positive restarts at the

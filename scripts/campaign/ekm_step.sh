@@ -4,7 +4,7 @@
 # scenario file and its options (--material, --set).
 #   STOP = steady  the scenario runs to its steady state ([run] stop):
 #                  `ekm steady` (Newton, verified by the time stepper:
-#                  docs/model.md "Steady solver") and `ekm run` from the
+#                  docs/model/steady.md "Steady solver") and `ekm run` from the
 #                  scenario's initial state; the Newton state is used when
 #                  it agrees with the run's (`ekm agree`, continuum/point.h:
 #                  the run ended steady, phi, vx, T, P and the gap within

@@ -4,7 +4,7 @@
 # time-stepped run, and the run's when Newton finds another steady state:
 # at 30 degrees the chute runs to a fast dilute layer with a dilute top
 # tail, Newton returns one without it (0.18 of the largest phi apart,
-# docs/model.md "Steady solver"); nothing of the step is left beside its
+# docs/model/steady.md "Steady solver"); nothing of the step is left beside its
 # output.
 # Usage: ekm_step_test.sh SOURCE_DIR BUILD_DIR WORK_DIR
 set -uo pipefail

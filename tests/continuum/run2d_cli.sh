@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# ekm run on a 2D scenario (issue 14, docs/model.md "2D solver"): on 1 and
+# ekm run on a 2D scenario (issue 14, docs/model/twod.md "2D solver"): on 1 and
 # 2 ranks with the same steps the same output (fields within 1e-10), its layout ([nt][nz][nx]
 # datasets with units, /x /z /t, the scenario's root attributes, ranks,
 # the run's statistics; the XDMF sidecar); what the 2D solver does not
@@ -82,7 +82,7 @@ error "shear_rate wall in 2D: exit 7" 7 '\[top\] shear_rate: a wall whose speed 
     run "$src/scenarios/simple_shear_p.ini" --set run.stop=t_end --set domain.width=0.01 --set domain.cells_x=2
 # a top wall held at a pressure (shear_cell, 100 Pa): /gap per frame, from
 # the scenario's 42 mm down as the sheared layer settles (to 38.4 mm: the
-# 1D gap, docs/model.md "2D solver")
+# 1D gap, docs/model/twod.md "2D solver")
 if "$ekm" run "$src/scenarios/shear_cell.ini" --set run.stop=t_end --set run.t_end=0.3 --set run.output_dt=0.1 \
     --set domain.width=0.004 --set domain.cells_x=2 --set domain.periodic_x=1 --quiet -o gap.h5 > out.txt 2> err.txt &&
     "$py" - gap.h5 <<'PY'

@@ -274,7 +274,7 @@ static void test_filling_10x(void **state)
  * single cells of the bed end loose is chaotic (the cold bed, T ~ 1e-14
  * m^2/s^2, amplifies round-off): the loosest cell below the top was 0.593
  * at top.T = 1e-10 and 0.524, 0.600, 0.432, 0.589 at 1e-10 x (1 + 1e-6,
- * 1e-5, -1e-5, 1e-4) before the temperature restart (docs/model.md,
+ * 1e-5, -1e-5, 1e-4) before the temperature restart (docs/model/slab.md,
  * "Temperature step"), 0.555, 0.600, 0.596, 0.593, 0.571 with it; the
  * mean did not move. */
 static void test_filling_slow(void **state)

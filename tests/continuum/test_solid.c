@@ -1,6 +1,6 @@
 /* The solid (hypoplastic) regime inside the solver: filling ends at rest,
  * switches are continuous, the driven cycle, the tilting layer and the
- * thesis column (docs/model.md, "Solid regime"). */
+ * thesis column (docs/model/solid.md, "Solid regime"). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -149,7 +149,7 @@ static void run_watched(const char *scenario, const char *const *sets, size_t n_
  * thesis_column_incline is chaotic in its start-up (an independent measure,
  * not the stepper's jump_tol = 5e-4 gate): 4.7e-4 at initial T = 1e-10,
  * 1.59e-3 at 1e-10 x (1 + 1e-4), before the temperature restart
- * (docs/model.md "Temperature step"); 1.02e-3 with it. */
+ * (docs/model/slab.md "Temperature step"); 1.02e-3 with it. */
 static void test_switches_continuous(void **state)
 {
     (void)state;
@@ -181,7 +181,7 @@ static void test_switches_continuous(void **state)
 
 /* Filling: the inflow stops at 0.5 s; the shipped scenario, run to t = 3 s
  * (the bed is at rest from 2.5 s; [run] t_end = 1 s is also the DEM's run
- * time, see docs/model.md "Known limitations"), ends with every cell of the
+ * time, see docs/model/solid.md "Known limitations"), ends with every cell of the
  * bed (from the floor up to the first cell with phi < 0.01) solid, |w| <
  * 1e-9 m/s on every face of the bed, and the bottom normal stress carrying
  * the bed's weight to 1e-6.  The dilute tail of the stream (phi < 1e-4,

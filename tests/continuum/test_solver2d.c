@@ -298,7 +298,7 @@ static int case_settled(const char *src)
      * cell from moving into the empty cell above, which holds up the
      * upper half of the surface cell and the few grains above it, in 1D
      * as in 2D (0.38 % of the weight here, measured 2026-12-06 with both;
-     * docs/model.md "Solid regime in 2D").  The bed is at rest to the
+     * docs/model/twod.md "Solid regime in 2D").  The bed is at rest to the
      * elastic oscillation the 1D step leaves in it too (about 1e-8 m/s;
      * its inertia, rho a H with a ~ 1e-4 m/s^2, is about 3e-5 of the
      * weight at t = 0.5 s). */

@@ -200,7 +200,7 @@ static void pressure_case(const char *pressure, double rate)
  * (dense: the gap closes from 20 to 18.29 mm, phi 0.6015), 10 Pa, 30/s
  * (kinetic, phi 0.479 < phi_co: it opens to 22.9 mm) and 10 Pa, 10/s (phi
  * 9e-5 above phi_co, where d ln P / d ln phi is about 3600: an explicit
- * wall cycled at the step size there, docs/model.md). */
+ * wall cycled at the step size there, docs/model/slab.md). */
 static void pressure_rate_case(const char *pressure, const char *rate, const char *bottom_velocity)
 {
     char set_p[64], set_r[64], set_b[64];
