@@ -18,6 +18,34 @@
 enum { B_X, B_XU, B_XS, B_XSU, B_TYPE, B_FZ, B_RADIUS, B_DIAMETER, B_NCOL };
 static const char *const base_cols[B_NCOL] = {"x", "xu", "xs", "xsu", "type", "fz", "radius", "diameter"};
 
+void cg_base_opts_apply(cg_base_opts *o, const ekm_cg_value *v)
+{
+    switch (v->id) {
+    case EKM_CG_OUT: o->out = v->text; break;
+    case EKM_CG_CSV: o->csv = v->text; break;
+    case EKM_CG_RANGE:
+        o->range_lo = v->x;
+        o->range_hi = v->y;
+        o->have_range = 1;
+        break;
+    case EKM_CG_DT: o->dt = v->x; break;
+    case EKM_CG_FROM:
+        o->from = v->x;
+        o->have_from = 1;
+        break;
+    case EKM_CG_TO:
+        o->to = v->x;
+        o->have_to = 1;
+        break;
+    case EKM_CG_STEPS:
+        o->step_a = (int64_t)v->x;
+        o->step_b = (int64_t)v->y;
+        o->have_steps = 1;
+        break;
+    default: break; /* not an option of base */
+    }
+}
+
 cg_base_opts cg_base_opts_default(void)
 {
     cg_base_opts o;

@@ -28,6 +28,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "cg_keys.h"
 #include "status.h"
 
 typedef struct {
@@ -50,6 +51,10 @@ typedef struct {
     size_t last;            /* > 0: only the last `last` selected snapshots of each run */
     FILE *log;              /* notes, or NULL */
 } cg_base_opts;
+
+/* Set an option `base` shares with `cg` (-o, --csv, --range, --dt, --from,
+ * --to, --steps), parsed by ekm_cg_keys_parse (scenario/cg_keys.h). */
+void cg_base_opts_apply(cg_base_opts *o, const ekm_cg_value *v);
 
 cg_base_opts cg_base_opts_default(void);
 

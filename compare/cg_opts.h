@@ -9,9 +9,10 @@
 #include <stdio.h>
 
 #include "cg.h"
+#include "cg_keys.h"
 #include "status.h"
 
-#define CG_MAXTYPES 16 /* most atom types --types may list */
+#define CG_MAXTYPES EKM_CG_TYPES_MAX /* most atom types --types may list */
 
 typedef struct {
     const char *const *inputs; /* dump files, in time order */
@@ -53,6 +54,16 @@ typedef struct {
     size_t bins_x;           /* 2D: cells along x (--bins NX,NZ; o->bins along z); 0: from dz */
     int ensemble;            /* 2D: 1: every input is an independent run (--ensemble) */
 } cg_run_opts;
+
+/* Storage for the names an option's value gives (cg_run_opts points into it). */
+typedef struct {
+    char stress[6][EKM_CG_NAME_MAX];
+    char paircols[9][EKM_CG_NAME_MAX];
+} cg_opts_names;
+
+/* Set the option v (parsed by ekm_cg_keys_parse, scenario/cg_keys.h) in
+ * o; names holds the names it gives. --pairs (a list) is the caller's. */
+void cg_opts_apply(cg_run_opts *o, cg_opts_names *names, const ekm_cg_value *v);
 
 /* The defaults: axis z, the Gaussian kernel of the mean diameter, ... */
 cg_run_opts cg_opts_default(void);

@@ -15,8 +15,6 @@
 #include "score.h"
 #include "steadiness.h"
 
-#define MAX_STRESS_NAME 64
-
 static const char usage_text[] =
     "usage: ekmcompare cg [options] DUMP... (-o OUT.h5 | --csv OUT.csv)\n"
     "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [--support F] [--scalars L] [-o "
@@ -121,100 +119,6 @@ static ekm_status get_size(const char *opt, const char *s, size_t *out, ekm_erro
     return EKM_OK;
 }
 
-static ekm_status get_pair(const char *opt, const char *s, double *a, double *b, ekm_error *err)
-{
-    const char *c = strchr(s, ':');
-    char *end;
-    if (c) {
-        *a = strtod(s, &end);
-        if (end == c) {
-            *b = strtod(c + 1, &end);
-            if (end != c + 1 && !*end && isfinite(*a) && isfinite(*b))
-                return EKM_OK;
-        }
-    }
-    return EKM_FAIL(err, EKM_EUSAGE, "%s: expected A:B, got '%s'", opt, s);
-}
-
-typedef struct {
-    char names[6][MAX_STRESS_NAME];
-} stress_names;
-
-typedef struct {
-    char names[9][MAX_STRESS_NAME];
-} pair_names;
-
-static ekm_status get_paircols(const char *s, pair_names *pn, cg_run_opts *o, ekm_error *err)
-{
-    size_t n = 0;
-    const char *p = s;
-    for (;;) {
-        const char *q = strchr(p, ',');
-        size_t len = q ? (size_t)(q - p) : strlen(p);
-        if (len == 0 || len >= MAX_STRESS_NAME || n == 9)
-            break;
-        memcpy(pn->names[n], p, len);
-        pn->names[n++][len] = '\0';
-        if (!q) {
-            if (n != 9 && n != 5)
-                break;
-            o->npaircols = n;
-            for (size_t j = 0; j < n; j++)
-                o->paircols[j] = pn->names[j];
-            return EKM_OK;
-        }
-        p = q + 1;
-    }
-    return usage_error(err,
-                       "--pair-columns: expected 9 names (x1,y1,z1,x2,y2,z2,fx,fy,fz) or 5 "
-                       "(id1,id2,fx,fy,fz), got '%s'",
-                       s);
-}
-
-/* --types 1,3: the atom types that count (column `type`). */
-static ekm_status get_types(const char *s, cg_run_opts *o, ekm_error *err)
-{
-    const char *p = s;
-    o->ntypes = 0;
-    for (;;) {
-        char *end;
-        long t = strtol(p, &end, 10);
-        if (end == p || t < 0 || t > 1000000 || (*end && *end != ','))
-            return usage_error(err, "--types: expected comma-separated atom types (integers), got '%s'", s);
-        if (o->ntypes == CG_MAXTYPES)
-            return usage_error(err, "--types: at most 16 types, got '%s'", s);
-        o->types[o->ntypes++] = (int)t;
-        if (!*end)
-            return EKM_OK;
-        p = end + 1;
-    }
-}
-
-static ekm_status get_stress(const char *s, stress_names *sn, cg_run_opts *o, ekm_error *err)
-{
-    if (!strchr(s, ',')) {
-        for (int c = 0; c < 6; c++)
-            if ((size_t)snprintf(sn->names[c], MAX_STRESS_NAME, "%s[%d]", s, c + 1) >= MAX_STRESS_NAME)
-                return usage_error(err, "--stress: name too long: '%s'", s);
-    } else {
-        const char *p = s;
-        for (int c = 0; c < 6; c++) {
-            const char *q = strchr(p, ',');
-            size_t len = q ? (size_t)(q - p) : strlen(p);
-            if (len == 0 || len >= MAX_STRESS_NAME || (c < 5 && !q) || (c == 5 && q))
-                return usage_error(err, "--stress: expected a prefix or six comma-separated names, got '%s'",
-                                   s);
-            memcpy(sn->names[c], p, len);
-            sn->names[c][len] = '\0';
-            p = q ? q + 1 : p + len;
-        }
-    }
-    o->nstress = 6;
-    for (int c = 0; c < 6; c++)
-        o->stress[c] = sn->names[c];
-    return EKM_OK;
-}
-
 /* ARG(): v = the value of option a (argv[i + 1]) in an option loop over
  * argv[0..argc-1]; a missing value is a usage error that leaves the loop
  * (the break is the loop's: v is never used NULL). */
@@ -229,8 +133,7 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
 {
     cg_run_opts o = cg_opts_default();
     o.log = stderr;
-    stress_names sn;
-    pair_names pn;
+    cg_opts_names names;
     const char **inputs = calloc((size_t)argc, sizeof *inputs);
     const char **pairs = calloc((size_t)argc, sizeof *pairs);
     if (!inputs || !pairs) {
@@ -246,141 +149,21 @@ static ekm_status cmd_cg(int argc, char **argv, ekm_error *err)
             inputs[nin++] = a;
             continue;
         }
-        if (!strcmp(a, "-o")) {
-            ARG();
-            o.out = v;
-        } else if (!strcmp(a, "--csv")) {
-            ARG();
-            o.csv = v;
-        } else if (!strcmp(a, "--axis")) {
-            ARG();
-            if (!strcmp(v, "x"))
-                o.axis = 0;
-            else if (!strcmp(v, "y"))
-                o.axis = 1;
-            else if (!strcmp(v, "z"))
-                o.axis = 2;
-            else
-                rc = usage_error(err, "--axis: expected x, y or z, got '%s'", v);
-        } else if (!strcmp(a, "--axes")) {
-            ARG();
-            if (!strcmp(v, "x,z")) {
-                o.axis = 2;
-                o.axis2 = 0;
-            } else if (!strcmp(v, "x") || !strcmp(v, "y") || !strcmp(v, "z")) {
-                o.axis = v[0] - 'x';
-                o.axis2 = -1;
-            } else {
-                rc = usage_error(err,
-                                 "--axes: expected z (a 1D profile, the default; or x, y) or x,z (a 2D grid "
-                                 "averaged over y), got '%s'",
-                                 v);
-            }
-        } else if (!strcmp(a, "--ensemble")) {
-            o.ensemble = 1;
-        } else if (!strcmp(a, "--kernel")) {
-            ARG();
-            o.kernel = v;
-        } else if (!strcmp(a, "--width")) {
-            ARG();
-            rc = get_double(a, v, &o.width, err);
-            if (!rc && !(o.width > 0))
-                rc = usage_error(err, "--width: expected a positive width, got '%s'", v);
-        } else if (!strcmp(a, "--bins")) {
-            ARG();
-            const char *comma = strchr(v, ',');
-            if (comma) { /* NX,NZ (--axes x,z) */
-                char nx[32];
-                size_t len = (size_t)(comma - v);
-                if (len >= sizeof nx)
-                    len = sizeof nx - 1;
-                memcpy(nx, v, len);
-                nx[len] = '\0';
-                rc = get_size(a, nx, &o.bins_x, err);
-                if (!rc)
-                    rc = get_size(a, comma + 1, &o.bins, err);
-                if (rc)
-                    rc = usage_error(err, "--bins: expected N, or NX,NZ with --axes x,z, got '%s'", v);
-            } else {
-                rc = get_size(a, v, &o.bins, err);
-            }
-        } else if (!strcmp(a, "--dz")) {
-            ARG();
-            rc = get_double(a, v, &o.dz, err);
-            if (!rc && !(o.dz > 0))
-                rc = usage_error(err, "--dz: expected a positive spacing, got '%s'", v);
-        } else if (!strcmp(a, "--range")) {
-            ARG();
-            rc = get_pair(a, v, &o.range_lo, &o.range_hi, err);
-            if (!rc && !(o.range_hi > o.range_lo))
-                rc = usage_error(err, "--range: expected LO < HI, got '%s'", v);
-            o.have_range = 1;
-        } else if (!strcmp(a, "--rho-p")) {
-            ARG();
-            rc = get_double(a, v, &o.rho_p, err);
-            if (!rc && !(o.rho_p > 0))
-                rc = usage_error(err, "--rho-p: expected a positive density, got '%s'", v);
-        } else if (!strcmp(a, "--dt")) {
-            ARG();
-            rc = get_double(a, v, &o.dt, err);
-            if (!rc && !(o.dt > 0))
-                rc = usage_error(err, "--dt: expected a positive time step, got '%s'", v);
-        } else if (!strcmp(a, "--from")) {
-            ARG();
-            rc = get_double(a, v, &o.from, err);
-            o.have_from = 1;
-        } else if (!strcmp(a, "--to")) {
-            ARG();
-            rc = get_double(a, v, &o.to, err);
-            o.have_to = 1;
-        } else if (!strcmp(a, "--steps")) {
-            ARG();
-            double x, y;
-            rc = get_pair(a, v, &x, &y, err);
-            if (!rc && (x != floor(x) || y != floor(y) || y < x))
-                rc = usage_error(err, "--steps: expected integers A:B with A <= B, got '%s'", v);
-            o.step_a = (int64_t)x;
-            o.step_b = (int64_t)y;
-            o.have_steps = 1;
-        } else if (!strcmp(a, "--steady"))
-            o.steady = 1;
-        else if (!strcmp(a, "--exact-kernel"))
-            o.exact = 1;
-        else if (!strcmp(a, "--every")) {
-            ARG();
-            rc = get_size(a, v, &o.every, err);
-        } else if (!strcmp(a, "--window")) {
-            ARG();
-            rc = get_double(a, v, &o.window, err);
-            if (!rc && !(o.window > 0))
-                rc = usage_error(err, "--window: expected a positive duration, got '%s'", v);
-        } else if (!strcmp(a, "--temperature")) {
-            ARG();
-            if (!strcmp(v, "particle"))
-                o.tmode = CG_T_PARTICLE;
-            else if (!strcmp(v, "consistent"))
-                o.tmode = CG_T_CONSISTENT;
-            else
-                rc = usage_error(err, "--temperature: expected particle or consistent, got '%s'", v);
-        } else if (!strcmp(a, "--stress")) {
-            ARG();
-            rc = get_stress(v, &sn, &o, err);
-        } else if (!strcmp(a, "--pairs")) {
-            ARG();
-            pairs[npairs++] = v;
-        } else if (!strcmp(a, "--pair-columns")) {
-            ARG();
-            rc = get_paircols(v, &pn, &o, err);
-        } else if (!strcmp(a, "--types")) {
-            ARG();
-            rc = get_types(v, &o, err);
-        } else if (!strcmp(a, "--expect-snapshots")) {
-            ARG();
-            rc = get_size(a, v, &o.expect_snapshots, err);
-        } else if (!strcmp(a, "--quiet"))
-            o.log = NULL;
-        else
+        /* the options' table and their values' checks: scenario/cg_keys.h */
+        const ekm_cg_key *k = ekm_cg_keys_find(a);
+        if (!k) {
             rc = usage_error(err, "cg: unknown option '%s' (see ekmcompare --help)", a);
+            break;
+        }
+        if (k->takes_value) {
+            ARG();
+        }
+        ekm_cg_value val;
+        rc = ekm_cg_keys_parse(k, v, &val, err);
+        if (!rc && k->id == EKM_CG_PAIRS)
+            pairs[npairs++] = v;
+        else if (!rc)
+            cg_opts_apply(&o, &names, &val);
     }
     if (!rc && o.every && o.window > 0)
         rc = EKM_FAIL(err, EKM_EUSAGE, "cg: expected --every or --window, not both");
@@ -421,12 +204,15 @@ static ekm_status cmd_base(int argc, char **argv, ekm_error *err)
             inputs[nin++] = a;
             continue;
         }
-        if (!strcmp(a, "-o")) {
+        const ekm_cg_key *k = ekm_cg_keys_find(a);
+        if (k && (k->id == EKM_CG_OUT || k->id == EKM_CG_CSV || k->id == EKM_CG_RANGE || k->id == EKM_CG_DT ||
+                  k->id == EKM_CG_FROM || k->id == EKM_CG_TO || k->id == EKM_CG_STEPS)) {
+            /* as `cg` reads them (scenario/cg_keys.h) */
             ARG();
-            o.out = v;
-        } else if (!strcmp(a, "--csv")) {
-            ARG();
-            o.csv = v;
+            ekm_cg_value val;
+            rc = ekm_cg_keys_parse(k, v, &val, err);
+            if (!rc)
+                cg_base_opts_apply(&o, &val);
         } else if (!strcmp(a, "--floor-type")) {
             ARG();
             char *end;
@@ -442,38 +228,10 @@ static ekm_status cmd_base(int argc, char **argv, ekm_error *err)
         } else if (!strcmp(a, "--bins")) {
             ARG();
             rc = get_size(a, v, &o.bins, err);
-        } else if (!strcmp(a, "--range")) {
-            ARG();
-            rc = get_pair(a, v, &o.range_lo, &o.range_hi, err);
-            if (!rc && !(o.range_hi > o.range_lo))
-                rc = usage_error(err, "--range: expected LO < HI, got '%s'", v);
-            o.have_range = 1;
         } else if (!strcmp(a, "--centre")) {
             ARG();
             rc = get_double(a, v, &o.centre, err);
             o.have_centre = 1;
-        } else if (!strcmp(a, "--dt")) {
-            ARG();
-            rc = get_double(a, v, &o.dt, err);
-            if (!rc && !(o.dt > 0))
-                rc = usage_error(err, "--dt: expected a positive time step, got '%s'", v);
-        } else if (!strcmp(a, "--from")) {
-            ARG();
-            rc = get_double(a, v, &o.from, err);
-            o.have_from = 1;
-        } else if (!strcmp(a, "--to")) {
-            ARG();
-            rc = get_double(a, v, &o.to, err);
-            o.have_to = 1;
-        } else if (!strcmp(a, "--steps")) {
-            ARG();
-            double x, y;
-            rc = get_pair(a, v, &x, &y, err);
-            if (!rc && (x != floor(x) || y != floor(y) || y < x))
-                rc = usage_error(err, "--steps: expected integers A:B with A <= B, got '%s'", v);
-            o.step_a = (int64_t)x;
-            o.step_b = (int64_t)y;
-            o.have_steps = 1;
         } else if (!strcmp(a, "--last")) {
             ARG();
             rc = get_size(a, v, &o.last, err);

@@ -52,7 +52,7 @@ else
     # the version string of the resolved JSON (cmake generates the real one)
     printf '#define EKMBENCH_VERSION "fuzz"\n' > "$out/ekm_version.h"
     build=(clang "${flags[@]}" -I"$root/scenario" -I"$root/law" -I"$root/common" -I"$out"
-           "$here/fuzz_scenario.c" "$root"/scenario/{scenario,tool_keys,number,boundary,resolve,scenario_json}.c
+           "$here/fuzz_scenario.c" "$root"/scenario/{scenario,tool_keys,cg_keys,number,boundary,resolve,scenario_json}.c
            "$root"/law/model.c
            "$root"/common/{status,schema,utf8}.c -linih -ljansson -lm -o "$exe")
     # an input is "--set line" + the file: each shipped scenario without and

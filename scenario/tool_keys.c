@@ -2,6 +2,7 @@
  * (tool_keys.h). */
 #include "tool_keys.h"
 
+#include "cg_keys.h"
 #include "schema.h"
 
 #include <math.h>
@@ -56,7 +57,7 @@ static const ekm_tool_key TOOL_KEYS[] = {
     {"dem", "timeout", EKM_TOOL_INTEGER, NULL, "900", EKM_SWEEP_NONE},
     {"dem", "require_steady", EKM_TOOL_FLAG, NULL, "0", EKM_SWEEP_NONE},
     {"dem", "steady_tol", EKM_TOOL_NUMBER, NULL, "0.05", EKM_SWEEP_NONE},
-    {"compare", "cg_options", EKM_TOOL_STRING, NULL, NULL, EKM_SWEEP_NONE},
+    {"compare", "cg_options", EKM_TOOL_CG, NULL, NULL, EKM_SWEEP_NONE},
     {"compare", "fields", EKM_TOOL_FIELDS, NULL, NULL, EKM_SWEEP_NONE},
     {"compare", "ekm_time", EKM_TOOL_ENUM, "last interp", "interp", EKM_SWEEP_NONE},
     {"compare", "shift", EKM_TOOL_NUMBER, NULL, "0", EKM_SWEEP_NONE},
@@ -299,6 +300,14 @@ int ekm_tool_keys_check(const char *section, const char *key, const char *value,
                  !fields_in_schema(value, choices, sizeof choices))
             expected = choices; /* [compare] scalars names scalars and sets, not fields */
         break;
+    case EKM_TOOL_CG: {
+        char cg_why[600];
+        if (!ekm_cg_keys_check_line(value, cg_why, sizeof cg_why)) {
+            snprintf(why, size, "[%s] %s: %s", section, key, cg_why);
+            return 0;
+        }
+        break;
+    }
     case EKM_TOOL_ENUM:
         if (!is_choice(tk->choices, value)) {
             snprintf(choices, sizeof choices, "one of %s", tk->choices);

@@ -21,7 +21,8 @@ typedef enum {
     EKM_TOOL_STRING,  /* free text */
     EKM_TOOL_WORD,    /* a name: a letter, then letters, digits, '_' */
     EKM_TOOL_FIELDS,  /* field names separated by commas */
-    EKM_TOOL_ENUM     /* one of the words of `choices` */
+    EKM_TOOL_ENUM,    /* one of the words of `choices` */
+    EKM_TOOL_CG       /* options of `ekmcompare cg` (cg_keys.h) */
 } ekm_tool_type;
 
 /* The sweep a [dem] key belongs to: its keys make the scenario one.

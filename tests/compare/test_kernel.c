@@ -4,7 +4,10 @@
 #include <stddef.h>
 #include <cmocka.h>
 #include <math.h>
+#include <stdio.h>
+#include <string.h>
 
+#include "cg_keys.h"
 #include "kernel.h"
 #include "test_util.h"
 
@@ -77,11 +80,39 @@ static void test_moments(void **state)
     assert_non_null(strstr(err.message, "expected gauss, lucy or bins"));
 }
 
+/* The kernels the cg options' table accepts (EKM_CG_KERNELS, what a
+ * scenario's [compare] cg_options is checked against) are the ones
+ * kernel.c makes, and the table refuses a name as kernel.c does. */
+static void test_table_names_the_kernels(void **state)
+{
+    (void)state;
+    char list[64];
+    snprintf(list, sizeof list, "%s", EKM_CG_KERNELS);
+    int n = 0;
+    for (char *name = strtok(list, " "); name; name = strtok(NULL, " ")) {
+        cg_kernel *k = NULL;
+        ekm_error err = {0};
+        assert_int_equal(cg_kernel_alloc(&k, name, 1e-3, &err), EKM_OK);
+        cg_kernel_free(k);
+        n++;
+    }
+    assert_int_equal(n, 3);
+    const ekm_cg_key *key = ekm_cg_keys_find("--kernel");
+    assert_non_null(key);
+    ekm_cg_value v;
+    ekm_error e1 = {0}, e2 = {0};
+    assert_int_equal(ekm_cg_keys_parse(key, "tophat", &v, &e1), EKM_EUSAGE);
+    cg_kernel *k = NULL;
+    assert_int_equal(cg_kernel_alloc(&k, "tophat", 1e-3, &e2), EKM_EUSAGE);
+    assert_string_equal(e1.message, e2.message);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_normalised),
         cmocka_unit_test(test_moments),
+        cmocka_unit_test(test_table_names_the_kernels),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -492,6 +492,28 @@ static const error_case TOOL_ERRORS[] = {
      "--set compare.fields: [compare] fields: expected field names of the schema (common/schema.c), not "
      "'bogus', "
      "got 'phi,bogus'"},
+    {"[compare] cg_options: a bad value",
+     "[compare]\nref.cg_options = --types 1 --width -1",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [compare] ref.cg_options: --width: expected a positive width, got '-1'"},
+    {"[compare] cg_options: an unknown option",
+     NULL,
+     {"compare.cg_options=--stress c_sa --bogus", NULL},
+     EKM_EINPUT,
+     "--set compare.cg_options: [compare] cg_options: --bogus: unknown option (expected options of "
+     "`ekmcompare cg`)"},
+    {"[compare] cg_options: an option the campaign adds",
+     "[compare]\ncg_options = --steady -o cg.h5",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [compare] cg_options: -o: not here (the campaign adds the dumps, -o, --csv, --dt and "
+               "--quiet)"},
+    {"[compare] cg_options: a value missing",
+     "[compare]\ncg_options = --steady --kernel",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [compare] cg_options: --kernel: expected a value"},
     {"[compare] enum",
      "[compare]\nlammps.ekm_time = first",
      {NULL},
@@ -732,8 +754,8 @@ static const char LOOKUP[] = "[dem]\n"
                              "liggghts.dt = 9\n"   /* 39 */
                              "restitution = 0.8\n" /* 40 */
                              "[compare]\n"
-                             "smoke.cg_options = --a\n"    /* 42 */
-                             "lammps.smoke.shift = 0.5\n"; /* 43 */
+                             "smoke.cg_options = --steady\n" /* 42 */
+                             "lammps.smoke.shift = 0.5\n";   /* 43 */
 
 static void test_lookup_rule(void **state)
 {
@@ -756,7 +778,7 @@ static void test_lookup_rule(void **state)
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "smoke", NULL, 0), EKM_OK);
     assert_key(&x, "dem.lx", "2", FILE_NAME ":32", "lammps.lx");
     assert_key(&x, "dem.ly", "6", FILE_NAME ":36", "lammps.ly");
-    assert_key(&x, "compare.cg_options", "--a", FILE_NAME ":42", "smoke.cg_options");
+    assert_key(&x, "compare.cg_options", "--steady", FILE_NAME ":42", "smoke.cg_options");
     assert_key(&x, "compare.shift", "0.5", FILE_NAME ":43", "lammps.smoke.shift");
     resolved_free(&x);
 

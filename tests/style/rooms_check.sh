@@ -9,7 +9,8 @@
 #   law        common            (the constitutive law: pure functions)
 #   scenario   law common        (the scenario service; the law's parameter structs)
 #   continuum  scenario law common
-#   compare    common            (coarse-graining and scores: no EKM, no scenario)
+#   compare    scenario common   (coarse-graining and scores: no EKM; of scenario/ only
+#              cg_keys.h, the table of the cg options)
 #   calibrate  compare continuum scenario law common
 #              (of continuum/ only point.h: the EKM solved in-process at a
 #              material, by the one steady policy; no solver internals)
@@ -34,10 +35,10 @@ cd "$1" || { echo "rooms_check.sh: $1: not a directory" >&2; exit 2; }
 git rev-parse --git-dir > /dev/null 2>&1 || { echo "rooms_check.sh: $1: not a git checkout: skipped"; exit 77; }
 
 declare -A allowed=([common]="" [law]="common" [scenario]="law common" [continuum]="scenario law common"
-  [compare]="common" [calibrate]="compare continuum scenario law common")
+  [compare]="scenario common" [calibrate]="compare continuum scenario law common")
 declare -A front=([compare]="calibrate")
 # "ROOM>TARGET": the only headers of TARGET that ROOM may include
-declare -A only=([calibrate > continuum]="point.h")
+declare -A only=([calibrate > continuum]="point.h" [compare > scenario]="cg_keys.h")
 
 # header name -> the rooms holding one of that name (the first path component)
 declare -A rooms_of
