@@ -346,7 +346,7 @@ ekm_status cg_fitsc_load(cg_fitsc_problem *pb, const char *cases_path, ekm_error
             break;
         ekm_error serr = {0};
         ekm_status ls = ekm_scenario_load(&c->sc, c->scenario, (const char *const *)c->set, c->nset, &serr);
-        c->sc_loaded = ls == EKM_OK;
+        c->sc_loaded = 1; /* also after a failed load: the reader may hold what it read */
         if (ls != EKM_OK) {
             st = EKM_FAIL(err, ls, "%s: cases[%zu].scenario: %s", cases_path, i, serr.message);
         } else {

@@ -105,7 +105,7 @@ typedef struct {
     int check_agrees;        /* 1: the Newton state was kept */
     double check_difference; /* ekm_point_agreement of the two states [-] */
     ekm_scenario sc;         /* the case's scenario with its overrides, read once */
-    int sc_loaded;           /* 1: sc holds one (ekm_scenario_free) */
+    int sc_loaded;           /* 1: sc was loaded, or its load tried (ekm_scenario_free) */
 } cg_fitsc_case;
 
 typedef struct {
