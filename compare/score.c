@@ -684,6 +684,232 @@ static ekm_status check_result(const cg_score_opts *o, const axes *ax, const cha
     return EKM_OK;
 }
 
+/* --fields: the names of a comma-separated list into names[] (each a known field). */
+static ekm_status parse_field_list(const char *list, char names[][32], size_t *nf, ekm_error *err)
+{
+    for (const char *p = list; *p;) {
+        const char *q = strchr(p, ',');
+        size_t len = q ? (size_t)(q - p) : strlen(p);
+        if (len == 0 || len >= 32 || *nf == MAXF)
+            return EKM_FAIL(err, EKM_EUSAGE,
+                            "--fields: expected a comma-separated list of field names, got '%s'", list);
+        memcpy(names[*nf], p, len);
+        names[*nf][len] = '\0';
+        ekm_status st = check_field_name(names[(*nf)++], err);
+        if (st)
+            return st;
+        p += len + (q ? 1 : 0);
+    }
+    return EKM_OK;
+}
+
+/* The JSON must not replace an input; each file the kind its option
+ * names: --dem a cg output, --ekm an ekm run or a second engine's cg
+ * output (engine against engine). */
+static ekm_status open_inputs(const cg_score_opts *o, ekm_h5_file **dem, ekm_h5_file **ekm, ekm_error *err)
+{
+    const char *inputs[2] = {o->dem, o->ekm};
+    ekm_status rc = o->json ? ekm_atomic_refuse_input(o->json, inputs, 2, err) : EKM_OK;
+    if (!rc)
+        rc = ekm_h5_open(dem, o->dem, err);
+    if (!rc)
+        rc = ekm_h5_open(ekm, o->ekm, err);
+    if (!rc)
+        rc = cg_h5kind_check(*dem, "score", "--dem", CG_H5KIND_CG, err);
+    if (!rc)
+        rc = cg_h5kind_check(*ekm, "score", "--ekm", CG_H5KIND_EKM | CG_H5KIND_CG, err);
+    return rc;
+}
+
+/* Where each DEM time falls among the EKM's output times: index ti,
+ * fraction ta, inside or not (tin). */
+typedef struct {
+    size_t *ti;
+    double *ta;
+    int *tin;
+    int last; /* 1: every DEM time takes the EKM's last output */
+} time_map;
+
+static void time_map_free(time_map *tm)
+{
+    free(tm->ti);
+    free(tm->ta);
+    free(tm->tin);
+}
+
+/* --ekm-time last, or no DEM time inside the EKM's: the EKM's last output
+ * for every DEM time (a note says so in the second case). */
+static ekm_status map_times(const cg_score_opts *o, const axes *ax, time_map *tm, ekm_error *err)
+{
+    tm->last = o->ekm_last;
+    tm->ti = malloc(ax->ntd * sizeof *tm->ti);
+    tm->ta = malloc(ax->ntd * sizeof *tm->ta);
+    tm->tin = malloc(ax->ntd * sizeof *tm->tin);
+    if (!tm->ti || !tm->ta || !tm->tin)
+        return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    size_t nin = 0;
+    for (size_t j = 0; j < ax->ntd; j++) {
+        tm->tin[j] = cg_score_locate(ax->te, ax->nte, ax->td[j], &tm->ti[j], &tm->ta[j]);
+        nin += (size_t)tm->tin[j];
+    }
+    if (!tm->last && nin == 0) {
+        tm->last = 1;
+        if (o->log)
+            fprintf(o->log,
+                    "note: no DEM time (%.6g..%.6g s) inside the EKM output times (%.6g..%.6g s): "
+                    "comparing with the EKM's last output (t = %.6g s)\n",
+                    ax->td[0], ax->td[ax->ntd - 1], ax->te[0], ax->te[ax->nte - 1], ax->te[ax->nte - 1]);
+    }
+    if (tm->last)
+        for (size_t j = 0; j < ax->ntd; j++) {
+            tm->tin[j] = 1;
+            tm->ti[j] = ax->nte - 1;
+            tm->ta[j] = 0.0;
+        }
+    return EKM_OK;
+}
+
+/* The common support's threshold: o->support x the DEM's largest phi (0:
+ * none). */
+static ekm_status support_threshold(const cg_score_opts *o, const axes *ax, const side *sdem,
+                                    const side *smod, double *support_phi, ekm_error *err)
+{
+    *support_phi = 0.0;
+    if (!(o->support > 0))
+        return EKM_OK;
+    if (!sdem->f[S_PHI] || !smod->f[S_PHI])
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: expected a dataset phi for the common support (--support 0 scores without it)",
+                        sdem->f[S_PHI] ? o->ekm : o->dem);
+    double m = NAN;
+    for (size_t q = 0; q < ax->ntd * ax->nzd; q++)
+        if (isfinite(sdem->f[S_PHI][q]) && !(sdem->f[S_PHI][q] <= m))
+            m = sdem->f[S_PHI][q];
+    if (!isfinite(m) || !(m > 0))
+        return EKM_FAIL(err, EKM_EINPUT, "%s: dataset phi: expected a positive value", o->dem);
+    *support_phi = o->support * m;
+    return EKM_OK;
+}
+
+/* One field's score: the points both cover (in DEM order: time, then
+ * coordinate), the model interpolated onto them, against the DEM value and
+ * its standard error (a second engine's own standard error added in
+ * quadrature), into *r. */
+static ekm_status score_field(const cg_score_opts *o, const axes *ax, ekm_h5_file *dem, ekm_h5_file *ekm,
+                              const side *sdem, const side *smod, const time_map *tm, double support_phi,
+                              const char *name, cg_score_field *r, ekm_error *err)
+{
+    double *fd = NULL, *sd = NULL, *fe = NULL, *fse = NULL;
+    char sename[48];
+    snprintf(sename, sizeof sename, "%s_se", name);
+    ekm_status rc = EKM_OK;
+    if (!ekm_h5_exists(dem, name))
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->dem, name);
+    else if (!ekm_h5_exists(ekm, name))
+        rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->ekm, name);
+    if (!rc)
+        rc = check_units(dem, o->dem, name, err);
+    if (!rc)
+        rc = check_units(ekm, o->ekm, name, err);
+    if (!rc)
+        rc = read_shaped(dem, name, ax->ntd, ax->nzd, &fd, err);
+    if (!rc)
+        rc = read_optional(dem, sename, ax->ntd, ax->nzd, &sd, err);
+    if (!rc)
+        rc = read_shaped(ekm, name, ax->nte, ax->nze, &fe, err);
+    if (!rc)
+        rc = read_optional(ekm, sename, ax->nte, ax->nze, &fse, err);
+    double *pm = NULL, *pdem = NULL, *ps = NULL, *zc = NULL;
+    const size_t ncand = ax->ntd * ax->nzd;
+    if (!rc && (!(pm = malloc(ncand * sizeof *pm)) || !(pdem = malloc(ncand * sizeof *pdem)) ||
+                !(ps = malloc(ncand * sizeof *ps)) || !(zc = malloc(ax->nze * sizeof *zc))))
+        rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    if (!rc) {
+        size_t np = 0, left_out = 0;
+        for (size_t j = 0; j < ax->ntd; j++) {
+            if (!tm->tin[j])
+                continue;
+            size_t i0 = tm->ti[j], i1 = i0 + 1 < ax->nte ? i0 + 1 : i0;
+            double at = tm->ta[j];
+            /* the EKM's cell centres at this DEM time */
+            cg_score_centres(ax->ze, ax->ze_frames, ax->nze, smod->gap, i0, i1, at, zc);
+            for (size_t k = 0; k < ax->nzd; k++) {
+                size_t zi;
+                double az;
+                if (!cg_score_locate(zc, ax->nze, ax->zd[k], &zi, &az)) {
+                    /* outside the model's cell centres: left out when the
+                     * DEM has material there (e.g. above a pressure-held
+                     * EKM gap shorter than the DEM's) */
+                    if (support_phi > 0 && sdem->f[S_PHI][j * ax->nzd + k] > support_phi)
+                        left_out++;
+                    continue;
+                }
+                if (support_phi > 0) {
+                    /* common support: material on both sides */
+                    double mphi = cg_score_interp(smod->f[S_PHI] + i0 * ax->nze,
+                                                  smod->f[S_PHI] + i1 * ax->nze, ax->nze, zi, az, at);
+                    double dphi = sdem->f[S_PHI][j * ax->nzd + k];
+                    if (!(mphi > support_phi && dphi > support_phi)) {
+                        left_out++;
+                        continue;
+                    }
+                }
+                double e = cg_score_interp(fe + i0 * ax->nze, fe + i1 * ax->nze, ax->nze, zi, az, at),
+                       d = fd[j * ax->nzd + k];
+                double s = sd ? sd[j * ax->nzd + k] : NAN;
+                if (fse) {
+                    double s2 = cg_score_interp(fse + i0 * ax->nze, fse + i1 * ax->nze, ax->nze, zi, az, at);
+                    s = sqrt(s * s + s2 * s2);
+                }
+                pm[np] = e;
+                pdem[np] = d;
+                ps[np] = s;
+                np++;
+            }
+        }
+        cg_metric m = cg_metric_compute(pm, pdem, ps, np, CG_SCORE_SE_FLOOR);
+        rc = check_result(o, ax, name, &m, left_out, err);
+        snprintf(r->name, sizeof r->name, "%s", name);
+        r->points = m.points;
+        r->points_se = m.points_se;
+        r->points_left_out = left_out;
+        r->rel_l2 = m.rel_l2;
+        r->noise = m.noise;
+        r->se_both = fse != NULL;
+    }
+    free(fd);
+    free(sd);
+    free(fe);
+    free(fse);
+    free(pm);
+    free(pdem);
+    free(ps);
+    free(zc);
+    return rc;
+}
+
+/* The markdown table of the fields and the scalars. */
+static void write_table(FILE *fp, const cg_score_field *res, size_t nres, const cg_score_summary *sm)
+{
+    fprintf(fp, "| field | points | left out | rel. L2 error | noise-normalised error "
+                "|\n|---|---:|---:|---:|---:|\n");
+    for (size_t i = 0; i < nres; i++)
+        fprintf(fp, "| %s | %zu | %zu | %.4g | %.4g |\n", res[i].name, res[i].points, res[i].points_left_out,
+                res[i].rel_l2, res[i].noise);
+    fprintf(fp, "\nlayer height: DEM %.4g m, model %.4g m, offset %.4g m = %.3g d\n", sm->dem_height,
+            sm->model_height, sm->model_height - sm->dem_height,
+            in_d(sm->model_height - sm->dem_height, sm->mean_diameter));
+    if (sm->nscalars) {
+        fprintf(fp, "\n| scalar | units | DEM | SE | model | rel. error | error / SE "
+                    "|\n|---|---|---:|---:|---:|---:|---:|\n");
+        for (size_t i = 0; i < sm->nscalars; i++) {
+            const cg_score_scalar *c = &sm->scalar[i];
+            fprintf(fp, "| %s | %s | %.4g | %.2g | %.4g | %.3g | %.3g |\n", c->name, c->units, c->dem,
+                    c->dem_se, c->model, (c->model - c->dem) / fabs(c->dem), (c->model - c->dem) / c->dem_se);
+        }
+    }
+}
+
 ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err)
 {
     cg_score_field loc[MAXF];
@@ -700,43 +926,15 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
         return EKM_FAIL(err, EKM_EUSAGE,
                         "--support: expected a fraction of the DEM's largest phi in [0, 1), got %g",
                         o->support);
-    /* field list */
     char names[MAXF][32];
     size_t nf = 0;
     if (o->fields) {
-        const char *p = o->fields;
-        while (*p) {
-            const char *q = strchr(p, ',');
-            size_t len = q ? (size_t)(q - p) : strlen(p);
-            if (len == 0 || len >= 32 || nf == MAXF)
-                return EKM_FAIL(err, EKM_EUSAGE,
-                                "--fields: expected a comma-separated list of field names, got '%s'",
-                                o->fields);
-            memcpy(names[nf], p, len);
-            names[nf][len] = '\0';
-            ekm_status st = check_field_name(names[nf++], err);
-            if (st)
-                return st;
-            p += len + (q ? 1 : 0);
-        }
-    }
-    /* the JSON must not replace an input */
-    const char *inputs[2] = {o->dem, o->ekm};
-    if (o->json) {
-        ekm_status st = ekm_atomic_refuse_input(o->json, inputs, 2, err);
+        ekm_status st = parse_field_list(o->fields, names, &nf, err);
         if (st)
             return st;
     }
     ekm_h5_file *dem = NULL, *ekm = NULL;
-    ekm_status rc = ekm_h5_open(&dem, o->dem, err);
-    if (!rc)
-        rc = ekm_h5_open(&ekm, o->ekm, err);
-    /* each file the kind its option names: --dem a cg output, --ekm an ekm
-     * run or a second engine's cg output (engine against engine) */
-    if (!rc)
-        rc = cg_h5kind_check(dem, "score", "--dem", CG_H5KIND_CG, err);
-    if (!rc)
-        rc = cg_h5kind_check(ekm, "score", "--ekm", CG_H5KIND_EKM | CG_H5KIND_CG, err);
+    ekm_status rc = open_inputs(o, &dem, &ekm, err);
     axes ax;
     memset(&ax, 0, sizeof ax);
     if (!rc)
@@ -747,39 +945,9 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
                 strcpy(names[nf++], default_fields[i]);
     if (!rc && nf == 0)
         rc = EKM_FAIL(err, EKM_EINPUT, "%s, %s: no field in common", o->dem, o->ekm);
-    /* time mapping: EKM index and fraction per DEM time */
-    int last = o->ekm_last;
-    size_t *ti = NULL;
-    double *ta = NULL;
-    int *tin = NULL;
-    if (!rc) {
-        ti = malloc(ax.ntd * sizeof *ti);
-        ta = malloc(ax.ntd * sizeof *ta);
-        tin = malloc(ax.ntd * sizeof *tin);
-        if (!ti || !ta || !tin)
-            rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-    }
-    if (!rc) {
-        size_t nin = 0;
-        for (size_t j = 0; j < ax.ntd; j++) {
-            tin[j] = cg_score_locate(ax.te, ax.nte, ax.td[j], &ti[j], &ta[j]);
-            nin += (size_t)tin[j];
-        }
-        if (!last && nin == 0) {
-            last = 1;
-            if (o->log)
-                fprintf(o->log,
-                        "note: no DEM time (%.6g..%.6g s) inside the EKM output times (%.6g..%.6g s): "
-                        "comparing with the EKM's last output (t = %.6g s)\n",
-                        ax.td[0], ax.td[ax.ntd - 1], ax.te[0], ax.te[ax.nte - 1], ax.te[ax.nte - 1]);
-        }
-        if (last)
-            for (size_t j = 0; j < ax.ntd; j++) {
-                tin[j] = 1;
-                ti[j] = ax.nte - 1;
-                ta[j] = 0.0;
-            }
-    }
+    time_map tm = {0};
+    if (!rc)
+        rc = map_times(o, &ax, &tm, err);
     /* the sides' phi (common support, free surface) and the scalars' fields */
     side sdem, smod;
     memset(&sdem, 0, sizeof sdem);
@@ -788,20 +956,9 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
         rc = side_read(dem, ax.ntd, ax.nzd, &sdem, err);
     if (!rc)
         rc = side_read(ekm, ax.nte, ax.nze, &smod, err);
-    if (!rc && o->support > 0 && (!sdem.f[S_PHI] || !smod.f[S_PHI]))
-        rc = EKM_FAIL(err, EKM_EINPUT,
-                      "%s: expected a dataset phi for the common support (--support 0 scores without it)",
-                      sdem.f[S_PHI] ? o->ekm : o->dem);
     double support_phi = 0.0;
-    if (!rc && o->support > 0) {
-        double m = NAN;
-        for (size_t q = 0; q < ax.ntd * ax.nzd; q++)
-            if (isfinite(sdem.f[S_PHI][q]) && !(sdem.f[S_PHI][q] <= m))
-                m = sdem.f[S_PHI][q];
-        if (!isfinite(m) || !(m > 0))
-            rc = EKM_FAIL(err, EKM_EINPUT, "%s: dataset phi: expected a positive value", o->dem);
-        support_phi = o->support * m;
-    }
+    if (!rc)
+        rc = support_threshold(o, &ax, &sdem, &smod, &support_phi, err);
     sm->support_phi = support_phi;
     if (!rc) {
         const char *which = ekm_h5_attr_exists(dem, NULL, "mean_diameter")   ? o->dem
@@ -821,130 +978,23 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
     if (!rc)
         rc = attr_either(dem, ekm, "top.velocity", &top_velocity, err);
     if (!rc && sdem.f[S_PHI] && smod.f[S_PHI])
-        rc = summarise(o, &ax, &sdem, &smod, ti, ta, tin, g_normal, top_velocity, sm, err);
+        rc = summarise(o, &ax, &sdem, &smod, tm.ti, tm.ta, tm.tin, g_normal, top_velocity, sm, err);
     else if (!rc && o->scalars && *o->scalars)
         rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset phi for --scalars",
                       sdem.f[S_PHI] ? o->ekm : o->dem);
     for (size_t f = 0; f < nf && !rc; f++) {
-        double *fd = NULL, *sd = NULL, *fe = NULL, *fse = NULL;
-        char sename[48];
-        snprintf(sename, sizeof sename, "%s_se", names[f]);
-        if (!ekm_h5_exists(dem, names[f]))
-            rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->dem, names[f]);
-        else if (!ekm_h5_exists(ekm, names[f]))
-            rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->ekm, names[f]);
-        if (!rc)
-            rc = check_units(dem, o->dem, names[f], err);
-        if (!rc)
-            rc = check_units(ekm, o->ekm, names[f], err);
-        if (!rc)
-            rc = read_shaped(dem, names[f], ax.ntd, ax.nzd, &fd, err);
-        if (!rc)
-            rc = read_optional(dem, sename, ax.ntd, ax.nzd, &sd, err);
-        if (!rc)
-            rc = read_shaped(ekm, names[f], ax.nte, ax.nze, &fe, err);
-        /* a second coarse-grained DEM run in place of the EKM (engine against
-         * engine) carries its own standard error: the two add in quadrature */
-        if (!rc)
-            rc = read_optional(ekm, sename, ax.nte, ax.nze, &fse, err);
-        /* the points both cover, in DEM order (time, then coordinate): the
-         * model interpolated onto them, the DEM value and its standard error */
-        double *pm = NULL, *pdem = NULL, *ps = NULL, *zc = NULL;
-        size_t ncand = ax.ntd * ax.nzd;
-        if (!rc && (!(pm = malloc(ncand * sizeof *pm)) || !(pdem = malloc(ncand * sizeof *pdem)) ||
-                    !(ps = malloc(ncand * sizeof *ps)) || !(zc = malloc(ax.nze * sizeof *zc))))
-            rc = EKM_FAIL(err, EKM_ENOMEM, "out of memory");
-        if (!rc) {
-            size_t np = 0, left_out = 0;
-            for (size_t j = 0; j < ax.ntd; j++) {
-                if (!tin[j])
-                    continue;
-                size_t i0 = ti[j], i1 = i0 + 1 < ax.nte ? i0 + 1 : i0;
-                double at = ta[j];
-                /* the EKM's cell centres at this DEM time */
-                cg_score_centres(ax.ze, ax.ze_frames, ax.nze, smod.gap, i0, i1, at, zc);
-                for (size_t k = 0; k < ax.nzd; k++) {
-                    size_t zi;
-                    double az;
-                    if (!cg_score_locate(zc, ax.nze, ax.zd[k], &zi, &az)) {
-                        /* outside the model's cell centres: left out when
-                         * the DEM has material there (e.g. above a
-                         * pressure-held EKM gap shorter than the DEM's) */
-                        if (support_phi > 0 && sdem.f[S_PHI][j * ax.nzd + k] > support_phi)
-                            left_out++;
-                        continue;
-                    }
-                    if (support_phi > 0) {
-                        /* common support: material on both sides */
-                        double mphi = cg_score_interp(smod.f[S_PHI] + i0 * ax.nze,
-                                                      smod.f[S_PHI] + i1 * ax.nze, ax.nze, zi, az, at);
-                        double dphi = sdem.f[S_PHI][j * ax.nzd + k];
-                        if (!(mphi > support_phi && dphi > support_phi)) {
-                            left_out++;
-                            continue;
-                        }
-                    }
-                    double e = cg_score_interp(fe + i0 * ax.nze, fe + i1 * ax.nze, ax.nze, zi, az, at),
-                           d = fd[j * ax.nzd + k];
-                    double s = sd ? sd[j * ax.nzd + k] : NAN;
-                    if (fse) {
-                        double s2 = cg_score_interp(fse + i0 * ax.nze, fse + i1 * ax.nze, ax.nze, zi, az, at);
-                        s = sqrt(s * s + s2 * s2);
-                    }
-                    pm[np] = e;
-                    pdem[np] = d;
-                    ps[np] = s;
-                    np++;
-                }
-            }
-            cg_metric m = cg_metric_compute(pm, pdem, ps, np, CG_SCORE_SE_FLOOR);
-            rc = check_result(o, &ax, names[f], &m, left_out, err);
-            cg_score_field *r = &res[*nres];
-            snprintf(r->name, sizeof r->name, "%s", names[f]);
-            r->points = m.points;
-            r->points_se = m.points_se;
-            r->points_left_out = left_out;
-            r->rel_l2 = m.rel_l2;
-            r->noise = m.noise;
-            r->se_both = fse != NULL;
+        res[*nres].name[0] = '\0'; /* set when the field was scored (also when check_result refuses it) */
+        rc = score_field(o, &ax, dem, ekm, &sdem, &smod, &tm, support_phi, names[f], &res[*nres], err);
+        if (res[*nres].name[0])
             (*nres)++;
-        }
-        free(fd);
-        free(sd);
-        free(fe);
-        free(fse);
-        free(pm);
-        free(pdem);
-        free(ps);
-        free(zc);
     }
-    if (!rc && o->table) {
-        fprintf(o->table, "| field | points | left out | rel. L2 error | noise-normalised error "
-                          "|\n|---|---:|---:|---:|---:|\n");
-        for (size_t i = 0; i < *nres; i++)
-            fprintf(o->table, "| %s | %zu | %zu | %.4g | %.4g |\n", res[i].name, res[i].points,
-                    res[i].points_left_out, res[i].rel_l2, res[i].noise);
-        fprintf(o->table, "\nlayer height: DEM %.4g m, model %.4g m, offset %.4g m = %.3g d\n",
-                sm->dem_height, sm->model_height, sm->model_height - sm->dem_height,
-                in_d(sm->model_height - sm->dem_height, sm->mean_diameter));
-        if (sm->nscalars) {
-            fprintf(o->table, "\n| scalar | units | DEM | SE | model | rel. error | error / SE "
-                              "|\n|---|---|---:|---:|---:|---:|---:|\n");
-            for (size_t i = 0; i < sm->nscalars; i++) {
-                const cg_score_scalar *c = &sm->scalar[i];
-                fprintf(o->table, "| %s | %s | %.4g | %.2g | %.4g | %.3g | %.3g |\n", c->name, c->units,
-                        c->dem, c->dem_se, c->model, (c->model - c->dem) / fabs(c->dem),
-                        (c->model - c->dem) / c->dem_se);
-            }
-        }
-    }
+    if (!rc && o->table)
+        write_table(o->table, res, *nres, sm);
     if (!rc && o->json)
-        rc = write_json(o, res, *nres, last ? "ekm last output" : "interpolated", sm, err);
+        rc = write_json(o, res, *nres, tm.last ? "ekm last output" : "interpolated", sm, err);
     side_free(&sdem);
     side_free(&smod);
-    free(ti);
-    free(ta);
-    free(tin);
+    time_map_free(&tm);
     free(ax.zd);
     free(ax.td);
     free(ax.ze);
