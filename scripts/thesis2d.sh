@@ -44,11 +44,12 @@ jobs=${JOBS:-2}
 [ -x "$ekm" ] || { echo "thesis2d.sh: $ekm not built (make build)" >&2; exit 1; }
 mkdir -p "$runs" "$res"
 
-# name scenario settings...: one run (the long 112 x 56 runs first)
+# name scenario settings...: one run (the long 112 x 56 runs first, the
+# fast narrow pile's first: it completes the 3-resolution comparison)
 cases=(
-  "pile_narrow_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set domain.cells_x=112 --set domain.cells=56"
   "pile_narrow7_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=112 --set domain.cells=56 --set run.t_end=2"
   "pile_narrow7stop1_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set top.t_stop=1.0 --set run.t_end=2.5 --set domain.cells_x=112 --set domain.cells=56"
+  "pile_narrow_112x56 thesis_sandpile_2d --set hypo.enabled=1 --set domain.cells_x=112 --set domain.cells=56"
   "filling_flow thesis_filling_2d"
   "filling_solid thesis_filling_2d --set hypo.enabled=1"
   "pile_narrow_28x14 thesis_sandpile_2d --set hypo.enabled=1 --set domain.cells_x=28 --set domain.cells=14"
