@@ -14,10 +14,7 @@
 
 #include "ekm_version.h"
 
-static json_t *num(double v)
-{
-    return isfinite(v) ? json_real(v) : json_null();
-}
+#include "json_out.h"
 
 static const char *const variant_names[] = {"full", "thesis"};
 
@@ -31,11 +28,12 @@ static json_t *fit_json(const cg_fit_outputs *o)
     for (size_t j = 0; j < res->nparams; j++) {
         const char *name = cg_fit_param_name(res->param[j]);
         json_object_set_new(params, name,
-                            json_pack("{s:o, s:o}", "value", num(res->value[j]), "se", num(res->se[j])));
+                            json_pack("{s:o, s:o}", "value", ekm_json_number(res->value[j]), "se",
+                                      ekm_json_number(res->se[j])));
         json_t *row = json_object();
         for (size_t i = 0; i < res->nparams; i++)
             if (i != j)
-                json_object_set_new(row, cg_fit_param_name(res->param[i]), num(res->corr[j][i]));
+                json_object_set_new(row, cg_fit_param_name(res->param[i]), ekm_json_number(res->corr[j][i]));
         json_object_set_new(corr, name, row);
         json_object_set_new(ident, name, json_boolean(res->identifiable[j]));
         if (!res->identifiable[j])
@@ -43,8 +41,8 @@ static json_t *fit_json(const cg_fit_outputs *o)
         json_object_set_new(start_values, name, json_real(res->start[j]));
     }
     json_object_set_new(root, "params", params);
-    json_object_set_new(root, "chi2", num(res->chi2));
-    json_object_set_new(root, "chi2_dof", num(res->chi2_dof));
+    json_object_set_new(root, "chi2", ekm_json_number(res->chi2));
+    json_object_set_new(root, "chi2_dof", ekm_json_number(res->chi2_dof));
     json_object_set_new(root, "dof", json_integer(res->dof));
     json_object_set_new(root, "correlation", corr);
     json_object_set_new(root, "identifiable", ident);
@@ -62,16 +60,17 @@ static json_t *fit_json(const cg_fit_outputs *o)
                 if (!(pb->fields & (1u << f)))
                     continue;
                 const char *name = cg_fit_field_name(f);
-                json_object_set_new(resid, name, num(res->resid[k * CG_FIT_NFIELD + f]));
-                json_object_set_new(
-                    data, name, json_pack("{s:o, s:o}", "value", num(pt->value[f]), "se", num(pt->se[f])));
-                json_object_set_new(model, name, num(res->model[k * CG_FIT_NFIELD + f]));
+                json_object_set_new(resid, name, ekm_json_number(res->resid[k * CG_FIT_NFIELD + f]));
+                json_object_set_new(data, name,
+                                    json_pack("{s:o, s:o}", "value", ekm_json_number(pt->value[f]), "se",
+                                              ekm_json_number(pt->se[f])));
+                json_object_set_new(model, name, ekm_json_number(res->model[k * CG_FIT_NFIELD + f]));
             }
-            json_array_append_new(points,
-                                  json_pack("{s:s, s:o, s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "file", pt->file,
-                                            "phi", num(pt->phi), "phi_se", num(pt->phi_se), "gdot",
-                                            num(pt->gdot), "gdot_se", num(pt->gdot_se), "vx_r2", num(pt->r2),
-                                            "residuals", resid, "data", data, "model", model));
+            json_array_append_new(
+                points, json_pack("{s:s, s:o, s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "file", pt->file, "phi",
+                                  ekm_json_number(pt->phi), "phi_se", ekm_json_number(pt->phi_se), "gdot",
+                                  ekm_json_number(pt->gdot), "gdot_se", ekm_json_number(pt->gdot_se), "vx_r2",
+                                  ekm_json_number(pt->r2), "residuals", resid, "data", data, "model", model));
         }
         json_object_set_new(root, "points", points);
     } else {
@@ -93,14 +92,15 @@ static json_t *fit_json(const cg_fit_outputs *o)
                 json_object_set_new(per, cg_fitsc_field_name(f),
                                     json_pack("{s:I, s:I, s:o}", "candidates", (json_int_t)c->ncand[f],
                                               "points_used", (json_int_t)c->used[f], "chi2",
-                                              num(c->chi2_field[f])));
+                                              ekm_json_number(c->chi2_field[f])));
             }
             json_t *jc = json_pack(
                 "{s:s, s:s, s:o, s:s, s:o, s:o, s:o, s:I, s:o, s:o, s:o, s:o, s:I}", "scenario", c->scenario,
                 "dem", c->dem, "set", set, "support", "phi > threshold on both sides", "phi_threshold",
-                num(c->phi_threshold), "shift_m", num(c->shift_m), "weight", num(c->weight), "points_used",
-                (json_int_t)used, "chi2", num(c->chi2), "fields", per, "ekm_wall_s_last", num(c->wall_last_s),
-                "ekm_wall_s_total", num(c->wall_total_s), "ekm_runs", (json_int_t)c->runs);
+                ekm_json_number(c->phi_threshold), "shift_m", ekm_json_number(c->shift_m), "weight",
+                ekm_json_number(c->weight), "points_used", (json_int_t)used, "chi2", ekm_json_number(c->chi2),
+                "fields", per, "ekm_wall_s_last", ekm_json_number(c->wall_last_s), "ekm_wall_s_total",
+                ekm_json_number(c->wall_total_s), "ekm_runs", (json_int_t)c->runs);
             if (jc) {
                 /* how the runs were made (fit_scen.c solve_case) */
                 json_object_set_new(jc, "ekm_steady_solves", json_integer((json_int_t)c->steady_solves));
@@ -113,16 +113,17 @@ static json_t *fit_json(const cg_fit_outputs *o)
                     json_object_set_new(jc, "steady_check",
                                         json_pack("{s:b, s:b, s:o, s:f, s:s}", "agrees", c->check_agrees,
                                                   "run_steady", c->check_run_steady, "difference",
-                                                  num(c->check_difference), "tolerance", CG_FITSC_AGREE_TOL,
-                                                  "kept", c->check_agrees ? "ekm steady" : "ekm run"));
+                                                  ekm_json_number(c->check_difference), "tolerance",
+                                                  CG_FITSC_AGREE_TOL, "kept",
+                                                  c->check_agrees ? "ekm steady" : "ekm run"));
             }
             json_array_append_new(cases, jc);
         }
         json_object_set_new(root, "cases", cases);
-        json_object_set_new(
-            root, "evaluations",
-            json_pack("{s:I, s:o}", "count", (json_int_t)sc->evaluations, "ekm_wall_s", num(sc->ekm_wall_s)));
-        json_object_set_new(root, "support", num(sc->support));
+        json_object_set_new(root, "evaluations",
+                            json_pack("{s:I, s:o}", "count", (json_int_t)sc->evaluations, "ekm_wall_s",
+                                      ekm_json_number(sc->ekm_wall_s)));
+        json_object_set_new(root, "support", ekm_json_number(sc->support));
     }
     json_object_set_new(root, "start",
                         json_pack("{s:s, s:o}", "source", o->start_source, "values", start_values));
@@ -135,7 +136,7 @@ static json_t *fit_json(const cg_fit_outputs *o)
     json_object_set_new(root, "starts",
                         json_pack("{s:i, s:i, s:i}", "requested", o->nstarts, "run", res->starts_run,
                                   "converged", res->starts_converged));
-    json_object_set_new(root, "covariance_scale", num(res->cov_scale));
+    json_object_set_new(root, "covariance_scale", ekm_json_number(res->cov_scale));
     json_object_set_new(root, "code_version", json_string(EKMBENCH_VERSION));
     return root;
 }
@@ -193,14 +194,14 @@ ekm_status cg_fit_write(const cg_fit_outputs *o, ekm_error *err)
     if (st != EKM_OK)
         return st;
     json_t *root = fit_json(o);
-    const int bad =
-        !root || json_dumpf(root, tj.fp, JSON_INDENT(1) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17));
+    st = root ? ekm_json_dump(root, tj.fp, JSON_INDENT(1) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17),
+                              o->json_path, err)
+              : EKM_FAIL(err, EKM_ENOMEM, "%s: out of memory building the JSON", o->json_path);
     json_decref(root);
-    if (bad) {
+    if (st != EKM_OK) {
         ekm_atomic_abort(&tj);
-        return EKM_FAIL(err, EKM_EIO, "%s: cannot write the JSON", o->json_path);
+        return st;
     }
-    fputc('\n', tj.fp);
     if (o->ini_path) {
         st = ekm_atomic_open(&ti, o->ini_path, err);
         if (st != EKM_OK) {

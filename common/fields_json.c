@@ -6,6 +6,7 @@
 #include <stdio.h>
 
 #include "atomic.h"
+#include "json_out.h"
 #include "schema.h"
 
 int main(int argc, char **argv)
@@ -25,18 +26,8 @@ int main(int argc, char **argv)
         if (!entry || json_object_set_new(fields, f->name, entry) != 0)
             st = EKM_FAIL(&err, EKM_ENOMEM, "out of memory");
     }
-    ekm_atomic out;
     if (st == EKM_OK)
-        st = ekm_atomic_open(&out, argv[1], &err);
-    if (st == EKM_OK) {
-        if (json_dumpf(root, out.fp, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0 ||
-            fputc('\n', out.fp) == EOF) {
-            ekm_atomic_abort(&out);
-            st = EKM_FAIL(&err, EKM_EIO, "%s: cannot write", argv[1]);
-        } else {
-            st = ekm_atomic_commit(&out, &err);
-        }
-    }
+        st = ekm_json_write(argv[1], root, JSON_INDENT(2) | JSON_PRESERVE_ORDER, &err);
     json_decref(root);
     if (st != EKM_OK)
         ekm_error_print("ekm_fields_json", &err);

@@ -74,6 +74,8 @@ static const char usage_text[] =
     "                       largest phi on both sides (default 0.1; 0: every point)\n"
     "  --scalars LIST       scalar observables with SEs: set names (chute, shear_cell,\n"
     "                       filling, simple_shear) or scalar names (docs/compare.md)\n"
+    "  --dem-sha256 H --ekm-sha256 H  record the inputs' SHA-256 digests (sha256sum's 64 hex\n"
+    "                       digits) in the JSON's \"inputs\" (the campaign's score_step.sh)\n"
     "\n"
     "base: the base pressure p(x) = -sum(fz of the floor grains in a bin)/(dx L_y) of a pile,\n"
     "time-averaged per run (each DUMP one run: an independent pile), with the SE across runs and\n"
@@ -288,6 +290,12 @@ static ekm_status cmd_score(int argc, char **argv, ekm_error *err)
         } else if (!strcmp(a, "--scalars")) {
             ARG();
             o.scalars = v;
+        } else if (!strcmp(a, "--dem-sha256")) {
+            ARG();
+            o.dem_sha256 = v;
+        } else if (!strcmp(a, "--ekm-sha256")) {
+            ARG();
+            o.ekm_sha256 = v;
         } else if (!strcmp(a, "--quiet"))
             o.log = NULL;
         else

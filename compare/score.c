@@ -1,5 +1,4 @@
 /* score.c: the EKM against coarse-grained DEM (see score.h). */
-#include "ekm_version.h"
 #include "score.h"
 
 #include <math.h>
@@ -12,6 +11,8 @@
 #include "metric.h"
 #include "scalars.h"
 #include "schema.h"
+#include "score_json.h"
+#include "utf8.h"
 
 #define MAXF 16
 static const char *const default_fields[] = {"phi", "vx", "vz", "T", "P", "sxz", "szz"};
@@ -73,48 +74,20 @@ void cg_score_centres(const double *zm, int per_frame, size_t n, const double *g
         z[k] = zm[k] * stretch;
 }
 
+/* 1 when v printed to 9 significant digits reads back as v */
+static int reads_back_9(double v)
+{
+    char buf[32];
+    snprintf(buf, sizeof buf, "%.9g", v);
+    return strtod(buf, NULL) == v;
+}
+
 static int increasing(const double *x, size_t n)
 {
     for (size_t i = 1; i < n; i++)
         if (!(x[i] > x[i - 1]))
             return 0;
     return 1;
-}
-
-static void json_num(FILE *fp, double v)
-{
-    if (isfinite(v))
-        fprintf(fp, "%.9g", v);
-    else
-        fputs("null", fp);
-}
-
-/* A number that reads back to the same double (an option to be reused). */
-static void json_exact(FILE *fp, double v)
-{
-    char buf[32];
-    if (!isfinite(v)) {
-        fputs("null", fp);
-        return;
-    }
-    snprintf(buf, sizeof buf, "%.15g", v);
-    if (strtod(buf, NULL) != v)
-        snprintf(buf, sizeof buf, "%.17g", v);
-    fputs(buf, fp);
-}
-
-static void json_str(FILE *fp, const char *s)
-{
-    fputc('"', fp);
-    for (; *s; s++) {
-        if (*s == '"' || *s == '\\')
-            fprintf(fp, "\\%c", *s);
-        else if ((unsigned char)*s < 0x20)
-            fprintf(fp, "\\u%04x", *s);
-        else
-            fputc(*s, fp);
-    }
-    fputc('"', fp);
 }
 
 static ekm_status parse_scalars(const char *list, int *kinds, size_t *nk, ekm_error *err);
@@ -125,138 +98,14 @@ static double in_d(double v, double d)
     return (isfinite(d) && d > 0) ? v / d : NAN;
 }
 
-/* "model_run": the model's steadiness (null: not an EKM run to steady) */
-static void write_model_run(FILE *fp, const cg_score_summary *sm)
-{
-    fputs(",\n  \"model_run\": ", fp);
-    if (!sm->run_until_steady) {
-        fputs("null", fp);
-        return;
-    }
-    fprintf(fp, "{\"stop\": \"steady\", \"steady\": %d, \"steady_time_s\": ", sm->run_steady);
-    json_num(fp, sm->run_steady_time);
-    fputs(", \"drift_per_s\": ", fp);
-    json_num(fp, sm->run_steady_drift);
-    fputs(", \"acceleration\": ", fp);
-    json_num(fp, sm->run_steady_acceleration);
-    fputc('}', fp);
-}
-
-static void write_scalars(FILE *fp, const cg_score_summary *sm)
-{
-    fputs(",\n  \"scalars\": {", fp);
-    for (size_t i = 0; i < sm->nscalars; i++) {
-        const cg_score_scalar *c = &sm->scalar[i];
-        double diff = c->model - c->dem;
-        double se2 = (isfinite(c->dem_se) ? c->dem_se * c->dem_se : 0) +
-                     (isfinite(c->model_se) ? c->model_se * c->model_se : 0);
-        fprintf(fp, "%s\n    ", i ? "," : "");
-        json_str(fp, c->name);
-        fputs(": {\"t_s\": ", fp);
-        json_num(fp, c->t);
-        fputs(", \"dem\": ", fp);
-        json_num(fp, c->dem);
-        fputs(", \"dem_se\": ", fp);
-        json_num(fp, c->dem_se);
-        fputs(", \"model\": ", fp);
-        json_num(fp, c->model);
-        fputs(", \"model_se\": ", fp);
-        json_num(fp, c->model_se);
-        fputs(", \"rel_error\": ", fp);
-        json_num(fp, diff / fabs(c->dem));
-        fputs(", \"error_over_se\": ", fp);
-        json_num(fp, isfinite(c->dem_se) && se2 > 0 ? diff / sqrt(se2) : NAN);
-        fputs(", \"units\": ", fp);
-        json_str(fp, c->units);
-        fputc('}', fp);
-    }
-    fputs("\n  }", fp);
-}
-
+/* SCORE.json (score_json.h), with the scalars asked for, sets expanded */
 static ekm_status write_json(const cg_score_opts *o, const cg_score_field *res, size_t nres, const char *mode,
                              const cg_score_summary *sm, ekm_error *err)
 {
-    ekm_atomic out;
-    ekm_status rc = ekm_atomic_open(&out, o->json, err);
-    if (rc)
-        return rc;
-    FILE *fp = out.fp;
-    fputs("{\n  \"dem\": ", fp);
-    json_str(fp, o->dem);
-    fputs(",\n  \"ekm\": ", fp);
-    json_str(fp, o->ekm);
-    fprintf(fp, ",\n  \"time\": \"%s\",\n  \"code_version\": ", mode);
-    json_str(fp, EKMBENCH_VERSION);
-    /* every option that produced the numbers, so that a reader (the figures,
-     * the regression test) needs no scenario file to know or redo them */
-    int other_dem = 0;
-    for (size_t i = 0; i < nres; i++)
-        other_dem |= res[i].se_both;
-    fputs(",\n  \"options\": {\n    \"fields\": [", fp);
-    for (size_t i = 0; i < nres; i++) {
-        if (i)
-            fputs(", ", fp);
-        json_str(fp, res[i].name);
-    }
-    fprintf(fp, "],\n    \"ekm_time\": \"%s\",\n    \"shift_m\": ", o->ekm_last ? "last" : "interp");
-    json_exact(fp, o->shift);
-    fprintf(fp, ",\n    \"model\": \"%s\",\n    \"se\": \"%s\",\n    \"se_floor_rel_rms\": ",
-            other_dem ? "dem" : "ekm", other_dem ? "dem and model in quadrature" : "dem");
-    json_exact(fp, CG_SCORE_SE_FLOOR);
-    fputs(",\n    \"support\": ", fp);
-    json_exact(fp, o->support);
-    fputs(",\n    \"support_phi\": ", fp);
-    json_exact(fp, sm->support_phi);
-    /* the scalars asked for (sets expanded), as --scalars takes them */
     int kinds[CG_SCALAR_COUNT * 4];
     size_t nk = 0;
-    ekm_status rc_k = parse_scalars(o->scalars, kinds, &nk, err);
-    if (rc_k) {
-        ekm_atomic_abort(&out);
-        return rc_k;
-    }
-    fputs(",\n    \"scalars\": [", fp);
-    for (size_t i = 0; i < nk; i++) {
-        if (i)
-            fputs(", ", fp);
-        json_str(fp, cg_scalar_name((cg_scalar_kind)kinds[i]));
-    }
-    fputs("]\n  }", fp);
-    fputs(",\n  \"free_surface\": {\"definition\": \"layer height: the highest z where phi crosses half its "
-          "profile maximum (linear), at the last DEM time compared\", \"t_s\": ",
-          fp);
-    json_num(fp, sm->t);
-    fputs(", \"dem_m\": ", fp);
-    json_num(fp, sm->dem_height);
-    fputs(", \"model_m\": ", fp);
-    json_num(fp, sm->model_height);
-    fputs(", \"offset_m\": ", fp);
-    json_num(fp, sm->model_height - sm->dem_height);
-    fputs(", \"mean_diameter_m\": ", fp);
-    json_num(fp, sm->mean_diameter);
-    fputs(", \"dem_d\": ", fp);
-    json_num(fp, in_d(sm->dem_height, sm->mean_diameter));
-    fputs(", \"model_d\": ", fp);
-    json_num(fp, in_d(sm->model_height, sm->mean_diameter));
-    fputs(", \"offset_d\": ", fp);
-    json_num(fp, in_d(sm->model_height - sm->dem_height, sm->mean_diameter));
-    fputc('}', fp);
-    fputs(",\n  \"fields\": {", fp);
-    for (size_t i = 0; i < nres; i++) {
-        fprintf(fp,
-                "%s\n    \"%s\": {\"points\": %zu, \"points_with_se\": %zu, \"points_left_out\": %zu, "
-                "\"rel_l2\": ",
-                i ? "," : "", res[i].name, res[i].points, res[i].points_se, res[i].points_left_out);
-        json_num(fp, res[i].rel_l2);
-        fputs(", \"noise_normalised\": ", fp);
-        json_num(fp, res[i].noise);
-        fprintf(fp, ", \"se\": \"%s\"}", res[i].se_both ? "both, in quadrature" : "dem");
-    }
-    fputs("\n  }", fp);
-    write_model_run(fp, sm);
-    write_scalars(fp, sm);
-    fputs("\n}\n", fp);
-    return ekm_atomic_commit(&out, err);
+    ekm_status rc = parse_scalars(o->scalars, kinds, &nk, err);
+    return rc ? rc : cg_score_json_write(o, res, nres, mode, kinds, nk, sm, err);
 }
 
 /* A dataset of 1 ([n], *nt = 0) or 2 ([nt][n]) dimensions as doubles. */
@@ -926,6 +775,24 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
         return EKM_FAIL(err, EKM_EUSAGE,
                         "--support: expected a fraction of the DEM's largest phi in [0, 1), got %g",
                         o->support);
+    if (!o->dem_sha256 != !o->ekm_sha256)
+        return EKM_FAIL(err, EKM_EUSAGE, "score: expected both --dem-sha256 and --ekm-sha256, or neither");
+    if (o->dem_sha256 && !cg_score_is_sha256(o->dem_sha256))
+        return EKM_FAIL(err, EKM_EUSAGE, "--dem-sha256: expected 64 lower-case hexadecimal digits, got '%s'",
+                        o->dem_sha256);
+    if (o->ekm_sha256 && !cg_score_is_sha256(o->ekm_sha256))
+        return EKM_FAIL(err, EKM_EUSAGE, "--ekm-sha256: expected 64 lower-case hexadecimal digits, got '%s'",
+                        o->ekm_sha256);
+    /* the JSON records the options to 9 digits (score_json.h): they must read back exactly */
+    if (o->json && !reads_back_9(o->shift))
+        return EKM_FAIL(err, EKM_EUSAGE, "--shift: expected at most 9 significant digits, got %.17g",
+                        o->shift);
+    if (o->json && !reads_back_9(o->support))
+        return EKM_FAIL(err, EKM_EUSAGE, "--support: expected at most 9 significant digits, got %.17g",
+                        o->support);
+    if (o->json && (!ekm_utf8_valid(o->dem) || !ekm_utf8_valid(o->ekm)))
+        return EKM_FAIL(err, EKM_EUSAGE, "score: -o %s: the input paths must be UTF-8 to be recorded in JSON",
+                        o->json);
     char names[MAXF][32];
     size_t nf = 0;
     if (o->fields) {

@@ -38,6 +38,8 @@ typedef struct {
                                          point; default CG_SCORE_SUPPORT) */
     const char *scalars;              /* comma-separated scalar names or set names
                                          (scalars.h), or NULL */
+    const char *dem_sha256;           /* the inputs' SHA-256 digests (64 hex digits) to */
+    const char *ekm_sha256;           /* record in the JSON's "inputs", or NULL (both or neither) */
     struct cg_score_summary *summary; /* free surface and scalars out, or NULL */
     FILE *table;                      /* markdown table (stdout), or NULL */
     FILE *log;                        /* notes, or NULL */

@@ -2,34 +2,38 @@
 # score_step.sh: one score of the campaign (rules score_ekm, score_ekm_set,
 # score_engines of workflow/Snakefile), with a record of its inputs.
 #   score_step.sh OUT EKMCOMPARE score ARG...   (run from the checkout)
-# Runs `EKMCOMPARE score ARG... -o OUT.tmp.PID`, then adds to the score
-# "inputs": {"dem": {"path", "sha256"}, "ekm": {"path", "sha256"}} for the
-# two files it read (its "dem" and "ekm"), and moves it to OUT: OUT is
-# whole or absent. table.sh recomputes the checksums and marks a score
-# whose input is gone or changed missing instead of showing its numbers.
-# Temporaries of OUT left by an interrupted step are removed first.
-# Exit status (docs/exit-codes.md): 1 usage, 3 OUT cannot be written,
-# 7 no jq, else ekmcompare's.
+# Takes the SHA-256 of the two files the score reads (its --dem and --ekm),
+# runs `EKMCOMPARE score ARG... --dem-sha256 S --ekm-sha256 S -o OUT.tmp.PID`
+# (ekmcompare writes them into the score's "inputs": {"dem": {"path",
+# "sha256"}, "ekm": {...}}), checks that neither input changed meanwhile,
+# and moves the score to OUT: OUT is whole or absent. table.sh recomputes
+# the checksums and marks a score whose input is gone or changed missing
+# instead of showing its numbers. Temporaries of OUT left by an
+# interrupted step are removed first.
+# Exit status (docs/exit-codes.md): 1 usage, 3 OUT cannot be written or an
+# input cannot be read, 5 an input changed while it was scored, else
+# ekmcompare's.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-[ $# -ge 3 ] || { echo "score_step.sh: usage: score_step.sh OUT EKMCOMPARE score ARG..." >&2; exit 1; }
+usage="usage: score_step.sh OUT EKMCOMPARE score ARG... (with --dem CG.h5 --ekm RUN.h5)"
+if [ $# -lt 3 ] || [ "$3" != score ]; then echo "score_step.sh: $usage" >&2; exit 1; fi
 out=$1; shift
-command -v jq > /dev/null || { echo "score_step.sh: jq not installed (scripts/deps.sh base)" >&2; exit 7; }
+dem="" ekm="" prev=""
+for a in "${@:3}"; do
+  case $prev in --dem) dem=$a ;; --ekm) ekm=$a ;; esac
+  prev=$a
+done
+if [ -z "$dem" ] || [ -z "$ekm" ]; then echo "score_step.sh: $usage" >&2; exit 1; fi
 "$here/stale_temps.sh" before "$out" || exit
-tmp=$out.tmp.$$ rec=$out.rec.tmp.$$
-trap 'rm -f "$tmp" "$rec"' EXIT
+tmp=$out.tmp.$$
+trap 'rm -f "$tmp"' EXIT
 trap 'exit 130' INT; trap 'exit 143' TERM; trap 'exit 129' HUP
-"$@" -o "$tmp" > /dev/null || exit
 sum() { local s; s=$(sha256sum -- "$1") || return 3; echo "${s%% *}"; }
-dem=$(jq -r '.dem // empty' "$tmp") && ekm=$(jq -r '.ekm // empty' "$tmp") && [ -n "$dem" ] && [ -n "$ekm" ] ||
-  { echo "score_step.sh: $tmp: the score names no dem or ekm input" >&2; exit 5; }
-ds=$(sum "$dem") && es=$(sum "$ekm") || { echo "score_step.sh: $dem, $ekm: cannot read the score's inputs" >&2; exit 3; }
-# the record goes in as text before the closing brace: the score's numbers
-# stay as ekmcompare printed them (jq would reformat them)
-inputs=$(jq -cn --arg dp "$dem" --arg ds "$ds" --arg ep "$ekm" --arg es "$es" \
-  '{dem: {path: $dp, sha256: $ds}, ekm: {path: $ep, sha256: $es}}') || exit 5
-body=$(cat "$tmp") && [[ $body == *"}" ]] ||
-  { echo "score_step.sh: $tmp: expected a JSON object from ekmcompare score" >&2; exit 5; }
-body=${body%\}}; body=${body%$'\n'}
-{ printf '%s,\n  "inputs": %s\n}\n' "$body" "$inputs" > "$rec" && jq -e .inputs "$rec" > /dev/null &&
-  mv "$rec" "$out"; } || { echo "score_step.sh: $out: cannot write the score" >&2; exit 3; }
+if ! ds=$(sum "$dem") || ! es=$(sum "$ekm"); then
+  echo "score_step.sh: $dem, $ekm: cannot read the score's inputs" >&2; exit 3
+fi
+"$@" --dem-sha256 "$ds" --ekm-sha256 "$es" -o "$tmp" > /dev/null || exit
+if [ "$(sum "$dem")" != "$ds" ] || [ "$(sum "$ekm")" != "$es" ]; then
+  echo "score_step.sh: $dem or $ekm changed while it was scored: $out not written" >&2; exit 5
+fi
+mv -- "$tmp" "$out" || { echo "score_step.sh: $out: cannot write the score" >&2; exit 3; }

@@ -151,7 +151,7 @@ jq -s --arg size "$size" --arg engines "$engines" --arg created "$(date -u +%Y-%
   --arg version "$(version)" \
   --slurpfile scalars "$srows" \
   '{size: $size, engines: ($engines | split(" ")), created: $created, code_version: $version,
-    definitions: {rel_l2: "||f_model - f_DEM|| / ||f_DEM|| over the points both cover (MODEL.md 9)",
+    definitions: {rel_l2: "||f_model - f_DEM|| / ||f_DEM|| over the points both cover (docs/model-notes.md section 9)",
                   noise_normalised: "sqrt(mean(((f_model - f_DEM) / SE)^2)); 1 = as close as the DEM noise; SE of both engines in quadrature for engine vs engine",
                   points_left_out: "DEM points with material not compared: off the common support (phi <= support x the DEM maximum on either side), or outside the model grid",
                   offset_d: "free-surface offset, model layer height - DEM layer height (phi crossing half its maximum), in mean grain diameters",

@@ -5,7 +5,9 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
+#include <jansson.h>
 #include <math.h>
+#include <string.h>
 
 #include "h5.h"
 #include "schema.h"
@@ -120,6 +122,46 @@ static size_t score_ok(const cg_score_opts *o, cg_score_field *r)
     return n;
 }
 
+/* SCORE.json, parsed; NULL fails the test */
+static json_t *load_json(const char *path)
+{
+    json_error_t jerr;
+    json_t *root = json_load_file(path, 0, &jerr);
+    if (!root)
+        fail_msg("%s:%d: %s", path, jerr.line, jerr.text);
+    return root;
+}
+
+/* root[a][b] (b NULL: root[a]), which must exist */
+static json_t *get(json_t *root, const char *a, const char *b)
+{
+    json_t *v = json_object_get(root, a);
+    if (v && b)
+        v = json_object_get(v, b);
+    if (!v)
+        fail_msg("no %s%s%s in the score's JSON", a, b ? "." : "", b ? b : "");
+    return v;
+}
+
+/* root[a][b] as a number (integer or real) */
+static double num(json_t *root, const char *a, const char *b)
+{
+    json_t *v = get(root, a, b);
+    assert_true(json_is_number(v));
+    return json_number_value(v);
+}
+
+/* the whole text of a file (fits in the buffer) */
+static void slurp(const char *path, char *buf, size_t size)
+{
+    FILE *fp = fopen(path, "r");
+    assert_non_null(fp);
+    size_t len = fread(buf, 1, size - 1, fp);
+    assert_true(len < size - 1);
+    buf[len] = '\0';
+    fclose(fp);
+}
+
 static void test_known_errors(void **state)
 {
     (void)state;
@@ -151,20 +193,73 @@ static void test_known_errors(void **state)
         assert_close(r[i].rel_l2, 0.01 * sqrt(20.0 / sd2), 1e-9);
         assert_close(r[i].noise, 0.5, 1e-9);
     }
-    FILE *fp = fopen(js, "r");
-    assert_non_null(fp);
-    char buf[2048];
-    size_t len = fread(buf, 1, sizeof buf - 1, fp);
-    buf[len] = '\0';
-    fclose(fp);
-    assert_non_null(strstr(buf, "\"phi\": {\"points\": 20"));
-    assert_non_null(strstr(buf, "\"noise_normalised\": 0.5"));
+    json_t *root = load_json(js);
+    json_t *phi = get(root, "fields", "phi");
+    assert_int_equal(json_integer_value(json_object_get(phi, "points")), 20);
+    assert_true(json_is_integer(json_object_get(phi, "points")));
+    assert_close(num(phi, "noise_normalised", NULL), 0.5, 1e-8);
     /* the options that produced it: the fields found in both, the default
      * time matching, no shift, an EKM run as the model */
-    assert_non_null(
-        strstr(buf, "\"options\": {\n    \"fields\": [\"phi\", \"vx\", \"T\"],\n"
-                    "    \"ekm_time\": \"interp\",\n    \"shift_m\": 0,\n    \"model\": \"ekm\",\n"
-                    "    \"se\": \"dem\",\n    \"se_floor_rel_rms\": 1e-06,\n    \"support\": 0.1,\n"));
+    json_t *opt = get(root, "options", NULL);
+    const char *order[] = {"fields",           "ekm_time", "shift_m",     "model",  "se",
+                           "se_floor_rel_rms", "support",  "support_phi", "scalars"};
+    size_t k = 0;
+    const char *key;
+    json_t *val;
+    json_object_foreach(opt, key, val)
+    {
+        assert_true(k < sizeof order / sizeof *order);
+        assert_string_equal(key, order[k++]);
+    }
+    assert_int_equal(k, sizeof order / sizeof *order);
+    json_t *fl = get(opt, "fields", NULL);
+    assert_int_equal(json_array_size(fl), 3);
+    assert_string_equal(json_string_value(json_array_get(fl, 0)), "phi");
+    assert_string_equal(json_string_value(json_array_get(fl, 2)), "T");
+    assert_string_equal(json_string_value(get(opt, "ekm_time", NULL)), "interp");
+    assert_true(num(opt, "shift_m", NULL) == 0.0);
+    assert_string_equal(json_string_value(get(opt, "model", NULL)), "ekm");
+    assert_string_equal(json_string_value(get(opt, "se", NULL)), "dem");
+    assert_true(num(opt, "se_floor_rel_rms", NULL) == 1e-6);
+    assert_true(num(opt, "support", NULL) == 0.1);
+    /* no checksums given: no inputs record */
+    assert_null(json_object_get(root, "inputs"));
+    json_decref(root);
+    /* reals to 9 significant digits, as the committed results print them */
+    char buf[4096];
+    slurp(js, buf, sizeof buf);
+    assert_non_null(strstr(buf, "\"se_floor_rel_rms\": 1e-6,"));
+    assert_non_null(strstr(buf, "\"noise_normalised\": 0.5,"));
+    /* the inputs' checksums, given, are recorded with their paths */
+    const char *sd = "0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef";
+    const char *se = "fedcba9876543210fedcba9876543210fedcba9876543210fedcba9876543210";
+    o.dem_sha256 = sd;
+    o.ekm_sha256 = se;
+    score_ok(&o, r);
+    root = load_json(js);
+    assert_string_equal(json_string_value(get(get(root, "inputs", "dem"), "path", NULL)), dem);
+    assert_string_equal(json_string_value(get(get(root, "inputs", "dem"), "sha256", NULL)), sd);
+    assert_string_equal(json_string_value(get(get(root, "inputs", "ekm"), "path", NULL)), ekm);
+    assert_string_equal(json_string_value(get(get(root, "inputs", "ekm"), "sha256", NULL)), se);
+    json_decref(root);
+    /* one checksum alone, or one that is not 64 lower-case hex digits, is
+     * a usage error and leaves the last JSON as it was */
+    ekm_error err;
+    size_t nres;
+    o.ekm_sha256 = NULL;
+    assert_int_equal(cg_score(&o, r, &nres, &err), EKM_EUSAGE);
+    assert_non_null(strstr(err.message, "both --dem-sha256 and --ekm-sha256"));
+    o.ekm_sha256 = "FEDCBA9876543210FEDCBA9876543210FEDCBA9876543210FEDCBA9876543210";
+    assert_int_equal(cg_score(&o, r, &nres, &err), EKM_EUSAGE);
+    assert_non_null(strstr(err.message, "--ekm-sha256: expected 64 lower-case hexadecimal digits"));
+    o.ekm_sha256 = se;
+    /* an option the JSON cannot record exactly (more than 9 digits) */
+    o.shift = 0.1234567891;
+    assert_int_equal(cg_score(&o, r, &nres, &err), EKM_EUSAGE);
+    assert_non_null(strstr(err.message, "--shift: expected at most 9 significant digits"));
+    root = load_json(js);
+    assert_true(num(root, "options", "shift_m") == 0.0);
+    json_decref(root);
 }
 
 /* A layer of phi = 0.6 up to a height h (the bins or cells wholly below it;
@@ -237,17 +332,20 @@ static void test_common_support(void **state)
     assert_close(sm.dem_height, 0.010, 1e-15);
     assert_close(sm.model_height, 0.007, 1e-15);
     assert_close(sm.mean_diameter, 0.001, 0);
-    FILE *fp = fopen(js, "r");
-    assert_non_null(fp);
-    char buf[4096];
-    size_t len = fread(buf, 1, sizeof buf - 1, fp);
-    buf[len] = '\0';
-    fclose(fp);
-    assert_non_null(strstr(buf, "\"phi\": {\"points\": 7, \"points_with_se\": 7, \"points_left_out\": 13,"));
-    assert_non_null(strstr(buf,
-                           "\"dem_m\": 0.01, \"model_m\": 0.007, \"offset_m\": -0.003, "
-                           "\"mean_diameter_m\": 0.001, \"dem_d\": 10, \"model_d\": 7, \"offset_d\": -3}"));
-    assert_non_null(strstr(buf, "\"support\": 0.1,\n    \"support_phi\": 0.06"));
+    json_t *root = load_json(js);
+    assert_int_equal(json_integer_value(get(get(root, "fields", "phi"), "points", NULL)), 7);
+    assert_int_equal(json_integer_value(get(get(root, "fields", "phi"), "points_with_se", NULL)), 7);
+    assert_int_equal(json_integer_value(get(get(root, "fields", "phi"), "points_left_out", NULL)), 13);
+    assert_close(num(root, "free_surface", "dem_m"), 0.010, 1e-12);
+    assert_close(num(root, "free_surface", "model_m"), 0.007, 1e-12);
+    assert_close(num(root, "free_surface", "offset_m"), -0.003, 1e-12);
+    assert_close(num(root, "free_surface", "mean_diameter_m"), 0.001, 1e-12);
+    assert_close(num(root, "free_surface", "dem_d"), 10, 1e-9);
+    assert_close(num(root, "free_surface", "model_d"), 7, 1e-9);
+    assert_close(num(root, "free_surface", "offset_d"), -3, 1e-9);
+    assert_true(num(root, "options", "support") == 0.1);
+    assert_close(num(root, "options", "support_phi"), 0.06, 1e-12);
+    json_decref(root);
     /* --support 0: every covered point, none left out */
     o.support = 0.0;
     o.json = NULL;
@@ -312,15 +410,15 @@ static void test_dem_against_dem(void **state)
     o.shift = 0.1;
     o.json = tmp_path(js, sizeof js, "score_dd.json");
     assert_int_equal(score_ok(&o, r), 2);
-    FILE *fp = fopen(js, "r");
-    assert_non_null(fp);
-    char buf[2048];
-    size_t len = fread(buf, 1, sizeof buf - 1, fp);
-    buf[len] = '\0';
-    fclose(fp);
-    assert_non_null(strstr(buf, "\"fields\": [\"T\", \"phi\"],\n    \"ekm_time\": \"last\",\n"
-                                "    \"shift_m\": 0.1,\n    \"model\": \"dem\",\n"
-                                "    \"se\": \"dem and model in quadrature\","));
+    json_t *root = load_json(js);
+    json_t *opt = get(root, "options", NULL);
+    assert_string_equal(json_string_value(json_array_get(get(opt, "fields", NULL), 0)), "T");
+    assert_string_equal(json_string_value(json_array_get(get(opt, "fields", NULL), 1)), "phi");
+    assert_string_equal(json_string_value(get(opt, "ekm_time", NULL)), "last");
+    assert_true(num(opt, "shift_m", NULL) == 0.1);
+    assert_string_equal(json_string_value(get(opt, "model", NULL)), "dem");
+    assert_string_equal(json_string_value(get(opt, "se", NULL)), "dem and model in quadrature");
+    json_decref(root);
 }
 
 /* Standard errors of round-off size (a bin one grain crossed once) are not
