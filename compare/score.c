@@ -11,7 +11,6 @@
 #include "metric.h"
 #include "scalars.h"
 #include "schema.h"
-#include "score_json.h"
 #include "utf8.h"
 
 #define MAXF 16

@@ -1,5 +1,5 @@
-/* score_json.c: SCORE.json of `ekmcompare score` (score_json.h). */
-#include "score_json.h"
+/* score_json.c: SCORE.json of `ekmcompare score` (declared in score.h). */
+#include "score.h"
 
 #include <math.h>
 #include <string.h>

@@ -49,7 +49,8 @@ static void usage(FILE *fp)
             "                   instead of FILE.ini's; --set still applies after it\n"
             "  --set S.K=V      override key K of section S (repeatable), e.g.\n"
             "                   --set domain.cells=200 --set model.variant=thesis\n"
-            "  --quiet          no progress line and no summary\n"
+            "  --quiet          no progress line and no summary (the progress line is\n"
+            "                   rewritten on a terminal; in a log, a line a minute)\n"
             "  -- OPTIONS       the rest of the line goes to PETSc (2D runs only), e.g.\n"
             "                   -- -ekm_step_monitor -ekm_v_ksp_converged_reason\n"
             "\n"
@@ -117,7 +118,7 @@ static int run_2d(const ekm_scenario *sc, const ekm_cli_args *a)
 #ifdef EKM_HAVE_2D
     const ekm2d_run_options opt = {.out = a->out,
                                    .quiet = a->quiet,
-                                   .progress = !a->quiet && isatty(STDERR_FILENO),
+                                   .progress = !a->quiet,
                                    .petsc_args = a->petsc_args,
                                    .n_petsc_args = a->n_petsc_args};
     const ekm_status st = ekm2d_cmd_run(sc, &opt, &err);
@@ -186,7 +187,7 @@ static int cmd_run(int argc, char **argv)
     ekm_run_stats stats;
     st = ekm_h5_writer_open(&fc.writer, out, &sc, s, &err);
     if (st == EKM_OK) {
-        ekm_run_hooks hooks = {.frame = write_frame, .ctx = &fc, .progress = !quiet && isatty(STDERR_FILENO)};
+        ekm_run_hooks hooks = {.frame = write_frame, .ctx = &fc, .progress = !quiet};
         st = ekm_run(&sc, s, stepper, &hooks, &stats, &err);
         if (st == EKM_OK) {
             /* run statistics as root attributes: cost (the campaign's

@@ -4,30 +4,14 @@
 
 #include <math.h>
 #include <stdio.h>
-#include <time.h>
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
+#include "progress.h"
 
 static void track_phi(ekm_run_stats *stats, const ekm_state *s)
 {
     for (int j = 0; j < s->n; j++)
         if (s->phi[j] > stats->phi_max)
             stats->phi_max = s->phi[j];
-}
-
-static void progress_line(const ekm_state *s, double t_end, double dt, double started)
-{
-    const double elapsed = now_s() - started;
-    const double frac = s->t / t_end;
-    const double eta = frac > 0.0 ? elapsed * (1.0 - frac) / frac : 0.0;
-    fprintf(stderr, "\r  t = %10.4g s / %.4g s  (%5.1f%%)  dt = %9.3g s  steps %9ld  ETA %6.0f s ", s->t,
-            t_end, 100.0 * frac, dt, s->steps, eta);
-    fflush(stderr);
 }
 
 /* EKM_ENUMERIC: the state's own step limit (not a rejection) is below
@@ -68,8 +52,9 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
         }
     }
     rc = EKM_OK;
-    const double started = now_s();
-    double last_progress = started;
+    const double started = ekm_now_s();
+    ekm_progress progress;
+    ekm_progress_start(&progress, hooks && hooks->progress ? stderr : NULL);
     long frame = 0;
     /* the run starts (the load is applied) like a change of the driving */
     /* a run does not depend on what the stepper did before it (a stepper
@@ -129,16 +114,12 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
             if (until_steady && (rc = ekm_steady_stop_check(&steady, sc, s, &is_steady, err)) != EKM_OK)
                 goto done;
         }
-        if (hooks && hooks->progress && now_s() - last_progress > 0.25) {
-            last_progress = now_s();
-            progress_line(s, sc->t_end, dt, started);
-        }
+        ekm_progress_update(&progress, s->t, sc->t_end, dt, s->steps, 0);
     }
-    if (hooks && hooks->progress) {
-        progress_line(s, sc->t_end, dt_prev, started);
-        fputc('\n', stderr);
-    }
-    stats->wall_s = now_s() - started;
+    if (progress.tty)
+        ekm_progress_update(&progress, s->t, sc->t_end, dt_prev, s->steps, 1);
+    ekm_progress_end(&progress);
+    stats->wall_s = ekm_now_s() - started;
     stats->mass_final = ekm_state_mass(s, rho_p);
     stats->mass_in = s->mass_in;
     stats->to_solid = st->regime.to_solid;

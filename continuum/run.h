@@ -21,7 +21,8 @@ typedef struct {
      * e.g. to watch the regime switches of each step (tests). */
     ekm_status (*step)(void *ctx, const ekm_state *s, const ekm_stepper *st, ekm_error *err);
     void *ctx;
-    int progress; /* 1: a progress line with ETA on stderr */
+    int progress; /* 1: a progress line with ETA on stderr (common/progress.h: rewritten on a
+                     terminal, a line a minute in a log) */
 } ekm_run_hooks;
 
 typedef struct {

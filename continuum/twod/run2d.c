@@ -5,17 +5,10 @@
 #include <petscsys.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
 
 #include "out2d.h"
+#include "progress.h"
 #include "solver2d.h"
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 int ekm2d_is_rank0(void)
 {
@@ -49,7 +42,7 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
     int rank = 0, ranks = 1;
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
-    const double started = now_s();
+    const double started = ekm_now_s();
     ekm2d_solver *sol = NULL;
     ekm_status st = ekm2d_solver_create(sc, PETSC_COMM_WORLD, NULL, &sol, err);
     if (st != EKM_OK)
@@ -77,7 +70,8 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
     st = (ekm_status)code;
     if (st != EKM_OK && rank != 0)
         EKM_FAIL(err, st, "rank 0 could not open the output");
-    double last_progress = started;
+    ekm_progress progress;
+    ekm_progress_start(&progress, opt->progress && rank == 0 ? stderr : NULL);
     for (size_t k = 0; st == EKM_OK && k < n_frames; k++) {
         const double t_frame = fmin((double)k * sc->output_dt, sc->t_end);
         ekm2d_stats stats;
@@ -86,13 +80,8 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
             st = ekm2d_solver_advance(sol, next_stop(sc, stats.t, t_frame), err);
             if (st == EKM_OK)
                 st = ekm2d_solver_stats(sol, &stats, err);
-            if (st == EKM_OK && opt->progress && rank == 0 && now_s() - last_progress > 0.25) {
-                last_progress = now_s();
-                const double frac = stats.t / sc->t_end, el = now_s() - started;
-                fprintf(stderr, "\r  t = %10.4g s / %.4g s  (%5.1f%%)  steps %9ld  ETA %6.0f s ", stats.t,
-                        sc->t_end, 100.0 * frac, stats.steps, frac > 0.0 ? el * (1.0 - frac) / frac : 0.0);
-                fflush(stderr);
-            }
+            if (st == EKM_OK)
+                ekm_progress_update(&progress, stats.t, sc->t_end, 0.0, stats.steps, 0);
         }
         if (st == EKM_OK)
             st = ekm2d_solver_fields(sol, fields, err);
@@ -103,12 +92,11 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
         if (code != EKM_OK && st == EKM_OK)
             st = EKM_FAIL(err, (ekm_status)code, "rank 0 could not write the output");
     }
-    if (opt->progress && rank == 0)
-        fputc('\n', stderr);
+    ekm_progress_end(&progress);
     ekm2d_stats stats = {0};
     if (st == EKM_OK)
         st = ekm2d_solver_stats(sol, &stats, err);
-    const double wall = now_s() - started;
+    const double wall = ekm_now_s() - started;
     if (st == EKM_OK && rank == 0) {
         const struct {
             const char *name;

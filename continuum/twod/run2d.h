@@ -16,7 +16,7 @@
 typedef struct {
     const char *out;   /* output path (.h5) */
     int quiet;         /* 1: no summary line, no progress */
-    int progress;      /* 1: a progress line with ETA on stderr (rank 0) */
+    int progress;      /* 1: a progress line with ETA on stderr (rank 0; common/progress.h) */
     char **petsc_args; /* PETSc options after "--" */
     int n_petsc_args;
 } ekm2d_run_options;

@@ -3,8 +3,9 @@
 # scripts (scripts/thesis2d.sh, scripts/steps2d.sh); sourced, not run.
 #
 # ekm_runs TAG: runs every entry "NAME SCENARIO ARGS..." of the array
-# `cases` as `$ekm run $root/scenarios/SCENARIO.ini --quiet ARGS -o
-# $runs/NAME.h5` (its output in $runs/NAME.log), $jobs at a time, one core
+# `cases` as `$ekm run $root/scenarios/SCENARIO.ini ARGS -o
+# $runs/NAME.h5` (its progress, a line a minute, and its summary in
+# $runs/NAME.log: `tail $runs/*.log` says how far the batch is), $jobs at a time, one core
 # each. A run whose .h5 exists is not run again (ekm writes it under a
 # temporary name and renames it when complete), so a batch resumes after an
 # interruption. Each outcome is one stderr line "TAG: NAME ..."; returns 1
@@ -19,7 +20,7 @@ ekm_run_one() {
     echo "$tag: $name: $runs/$name.h5 exists, not run again" >&2
     return 0
   fi
-  "$ekm" run "$root/scenarios/$scen.ini" --quiet "$@" -o "$runs/$name.h5" > "$runs/$name.log" 2>&1 ||
+  "$ekm" run "$root/scenarios/$scen.ini" "$@" -o "$runs/$name.h5" > "$runs/$name.log" 2>&1 ||
     { echo "$tag: $name failed (log: $runs/$name.log)" >&2; return 1; }
   echo "$tag: $name done" >&2
 }
