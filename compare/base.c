@@ -28,21 +28,7 @@ void cg_base_opts_apply(cg_base_opts *o, const ekm_cg_value *v)
         o->range_hi = v->y;
         o->have_range = 1;
         break;
-    case EKM_CG_DT: o->dt = v->x; break;
-    case EKM_CG_FROM:
-        o->from = v->x;
-        o->have_from = 1;
-        break;
-    case EKM_CG_TO:
-        o->to = v->x;
-        o->have_to = 1;
-        break;
-    case EKM_CG_STEPS:
-        o->step_a = (int64_t)v->x;
-        o->step_b = (int64_t)v->y;
-        o->have_steps = 1;
-        break;
-    default: break; /* not an option of base */
+    default: cg_select_apply(&o->select, v); break; /* --dt, --from, --to, --steps, or not base's */
     }
 }
 
@@ -268,12 +254,10 @@ static ekm_status read_run(base_state *st, const char *path, size_t irun, ekm_er
         /* the times, when known, increase (cg_snapshot_time); needed for
          * --from/--to */
         double t = 0.0;
-        if ((s.has_time || o->dt > 0 || o->have_from || o->have_to) &&
-            (rc = cg_snapshot_time(&s, o->dt, &order, &t, err)))
+        if ((s.has_time || cg_select_needs_time(&o->select)) &&
+            (rc = cg_snapshot_time(&s, o->select.dt, &order, &t, err)))
             break;
-        if (o->have_steps && (s.step < o->step_a || s.step > o->step_b))
-            continue;
-        if ((o->have_from && t < o->from) || (o->have_to && t > o->to))
+        if (!cg_select_keeps(&o->select, s.step, t))
             continue;
         if ((rc = add_snapshot(st, &s, err)))
             break;

@@ -29,6 +29,7 @@
 #include <stdio.h>
 
 #include "cg_keys.h"
+#include "cg_select.h"
 #include "status.h"
 
 typedef struct {
@@ -43,13 +44,9 @@ typedef struct {
     double range_lo, range_hi; /* [m] */
     int have_centre;           /* 1: fold about centre */
     double centre;             /* x_c [m] */
-    double dt;                 /* engine time step [s] for --from/--to without ITEM: TIME */
-    int have_from, have_to;
-    double from, to; /* time selection [s] */
-    int have_steps;
-    int64_t step_a, step_b; /* step selection, inclusive */
-    size_t last;            /* > 0: only the last `last` selected snapshots of each run */
-    FILE *log;              /* notes, or NULL */
+    cg_select select;          /* --dt, --from, --to, --steps (cg_select.h) */
+    size_t last;               /* > 0: only the last `last` selected snapshots of each run */
+    FILE *log;                 /* notes, or NULL */
 } cg_base_opts;
 
 /* Set an option `base` shares with `cg` (-o, --csv, --range, --dt, --from,

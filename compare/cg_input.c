@@ -340,16 +340,12 @@ ekm_status cg_input_next(cg_input *src, ekm_error *err)
             src->nrepeat++;
             continue;
         }
-        ekm_status trc = cg_snapshot_time(sn, o->dt, &src->order, &src->t, err);
+        ekm_status trc = cg_snapshot_time(sn, o->select.dt, &src->order, &src->t, err);
         if (trc)
             return trc;
         src->have_last = 1;
         src->last_step = sn->step;
-        if (o->have_steps && (sn->step < o->step_a || sn->step > o->step_b))
-            continue;
-        if (o->have_from && src->t < o->from)
-            continue;
-        if (o->have_to && src->t > o->to)
+        if (!cg_select_keeps(&o->select, sn->step, src->t))
             continue;
         ekm_status crc = input_convert(src, err);
         if (crc || !o->npairs || src->skip_pairs)

@@ -44,20 +44,10 @@ void cg_opts_apply(cg_run_opts *o, cg_opts_names *names, const ekm_cg_value *v)
         o->have_range = 1;
         break;
     case EKM_CG_RHO_P: o->rho_p = v->x; break;
-    case EKM_CG_DT: o->dt = v->x; break;
+    case EKM_CG_DT:
     case EKM_CG_FROM:
-        o->from = v->x;
-        o->have_from = 1;
-        break;
     case EKM_CG_TO:
-        o->to = v->x;
-        o->have_to = 1;
-        break;
-    case EKM_CG_STEPS:
-        o->step_a = (int64_t)v->x;
-        o->step_b = (int64_t)v->y;
-        o->have_steps = 1;
-        break;
+    case EKM_CG_STEPS: cg_select_apply(&o->select, v); break;
     case EKM_CG_STEADY: o->steady = 1; break;
     case EKM_CG_EXACT: o->exact = 1; break;
     case EKM_CG_EVERY: o->every = v->count; break;

@@ -10,6 +10,7 @@
 
 #include "cg.h"
 #include "cg_keys.h"
+#include "cg_select.h"
 #include "status.h"
 
 #define CG_MAXTYPES EKM_CG_TYPES_MAX /* most atom types --types may list */
@@ -29,19 +30,15 @@ typedef struct {
     int have_range;            /* 1: grid over [range_lo, range_hi] */
     double range_lo, range_hi; /* [m] */
     double rho_p;              /* material density [kg/m^3]; 0: not given */
-    double dt;                 /* engine time step [s]; 0: need ITEM: TIME */
-    int have_from, have_to;
-    double from, to; /* time selection [s] */
-    int have_steps;
-    int64_t step_a, step_b;   /* step selection, inclusive */
-    int steady;               /* 1: find the steady start (MSER-5) */
-    size_t every;             /* > 0: one profile per `every` snapshots */
-    double window;            /* > 0: one profile per window [s] */
-    cg_tmode tmode;           /* temperature definition */
-    int exact;                /* 1: kernel per particle, no sub-grid (cg.h) */
-    size_t nstress;           /* 0 or 6 per-atom stress columns */
-    const char *stress[6];    /* names: xx yy zz xy xz yz (stress x volume) */
-    const char *const *pairs; /* pair dumps (dump local), in time order */
+    cg_select select;          /* --dt, --from, --to, --steps (cg_select.h) */
+    int steady;                /* 1: find the steady start (MSER-5) */
+    size_t every;              /* > 0: one profile per `every` snapshots */
+    double window;             /* > 0: one profile per window [s] */
+    cg_tmode tmode;            /* temperature definition */
+    int exact;                 /* 1: kernel per particle, no sub-grid (cg.h) */
+    size_t nstress;            /* 0 or 6 per-atom stress columns */
+    const char *stress[6];     /* names: xx yy zz xy xz yz (stress x volume) */
+    const char *const *pairs;  /* pair dumps (dump local), in time order */
     size_t npairs;
     size_t npaircols;        /* 9: x1 y1 z1 x2 y2 z2 fx fy fz; 5: id1 id2 fx fy fz */
     const char *paircols[9]; /* their column names (force on 1 by 2) */

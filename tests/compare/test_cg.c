@@ -636,7 +636,7 @@ static void test_real_chute(void **state)
             o.inputs = in;
             o.ninputs = 1;
             o.out = tmp_path(out, sizeof out, "chute.h5");
-            o.dt = 1e-5; /* LIGGGHTS writes no ITEM: TIME */
+            o.select.dt = 1e-5; /* LIGGGHTS writes no ITEM: TIME */
             o.every = 1;
             if (mode == 0) {
                 o.pairs = pin;
@@ -689,7 +689,7 @@ static void test_deck_dump(void **state)
     o.inputs = in;
     o.ninputs = 1;
     o.out = tmp_path(out, sizeof out, "deck.h5");
-    o.dt = 1e-5;
+    o.select.dt = 1e-5;
     o.every = 1;
     o.nstress = 6;
     const char *names[6] = {"c_sa[1]", "c_sa[2]", "c_sa[3]", "c_sa[4]", "c_sa[5]", "c_sa[6]"};

@@ -338,11 +338,11 @@ static void test_window_se(void **state)
     opt.width = 0.0025;
     run(&opt, in, 1, tmp_path(o, sizeof o, "cg2d_se.h5"));
     grid2d rho = read2d(o, "rho"), rse = read2d(o, "rho_se"), vse = read2d(o, "vx_se"), r[4], v[4];
-    opt.have_steps = 1;
+    opt.select.have_steps = 1;
     for (int j = 0; j < 4; j++) {
         char name[64];
         snprintf(name, sizeof name, "cg2d_se%d.h5", j);
-        opt.step_a = opt.step_b = so.step0 + j * so.dstep;
+        opt.select.step_a = opt.select.step_b = so.step0 + j * so.dstep;
         run(&opt, in, 1, tmp_path(os[j], sizeof os[j], name));
         r[j] = read2d(os[j], "rho");
         v[j] = read2d(os[j], "vx");
@@ -395,7 +395,7 @@ static void test_pair_contacts(void **state)
     char out[512];
     cg_run_opts o = cg_opts_default();
     o.axis2 = 0;
-    o.dt = 1e-5;
+    o.select.dt = 1e-5;
     o.every = 1;
     o.pairs = (const char *const[1]){pairs};
     o.npairs = 1;
@@ -563,8 +563,8 @@ static void test_base_selection(void **state)
         o.dx = 0.008;
         o.last = mode == 1 ? 1 : mode == 2 ? 2 : 0;
         if (mode == 3) {
-            o.have_steps = 1;
-            o.step_a = o.step_b = 1000;
+            o.select.have_steps = 1;
+            o.select.step_a = o.select.step_b = 1000;
             o.have_centre = 1;
             o.centre = 0.08;
             o.have_range = 1;
