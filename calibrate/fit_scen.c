@@ -9,10 +9,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include "h5.h"
 #include "point.h"
+#include "progress.h"
 #include "scenario.h"
 #include "score.h"
 
@@ -21,13 +21,6 @@ static const char *const field_names[CG_FITSC_NFIELD] = {"phi", "vx", "T", "P", 
 const char *cg_fitsc_field_name(int f)
 {
     return f >= 0 && f < CG_FITSC_NFIELD ? field_names[f] : "?";
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static char *dup_str(const char *s)
@@ -408,9 +401,9 @@ static int run_case(const cg_fitsc_problem *pb, cg_fitsc_case *c, const ekm_mate
     for (size_t k = 0; k < pb->nparams; k++)
         cg_fit_param_set(&mc, pb->param[k], cg_fit_param_get(m, pb->param[k]));
     ekm_error e = {0};
-    const double t0 = now_s();
+    const double t0 = ekm_now_s();
     const int bad = ekm_point_solve(&c->sc, &mc, pb->check_final, pt, &e) != EKM_OK;
-    c->wall_last_s = now_s() - t0;
+    c->wall_last_s = ekm_now_s() - t0;
     c->wall_total_s += c->wall_last_s;
     c->runs++;
     if (bad)
@@ -480,12 +473,12 @@ int cg_fitsc_residuals(cg_fitsc_problem *pb, const ekm_material *m, double *r)
             fprintf(stderr,
                     "ekmcompare fit --scenario: evaluation %ld: an EKM run failed (trial rejected), elapsed "
                     "%.1f s\n",
-                    pb->evaluations, now_s() - pb->started_s);
+                    pb->evaluations, ekm_now_s() - pb->started_s);
         else
             fprintf(
                 stderr,
                 "ekmcompare fit --scenario: evaluation %ld: chi2 = %.6g, EKM runs %.2f s, elapsed %.1f s\n",
-                pb->evaluations, chi2, wall, now_s() - pb->started_s);
+                pb->evaluations, chi2, wall, ekm_now_s() - pb->started_s);
     }
     return bad || !isfinite(chi2);
 }
@@ -534,5 +527,5 @@ void cg_fitsc_spec(cg_fitsc_problem *pb, const ekm_material *start, cg_fit_spec 
     sp->start = *start;
     sp->nparams = pb->nparams;
     memcpy(sp->param, pb->param, sizeof sp->param);
-    pb->started_s = now_s();
+    pb->started_s = ekm_now_s();
 }

@@ -6,12 +6,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "bc.h"
 #include "control.h"
 #include "homogeneous.h"
 #include "model.h"
+#include "progress.h"
 #include "run.h"
 #include "rates.h"
 #include "step.h"
@@ -561,13 +561,6 @@ static ekm_status jacobian(ss_problem *p, double delta, ekm_error *err)
         if (!p->algebraic[i])
             p->ab[(size_t)i * ldab + kl + ku] += p->pmass[i] / p->mag[i] / delta;
     return EKM_OK;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 /* At the accepted iterate p->U (unpacked): a surface face pushed upwards
@@ -1182,7 +1175,7 @@ static ekm_status warm_up(ekm_scenario *sc_warm, ekm_stepper *st, ekm_state *g, 
 
 ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_report *rep_out, ekm_error *err)
 {
-    const double t0 = now_s();
+    const double t0 = ekm_now_s();
     ekm_steady_report rep_local;
     ekm_steady_report *rep = rep_out ? rep_out : &rep_local;
     FILE *progress = rep_out ? rep_out->progress : NULL;
@@ -1284,6 +1277,6 @@ ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_rep
     ekm_state_free(g);
     problem_free(&p);
     rep->gap = s->n * s->dz;
-    rep->wall_s = now_s() - t0;
+    rep->wall_s = ekm_now_s() - t0;
     return rc;
 }
