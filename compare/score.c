@@ -758,6 +758,36 @@ static void write_table(FILE *fp, const cg_score_field *res, size_t nres, const 
     }
 }
 
+/* What SCORE.json records must be recordable: both checksums or neither,
+ * each as sha256sum prints it; the options to 9 digits (score_json.c);
+ * UTF-8 input paths. */
+static ekm_status check_record(const cg_score_opts *o, ekm_error *err)
+{
+    if (!o->dem_sha256 != !o->ekm_sha256)
+        return EKM_FAIL(err, EKM_EUSAGE, "score: expected both --dem-sha256 and --ekm-sha256, or neither");
+    const struct {
+        const char *option, *value;
+    } sums[] = {{"--dem-sha256", o->dem_sha256}, {"--ekm-sha256", o->ekm_sha256}};
+    for (size_t i = 0; i < 2; i++)
+        if (sums[i].value && !cg_score_is_sha256(sums[i].value))
+            return EKM_FAIL(err, EKM_EUSAGE, "%s: expected 64 lower-case hexadecimal digits, got '%s'",
+                            sums[i].option, sums[i].value);
+    if (!o->json)
+        return EKM_OK;
+    const struct {
+        const char *option;
+        double value;
+    } nums[] = {{"--shift", o->shift}, {"--support", o->support}};
+    for (size_t i = 0; i < 2; i++)
+        if (!reads_back_9(nums[i].value))
+            return EKM_FAIL(err, EKM_EUSAGE, "%s: expected at most 9 significant digits, got %.17g",
+                            nums[i].option, nums[i].value);
+    if (!ekm_utf8_valid(o->dem) || !ekm_utf8_valid(o->ekm))
+        return EKM_FAIL(err, EKM_EUSAGE, "score: -o %s: the input paths must be UTF-8 to be recorded in JSON",
+                        o->json);
+    return EKM_OK;
+}
+
 ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, ekm_error *err)
 {
     cg_score_field loc[MAXF];
@@ -774,24 +804,9 @@ ekm_status cg_score(const cg_score_opts *o, cg_score_field *res, size_t *nres, e
         return EKM_FAIL(err, EKM_EUSAGE,
                         "--support: expected a fraction of the DEM's largest phi in [0, 1), got %g",
                         o->support);
-    if (!o->dem_sha256 != !o->ekm_sha256)
-        return EKM_FAIL(err, EKM_EUSAGE, "score: expected both --dem-sha256 and --ekm-sha256, or neither");
-    if (o->dem_sha256 && !cg_score_is_sha256(o->dem_sha256))
-        return EKM_FAIL(err, EKM_EUSAGE, "--dem-sha256: expected 64 lower-case hexadecimal digits, got '%s'",
-                        o->dem_sha256);
-    if (o->ekm_sha256 && !cg_score_is_sha256(o->ekm_sha256))
-        return EKM_FAIL(err, EKM_EUSAGE, "--ekm-sha256: expected 64 lower-case hexadecimal digits, got '%s'",
-                        o->ekm_sha256);
-    /* the JSON records the options to 9 digits (score_json.h): they must read back exactly */
-    if (o->json && !reads_back_9(o->shift))
-        return EKM_FAIL(err, EKM_EUSAGE, "--shift: expected at most 9 significant digits, got %.17g",
-                        o->shift);
-    if (o->json && !reads_back_9(o->support))
-        return EKM_FAIL(err, EKM_EUSAGE, "--support: expected at most 9 significant digits, got %.17g",
-                        o->support);
-    if (o->json && (!ekm_utf8_valid(o->dem) || !ekm_utf8_valid(o->ekm)))
-        return EKM_FAIL(err, EKM_EUSAGE, "score: -o %s: the input paths must be UTF-8 to be recorded in JSON",
-                        o->json);
+    ekm_status rc_rec = check_record(o, err);
+    if (rc_rec)
+        return rc_rec;
     char names[MAXF][32];
     size_t nf = 0;
     if (o->fields) {
