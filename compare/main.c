@@ -9,7 +9,7 @@
 #include "cg_run.h"
 #include "status.h"
 #include "atomic.h"
-#include "base.h"
+#include "pile_base.h"
 #include "fit_cli.h"
 #include "h5.h"
 #include "score.h"

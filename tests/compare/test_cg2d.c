@@ -10,7 +10,7 @@
 #include <cmocka.h>
 #include <math.h>
 
-#include "base.h"
+#include "pile_base.h"
 #include "cg_run.h"
 #include "dump.h"
 #include "h5.h"

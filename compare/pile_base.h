@@ -1,4 +1,4 @@
-/* base.h: `ekmcompare base`: the base pressure profile p(x) of a pile
+/* pile_base.h: `ekmcompare base`: the base pressure profile p(x) of a pile
  * from the forces on its floor grains, with its standard errors.
  *
  * Dump contract (the sandpile decks): atoms.dump with a position along x
@@ -21,8 +21,8 @@
  * default the middle of the box or of --range) so that bin k mirrors bin
  * n-1-k.
  */
-#ifndef CG_BASE_H
-#define CG_BASE_H
+#ifndef CG_PILE_BASE_H
+#define CG_PILE_BASE_H
 
 #include <stddef.h>
 #include <stdint.h>

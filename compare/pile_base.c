@@ -1,6 +1,6 @@
-/* base.c: the base pressure profile of a pile (see base.h). */
+/* pile_base.c: the base pressure profile of a pile (see pile_base.h). */
 #include "ekm_version.h"
-#include "base.h"
+#include "pile_base.h"
 
 #include <math.h>
 #include <stdlib.h>
