@@ -31,8 +31,10 @@
 # exists is not run again (delete it to redo), so the script resumes after
 # an interruption. FIGURES_ONLY=1: no runs, the figures and numbers of the
 # runs made so far (the others' figures are left as they are). One core per run, JOBS runs at a time (default 2). The
-# 112 x 56 piles take about 25 min each, the rest a few minutes each
-# (2026-12-06, this 2-core machine).
+# 112 x 56 piles take more than 85 min of CPU each with the surface rules
+# (2026-12-07: unfinished after 85 min; 51 min wall without the rules),
+# the rest a few minutes each (this 2-core machine); each run's log
+# carries its progress line once a minute (ETA included).
 # usage: scripts/thesis2d.sh [BUILD_DIR]     env: RUNS, JOBS, FIGURES_ONLY
 set -euo pipefail
 build=${1:-build}
