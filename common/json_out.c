@@ -12,7 +12,8 @@ json_t *ekm_json_number(double v)
 
 int ekm_json_set(json_t *obj, const char *key, json_t *value, int *bad)
 {
-    if (!obj || !value || json_object_set_new(obj, key, value) != 0) {
+    /* json_object_set_new takes value also when it fails (and a NULL obj) */
+    if (!value || json_object_set_new(obj, key, value) != 0) {
         *bad = 1;
         return -1;
     }

@@ -765,6 +765,9 @@ static ekm_status check_record(const cg_score_opts *o, ekm_error *err)
 {
     if (!o->dem_sha256 != !o->ekm_sha256)
         return EKM_FAIL(err, EKM_EUSAGE, "score: expected both --dem-sha256 and --ekm-sha256, or neither");
+    if (o->dem_sha256 && !o->json)
+        return EKM_FAIL(err, EKM_EUSAGE,
+                        "score: --dem-sha256 and --ekm-sha256 are recorded in the JSON: expected -o");
     const struct {
         const char *option, *value;
     } sums[] = {{"--dem-sha256", o->dem_sha256}, {"--ekm-sha256", o->ekm_sha256}};

@@ -35,11 +35,11 @@ static json_t *options_json(const cg_score_opts *o, const cg_score_field *res, s
     json_t *opt = json_object(), *fields = json_array(), *scalars = json_array();
     for (size_t i = 0; i < nres; i++) {
         other_dem |= res[i].se_both;
-        if (!fields || json_array_append_new(fields, json_string(res[i].name)))
+        if (json_array_append_new(fields, json_string(res[i].name))) /* fails also on a NULL array */
             *bad = 1;
     }
     for (size_t i = 0; i < nk; i++)
-        if (!scalars || json_array_append_new(scalars, json_string(cg_scalar_name((cg_scalar_kind)kinds[i]))))
+        if (json_array_append_new(scalars, json_string(cg_scalar_name((cg_scalar_kind)kinds[i]))))
             *bad = 1;
     ekm_json_set(opt, "fields", fields, bad);
     ekm_json_set(opt, "ekm_time", json_string(o->ekm_last ? "last" : "interp"), bad);

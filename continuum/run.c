@@ -138,6 +138,7 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
         stats->steady_acceleration = ekm_steady_stop_acceleration(&steady, sc);
     }
 done:
+    ekm_progress_end(&progress); /* an error line starts on a line of its own */
     if (until_steady)
         ekm_steady_stop_free(&steady);
     return rc;

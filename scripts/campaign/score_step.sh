@@ -11,8 +11,8 @@
 # instead of showing its numbers. Temporaries of OUT left by an
 # interrupted step are removed first.
 # Exit status (docs/exit-codes.md): 1 usage, 3 OUT cannot be written or an
-# input cannot be read, 5 an input changed while it was scored, else
-# ekmcompare's.
+# input cannot be read, 4 an input changed while it was scored (an input
+# that no longer matches), else ekmcompare's.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 usage="usage: score_step.sh OUT EKMCOMPARE score ARG... (with --dem CG.h5 --ekm RUN.h5)"
@@ -28,12 +28,16 @@ if [ -z "$dem" ] || [ -z "$ekm" ]; then echo "score_step.sh: $usage" >&2; exit 1
 tmp=$out.tmp.$$
 trap 'rm -f "$tmp"' EXIT
 trap 'exit 130' INT; trap 'exit 143' TERM; trap 'exit 129' HUP
-sum() { local s; s=$(sha256sum -- "$1") || return 3; echo "${s%% *}"; }
+# the digest alone (from stdin: no escaped file name in front of it)
+sum() { local s; s=$(sha256sum < "$1") || return 3; echo "${s%% *}"; }
 if ! ds=$(sum "$dem") || ! es=$(sum "$ekm"); then
   echo "score_step.sh: $dem, $ekm: cannot read the score's inputs" >&2; exit 3
 fi
 "$@" --dem-sha256 "$ds" --ekm-sha256 "$es" -o "$tmp" > /dev/null || exit
-if [ "$(sum "$dem")" != "$ds" ] || [ "$(sum "$ekm")" != "$es" ]; then
-  echo "score_step.sh: $dem or $ekm changed while it was scored: $out not written" >&2; exit 5
+if ! ds2=$(sum "$dem") || ! es2=$(sum "$ekm"); then
+  echo "score_step.sh: $dem, $ekm: cannot read the score's inputs after scoring: $out not written" >&2; exit 3
+fi
+if [ "$ds2" != "$ds" ] || [ "$es2" != "$es" ]; then
+  echo "score_step.sh: $dem or $ekm changed while it was scored: $out not written" >&2; exit 4
 fi
 mv -- "$tmp" "$out" || { echo "score_step.sh: $out: cannot write the score" >&2; exit 3; }

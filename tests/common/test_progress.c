@@ -46,10 +46,33 @@ static void test_log_lines(void **state)
     assert_null(strchr(buf, '\r'));
     assert_int_equal(buf[strlen(buf) - 1], '\n');
     assert_true(strchr(buf, '\n') == buf + strlen(buf) - 1); /* one line */
-    /* a step not given (2D): not shown */
+    /* a step not given (2D): not shown; a second whole line */
     ekm_progress_update(&p, 1.0, 2.0, 0.0, 20, 1);
     read_all(fp, buf, sizeof buf);
-    assert_null(strstr(strchr(buf, '\n') + 1, "dt ="));
+    const char *second = strchr(buf, '\n') + 1;
+    assert_non_null(strstr(second, "( 50.0%)"));
+    assert_null(strstr(second, "dt ="));
+    assert_int_equal(buf[strlen(buf) - 1], '\n');
+    fclose(fp);
+    /* on a terminal: the line rewritten (\r, no newline) four times a
+     * second, and ended by ekm_progress_end */
+    fp = tmpfile();
+    assert_non_null(fp);
+    ekm_progress_start(&p, fp);
+    p.tty = 1;
+    p.every_s = 0.25;
+    ekm_progress_update(&p, 0.5, 2.0, 1e-4, 10, 1);
+    read_all(fp, buf, sizeof buf);
+    assert_int_equal(buf[0], '\r');
+    assert_null(strchr(buf, '\n'));
+    ekm_progress_update(&p, 0.6, 2.0, 1e-4, 11, 0); /* not due */
+    ekm_progress_end(&p);
+    read_all(fp, buf, sizeof buf);
+    assert_null(strstr(buf, "( 30.0%)"));
+    assert_true(strchr(buf, '\n') == buf + strlen(buf) - 1);
+    ekm_progress_end(&p); /* once only */
+    read_all(fp, buf, sizeof buf);
+    assert_true(strchr(buf, '\n') == buf + strlen(buf) - 1);
     fclose(fp);
     /* no stream: nothing, no crash */
     ekm_progress_start(&p, NULL);

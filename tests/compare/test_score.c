@@ -246,6 +246,8 @@ static void test_known_errors(void **state)
      * a usage error and leaves the last JSON as it was */
     ekm_error err;
     size_t nres;
+    char before[4096], after[4096];
+    slurp(js, before, sizeof before);
     o.ekm_sha256 = NULL;
     assert_int_equal(cg_score(&o, r, &nres, &err), EKM_EUSAGE);
     assert_non_null(strstr(err.message, "both --dem-sha256 and --ekm-sha256"));
@@ -253,6 +255,16 @@ static void test_known_errors(void **state)
     assert_int_equal(cg_score(&o, r, &nres, &err), EKM_EUSAGE);
     assert_non_null(strstr(err.message, "--ekm-sha256: expected 64 lower-case hexadecimal digits"));
     o.ekm_sha256 = se;
+    o.json = NULL; /* checksums with nowhere to record them */
+    assert_int_equal(cg_score(&o, r, &nres, &err), EKM_EUSAGE);
+    assert_non_null(strstr(err.message, "expected -o"));
+    o.json = js;
+    slurp(js, after, sizeof after);
+    assert_string_equal(before, after);
+    o.support = 0.1000000001;
+    assert_int_equal(cg_score(&o, r, &nres, &err), EKM_EUSAGE);
+    assert_non_null(strstr(err.message, "--support: expected at most 9 significant digits"));
+    o.support = 0.1;
     /* an option the JSON cannot record exactly (more than 9 digits) */
     o.shift = 0.1234567891;
     assert_int_equal(cg_score(&o, r, &nres, &err), EKM_EUSAGE);
