@@ -18,6 +18,12 @@ void ekm_progress_start(ekm_progress *p, FILE *fp)
     p->every_s = p->tty ? 0.25 : 60.0;
     p->started_s = p->last_s = ekm_now_s();
     p->open_line = 0;
+    p->t0_s = 0.0;
+}
+
+void ekm_progress_from(ekm_progress *p, double t0_s)
+{
+    p->t0_s = t0_s;
 }
 
 void ekm_progress_update(ekm_progress *p, double t_s, double t_end_s, double dt_s, long steps, int force)
@@ -29,7 +35,8 @@ void ekm_progress_update(ekm_progress *p, double t_s, double t_end_s, double dt_
         return;
     p->last_s = now;
     const double frac = t_end_s > 0.0 ? t_s / t_end_s : 0.0, elapsed = now - p->started_s;
-    const double eta = frac > 0.0 ? elapsed * (1.0 - frac) / frac : 0.0;
+    const double done = t_end_s > p->t0_s ? (t_s - p->t0_s) / (t_end_s - p->t0_s) : 0.0;
+    const double eta = done > 0.0 ? elapsed * (1.0 - done) / done : 0.0;
     fprintf(p->fp, "%s  t = %10.4g s / %.4g s  (%5.1f%%)", p->tty ? "\r" : "", t_s, t_end_s, 100.0 * frac);
     if (dt_s > 0.0)
         fprintf(p->fp, "  dt = %9.3g s", dt_s);

@@ -16,6 +16,7 @@ typedef struct {
     int tty;          /* 1: fp is a terminal (the line is rewritten) */
     double every_s;   /* wall time between lines [s] */
     double started_s; /* wall clock at the start [s] */
+    double t0_s;      /* simulated time at the start (a resumed run: its checkpoint's) [s] */
     double last_s;    /* wall clock at the last line [s] */
     int open_line;    /* 1: a rewritten line waits for its newline */
 } ekm_progress;
@@ -25,6 +26,10 @@ double ekm_now_s(void);
 
 /* Start the clock; fp NULL: every call below does nothing. */
 void ekm_progress_start(ekm_progress *p, FILE *fp);
+
+/* A run resumed at simulated time t0_s: the ETA from the time simulated
+ * since (after ekm_progress_start). */
+void ekm_progress_from(ekm_progress *p, double t0_s);
 
 /* A line at simulated time t_s of t_end_s when one is due (dt_s <= 0: not
  * shown); force: now, whatever the interval. */

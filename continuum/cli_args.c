@@ -1,5 +1,6 @@
 #include "cli_args.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,6 +22,8 @@ static void default_output(const char *ini, char *out, size_t size)
 int ekm_cli_args_parse(const char *cmd, int argc, char **argv, int with_from, int with_petsc, ekm_cli_args *a)
 {
     memset(a, 0, sizeof *a);
+    a->checkpoint_every_s = 600.0;
+    int every_given = 0;
     a->sets = calloc((size_t)argc + 1, sizeof *a->sets);
     if (!a->sets) {
         fprintf(stderr, "ekm %s: out of memory\n", cmd);
@@ -43,7 +46,19 @@ int ekm_cli_args_parse(const char *cmd, int argc, char **argv, int with_from, in
             a->sets[a->n_sets++] = argv[++i];
         else if (strcmp(argv[i], "--quiet") == 0)
             a->quiet = 1;
-        else if (argv[i][0] == '-' || a->ini) {
+        else if (with_petsc && strcmp(argv[i], "--checkpoint") == 0 && i + 1 < argc)
+            a->checkpoint = argv[++i];
+        else if (with_petsc && strcmp(argv[i], "--checkpoint-every") == 0 && i + 1 < argc) {
+            char *end = NULL;
+            const char *v = argv[++i];
+            a->checkpoint_every_s = strtod(v, &end);
+            if (end == v || *end || !(a->checkpoint_every_s >= 0.0) || !isfinite(a->checkpoint_every_s)) {
+                fprintf(stderr, "ekm %s: --checkpoint-every '%s': expected a wall time >= 0 in seconds\n",
+                        cmd, v);
+                return ekm_status_exit_code(EKM_EUSAGE);
+            }
+            every_given = 1;
+        } else if (argv[i][0] == '-' || a->ini) {
             fprintf(stderr, "ekm %s: unexpected argument '%s' (see ekm --help)\n", cmd, argv[i]);
             return ekm_status_exit_code(EKM_EUSAGE);
         } else
@@ -56,6 +71,10 @@ int ekm_cli_args_parse(const char *cmd, int argc, char **argv, int with_from, in
     if (!a->out) {
         default_output(a->ini, a->out_buf, sizeof a->out_buf);
         a->out = a->out_buf;
+    }
+    if (every_given && !a->checkpoint) {
+        fprintf(stderr, "ekm %s: --checkpoint-every needs --checkpoint FILE (see ekm --help)\n", cmd);
+        return ekm_status_exit_code(EKM_EUSAGE);
     }
     return 0;
 }
@@ -83,5 +102,14 @@ ekm_status ekm_cli_args_check_outputs(const ekm_cli_args *a, ekm_error *err)
         st = ekm_atomic_refuse_input(a->out, inputs, n, err);
     if (st == EKM_OK)
         st = ekm_atomic_refuse_input(xdmf, inputs, n, err);
+    if (st == EKM_OK && a->checkpoint) {
+        const char *taken[5] = {a->out, xdmf};
+        size_t n_taken = 2;
+        for (size_t i = 0; i < n; i++)
+            taken[n_taken++] = inputs[i];
+        st = ekm_atomic_check_target(a->checkpoint, err);
+        if (st == EKM_OK)
+            st = ekm_atomic_refuse_input(a->checkpoint, taken, n_taken, err);
+    }
     return st;
 }

@@ -28,7 +28,7 @@ static void usage(FILE *fp)
 {
     fprintf(fp,
             "usage: ekm run FILE.ini [-o OUT.h5] [--material FIT.ini] [--set section.key=value ...]\n"
-            "               [--quiet] [-- PETSc options]\n"
+            "               [--quiet] [--checkpoint CKPT.h5 [--checkpoint-every S]] [-- PETSc options]\n"
             "       mpirun -np N ekm run FILE.ini ...   (a 2D scenario: [domain] cells_x > 1)\n"
             "       ekm scenario FILE.ini [--engine liggghts|lammps] [--size smoke|ref]\n"
             "                    [--point TAG] [--material FIT.ini] [--set section.key=value ...] --json\n"
@@ -51,6 +51,11 @@ static void usage(FILE *fp)
             "                   --set domain.cells=200 --set model.variant=thesis\n"
             "  --quiet          no progress line and no summary (the progress line is\n"
             "                   rewritten on a terminal; in a log, a line a minute)\n"
+            "  --checkpoint CKPT.h5  (2D runs) write the run's state to CKPT.h5 after an\n"
+            "                   output frame every S seconds of wall time (--checkpoint-every,\n"
+            "                   default 600) and after the last; when CKPT.h5 exists the run\n"
+            "                   goes on from it (the same command, or a later [run] t_end)\n"
+            "                   and takes the same steps as a run never stopped\n"
             "  -- OPTIONS       the rest of the line goes to PETSc (2D runs only), e.g.\n"
             "                   -- -ekm_step_monitor -ekm_v_ksp_converged_reason\n"
             "\n"
@@ -119,6 +124,8 @@ static int run_2d(const ekm_scenario *sc, const ekm_cli_args *a)
     const ekm2d_run_options opt = {.out = a->out,
                                    .quiet = a->quiet,
                                    .progress = !a->quiet,
+                                   .checkpoint = a->checkpoint,
+                                   .checkpoint_every_s = a->checkpoint_every_s,
                                    .petsc_args = a->petsc_args,
                                    .n_petsc_args = a->n_petsc_args};
     const ekm_status st = ekm2d_cmd_run(sc, &opt, &err);
@@ -164,6 +171,15 @@ static int cmd_run(int argc, char **argv)
         const int code = run_2d(&sc, &args);
         ekm_scenario_free(&sc);
         return code;
+    }
+    if (args.checkpoint) {
+        fprintf(
+            stderr,
+            "ekm run: --checkpoint is for 2D runs, but %s is a 1D scenario ([domain] cells_x = 1; a 1D run "
+            "is short enough to run again) (see ekm --help)\n",
+            ini);
+        ekm_scenario_free(&sc);
+        return ekm_status_exit_code(EKM_EUSAGE);
     }
     if (args.dashdash) {
         fprintf(stderr,

@@ -145,10 +145,10 @@ ekm_status ekm2d_step_advance(ekm2d_step *st, double t_to, ekm_error *err)
 {
     const ekm_scenario *sc = st->sc;
     ekm_status rc = EKM_OK;
+    /* fresh factorisations at each advance (each output frame): a run
+     * resumed here from a checkpoint (restart2d.c) takes the same steps */
+    st->v_keep_factor = st->t_keep_factor = 0;
     if (!(st->dt_prev > 0.0)) { /* the start: from the acoustic step */
-        PetscBool monitor = PETSC_FALSE;
-        PetscOptionsGetBool(NULL, NULL, "-ekm_step_monitor", &monitor, NULL);
-        st->monitor = monitor == PETSC_TRUE;
         double dt0;
         if ((rc = max_dt(st, 1, &dt0, err)) != EKM_OK)
             return rc;

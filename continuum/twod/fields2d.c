@@ -23,12 +23,6 @@
 #include "fields.h"
 #include "out2d.h"
 
-#define PTRY(call, what)                                                               \
-    do {                                                                               \
-        if ((call) != 0)                                                               \
-            return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error in %s", (what)); \
-    } while (0)
-
 /* The properties of every cell of the box at the state u (the output's
  * classification: empty below phi_dry), into the step's work arrays. */
 static void state_properties(ekm2d_step *st, PetscScalar ***u)

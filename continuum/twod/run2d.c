@@ -5,7 +5,10 @@
 #include <petscsys.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
+#include "checkpoint2d.h"
 #include "out2d.h"
 #include "progress.h"
 #include "solver2d.h"
@@ -36,6 +39,116 @@ static double next_stop(const ekm_scenario *sc, double t, double t_frame)
     return next;
 }
 
+/* A status decided on rank 0, known to every rank. */
+static ekm_status share_status(ekm_status st, const char *what, ekm_error *err)
+{
+    int code = (int)st;
+    MPI_Bcast(&code, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+    if (code != EKM_OK && st == EKM_OK)
+        return EKM_FAIL(err, (ekm_status)code, "rank 0 %s", what);
+    return code != EKM_OK ? (ekm_status)code : st;
+}
+
+/* The frames of a run with a checkpoint file: kept on rank 0 for the next
+ * checkpoint (the output's frames are in its file). */
+typedef struct {
+    ekm2d_checkpoint ck; /* ck.n_frames frames so far; the state set when written */
+    size_t cap;          /* frames ck's arrays hold */
+    size_t ncell;
+    double last_s; /* wall clock of the last checkpoint [s] */
+} frame_store;
+
+static ekm_status store_frame(frame_store *fs, double t, double dz, double *const fields[EKM2D_NFIELDS],
+                              ekm_error *err)
+{
+    if (fs->ck.n_frames == fs->cap) {
+        const size_t cap = fs->cap ? 2 * fs->cap : 16;
+        double *ft = realloc(fs->ck.frame_t, cap * sizeof *ft);
+        if (ft)
+            fs->ck.frame_t = ft;
+        double *fd = realloc(fs->ck.frame_dz, cap * sizeof *fd);
+        if (fd)
+            fs->ck.frame_dz = fd;
+        double *ff = realloc(fs->ck.frames, cap * EKM2D_NFIELDS * fs->ncell * sizeof *ff);
+        if (ff)
+            fs->ck.frames = ff;
+        if (!ft || !fd || !ff)
+            return EKM_FAIL(err, EKM_ENOMEM, "out of memory (checkpoint frames)");
+        fs->cap = cap;
+    }
+    const size_t k = fs->ck.n_frames++;
+    fs->ck.frame_t[k] = t;
+    fs->ck.frame_dz[k] = dz;
+    for (int q = 0; q < EKM2D_NFIELDS; q++)
+        memcpy(fs->ck.frames + (k * EKM2D_NFIELDS + (size_t)q) * fs->ncell, fields[q],
+               fs->ncell * sizeof(double));
+    return EKM_OK;
+}
+
+/* Resume from opt->checkpoint when it exists (collective): the solver's
+ * state, the frames into the output (rank 0, w) and fs; *t0 the
+ * checkpoint's time (-1: none), *wall_before its wall time. */
+static ekm_status resume(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm2d_solver *sol,
+                         ekm2d_writer *w, frame_store *fs, double *t0, double *wall_before, ekm_error *err)
+{
+    int rank = 0;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    *t0 = -1.0;
+    *wall_before = 0.0;
+    int found = rank == 0 && access(opt->checkpoint, F_OK) == 0;
+    MPI_Bcast(&found, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+    if (!found)
+        return EKM_OK;
+    ekm2d_checkpoint *ck = &fs->ck;
+    ekm_status st = rank == 0 ? ekm2d_checkpoint_read(opt->checkpoint, sc, ck, err) : EKM_OK;
+    st = share_status(st, "could not read the checkpoint", err);
+    if (st != EKM_OK)
+        return st;
+    fs->cap = ck->n_frames;
+    /* the scalars to every rank (the values stay on rank 0) */
+    ekm2d_restart scal = ck->state;
+    scal.values = NULL;
+    MPI_Bcast(&scal, (int)sizeof scal, MPI_BYTE, 0, PETSC_COMM_WORLD);
+    scal.values = ck->state.values;
+    st = ekm2d_solver_load(sol, &scal, err);
+    if (st != EKM_OK) { /* the message names the file */
+        char why[sizeof err->message];
+        snprintf(why, sizeof why, "%s", err->message);
+        return EKM_FAIL(err, st, "%s: %s", opt->checkpoint, why);
+    }
+    double *fields[EKM2D_NFIELDS];
+    for (size_t k = 0; rank == 0 && k < ck->n_frames && st == EKM_OK; k++) {
+        for (int q = 0; q < EKM2D_NFIELDS; q++)
+            fields[q] = ck->frames + (k * EKM2D_NFIELDS + (size_t)q) * fs->ncell;
+        st = ekm2d_writer_append(w, ck->frame_t[k], ck->frame_dz[k], (const double *const *)fields, err);
+    }
+    st = share_status(st, "could not write the output", err);
+    *t0 = scal.t;
+    *wall_before = ck->wall_s;
+    MPI_Bcast(wall_before, 1, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+    ekm2d_restart_free(&ck->state);
+    if (st == EKM_OK && rank == 0 && !opt->quiet)
+        fprintf(stderr, "%s: resumed from %s at t = %.6g s (%zu frames, %ld steps)\n", sc->name,
+                opt->checkpoint, scal.t, ck->n_frames, scal.steps);
+    return st;
+}
+
+/* Write the checkpoint (collective; rank 0 writes). */
+static ekm_status checkpoint(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm2d_solver *sol,
+                             frame_store *fs, double wall_s, ekm_error *err)
+{
+    int rank = 0;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    ekm_status st = ekm2d_solver_save(sol, &fs->ck.state, err);
+    if (st == EKM_OK && rank == 0) {
+        fs->ck.wall_s = wall_s;
+        st = ekm2d_checkpoint_write(opt->checkpoint, sc, &fs->ck, err);
+    }
+    ekm2d_restart_free(&fs->ck.state);
+    fs->last_s = ekm_now_s();
+    return share_status(st, "could not write the checkpoint", err);
+}
+
 /* The run itself, with PETSc started. */
 static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_error *err)
 {
@@ -55,7 +168,10 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
     double *buf = NULL;
     double *fields[EKM2D_NFIELDS] = {0};
     ekm2d_writer *w = NULL;
-    /* rank 0 opens the output and holds the gathered fields; every rank learns its status */
+    frame_store fs = {.ncell = ncell, .last_s = started};
+    /* rank 0 opens the output and holds the gathered fields; every rank
+     * learns its status (a resumed run may carry one frame off the
+     * output_dt grid: the t_end of the run it continues) */
     if (rank == 0) {
         buf = malloc(ncell * EKM2D_NFIELDS * sizeof *buf);
         if (!buf)
@@ -63,17 +179,23 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
         for (int k = 0; buf && k < EKM2D_NFIELDS; k++)
             fields[k] = buf + (size_t)k * ncell;
         if (st == EKM_OK)
-            st = ekm2d_writer_open(&w, opt->out, sc, ranks, n_frames, err);
+            st = ekm2d_writer_open(&w, opt->out, sc, ranks, n_frames + (opt->checkpoint ? 1 : 0), err);
     }
-    int code = (int)st;
-    MPI_Bcast(&code, 1, MPI_INT, 0, PETSC_COMM_WORLD);
-    st = (ekm_status)code;
-    if (st != EKM_OK && rank != 0)
-        EKM_FAIL(err, st, "rank 0 could not open the output");
+    st = share_status(st, "could not open the output", err);
+    double t0 = -1.0, wall_before = 0.0;
+    if (st == EKM_OK && opt->checkpoint)
+        st = resume(sc, opt, sol, w, &fs, &t0, &wall_before, err);
     ekm_progress progress;
     ekm_progress_start(&progress, opt->progress && rank == 0 ? stderr : NULL);
+    if (t0 > 0.0)
+        ekm_progress_from(&progress, t0);
     for (size_t k = 0; st == EKM_OK && k < n_frames; k++) {
-        const double t_frame = fmin((double)k * sc->output_dt, sc->t_end);
+        /* k output_dt (also when that is t_end to round-off: a run to an
+         * earlier t_end on the grid stops where this one writes a frame, so
+         * that a run continued from its checkpoint takes the same steps) */
+        const double t_frame = k <= (size_t)n_steps_out ? (double)k * sc->output_dt : sc->t_end;
+        if (t0 >= 0.0 && t_frame <= t0 * (1.0 + 1e-12))
+            continue; /* in the checkpoint's frames */
         ekm2d_stats stats;
         st = ekm2d_solver_stats(sol, &stats, err);
         while (st == EKM_OK && stats.t < t_frame * (1.0 - 1e-12)) {
@@ -87,16 +209,19 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
             st = ekm2d_solver_fields(sol, fields, err);
         if (st == EKM_OK && rank == 0)
             st = ekm2d_writer_append(w, stats.t, stats.dz, (const double *const *)fields, err);
-        code = (int)st;
-        MPI_Bcast(&code, 1, MPI_INT, 0, PETSC_COMM_WORLD);
-        if (code != EKM_OK && st == EKM_OK)
-            st = EKM_FAIL(err, (ekm_status)code, "rank 0 could not write the output");
+        if (st == EKM_OK && rank == 0 && opt->checkpoint)
+            st = store_frame(&fs, stats.t, stats.dz, fields, err);
+        st = share_status(st, "could not write the output", err);
+        if (st == EKM_OK && opt->checkpoint &&
+            (k + 1 == n_frames || ekm_now_s() - fs.last_s >= opt->checkpoint_every_s))
+            st = checkpoint(sc, opt, sol, &fs, wall_before + ekm_now_s() - started, err);
     }
     ekm_progress_end(&progress);
+    ekm2d_checkpoint_free(&fs.ck);
     ekm2d_stats stats = {0};
     if (st == EKM_OK)
         st = ekm2d_solver_stats(sol, &stats, err);
-    const double wall = ekm_now_s() - started;
+    const double wall = wall_before + ekm_now_s() - started;
     if (st == EKM_OK && rank == 0) {
         const struct {
             const char *name;
@@ -114,6 +239,8 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
         };
         for (size_t i = 0; i < sizeof attrs / sizeof attrs[0] && st == EKM_OK; i++)
             st = ekm2d_writer_set_attr(w, attrs[i].name, attrs[i].value, err);
+        if (st == EKM_OK && t0 >= 0.0) /* a resumed run: where it went on */
+            st = ekm2d_writer_set_attr(w, "stats.resumed_at_t", t0, err);
         if (st == EKM_OK)
             st = ekm2d_writer_commit(w, err);
         else
@@ -122,10 +249,7 @@ static ekm_status run(const ekm_scenario *sc, const ekm2d_run_options *opt, ekm_
     }
     if (w)
         ekm2d_writer_abort(w);
-    code = (int)st;
-    MPI_Bcast(&code, 1, MPI_INT, 0, PETSC_COMM_WORLD);
-    if (code != EKM_OK && st == EKM_OK)
-        st = EKM_FAIL(err, (ekm_status)code, "rank 0 could not write the output");
+    st = share_status(st, "could not write the output", err);
     if (st == EKM_OK && rank == 0 && !opt->quiet)
         printf("%-20s t = %-8.4g s  %7ld steps (%ld rejected)  %d x %d cells on %d rank%s  phi_max %.4f  "
                "mass %.9g kg/m (in %.3g)  Newton/step %.2f  %.3f s  -> %s\n",

@@ -7,12 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PTRY(call, what)                                                               \
-    do {                                                                               \
-        if ((call) != 0)                                                               \
-            return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error in %s", (what)); \
-    } while (0)
-
 /* The initial state: the scenario's (state.h) or init, in every column;
  * a free or inflow end's face takes its column's 1D value too. */
 static ekm_status initial_state(ekm2d_step *st, const ekm_state *init, ekm_error *err)
@@ -246,6 +240,10 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
                          PetscLogEventRegister("ekm2dTemperature", cls, &st->ev_temp) ||
                          PetscLogEventRegister("ekm2dRegimes", cls, &st->ev_regime)))
         rc = EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error registering its log events");
+    PetscBool monitor = PETSC_FALSE;
+    if (rc == EKM_OK && PetscOptionsGetBool(NULL, NULL, "-ekm_step_monitor", &monitor, NULL))
+        rc = EKM_FAIL(err, EKM_EINPUT, "-ekm_step_monitor: expected a boolean (or nothing)");
+    st->monitor = monitor == PETSC_TRUE;
     if (rc == EKM_OK)
         rc = initial_state(st, init, err);
     if (rc != EKM_OK) {

@@ -5,8 +5,6 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "step2d.h"
-
 struct ekm2d_solver {
     const ekm_scenario *sc;
     ekm2d_step *step;
@@ -70,6 +68,16 @@ void ekm2d_solver_destroy(ekm2d_solver *s)
 ekm_status ekm2d_solver_advance(ekm2d_solver *s, double t_to, ekm_error *err)
 {
     return ekm2d_step_advance(s->step, t_to, err);
+}
+
+ekm_status ekm2d_solver_save(ekm2d_solver *s, ekm2d_restart *out, ekm_error *err)
+{
+    return ekm2d_step_save(s->step, out, err);
+}
+
+ekm_status ekm2d_solver_load(ekm2d_solver *s, const ekm2d_restart *in, ekm_error *err)
+{
+    return ekm2d_step_load(s->step, in, err);
 }
 
 ekm_status ekm2d_solver_fields(ekm2d_solver *s, double *const fields[EKM2D_NFIELDS], ekm_error *err)

@@ -29,6 +29,7 @@
 #include "scenario.h"
 #include "state.h"
 #include "status.h"
+#include "step2d.h"
 
 typedef struct ekm2d_solver ekm2d_solver;
 
@@ -49,6 +50,15 @@ ekm_status ekm2d_solver_advance(ekm2d_solver *s, double t_to, ekm_error *err);
 /* The output fields (out2d.h order) on the cells, gathered to rank 0 into
  * fields[k] (nz * nx doubles each, x fastest; ignored on other ranks). */
 ekm_status ekm2d_solver_fields(ekm2d_solver *s, double *const fields[EKM2D_NFIELDS], ekm_error *err);
+
+/* The solver's whole state, to resume a run from it with the same steps
+ * (step2d.h: ekm2d_restart; collective; out->values on rank 0), and the
+ * state set from it (collective; EKM_EINPUT: another grid).  A run resumed
+ * at a time it was advanced to (ekm2d_solver_advance's t_to) takes the
+ * steps the uninterrupted run takes: each advance starts with fresh
+ * factorisations of the linear systems, as a resumed run does. */
+ekm_status ekm2d_solver_save(ekm2d_solver *s, ekm2d_restart *out, ekm_error *err);
+ekm_status ekm2d_solver_load(ekm2d_solver *s, const ekm2d_restart *in, ekm_error *err);
 
 typedef struct {
     double t;               /* model time [s] */

@@ -18,12 +18,6 @@
 /* The thermal relaxation limit at the end of a step (step.c's factor). */
 #define EKM2D_THERMAL_END_FACTOR 1.01
 
-#define PTRY(call, what)                                                               \
-    do {                                                                               \
-        if ((call) != 0)                                                               \
-            return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error in %s", (what)); \
-    } while (0)
-
 ekm_status ekm2d_step_supported(const ekm_scenario *sc, ekm_error *err)
 {
     if (sc->numerics.normal_coupling != EKM_COUPLING_IMPLICIT)

@@ -86,6 +86,37 @@ typedef struct {
                              * [numerics] solid_lag_tol */
 } ekm2d_step_info;
 
+/* The stepper's whole state between two steps, in an order that does not
+ * depend on the ranks (a checkpoint: checkpoint2d.h).  values holds, for
+ * each element (i, j) of the (nx + 1) x (nz + 1) elements of the state's
+ * DMStag (a cell with its left x-face, bottom z-face and lower left
+ * corner; the last column and row carry the right and top faces), its
+ * dof entries of the state vector and then the temperature change of
+ * its cell over the last step (the Newton's first iterate; 0 beside the
+ * domain): values[((j * (nx + 1)) + i) * (dof + 1) + k].  Resuming from
+ * it continues the run with the same steps: the scalars are those of
+ * step2d_impl.h. */
+typedef struct {
+    int nx, nz, dof;      /* cells along x and z; state entries per element */
+    double *values;       /* (nx + 1) (nz + 1) (dof + 1) entries (rank 0 only) */
+    double t;             /* [s] */
+    double dz;            /* cell size along z [m] */
+    double dt_prev;       /* the last accepted step [s] (0: none yet) */
+    double dt_solid;      /* the solid regime's next step limit [s] (INFINITY: none) */
+    double dt_change;     /* the step of the temperature change [s] (0: none) */
+    double mass_in;       /* [kg/m] */
+    double solid_lag_max; /* [-] */
+    long steps, rejected, newton_total, to_solid, to_flow, solid_floor_steps;
+} ekm2d_restart;
+
+/* Gather the state into *out (collective; out->values allocated on rank 0,
+ * freed by ekm2d_restart_free). */
+ekm_status ekm2d_step_save(ekm2d_step *st, ekm2d_restart *out, ekm_error *err);
+/* Set the state from in (collective; in->values read on rank 0, the
+ * scalars on every rank): EKM_EINPUT when in's grid is not this one's. */
+ekm_status ekm2d_step_load(ekm2d_step *st, const ekm2d_restart *in, ekm_error *err);
+void ekm2d_restart_free(ekm2d_restart *r);
+
 /* Statistics (collective: the mass is a reduction). */
 ekm_status ekm2d_step_stats(ekm2d_step *st, ekm2d_step_info *out, ekm_error *err);
 

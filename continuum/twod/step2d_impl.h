@@ -102,6 +102,14 @@ struct ekm2d_step {
     char reason[600];
 };
 
+/* Return EKM_EINTERNAL naming `what` when a PETSc call fails (in a
+ * function with an ekm_error *err). */
+#define PTRY(call, what)                                                               \
+    do {                                                                               \
+        if ((call) != 0)                                                               \
+            return EKM_FAIL(err, EKM_EINTERNAL, "2D step: PETSc error in %s", (what)); \
+    } while (0)
+
 /* Access to a box array at (i, j). */
 #define BOX(st, arr, i, j) ((st)->arr[ekm2d_box_index(&(st)->g, (i), (j))])
 

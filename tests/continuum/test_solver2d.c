@@ -49,6 +49,15 @@
  *             0.002 s; writes the fields to REF.bin when it does not exist,
  *             else every field within 1e-10 of REF.bin's (scaled by the
  *             field's largest value): run first on 1 rank, then 2 and 4.
+ *   restart   run at once to t2, and again to t1, the state saved
+ *             (ekm2d_solver_save), a new solver loaded with it and run on
+ *             to t2: the same steps (accepted, rejected, Newton
+ *             iterations), mass and switches, every field bitwise equal
+ *             (also under mpirun -np 2).  Twice: a small fast pile
+ *             (thesis_sandpile_2d, 28 x 14 cells, w = -0.35 m/s, the solid
+ *             regime on; t1 = 0.3 s, t2 = 0.4 s: the stream and the heap's
+ *             dense flow) and the ranks_solid case's layer with side walls
+ *             (t1 = 0.03 s, t2 = 0.05 s: solid cells).
  * Exit 0 on success; prints the measured numbers.
  */
 #include <math.h>
@@ -761,13 +770,90 @@ static int case_solid_lag(const char *src)
     return 0;
 }
 
+/* One restart comparison (the restart case, header): 0 when the resumed
+ * run equals the run at once (solid: it must have solid cells at t2). */
+static int restart_pair(const char *src, const char *name, const char *const *sets, size_t n, double t1,
+                        double t2, int solid)
+{
+    run2d a, b, c;
+    ekm2d_stats sa, sc1, sb;
+    ekm_error err = {0};
+    ekm2d_restart saved = {0};
+    if (run_open(&a, src, name, sets, n, NULL))
+        return 1;
+    int rc = run_to(&a, t1);
+    if (!rc)
+        rc = run_to(&a, t2);
+    if (!rc)
+        rc = stats(&a, &sa);
+    if (!rc && !(rc = run_open(&b, src, name, sets, n, NULL))) {
+        rc = run_to(&b, t1);
+        if (!rc && ekm2d_solver_save(b.sol, &saved, &err) != EKM_OK)
+            rc = 1;
+        run_close(&b);
+    }
+    if (!rc && !(rc = run_open(&c, src, name, sets, n, NULL))) {
+        if (ekm2d_solver_load(c.sol, &saved, &err) != EKM_OK)
+            rc = 1;
+        if (!rc)
+            rc = stats(&c, &sc1);
+        if (!rc && sc1.t != t1) {
+            snprintf(err.message, sizeof err.message, "the loaded state is at t = %.17g s, expected %g",
+                     sc1.t, t1);
+            rc = 1;
+        }
+        if (!rc)
+            rc = run_to(&c, t2);
+        if (!rc)
+            rc = stats(&c, &sb);
+        if (!rc) {
+            int n_solid = 0, differ = 0;
+            for (size_t k = 0; k < a.ncell; k++)
+                n_solid += a.f[EKM2D_REGIME][k] == EKM_REGIME_SOLID;
+            for (int q = 0; q < EKM2D_NFIELDS; q++)
+                differ += memcmp(a.f[q], c.f[q], a.ncell * sizeof *a.f[q]) != 0;
+            if (rank0())
+                printf("restart %s: at %g s %ld steps (%ld rejected, %ld Newton) at once, %ld (%ld, %ld) "
+                       "resumed "
+                       "at %g s; %d solid cells; fields differing: %d\n",
+                       name, t2, sa.steps, sa.rejected, sa.newton, sb.steps, sb.rejected, sb.newton, t1,
+                       n_solid, differ);
+            if (sa.steps != sb.steps || sa.rejected != sb.rejected || sa.newton != sb.newton || differ ||
+                sa.mass != sb.mass || sa.mass_in != sb.mass_in || sa.to_solid != sb.to_solid ||
+                sa.to_flow != sb.to_flow || (solid && n_solid == 0)) {
+                snprintf(err.message, sizeof err.message, "the resumed run differs from the run at once%s",
+                         solid && n_solid == 0 ? " (or no solid cells to test)" : "");
+                rc = 1;
+            }
+        }
+        run_close(&c);
+    }
+    ekm2d_restart_free(&saved);
+    run_close(&a);
+    int code = rc;
+    MPI_Bcast(&code, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+    if (code && rank0())
+        fprintf(stderr, "FAIL: restart %s: %s\n", name, err.message);
+    return code;
+}
+
+static int case_restart(const char *src)
+{
+    const char *pile[] = {"run.stop=t_end", "hypo.enabled=1", "top.w=-0.35", "domain.cells_x=28",
+                          "domain.cells=14"};
+    const char *layer[] = {"run.stop=t_end"};
+    int rc = restart_pair(src, "thesis_sandpile_2d", pile, sizeof pile / sizeof pile[0], 0.3, 0.4, 0);
+    if (!rc)
+        rc = restart_pair(src, "tests/continuum/data/settled_layer_2d.ini", layer, 1, 0.03, 0.05, 1);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(
-            stderr,
-            "usage: test_solver2d SOURCE_DIR "
-            "shear|chute|inflow|inlet|inlets|jet|settled|surface|solid_lag|ranks|ranks_solid [REF.bin]\n");
+        fprintf(stderr, "usage: test_solver2d SOURCE_DIR "
+                        "shear|chute|inflow|inlet|inlets|jet|settled|surface|solid_lag|restart|ranks|ranks_"
+                        "solid [REF.bin]\n");
         return 2;
     }
     char *pargv[] = {argv[0], (char *)"-no_signal_handler", NULL};
@@ -795,6 +881,8 @@ int main(int argc, char **argv)
         rc = case_surface(argv[1]);
     else if (strcmp(argv[2], "solid_lag") == 0)
         rc = case_solid_lag(argv[1]);
+    else if (strcmp(argv[2], "restart") == 0)
+        rc = case_restart(argv[1]);
     else if (strcmp(argv[2], "ranks") == 0 && argc > 3)
         rc = case_ranks(argv[1], argv[3], 0);
     else if (strcmp(argv[2], "ranks_solid") == 0 && argc > 3)
