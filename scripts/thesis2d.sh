@@ -29,7 +29,8 @@
 #
 # Runs go to RUNS (default runs/thesis2d/, not committed); a run whose .h5
 # exists is not run again (delete it to redo), so the script resumes after
-# an interruption. FIGURES_ONLY=1: no runs, the figures and numbers of the
+# an interruption, and a run cut short goes on from its checkpoint
+# (NAME.ckpt.h5 beside it: scripts/lib/ekm_runs.sh). FIGURES_ONLY=1: no runs, the figures and numbers of the
 # runs made so far (the others' figures are left as they are). One core per run, JOBS runs at a time (default 2). The
 # 112 x 56 piles take more than 85 min of CPU each with the surface rules
 # (2026-12-07: unfinished after 85 min; 51 min wall without the rules),

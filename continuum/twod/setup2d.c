@@ -56,7 +56,7 @@ static ekm_status initial_state(ekm2d_step *st, const ekm_state *init, ekm_error
 
 /* A system's linear solver (options prefix ekm_v_ or ekm_t_; any
  * -ekm_v_ksp_* / -ekm_v_pc_* option overrides it).  The velocity system:
- * from EKM2D_AMG_CELLS cells GMRES with hypre's BoomerAMG (strong
+ * from EKM2D_AMG_CELLS (16384) cells GMRES with hypre's BoomerAMG (strong
  * threshold 0.7: the viscosities jump by decades from cell to cell), set
  * up anew for every solve, to rtol 1e-12 (a PETSc without hypre: as
  * below); below, on one rank LU as
@@ -67,7 +67,9 @@ static ekm_status initial_state(ekm2d_step *st, const ekm_state *init, ekm_error
  * 2D", a dense layer settling, 10 steps): the velocity solves of 32 x 32
  * cells 0.054 s with LU against 0.100 s with BoomerAMG, of 64 x 64 0.40
  * against 0.28 s, of 256 x 256 39 against 9.5 s (equal fields to 4e-15);
- * the 18 x 60 filling 2.2 against 3.7 s.  No parallel LU (MUMPS or a
+ * the 18 x 60 filling 2.2 against 3.7 s; in a run, where the LU is kept
+ * across steps, the 112 x 56 pile to t = 0.3 s 125 against 254 s
+ * (2026-12-07).  No parallel LU (MUMPS or a
  * redundant LU: 115 ms against 8 ms per solve measured earlier).
  * The temperature system: on one rank an exact LU per Newton iteration
  * (its cells' T span twenty decades, and a Krylov tolerance relative to

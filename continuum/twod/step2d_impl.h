@@ -198,8 +198,9 @@ double ekm2d_cell_shear2(const ekm2d_step *st, PetscScalar ***u, PetscInt i, Pet
 
 /* From this many cells the velocity system is solved by GMRES with
  * BoomerAMG (setup2d.c), below by a kept LU (one rank) or GMRES with block
- * Jacobi (several ranks). */
-#define EKM2D_AMG_CELLS 4096
+ * Jacobi (several ranks).  The 112 x 56 pile (6272 cells) ran 2.0x faster
+ * with the kept LU (docs/model/twod.md "Linear solvers in 2D"). */
+#define EKM2D_AMG_CELLS 16384
 
 /* Solve ksp's system for b into x (collective).  With GMRES + LU (one
  * rank, small grids: setup2d.c) the factorisation is kept across solves while they

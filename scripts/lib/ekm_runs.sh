@@ -4,11 +4,13 @@
 #
 # ekm_runs TAG: runs every entry "NAME SCENARIO ARGS..." of the array
 # `cases` as `$ekm run $root/scenarios/SCENARIO.ini ARGS -o
-# $runs/NAME.h5` (its progress, a line a minute, and its summary in
-# $runs/NAME.log: `tail $runs/*.log` says how far the batch is), $jobs at a time, one core
+# $runs/NAME.h5` (its progress, a line a minute, and its summary appended
+# to $runs/NAME.log: `tail $runs/*.log` says how far the batch is), $jobs at a time, one core
 # each. A run whose .h5 exists is not run again (ekm writes it under a
 # temporary name and renames it when complete), so a batch resumes after an
-# interruption. Each outcome is one stderr line "TAG: NAME ..."; returns 1
+# interruption; a run cut short goes on from its checkpoint
+# ($runs/NAME.ckpt.h5, written every 10 minutes of wall time by `ekm run
+# --checkpoint`, removed when the run is complete), with the same steps. Each outcome is one stderr line "TAG: NAME ..."; returns 1
 # when any run failed. An entry is split at blanks: a value with a blank
 # in it (a list such as [top] inlet_x) goes into a scenario file, not into
 # a --set here.
@@ -20,8 +22,9 @@ ekm_run_one() {
     echo "$tag: $name: $runs/$name.h5 exists, not run again" >&2
     return 0
   fi
-  "$ekm" run "$root/scenarios/$scen.ini" "$@" -o "$runs/$name.h5" > "$runs/$name.log" 2>&1 ||
-    { echo "$tag: $name failed (log: $runs/$name.log)" >&2; return 1; }
+  "$ekm" run "$root/scenarios/$scen.ini" "$@" -o "$runs/$name.h5" --checkpoint "$runs/$name.ckpt.h5" \
+    >> "$runs/$name.log" 2>&1 || { echo "$tag: $name failed (log: $runs/$name.log)" >&2; return 1; }
+  rm -f "$runs/$name.ckpt.h5"
   echo "$tag: $name done" >&2
 }
 
