@@ -42,7 +42,7 @@ while getopts "o:R:r:M:e:l:h" opt; do
     M) rmass=$OPTARG ;;
     e) engines=$OPTARG ;;
     l) laws=$OPTARG ;;
-    h) sed -n '2,31p' "$0"; exit 0 ;;
+    h) sed -n '2,29p' "$0"; exit 0 ;;
     *) usage "bad option (see -h)" ;;
   esac
 done
