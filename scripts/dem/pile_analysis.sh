@@ -1,26 +1,38 @@
 #!/usr/bin/env bash
 # pile_analysis.sh: the base-pressure observable of the sand-pile ensemble
-# (issue 34): `ekmcompare base` on every group's runs, then its statistics.
+# (issue 34), from the committed run records: every group's base profiles,
+# then their statistics.
 #
 #   scripts/dem/pile_analysis.sh [-o OUT] [-m K] ROOT SIZE
 #
-# ROOT is the root of scripts/dem/pile_rounds.sh (runs/pile): its laws
-# ROOT/<law>/seed<k>/sandpile/<engine>-<SIZE>/<point>/ (law plain or
-# rolling). A group is one law, engine and source (point source8: the
-# hopper; the point whose source is as wide as the plate: the sieve); its
-# runs are the finished ones (run.json status ok) that pass
-# `check_run.sh --sandpile`. Per group with at least 2 runs:
-#   OUT/base-<law>-<engine>-<source>-SIZE.h5 and .csv: `ekmcompare base
-#     --last 1` (the pile at rest) over the runs, 2 d bins about the box's
-#     middle (the source's centre), aligned with the floor lattice
+# ROOT is the root of the run records (results/sandpile/runs, written by
+# scripts/dem/pile_rounds.sh through pile_record.sh, one per run that
+# finished and passed `check_run.sh --sandpile`):
+# ROOT/<law>/<engine>-<SIZE>/<point>/seed<k>/ (law plain or rolling; see
+# scripts/dem/pile_record.py). No dump is read, so records made on
+# different machines and sessions pool. Every record of SIZE is checked
+# first (`pile_record.py list`): a bad one stops the analysis with one line
+# naming its file. A group is one law, engine and source (the hopper: the
+# source narrower than the plate, point source8; the sieve: as wide); per
+# group with at least 2 records:
+#   OUT/base-<law>-<engine>-<source>-SIZE.h5 and .csv: the records' profiles
+#     (each `ekmcompare base --last 1` of its run: the pile at rest, 2 d bins
+#     about the box's middle, the source's centre, aligned with the floor
+#     lattice) assembled by `pile_record.py group` in the layout of
+#     `ekmcompare base` (p_base_runs [runs][bins] in the order of the
+#     members; inputs names the records) and, when every record has its
+#     surface, h_runs, floor_grains_runs, pile_mass_runs for the local weight
 # and for all of them together scripts/dem/pile_stats.py --merge K
 # (default 5: 10 d bins), the hopper against the sieve per law and engine,
 # and the plain law against rolling resistance per source and engine:
 #   OUT/stats-SIZE.json, OUT/profiles-SIZE.h5, OUT/profiles-SIZE.csv;
-# and scripts/dem/pile_summary.py's table of the same runs per law (angles,
-# heights, extents): OUT/summary-<law>-SIZE.json. OUT defaults to results/sandpile.
-# Exit status: 0 ok; 1 usage; 2 no group with 2 runs, or a failing step's
-# own status (ekmcompare base, pile_stats.py: docs/exit-codes.md).
+# and scripts/dem/pile_summary.py's table of the records' summary rows per
+# law (angles, heights, extents): OUT/summary-<law>-SIZE.json (`pile_record.py
+# summary`). OUT defaults to results/sandpile.
+# Exit status: 0 ok; 1 usage; 2 a bad record (pile_record.py's line), ROOT
+# holding runs rather than records, or no group with 2 records; 3 ROOT
+# missing; otherwise a failing step's own status (pile_record.py,
+# pile_stats.py: docs/exit-codes.md).
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -31,49 +43,40 @@ while getopts "o:m:h" opt; do
   case $opt in
     o) out=$OPTARG ;;
     m) merge=$OPTARG ;;
-    h) sed -n '2,24p' "$0"; exit 0 ;;
+    h) sed -n '2,35p' "$0"; exit 0 ;;
     *) usage "bad option (see -h)" ;;
   esac
 done
 shift $((OPTIND - 1))
 [ $# -eq 2 ] || usage "usage: pile_analysis.sh [-o OUT] [-m K] ROOT SIZE"
-proot=$1; size=$2
-[ -d "$proot" ] || { echo "$prog: $proot: no such directory (the root of pile_rounds.sh)" >&2; exit 2; }
-ekmcompare=${EKMCOMPARE:-$root/build/compare/ekmcompare}
-[ -x "$ekmcompare" ] || { echo "$prog: ekmcompare not built: run make build (no executable $ekmcompare)" >&2; exit 7; }
+rroot=$1; size=$2
+[ -d "$rroot" ] || { echo "$prog: $rroot: no such directory (the root of the run records, results/sandpile/runs)" >&2; exit 3; }
+for d in "$rroot"/*/seed*/sandpile; do
+  [ -d "$d" ] || continue
+  echo "$prog: $rroot: holds runs of pile_rounds.sh ($d), expected run records: record them with scripts/dem/pile_record.sh, then give their root (results/sandpile/runs)" >&2
+  exit 2
+done
 mkdir -p "$out" || exit 3
+record=("/usr/bin/python3" -B "$here/pile_record.py")
 
-groups=(); compares=(); declare -A checked=()
+# law engine source point member dir, checked, in the order of the members
+listing=$("${record[@]}" list "$rroot" "$size") || exit
+groups=(); compares=()
 for law in plain rolling; do
   for engine in lammps liggghts; do
-    declare -A dumps=()
-    for dir in "$proot/$law"/seed*/sandpile/"$engine-$size"/*/; do
-      dir=${dir%/}
-      grep -qs '"status": "ok"' "$dir/run.json" || continue
-      if ! "$here/check_run.sh" --sandpile "$dir" > /dev/null 2>&1; then
-        echo "$prog: $dir: check_run.sh --sandpile fails: left out" >&2; continue
-      fi
-      sw=$(awk '$1 == "source_width" { print $3 }' "$dir/vars.txt")
-      lp=$(awk '$1 == "lp" { print $3 }' "$dir/vars.txt")
-      d=$(awk '$1 == "d" { print $3 }' "$dir/vars.txt")
-      src=$(awk -v w="$sw" -v lp="$lp" -v d="$d" 'BEGIN { print (w * d >= lp - 1e-9 * d ? "sieve" : "hopper") }')
-      dumps[$src]+="$dir/atoms.dump"$'\n'
-      checked[$law]+="$dir"$'\n'
-    done
     for src in hopper sieve; do
-      mapfile -t list < <(printf '%s' "${dumps[$src]:-}" | sort -V)
+      mapfile -t list < <(awk -v l="$law" -v e="$engine" -v s="$src" '$1 == l && $2 == e && $3 == s { print $6 }' <<< "$listing")
       if [ ${#list[@]} -lt 2 ]; then
-        echo "$prog: $law $engine $src: ${#list[@]} run(s), at least 2 needed: skipped" >&2; continue
+        echo "$prog: $law $engine $src: ${#list[@]} record(s), at least 2 needed: skipped" >&2; continue
       fi
       base=$out/base-$law-$engine-$src-$size
-      "$ekmcompare" base --last 1 --quiet -o "$base.h5" --csv "$base.csv" "${list[@]}" || exit
+      "${record[@]}" group -o "$base.h5" --csv "$base.csv" "${list[@]}" || exit
       groups+=("$engine/$law/$src=$base.h5")
       echo "$prog: $law $engine $src: ${#list[@]} runs -> $base.h5"
     done
-    unset dumps
   done
 done
-[ ${#groups[@]} -gt 0 ] || { echo "$prog: $proot: no group with 2 finished runs of size $size" >&2; exit 2; }
+[ ${#groups[@]} -gt 0 ] || { echo "$prog: $rroot: no group with 2 records of size $size" >&2; exit 2; }
 have() { local g; for g in "${groups[@]}"; do [ "${g%%=*}" = "$1" ] && return 0; done; return 1; }
 for engine in lammps liggghts; do
   for law in plain rolling; do
@@ -86,7 +89,7 @@ done
 /usr/bin/python3 -B "$here/pile_stats.py" --merge "$merge" -o "$out/stats-$size.json" \
   --h5 "$out/profiles-$size.h5" --csv "$out/profiles-$size.csv" "${compares[@]}" "${groups[@]}" || exit
 for law in plain rolling; do
-  mapfile -t list < <(printf '%s' "${checked[$law]:-}" | sort -V)
+  mapfile -t list < <(awk -v l="$law" '$1 == l { print $6 }' <<< "$listing" | sort -V)
   [ ${#list[@]} -gt 0 ] || continue
-  /usr/bin/python3 -B "$here/pile_summary.py" --runs -o "$out/summary-$law-$size.json" "${list[@]}" || exit
+  "${record[@]}" summary -o "$out/summary-$law-$size.json" "${list[@]}" || exit
 done

@@ -55,7 +55,12 @@ the observable"). Per group:
             P(x) / W(x) with its bootstrap SE; the floor grains per base bin
             (aligned bins hold the same number; p is renormalised by
             n_mean / n_bin otherwise, and the largest |n_bin/n_mean - 1| is
-            reported)
+            reported). In a file assembled from run records
+            (scripts/dem/pile_record.py group) the same numbers per run are
+            its h_runs, floor_grains_runs and pile_mass_runs (computed from
+            each dump when it was recorded); when some record has none
+            (recovered from an earlier group file) the group has no local
+            weight and says so (local_weight_missing)
 --compare A,B (repeatable): D_A - D_B with its bootstrap SE (independent
 groups) and a two-sided permutation test over the pooled runs (--perm N
 relabellings): p = (1 + #{|T*| >= |T|}) / (1 + N), and the same for D_fit;
@@ -97,7 +102,10 @@ def die(code, msg):
 
 # ---------------------------------------------------------------- inputs
 def read_base(path):
-    """(x, dx, centre, y_period, runs [R][n], inputs) of an ekmcompare base HDF5."""
+    """(x, dx, centre, y_period, runs [R][n], inputs, surface) of an ekmcompare base HDF5;
+    surface: (h_runs, floor_grains_runs, pile_mass_runs) of a file assembled from
+    run records (pile_record.py group) when every record had its surface, the
+    string "records" when some had none, None for ekmcompare's own output."""
     if not os.path.exists(path):
         die(3, "%s: no such file" % path)
     try:
@@ -119,6 +127,17 @@ def read_base(path):
         inputs = f.attrs.get("inputs", "")
         if isinstance(inputs, bytes):
             inputs = inputs.decode()
+        surface = None
+        if "h_runs" in f:
+            for name in ("floor_grains_runs", "pile_mass_runs"):
+                if name not in f:
+                    die(2, "%s: h_runs without %s (expected the output of pile_record.py group)" % (path, name))
+            surface = tuple(np.asarray(f[k][...], dtype=float) for k in ("h_runs", "floor_grains_runs", "pile_mass_runs"))
+            if surface[0].shape != runs.shape or surface[1].shape != runs.shape or surface[2].shape != runs.shape[:1]:
+                die(2, "%s: h_runs, floor_grains_runs: expected [%d runs][%d bins] as p_base_runs, pile_mass_runs "
+                    "[%d]" % (path, runs.shape[0], x.size, runs.shape[0]))
+        elif "assembled" in f.attrs:
+            surface = "records"
     if runs.ndim != 2 or runs.shape[1] != x.size:
         die(2, "%s: p_base_runs: expected [runs][%d bins], got shape %s" % (path, x.size, runs.shape))
     if runs.shape[0] < 2:
@@ -126,7 +145,7 @@ def read_base(path):
             % (path, runs.shape[0]))
     if not (dx > 0 and ly > 0):
         die(2, "%s: expected dx > 0 and y_period > 0, got %g and %g" % (path, dx, ly))
-    return x, dx, centre, ly, runs, [s for s in inputs.split("\n") if s]
+    return x, dx, centre, ly, runs, [s for s in inputs.split("\n") if s], surface
 
 
 def last_frame(path):
@@ -262,11 +281,19 @@ def boot_indices(rng, R, B):
 
 
 def summarise(name, path, args, rng):
-    x, dx, centre, ly, runs, inputs = read_base(path)
+    x, dx, centre, ly, runs, inputs, surface = read_base(path)
     R, n = runs.shape
     info = {"file": path, "runs": R, "bins": n, "dx": dx, "centre": centre, "y_period": ly}
     W = None
-    if not args.no_dumps:
+    hs = None
+    if args.no_dumps:
+        pass
+    elif isinstance(surface, tuple):  # from the run records
+        hs, ns, ms = surface
+    elif surface == "records":
+        info["local_weight_missing"] = ("assembled from run records of which some have no surface (recovered "
+                                        "from group files): no local weight, no floor-count renormalisation")
+    else:
         if len(inputs) != R:
             die(2, "%s: inputs names %d dumps for %d runs (or give --no-dumps)" % (path, len(inputs), R))
         hs, ns, ms = [], [], []
@@ -278,6 +305,7 @@ def summarise(name, path, args, rng):
             ns.append(nfl)
             ms.append(mass)
         hs, ns, ms = np.array(hs), np.array(ns), np.array(ms)
+    if hs is not None:
         plate = ns.sum(axis=0) > 0
         nmean = ns[:, plate].mean()
         with np.errstate(divide="ignore", invalid="ignore"):

@@ -150,7 +150,12 @@ def ensemble(root, out):
 
 
 def table(dirs, root, out):
-    rows = [summarise(run) for run in dirs]
+    write_table([summarise(run) for run in dirs], root, out)
+
+
+def write_table(rows, root, out):
+    """OUT: the rows (their "run" made relative to root) and per engine,
+    size and point the mean and SE over them (also pile_record.py summary)."""
     groups = {}
     for r in rows:
         groups.setdefault((r["engine"], r["size"], r["point"]), []).append(r)
