@@ -9,6 +9,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "schema.h"
+
 #include "atomic.h"
 
 _Static_assert(sizeof(int) == 4, "EKM_H5_INT datasets are int32: int must be 32 bits");
@@ -343,6 +345,15 @@ ekm_status ekm_h5_write_double(ekm_h5_file *f, const char *name, int rank, const
                                const double *data, const char *units, const char *description, ekm_error *err)
 {
     return ekm_h5_write(f, name, EKM_H5_DOUBLE, rank, dims, data, units, description, err);
+}
+
+ekm_status ekm_h5_write_field(ekm_h5_file *f, const char *name, int rank, const size_t *dims,
+                              const double *data, ekm_error *err)
+{
+    const char *units = ekm_field_units(name);
+    if (!units)
+        return EKM_FAIL(err, EKM_EINTERNAL, "%s: no units for %s in the field schema", f->path, name);
+    return ekm_h5_write_double(f, name, rank, dims, data, units, NULL, err);
 }
 
 ekm_status ekm_h5_write_int(ekm_h5_file *f, const char *name, int rank, const size_t *dims, const int *data,

@@ -87,6 +87,11 @@ ekm_status ekm_h5_write_double(ekm_h5_file *f, const char *name, int rank, const
 ekm_status ekm_h5_write_int(ekm_h5_file *f, const char *name, int rank, const size_t *dims, const int *data,
                             const char *units, const char *description, ekm_error *err);
 
+/* A dataset of the field schema (common/schema.h): as ekm_h5_write_double,
+ * its units the schema's; a name the schema lacks is EKM_EINTERNAL. */
+ekm_status ekm_h5_write_field(ekm_h5_file *f, const char *name, int rank, const size_t *dims,
+                              const double *data, ekm_error *err);
+
 /* An extendible dataset of rank 1-3: first dimension 0 and unlimited,
  * the others row_dims[rank-1]; chunks of chunk_rows rows. */
 ekm_status ekm_h5_create_series(ekm_h5_file *f, const char *name, ekm_h5_type type, int rank,

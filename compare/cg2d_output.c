@@ -10,17 +10,7 @@
 #include "atomic.h"
 #include "cg_output.h"
 #include "h5.h"
-#include "schema.h"
 #include "xdmf.h"
-
-static ekm_status dataset(ekm_h5_file *w, const char *name, const double *data, int rank, const size_t *dims,
-                          ekm_error *err)
-{
-    const char *units = ekm_field_units(name);
-    if (!units)
-        return EKM_FAIL(err, EKM_EINTERNAL, "%s: no units for %s in the field schema", ekm_h5_path(w), name);
-    return ekm_h5_write_double(w, name, rank, dims, data, units, NULL, err);
-}
 
 static int nfields_of(const cg_run_opts *o)
 {
@@ -166,23 +156,23 @@ ekm_status cg2d_output_h5(const cg2d_output *st, ekm_error *err)
     if (!rc)
         rc = centres(&g->gz, &zc, err);
     if (!rc)
-        rc = dataset(w, "x", xc, 1, &g->gx.n, err);
+        rc = ekm_h5_write_field(w, "x", 1, &g->gx.n, xc, err);
     if (!rc)
-        rc = dataset(w, "z", zc, 1, &g->gz.n, err);
+        rc = ekm_h5_write_field(w, "z", 1, &g->gz.n, zc, err);
     free(xc);
     free(zc);
     if (!rc)
-        rc = dataset(w, "t", r->t, 1, &r->nt, err);
+        rc = ekm_h5_write_field(w, "t", 1, &r->nt, r->t, err);
     if (!rc)
-        rc = dataset(w, "nsnapshots", r->nsnap, 1, &r->nt, err);
+        rc = ekm_h5_write_field(w, "nsnapshots", 1, &r->nt, r->nsnap, err);
     int nfield = nfields_of(o);
     const size_t dims[3] = {r->nt, g->gz.n, g->gx.n};
     char name[64];
     for (int f = 0; f < nfield && !rc; f++) {
-        rc = dataset(w, cg2d_field_name(f), r->f[f], 3, dims, err);
+        rc = ekm_h5_write_field(w, cg2d_field_name(f), 3, dims, r->f[f], err);
         snprintf(name, sizeof name, "%s_se", cg2d_field_name(f));
         if (!rc)
-            rc = dataset(w, name, r->se[f], 3, dims, err);
+            rc = ekm_h5_write_field(w, name, 3, dims, r->se[f], err);
     }
     if (!rc)
         rc = write_attrs(w, st, err);

@@ -9,7 +9,6 @@
 
 #include "atomic.h"
 #include "h5.h"
-#include "schema.h"
 #include "xdmf.h"
 
 static const char *const axis_names[3] = {"x", "y", "z"};
@@ -18,13 +17,9 @@ static const char *const axis_names[3] = {"x", "y", "z"};
 static ekm_status dataset(ekm_h5_file *w, const char *name, const double *data, size_t nt, size_t n,
                           ekm_error *err)
 {
-    const char *units = ekm_field_units(name);
-    if (!units)
-        return EKM_FAIL(err, EKM_EINTERNAL, "%s: no units for %s in the field schema", ekm_h5_path(w), name);
-    size_t dims[2] = {nt, n};
-    if (nt == 0)
-        return ekm_h5_write_double(w, name, 1, &n, data, units, NULL, err);
-    return ekm_h5_write_double(w, name, 2, dims, data, units, NULL, err);
+    const size_t dims[2] = {nt, n};
+    return nt == 0 ? ekm_h5_write_field(w, name, 1, &n, data, err)
+                   : ekm_h5_write_field(w, name, 2, dims, data, err);
 }
 
 /* The sidecar's series: every [nt][n] field and its standard error, the

@@ -10,7 +10,6 @@
 #include "atomic.h"
 #include "dump.h"
 #include "h5.h"
-#include "schema.h"
 
 #define BASE_MAX_BINS 1e7
 
@@ -294,15 +293,6 @@ static ekm_status read_run(base_state *st, const char *path, size_t irun, ekm_er
     return EKM_OK;
 }
 
-static ekm_status dataset(ekm_h5_file *w, const char *name, const double *data, int rank, const size_t *dims,
-                          ekm_error *err)
-{
-    const char *units = ekm_field_units(name);
-    if (!units)
-        return EKM_FAIL(err, EKM_EINTERNAL, "%s: no units for %s in the field schema", ekm_h5_path(w), name);
-    return ekm_h5_write_double(w, name, rank, dims, data, units, NULL, err);
-}
-
 static ekm_status write_h5(const base_state *st, const double *p, const double *se, const double *fold,
                            ekm_error *err)
 {
@@ -319,16 +309,16 @@ static ekm_status write_h5(const base_state *st, const double *p, const double *
     for (size_t k = 0; k < st->n; k++)
         xc[k] = st->lo + ((double)k + 0.5) * st->dx;
     const size_t dims2[2] = {st->nruns, st->n};
-    rc = dataset(w, "x", xc, 1, &st->n, err);
+    rc = ekm_h5_write_field(w, "x", 1, &st->n, xc, err);
     free(xc);
     if (!rc)
-        rc = dataset(w, "p_base", p, 1, &st->n, err);
+        rc = ekm_h5_write_field(w, "p_base", 1, &st->n, p, err);
     if (!rc)
-        rc = dataset(w, "p_base_se", se, 1, &st->n, err);
+        rc = ekm_h5_write_field(w, "p_base_se", 1, &st->n, se, err);
     if (!rc)
-        rc = dataset(w, "p_base_se_fold", fold, 1, &st->n, err);
+        rc = ekm_h5_write_field(w, "p_base_se_fold", 1, &st->n, fold, err);
     if (!rc)
-        rc = dataset(w, "p_base_runs", st->runs, 2, dims2, err);
+        rc = ekm_h5_write_field(w, "p_base_runs", 2, dims2, st->runs, err);
     char inputs[4096] = "", window[256], ftype[32];
     size_t used = 0;
     for (size_t i = 0; i < o->ninputs && used + 2 < sizeof inputs; i++)
