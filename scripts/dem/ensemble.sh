@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # ensemble.sh: run the seed ensemble of a DEM scenario in one engine at one size.
 #
-#   scripts/dem/ensemble.sh [-f] [-o DIR] [-m K] [-s key=value]... SCENARIO ENGINE SIZE
+#   scripts/dem/ensemble.sh [-f] [-o DIR] [-m K] [-s key=value]... [-P TAG]... SCENARIO ENGINE SIZE
 #
 # The ensemble has [dem] seeds members (the <engine>.<size>. lookup of the
 # resolved scenario, `ekmscenario ... --json`); member k = 1..N runs every
@@ -17,6 +17,7 @@
 #           member, e.g. -s rolling_friction=0.1 (give such a variant its
 #           own -o DIR: run.sh redoes a run whose variables changed)
 #   -l      list the members, one "k seed" per line, and run nothing
+#   -P TAG  passed to run.sh (repeatable): only the sweep point TAG
 #
 # Exit status (docs/exit-codes.md): 0 all members ok; 1 usage; 2 scenario
 # error (no [dem] seeds for this engine and size: the reader's or this
@@ -28,19 +29,20 @@ prog=ensemble.sh
 usage() { echo "$prog: $*" >&2; exit 1; }
 
 force=(); outroot=$root/runs/ensemble; member=""; list=0; sets=()
-while getopts "flo:m:s:h" opt; do
+while getopts "flo:m:s:P:h" opt; do
   case $opt in
     f) force=(-f) ;;
     l) list=1 ;;
     o) outroot=$OPTARG ;;
     m) member=$OPTARG ;;
     s) sets+=(-s "$OPTARG") ;;
-    h) sed -n '2,24p' "$0"; exit 0 ;;
+    P) sets+=(-P "$OPTARG") ;;
+    h) sed -n '2,25p' "$0"; exit 0 ;;
     *) usage "bad option (see -h)" ;;
   esac
 done
 shift $((OPTIND - 1))
-[ $# -eq 3 ] || usage "usage: ensemble.sh [-f] [-o DIR] [-m K] [-s key=value]... SCENARIO ENGINE SIZE"
+[ $# -eq 3 ] || usage "usage: ensemble.sh [-f] [-o DIR] [-m K] [-s key=value]... [-P TAG]... SCENARIO ENGINE SIZE"
 scen=$1; engine=$2; size=$3
 [[ $scen =~ ^[A-Za-z0-9_-]+$ ]] || usage "bad scenario name '$scen'"
 ini=$root/scenarios/$scen.ini

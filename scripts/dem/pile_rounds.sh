@@ -19,9 +19,9 @@
 # results/sandpile/runs; scripts/dem/pile_record.sh: its base profile,
 # summary row, surface, run.json and vars.txt, about 15 kB): runs/pile is
 # not committed and goes with the machine, the records are what
-# scripts/dem/pile_analysis.sh reads. A member whose every point (`run.sh
-# -l`) has its record already is skipped, on any machine: commit the
-# records and the ensemble grows from where it stood.
+# scripts/dem/pile_analysis.sh reads. Only the points (`run.sh -l`) of a
+# member without a record are run (ensemble.sh -P), on any machine: commit
+# the records and the ensemble grows from where it stood.
 # One DEM process at a time; run it in the background, e.g.
 #   nohup nice -n 19 scripts/dem/pile_rounds.sh ref > runs/pile.log 2>&1 &
 # Exit status: 0 every run ok and recorded; 1 usage; otherwise the worst
@@ -77,15 +77,17 @@ for ((k = first; k <= last; k++)); do
       fi
       # the member's points, and which of them have no record yet
       points=$("$here/run.sh" -l "${sets[@]+"${sets[@]}"}" sandpile "$e" "$size" | cut -d'|' -f1) || { note 2; continue; }
-      todo=0
+      todo=()
       for pt in $points; do
-        [ -d "$records/$variant/$e-$size/$pt/seed$k" ] || todo=1
+        [ -d "$records/$variant/$e-$size/$pt/seed$k" ] || todo+=(-P "$pt")
       done
-      if [ $todo -eq 0 ]; then
+      if [ ${#todo[@]} -eq 0 ]; then
         echo "$prog: member $k, $e, $variant: recorded ($records/$variant/$e-$size/*/seed$k): skipped"; continue
       fi
       echo "$prog: member $k, $e, $variant ($(date -u +%H:%M:%S))"
-      "$here/ensemble.sh" -m "$k" -o "$out/$variant" "${sets[@]+"${sets[@]}"}" sandpile "$e" "$size"; note $?
+      # only the points without a record (-P)
+      "$here/ensemble.sh" -m "$k" -o "$out/$variant" "${sets[@]+"${sets[@]}"}" "${todo[@]}" sandpile "$e" "$size"
+      note $?
       dirs=()
       for pt in $points; do
         d=$out/$variant/seed$k/sandpile/$e-$size/$pt

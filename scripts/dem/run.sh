@@ -19,6 +19,8 @@
 #             empty: a single case in the top directory), and run nothing
 #   -p        print the deck variables of every point ("== TAG" and then
 #             vars.txt as it would be written), and run nothing
+#   -P TAG    run (list, print) only the sweep point TAG (repeatable; a TAG
+#             the scenario lacks: exit 1 naming it)
 #
 # Every value comes from the resolved scenario, `ekmscenario FILE --engine
 # ENGINE --size SIZE --json` (docs/resolved-scenario.md; EKMSCENARIO= names
@@ -50,7 +52,8 @@ usage() { echo "$prog: $*" >&2; exit 1; }
 die() { echo "$prog: $*" >&2; exit 2; }
 
 force=0; np=1; outroot="$root/runs"; sets=(); cfile=""; list=0; printvars=0
-while getopts "flpn:s:o:c:h" opt; do
+only=()
+while getopts "flpn:s:o:c:P:h" opt; do
   case $opt in
     f) force=1 ;;
     l) list=1 ;;
@@ -59,7 +62,8 @@ while getopts "flpn:s:o:c:h" opt; do
     s) sets+=("$OPTARG") ;;
     o) outroot=$OPTARG ;;
     c) cfile=$OPTARG ;;
-    h) sed -n '2,40p' "$0"; exit 0 ;;
+    P) only+=("$OPTARG") ;;
+    h) sed -n '2,42p' "$0"; exit 0 ;;
     *) usage "bad option (see -h)" ;;
   esac
 done
@@ -256,6 +260,15 @@ else
     set -f; pset=(${p#*|}); set +f
     for ((i = 0; i < ${#pset[@]}; i += 2)); do num "${pset[i]}" "${pset[i+1]}"; done
   done
+fi
+if [ ${#only[@]} -gt 0 ]; then # -P: the named points only, each one the scenario has
+  kept=()
+  for tag in "${only[@]}"; do
+    found=0
+    for p in "${points[@]}"; do [ "${p%%|*}" = "$tag" ] && { kept+=("$p"); found=1; }; done
+    [ $found -eq 1 ] || usage "-P $tag: $scen has no sweep point $tag (run.sh -l lists them)"
+  done
+  points=("${kept[@]}")
 fi
 if [ $list -eq 1 ]; then printf '%s\n' "${points[@]}"; exit 0; fi
 need dem.timeout; timeout_s=${K[dem.timeout]}
