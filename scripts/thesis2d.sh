@@ -128,12 +128,18 @@ $py -B - "$runs" "$res/thesis_sandpile_2d/base_rows.json" <<'PY'
 import json, os, sys
 import h5py
 runs, out = sys.argv[1], sys.argv[2]
+# a partial batch (FIGURES_ONLY) keeps the rows of the runs not made here
+old = {}
+if os.path.exists(out):
+    with open(out) as fh:
+        old = json.load(fh).get("rows", {})
 rows = {}
 for name in ("narrow_56x28", "narrow_112x56", "narrow7_28x14", "narrow7_56x28", "narrow7_112x56",
              "wide_56x28", "2sources7_28x14", "2sources7_56x28", "narrow7stop1_56x28",
              "narrow7stop1_112x56", "narrow7stop1norules_56x28"):
     path = os.path.join(runs, "pile_%s.h5" % name)
-    if not os.path.exists(path):   # a partial batch (FIGURES_ONLY): the runs made so far
+    if not os.path.exists(path):   # a partial batch (FIGURES_ONLY): the rows it had
+        rows.update({k: r for k, r in old.items() if k.startswith(name + "_at_")})
         continue
     with h5py.File(path, "r") as f:
         t = list(f["t"][:])
