@@ -34,6 +34,10 @@ typedef struct {
     int n_inlets;         /* inflow, 2D: how many segments (1 unless inlet_x lists more) */
     double inlet_width;   /* inflow, 2D: width of each inlet segment, NAN: the whole end; the end's
                            * faces whose centres lie in one are the inlet, the rest a resting wall [m] */
+    double plate_x;       /* wall, 2D: centre of the plate the wall is [m] (default: the middle) */
+    double plate_width;   /* wall, 2D: width of that plate, NAN: the whole end; the end's faces
+                           * whose centres lie outside it are open (free: zero stress, material
+                           * leaves, nothing enters) [m] */
     double period;        /* piston: period of the velocity program [s] */
     double w_return;      /* piston: w in the second half of each period, NAN: -w [m/s] */
     double pressure;      /* wall (top only): normal stress held on the moving wall, NAN: the wall

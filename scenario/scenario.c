@@ -54,6 +54,8 @@ typedef struct {
     BC(side, t_start, KEY_DOUBLE, "inflow"),           \
     BC(side, inlet_x, KEY_DOUBLES, "inflow"),          \
     BC(side, inlet_width, KEY_DOUBLE, "inflow"),       \
+    BC(side, plate_x, KEY_DOUBLE, "wall"),             \
+    BC(side, plate_width, KEY_DOUBLE, "wall"),         \
     BC(side, period, KEY_DOUBLE, "piston"),            \
     BC(side, w_return, KEY_DOUBLE, "piston"),          \
     BC(side, pressure, KEY_DOUBLE, "wall"),            \
@@ -154,6 +156,8 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     s->bottom.inlet_x[0] = s->top.inlet_x[0] = NAN;   /* the middle of the end (set by the reader) */
     s->bottom.n_inlets = s->top.n_inlets = 1;         /* one segment */
     s->bottom.inlet_width = s->top.inlet_width = NAN; /* the whole end */
+    s->bottom.plate_x = s->top.plate_x = NAN;         /* the middle of the end (set by the reader) */
+    s->bottom.plate_width = s->top.plate_width = NAN; /* a wall over the whole end */
     s->bottom.w_return = s->top.w_return = NAN;       /* piston: -w */
     s->bottom.pressure = s->top.pressure = NAN;       /* the wall stays put */
     s->bottom.pressure_rate = s->top.pressure_rate = 1.0;
@@ -767,6 +771,49 @@ static ekm_status check_inlets(const parse_ctx *c, const ekm_scenario *s, const 
     return EKM_OK;
 }
 
+/* A wall end's plate ([bottom]/[top] plate_x, plate_width; 2D): inside the
+ * end, holding a face centre, on a wall that stays put (a moving wall
+ * with openings is not a model here). */
+static ekm_status check_plate(const parse_ctx *c, ekm_scenario *s, const char *end, ekm_bc *bc,
+                              ekm_error *err)
+{
+    char w_[600];
+    if (given(c, end, "plate_x") && !given(c, end, "plate_width"))
+        return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] plate_x: needs [%s] plate_width (the plate's width [m])",
+                        where(c, end, "plate_x", w_, sizeof w_), end, end);
+    if (!given(c, end, "plate_width"))
+        return EKM_OK;
+    if (!given(c, end, "plate_x"))
+        bc->plate_x = 0.5 * s->width; /* centred */
+    RANGE(bc->plate_width > 0.0, end, "plate_width", "a width > 0 [m]", bc->plate_width);
+    if (isfinite(bc->pressure) || isfinite(bc->shear_rate))
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [%s] plate_width: a wall with openings must stay put (no pressure, no "
+                        "shear_rate on the same end)",
+                        where(c, end, "plate_width", w_, sizeof w_), end);
+    const double lo = bc->plate_x - 0.5 * bc->plate_width, hi = bc->plate_x + 0.5 * bc->plate_width;
+    const double slack = 1e-12 * s->width;
+    if (!(lo >= -slack && hi <= s->width + slack)) {
+        const char *key = given(c, end, "plate_x") ? "plate_x" : "plate_width";
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [%s] %s: the plate [%g, %g] m is outside the %s boundary [0, %g] m "
+                        "(plate_x +- plate_width/2 must lie in [0, [domain] width])",
+                        where(c, end, key, w_, sizeof w_), end, key, lo, hi, end, s->width);
+    }
+    int faces = 0;
+    for (int i = 0; i < s->cells_x; i++) {
+        const double xc = (i + 0.5) * s->width / s->cells_x;
+        faces += xc >= lo && xc <= hi;
+    }
+    if (faces == 0)
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [%s] plate_width: the plate [%g, %g] m holds no face centre of the %d cells "
+                        "along x (%g m wide): widen it or refine cells_x",
+                        where(c, end, "plate_width", w_, sizeof w_), end, lo, hi, s->cells_x,
+                        s->width / s->cells_x);
+    return EKM_OK;
+}
+
 /* The keys of a 2D domain's boundaries: the side walls ([left], [right]:
  * a box with walls, not periodic in x) and an inflow's opening time and
  * inlet segments (a domain with a width): check_inlets. */
@@ -804,13 +851,18 @@ static ekm_status check_boundaries_2d(const parse_ctx *c, ekm_scenario *s, ekm_e
                             where(c, "numerics", keys_2d[k], w_, sizeof w_), keys_2d[k]);
     const char *ends[2] = {"bottom", "top"};
     ekm_bc *eb[2] = {&s->bottom, &s->top};
-    const char *keys2d[3] = {"t_start", "inlet_x", "inlet_width"};
+    const char *keys2d[5] = {"t_start", "inlet_x", "inlet_width", "plate_x", "plate_width"};
     for (int k = 0; k < 2; k++) {
         ekm_bc *bc = eb[k];
-        for (int q = 0; q < 3; q++)
+        for (int q = 0; q < 5; q++)
             if (given(c, ends[k], keys2d[q]) && !isfinite(s->width))
                 return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: needs [domain] width (a key of a 2D domain)",
                                 where(c, ends[k], keys2d[q], w_, sizeof w_), ends[k], keys2d[q]);
+        if (bc->kind == EKM_BC_WALL) {
+            const ekm_status st = check_plate(c, s, ends[k], bc, err);
+            if (st != EKM_OK)
+                return st;
+        }
         if (bc->kind != EKM_BC_INFLOW)
             continue;
         RANGE(bc->t_start >= 0.0 && bc->t_start < bc->t_stop, ends[k], "t_start",

@@ -37,6 +37,28 @@ static int inlet_columns(ekm2d_grid *g, int k, int q, const ekm_bc *bc)
     return *hi_col >= *lo_col;
 }
 
+/* The face columns of end k's plate ([bottom]/[top] plate_width, a wall;
+ * without one the whole end); 0 when the plate holds none. */
+static int plate_columns(ekm2d_grid *g, int k, const ekm_bc *bc)
+{
+    g->plate_lo[k] = 0;
+    g->plate_hi[k] = g->nx - 1;
+    if (bc->kind != EKM_BC_WALL || !isfinite(bc->plate_width))
+        return 1;
+    const double lo = bc->plate_x - 0.5 * bc->plate_width, hi = bc->plate_x + 0.5 * bc->plate_width;
+    g->plate_lo[k] = g->nx;
+    g->plate_hi[k] = -1;
+    for (PetscInt i = 0; i < g->nx; i++) {
+        const double xc = (i + 0.5) * g->dx;
+        if (xc >= lo && xc <= hi) {
+            if (i < g->plate_lo[k])
+                g->plate_lo[k] = i;
+            g->plate_hi[k] = i;
+        }
+    }
+    return g->plate_hi[k] >= g->plate_lo[k];
+}
+
 ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *g, ekm_error *err)
 {
     memset(g, 0, sizeof *g);
@@ -58,6 +80,9 @@ ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *
             if (!inlet_columns(g, k, q, ends[k]))
                 return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] inlet_width: the inlet holds no face centre",
                                 sc->source, k ? "top" : "bottom");
+        if (!plate_columns(g, k, ends[k]))
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] plate_width: the plate holds no face centre",
+                            sc->source, k ? "top" : "bottom");
     }
     TRY(DMStagCreate2d(comm, g->periodic ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, g->nx,
                        g->nz, PETSC_DECIDE, PETSC_DECIDE, sc->hypo.enabled ? 1 : 0, 1,
@@ -121,6 +146,12 @@ ekm2d_end ekm2d_grid_end(const ekm2d_grid *g, int top, double t)
     e.kind = bc->kind;
     if (bc->kind == EKM_BC_INFLOW && (t < bc->t_start || t >= bc->t_stop))
         e.kind = EKM_BC_WALL; /* closed: a resting wall */
+    e.plate_lo = 0;
+    e.plate_hi = g->nx - 1;
+    if (bc->kind == EKM_BC_WALL) {
+        e.plate_lo = g->plate_lo[top];
+        e.plate_hi = g->plate_hi[top];
+    }
     if (e.kind == EKM_BC_WALL || e.kind == EKM_BC_INFLOW) {
         e.u_wall = bc->kind == EKM_BC_WALL ? bc->velocity : 0.0;
         e.conductance = 1.0 / (0.5 * g->dz + (bc->kind == EKM_BC_WALL ? bc->slip_length : 0.0));

@@ -49,6 +49,9 @@ typedef struct {
     int n_inlets[2];            /* bottom, top: the inlet segments (one: the whole end without) */
     /* bottom, top: each segment's first and last face column */
     PetscInt inlet_lo[2][EKM_INLETS_MAX], inlet_hi[2][EKM_INLETS_MAX];
+    /* bottom, top: a wall with a plate ([bottom] plate_width): its first and
+     * last face column (without one: 0 and nx - 1) */
+    PetscInt plate_lo[2], plate_hi[2];
     DM dm, dmv, dmt;                 /* state, velocity unknowns, temperature unknowns */
     PetscInt s_phi, s_T, s_vx, s_vz; /* slots of dm's arrays */
     PetscInt s_sxx, s_syy, s_szz;    /* ... the solid regime's (-1 without it) */
@@ -71,6 +74,9 @@ typedef struct {
         conductance; /* wall (also an inflow end beside its inlet): 1/(dz/2 + slip_length) [1/m]; free: 0 */
     int n_inlets;    /* inflow: its segments q < n_inlets, face columns lo[q] .. hi[q] */
     PetscInt inlet_lo[EKM_INLETS_MAX], inlet_hi[EKM_INLETS_MAX];
+    /* wall: the plate's face columns plate_lo .. plate_hi (the whole end
+     * without [bottom]/[top] plate_width); the faces outside are open */
+    PetscInt plate_lo, plate_hi;
 } ekm2d_end;
 
 /* The grid of sc on comm (collective).  EKM_EINPUT: an inlet segment that
@@ -93,6 +99,20 @@ static inline int ekm2d_inlet_face(const ekm2d_grid *g, const ekm2d_end *e, Pets
         if (i >= e->inlet_lo[q] && i <= e->inlet_hi[q])
             return 1;
     return 0;
+}
+
+/* z-face column i of end e is open: a free end, or a wall's face beside
+ * its plate ([bottom] plate_width): zero stress, its vz that of the face
+ * inwards, material leaves and nothing enters (ekm2d_flux_z). */
+static inline int ekm2d_open_face(const ekm2d_grid *g, const ekm2d_end *e, PetscInt i)
+{
+    if (e->kind == EKM_BC_FREE)
+        return 1;
+    if (e->kind != EKM_BC_WALL)
+        return 0;
+    if (g->periodic)
+        i = (i % g->nx + g->nx) % g->nx;
+    return i < e->plate_lo || i > e->plate_hi;
 }
 
 /* vz of z-face column i of end e when it is prescribed [m/s]: an open

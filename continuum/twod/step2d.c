@@ -92,12 +92,12 @@ static void boundaries(ekm2d_step *st, PetscScalar ***u, double dt)
         if (g->gz0 == 0) {
             const ekm2d_end *e = &st->bottom;
             u[0][i][g->s_vz] =
-                e->kind == EKM_BC_FREE ? (g->nz > 1 ? u[1][i][g->s_vz] : 0.0) : ekm2d_end_face_w(g, e, i);
+                ekm2d_open_face(g, e, i) ? (g->nz > 1 ? u[1][i][g->s_vz] : 0.0) : ekm2d_end_face_w(g, e, i);
         }
         if (g->gz0 + g->gnz > g->nz) {
             const ekm2d_end *e = &st->top;
             u[g->nz][i][g->s_vz] =
-                e->kind == EKM_BC_FREE ? u[g->nz - 1][i][g->s_vz] : ekm2d_end_face_w(g, e, i);
+                ekm2d_open_face(g, e, i) ? u[g->nz - 1][i][g->s_vz] : ekm2d_end_face_w(g, e, i);
         }
     }
     for (PetscInt j = g->gz0; j < g->gz0 + g->gnz; j++)

@@ -50,7 +50,7 @@ static int surface_cell(const ekm2d_step *st, PetscInt i, PetscInt j)
         !(BOX(st, phi_new, i, j + 1) < fmax(st->sc->numerics.phi_vacuum, st->sc->numerics.phi_dry)))
         return 0;
     if (j == 0)
-        return st->bottom.kind == EKM_BC_WALL;
+        return st->bottom.kind == EKM_BC_WALL && !ekm2d_open_face(g, &st->bottom, i);
     return ekm2d_cell_ok(g, i, j - 1) && !BOX(st, dry, i, j - 1) &&
            BOX(st, phi_new, i, j - 1) >= st->sc->material.phi_co;
 }

@@ -78,7 +78,7 @@ static void vf_add(const ekm2d_step *st, vform *f, DMStagStencilLocation loc, Pe
         return;
     if (loc == DMSTAG_DOWN && (j == 0 || j == g->nz)) {
         const ekm2d_end *e = j == 0 ? &st->bottom : &st->top;
-        if (e->kind == EKM_BC_FREE) {
+        if (ekm2d_open_face(g, e, i)) {
             j = j == 0 ? 1 : g->nz - 1;
         } else {
             f->c += a * ekm2d_end_face_w(g, e, i);
@@ -142,7 +142,8 @@ static int corner_form(const ekm2d_step *st, PetscInt i, PetscInt j, vform *f, d
     }
     if (j == 0 || j == g->nz) {
         const ekm2d_end *e = j == 0 ? &st->bottom : &st->top;
-        if (e->kind == EKM_BC_FREE || ekm2d_inlet_face(g, e, i - 1) || ekm2d_inlet_face(g, e, i))
+        if (ekm2d_open_face(g, e, i - 1) || ekm2d_open_face(g, e, i) || ekm2d_inlet_face(g, e, i - 1) ||
+            ekm2d_inlet_face(g, e, i))
             return 0;
         const PetscInt jc = j == 0 ? 0 : g->nz - 1;
         const double k = e->conductance;
@@ -375,8 +376,8 @@ static PetscErrorCode momentum_row(ekm2d_step *st, DMStagStencilLocation loc, Pe
     vf_axpy(st, &cpl, -dt * dt / h_n * BOX(st, K, i, j), &h);
     divergence_form(st, ia, ja, &h);
     vf_axpy(st, &cpl, dt * dt / h_n * BOX(st, K, ia, ja), &h);
-    const int next_to_free = !along_x && ((j == 1 && st->bottom.kind == EKM_BC_FREE) ||
-                                          (j == g->nz - 1 && st->top.kind == EKM_BC_FREE));
+    const int next_to_free = !along_x && ((j == 1 && ekm2d_open_face(g, &st->bottom, i)) ||
+                                          (j == g->nz - 1 && ekm2d_open_face(g, &st->top, i)));
     for (int k = 0; next_to_free && k < cpl.n; k++)
         if (cpl.col[k].loc == loc && cpl.col[k].i == i && cpl.col[k].j == j && cpl.val[k] < 0.0)
             cpl.val[k] = 0.0;
@@ -421,7 +422,7 @@ static PetscErrorCode assemble(ekm2d_step *st, double dt)
             if (i < g->nx) { /* z-face (i, j) */
                 if (j == 0 || j == g->nz) {
                     const ekm2d_end *e = j == 0 ? &st->bottom : &st->top;
-                    if (e->kind == EKM_BC_FREE)
+                    if (ekm2d_open_face(g, e, i))
                         PetscCall(follow_row(st, i, j, j == 0 ? 1 : g->nz - 1));
                     else
                         PetscCall(fixed_row(st, DMSTAG_DOWN, i, j, ekm2d_end_face_w(g, e, i)));

@@ -105,6 +105,31 @@ error "inlet narrower than a cell, between face centres" 2 \
     scenario "$box" --set top.inlet_x=0.0039 --set top.inlet_width=0.0001 --json
 error "inlet_x without inlet_width" 2 "\[top\] inlet_x: needs \[top\] inlet_width" \
     scenario "$box" --set top.inlet_x=0.01 --json
+# a floor that is a plate ([bottom] plate_x, plate_width: a wall end's
+# faces beside it are open), centred by default, 2D only, on a wall that
+# stays put
+json "box: a plate, centred by default" \
+    '.keys["bottom.plate_width"] == {"value": "0.03", "from": "--set"} and .keys["bottom.plate_x"].value == "0.035"' \
+    "$box" --set bottom.plate_width=0.03 --json
+json "box: no plate keys unless given" '(.keys | has("bottom.plate_width") | not) and (.keys | has("bottom.plate_x") | not)' \
+    "$box" --json
+error "plate outside the bottom boundary" 2 \
+    "--set bottom.plate_x: \[bottom\] plate_x: the plate \[0.05, 0.09\] m is outside the bottom boundary \[0, 0.07\] m" \
+    scenario "$box" --set bottom.plate_x=0.07 --set bottom.plate_width=0.04 --json
+error "plate between face centres" 2 \
+    "\[bottom\] plate_width: the plate \[.*\] m holds no face centre of the 18 cells along x" \
+    scenario "$box" --set bottom.plate_x=0.0039 --set bottom.plate_width=0.0001 --json
+error "plate_x without plate_width" 2 "\[bottom\] plate_x: needs \[bottom\] plate_width" \
+    scenario "$box" --set bottom.plate_x=0.01 --json
+error "plate_width 0" 2 "\[bottom\] plate_width: expected a width > 0 \[m\], got 0" \
+    scenario "$box" --set bottom.plate_width=0 --json
+error "plate on a 1D column" 2 "\[bottom\] plate_width: needs \[domain\] width \(a key of a 2D domain\)" \
+    scenario "$src/scenarios/simple_shear.ini" --set bottom.plate_width=0.01 --json
+error "plate on an inflow end" 2 "\[top\] plate_width" \
+    scenario "$box" --set top.plate_width=0.01 --json
+error "plate on a wall held at a pressure" 2 "\[top\] plate_width: a wall with openings must stay put" \
+    scenario "$src/scenarios/shear_cell.ini" --set domain.width=0.01 --set domain.cells_x=4 \
+    --set domain.periodic_x=1 --set top.plate_width=0.005 --json
 # several inlet segments of one width: inlet_x a list of centres separated
 # by blanks, each segment inside its end and holding a face centre, none
 # overlapping another (touching is allowed), only with cells_x > 1
