@@ -26,6 +26,14 @@
 # (default 5: 10 d bins), the hopper against the sieve per law and engine,
 # and the plain law against rolling resistance per source and engine:
 #   OUT/stats-SIZE.json, OUT/profiles-SIZE.h5, OUT/profiles-SIZE.csv;
+# with, per group whose records all have map.h5 (pile_record.sh since the
+# maps), the density and stress maps: stats-SIZE.json groups.*.map (phi
+# under the apex minus phi under the flanks at matched heights, its SE
+# over runs and from the maps' own noise; K_apex and whether the major
+# principal stress arches over the centre; scripts/dem/pile_map.py,
+# docs/dem.md "The density and stress maps") and OUT/maps-SIZE.h5 (the
+# mean maps, their SEs, the principal directions); a group with a record
+# without map.h5 (older or recovered) gets map_missing instead;
 # and scripts/dem/pile_summary.py's table of the records' summary rows per
 # law (angles, heights, extents): OUT/summary-<law>-SIZE.json (`pile_record.py
 # summary`). OUT defaults to results/sandpile.
@@ -43,7 +51,7 @@ while getopts "o:m:h" opt; do
   case $opt in
     o) out=$OPTARG ;;
     m) merge=$OPTARG ;;
-    h) sed -n '2,35p' "$0"; exit 0 ;;
+    h) sed -n '2,43p' "$0"; exit 0 ;;
     *) usage "bad option (see -h)" ;;
   esac
 done
@@ -87,7 +95,7 @@ for engine in lammps liggghts; do
   done
 done
 /usr/bin/python3 -B "$here/pile_stats.py" --merge "$merge" -o "$out/stats-$size.json" \
-  --h5 "$out/profiles-$size.h5" --csv "$out/profiles-$size.csv" "${compares[@]}" "${groups[@]}" || exit
+  --h5 "$out/profiles-$size.h5" --csv "$out/profiles-$size.csv" --maps-h5 "$out/maps-$size.h5" "${compares[@]}" "${groups[@]}" || exit
 for law in plain rolling; do
   mapfile -t list < <(awk -v l="$law" '$1 == l { print $6 }' <<< "$listing" | sort -V)
   [ ${#list[@]} -gt 0 ] || continue

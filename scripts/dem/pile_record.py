@@ -2,6 +2,7 @@
 """pile_record.py: the committed records of sand-pile runs (issue 34).
 
     scripts/dem/pile_record.py make --law LAW --member K --from TMP [-f] -o RECORD RUN_DIR
+    scripts/dem/pile_record.py mapargs RUN_DIR
     scripts/dem/pile_record.py list ROOT SIZE
     scripts/dem/pile_record.py group -o BASE.h5 [--csv BASE.csv] RECORD...
     scripts/dem/pile_record.py summary -o SUMMARY.json RECORD...
@@ -22,15 +23,25 @@ k the member of scripts/dem/ensemble.sh):
                      surface on the base bins (pile_stats.py's local weight:
                      h per bin, floor grains per bin, the pile's mass, the
                      box's y period), where the run was and when recorded;
-                     "recovered_from" when it was rebuilt from a group file
+                     "recovered_from" when it was rebuilt from a group file;
+                     "map" when the record has map.h5
+  map.h5             the pile at rest on a 2D grid (pile_map.py: `ekmcompare
+                     cg --axes x,z` of the run's last snapshot, 2 d cells
+                     over the box's x period and from the plate's top to the
+                     box's top; phi, cxx, czz, cxz with units, gzip), about
+                     20 kB; absent in records made before the maps and in
+                     recovered records
   run.json, vars.txt the run's own (absent in a recovered record)
 
 make: TMP, a new directory beside RECORD, holds base.h5 and base.csv of
-the run (pile_record.sh writes them with ekmcompare); make writes
-TMP/record.json, copies run.json and vars.txt, checks the record against
+the run and cg.h5 (pile_record.sh writes them with ekmcompare: cg.h5 is
+`ekmcompare cg` with the options of mapargs); make turns cg.h5 into
+TMP/map.h5 (and removes cg.h5 and its cg.xdmf), writes TMP/record.json, copies run.json and vars.txt, checks the record against
 the place RECORD (as list does) and renames TMP to RECORD; an existing
 RECORD is refused (2) unless -f (then replaced). LAW must agree with
 vars.txt (plain: mu_r = 0, rolling: mu_r > 0).
+mapargs: the options of `ekmcompare cg` for the run's map, one a line
+(pile_map.py cg_args: the grid from vars.txt, the last step of atoms.dump).
 list: every record of size SIZE under ROOT, checked (the checks of group
 below, one record at a time), one line each: law engine source point
 member dir, in the order law, engine, source, member.
@@ -40,7 +51,8 @@ names the records; snapshots_read only when every record has it) and, when
 every record has its surface, h_runs, floor_grains_runs [runs][bins] and
 pile_mass_runs [runs] (pile_stats.py reads them instead of dumps). The
 records must share the grid, the engine, size, law and point, and (those
-with vars.txt) every deck variable but the seeds and the output intervals.
+with vars.txt) every deck variable but the seeds and the output intervals,
+and those with map.h5 its grid.
 summary: pile_summary.py's table (per law: groups by engine, size and
 point, mean and SE over the runs) of the records' summary rows; a row's
 "run" is its record's path relative to the records' common root.
@@ -55,8 +67,8 @@ existing record is left as it is.
 
 Outputs are written to a temporary name and renamed. Exit status
 (docs/exit-codes.md): 0 ok; 1 usage; 2 bad input (one line naming the
-file and what was expected: a record.json or base.h5 not as described, a
-record whose place disagrees with its content, records that do not pool,
+file and what was expected: a record.json, base.h5 or map.h5 not as
+described, a record whose place disagrees with its content, records that do not pool,
 a summary row that does not match); 3 a file missing or not writable; 7
 h5py or numpy missing.
 """
@@ -273,7 +285,15 @@ def load_record(rec, place=None):
             die(2, "%s: expected the run's run.json (JSON)" % os.path.join(rec, "run.json"))
         if status != "ok":
             die(2, "%s: status %s, expected ok (a record keeps a finished run)" % (os.path.join(rec, "run.json"), status))
-    return {"dir": rec, "doc": doc, "base": base, "surface": surf, "vars": variables, "json": rj}
+    mpath = os.path.join(rec, "map.h5")
+    pmap = None
+    if os.path.exists(mpath) or doc.get("map") is not None:
+        import pile_map
+        try:
+            pmap = pile_map.read_map(mpath)
+        except pile_map.MapError as e:
+            die(e.code, str(e))
+    return {"dir": rec, "doc": doc, "base": base, "surface": surf, "vars": variables, "json": rj, "map": pmap}
 
 
 def pool(recs):
@@ -297,6 +317,14 @@ def pool(recs):
             if abs(b["attrs"][a] - b0["attrs"][a]) > 1e-9 * abs(b0["attrs"][a]):
                 die(2, "%s: %s %g, expected that of %s (%g)" % (bp, a, b["attrs"][a],
                                                                  os.path.join(first["dir"], "base.h5"), b0["attrs"][a]))
+        if r["map"] is not None:
+            import pile_map
+            m0 = next(q for q in recs if q["map"] is not None)
+            try:
+                pile_map.same_grid([m0["map"], r["map"]], [os.path.join(m0["dir"], "map.h5"),
+                                                           os.path.join(r["dir"], "map.h5")])
+            except pile_map.MapError as e:
+                die(e.code, str(e))
         if r["vars"] is not None and vfirst is not None:
             v0 = vfirst["vars"]
             for k in sorted(set(r["vars"]) | set(v0)):
@@ -359,7 +387,22 @@ def cmd_make(args):
                     "h": [float(a) for a in h], "floor_grains": [int(a) for a in nfl],
                     "pile_mass": mass, "y_period": ly},
         "recovered_from": None,
+        "map": None,
     }
+    cg = os.path.join(out, "cg.h5")
+    if os.path.exists(cg):
+        import pile_map
+        try:
+            pile_map.write_map(cg, os.path.join(out, "map.h5"), v["d"])
+        except pile_map.MapError as e:
+            die(e.code, str(e))
+        for f in (cg, os.path.join(out, "cg.xdmf")):
+            if os.path.exists(f):
+                os.unlink(f)
+        doc["map"] = {"file": "map.h5", "definition": "ekmcompare cg --axes x,z of the run's last snapshot: the "
+                      "pile grains (type 1), gauss kernel of sd d, 2 d cells over the box's x period and from "
+                      "the plate's top (z = 0) to the box's top; phi [1] and the contact stress cxx czz cxz [Pa] "
+                      "of the per-atom c_sa (negative in compression), [nz][nx] (scripts/dem/pile_map.py)"}
     for f in ("run.json", "vars.txt"):
         try:
             shutil.copyfile(os.path.join(run, f), os.path.join(out, f))
@@ -379,6 +422,14 @@ def cmd_make(args):
         die(3, "%s: cannot rename %s to it (%s)" % (args.out, out, e.strerror))
     if old:
         shutil.rmtree(old, ignore_errors=True)
+
+
+def cmd_mapargs(args):
+    import pile_map
+    try:
+        print("\n".join(pile_map.cg_args(args.run)))
+    except pile_map.MapError as e:
+        die(e.code, str(e))
 
 
 def pile_dump_vars(run):
@@ -577,6 +628,8 @@ def main(argv):
     p.add_argument("-f", dest="force", action="store_true")
     p.add_argument("-o", dest="out", required=True, metavar="RECORD")
     p.add_argument("run", metavar="RUN_DIR")
+    p = sub.add_parser("mapargs")
+    p.add_argument("run", metavar="RUN_DIR")
     p = sub.add_parser("list")
     p.add_argument("root", metavar="ROOT")
     p.add_argument("size", metavar="SIZE")
@@ -612,7 +665,7 @@ def main(argv):
     np, h5py = numpy, h5
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     try:
-        {"make": cmd_make, "list": cmd_list, "group": cmd_group, "summary": cmd_summary,
+        {"make": cmd_make, "mapargs": cmd_mapargs, "list": cmd_list, "group": cmd_group, "summary": cmd_summary,
          "recover": cmd_recover}[args.cmd](args)
     except Fail as e:
         print("%s: %s" % (PROG, e), file=sys.stderr)

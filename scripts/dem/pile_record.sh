@@ -12,9 +12,13 @@
 # RECORDS/LAW/<engine>-<size>/<point>/seed<k>/ (RECORDS default
 # results/sandpile/runs; commit it): `ekmcompare base --last 1` of its
 # atoms.dump (base.h5, base.csv: the pile at rest on 2 d bins over the box,
-# about its middle), record.json (scripts/dem/pile_record.py make: the law,
-# source, member, pile_summary.py's row, the surface on the base bins) and
-# copies of run.json and vars.txt: about 15 kB. It is written into a hidden
+# about its middle), map.h5 (`ekmcompare cg --axes x,z` of its last
+# snapshot with the options of `pile_record.py mapargs`: the pile grains'
+# phi and contact stress cxx czz cxz on 2 d cells over the box, from the
+# plate's top to the box's top; docs/dem.md "The density and stress
+# maps"), record.json (scripts/dem/pile_record.py make: the law, source,
+# member, pile_summary.py's row, the surface on the base bins) and copies
+# of run.json and vars.txt: about 35 kB. It is written into a hidden
 # temporary directory beside it and renamed into place. A record that
 # exists is kept (the member's seed is fixed: running it again makes no new
 # pile), -f replaces it. scripts/dem/pile_analysis.sh reads the records.
@@ -35,7 +39,7 @@ while getopts "fR:l:h" opt; do
     f) force=(-f) ;;
     R) records=$OPTARG ;;
     l) law=$OPTARG ;;
-    h) sed -n '2,26p' "$0"; exit 0 ;;
+    h) sed -n '2,30p' "$0"; exit 0 ;;
     *) usage "bad option (see -h)" ;;
   esac
 done
@@ -75,6 +79,10 @@ record_run() {
   mkdir -p "$(dirname "$rec")" || return 3
   tmp=$(mktemp -d "$(dirname "$rec")/.seed$k.tmp.XXXXXX") || return 3
   "$ekmcompare" base --last 1 --quiet -o "$tmp/base.h5" --csv "$tmp/base.csv" "$dir/atoms.dump" || { r=$?; cleanup; tmp=""; return $r; }
+  local margs cgargs
+  margs=$(/usr/bin/python3 -B "$here/pile_record.py" mapargs "$dir") || { r=$?; cleanup; tmp=""; return $r; }
+  mapfile -t cgargs <<< "$margs"
+  "$ekmcompare" cg "${cgargs[@]}" --quiet -o "$tmp/cg.h5" "$dir/atoms.dump" || { r=$?; cleanup; tmp=""; return $r; }
   /usr/bin/python3 -B "$here/pile_record.py" make "${force[@]+"${force[@]}"}" --law "$law" --member "$k" \
     --from "$tmp" -o "$rec" "$dir" || { r=$?; cleanup; tmp=""; return $r; }
   tmp=""

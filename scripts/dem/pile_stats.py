@@ -61,6 +61,18 @@ the observable"). Per group:
             each dump when it was recorded); when some record has none
             (recovered from an earlier group file) the group has no local
             weight and says so (local_weight_missing)
+  map       (a file assembled from run records, whose inputs name the
+            records) from every record's map.h5 (pile_map.py: the pile at
+            rest coarse-grained on 2 d cells, phi and the contact stress):
+            the mean map and its SE over runs; phi under the apex minus phi
+            under the flanks at matched heights (--map-band, --map-flanks,
+            --map-surface, --map-floor, in grain diameters d) with its SE
+            over runs and the maps' own noise; the major principal stress's
+            angle from the vertical in the mean map, K_apex = sigma_xx /
+            sigma_zz under the apex and whether it arches (K_apex > 1 by 2
+            SE); definitions in pile_map.py and docs/dem.md "The density and
+            stress maps". When some record has no map.h5 (recorded before
+            the maps, or recovered) the group says so (map_missing)
 --compare A,B (repeatable): D_A - D_B with its bootstrap SE (independent
 groups) and a two-sided permutation test over the pooled runs (--perm N
 relabellings): p = (1 + #{|T*| >= |T|}) / (1 + N), and the same for D_fit;
@@ -68,7 +80,9 @@ the two groups must share the grid.
 
 Outputs (each written to a temporary name and renamed): -o STATS.json; --h5
 PROFILES.h5 (a group per NAME: s, F and its interval; x, P and its
-interval; W, ratio) and --csv PROFILES.csv (the same, one row per group and
+interval; W, ratio), --maps-h5 MAPS.h5 (a group per NAME with a map: x, z,
+the mean maps phi, sxx, szz, sxz (compression positive) and their SEs,
+theta and lean [deg], the surface h and the mask) and --csv PROFILES.csv (the same, one row per group and
 merged bin). Exit status (docs/exit-codes.md): 0 ok; 1 usage; 2 bad input
 (one line naming the file and what was expected: not an ekmcompare base
 HDF5, a missing dataset or attribute, fewer than 2 runs, a group without a
@@ -280,6 +294,36 @@ def boot_indices(rng, R, B):
     return rng.integers(0, R, size=(B, R))
 
 
+MAPS = {}  # NAME -> arrays of the mean map (--maps-h5)
+
+
+def group_map(name, path, inputs, args):
+    """The map statistics of a group assembled from run records, or why there are none."""
+    try:
+        with h5py.File(path, "r") as f:
+            assembled = "assembled" in f.attrs
+    except OSError as e:
+        die(2, "%s: expected an HDF5 file of ekmcompare base (%s)" % (path, e))
+    if not assembled:
+        return {"map_missing": "not assembled from run records (pile_record.py group): the maps are in the records"}
+    paths = [os.path.join(i, "map.h5") for i in inputs]
+    have = [p for p in paths if os.path.exists(p)]
+    if len(have) < len(paths):
+        return {"map_missing": "%d of %d records have no map.h5 (recorded before the maps, or recovered from group "
+                               "files): no density or stress map" % (len(paths) - len(have), len(paths))}
+    import pile_map
+    try:
+        maps = [pile_map.read_map(p) for p in paths]
+        st, arrays = pile_map.analyse(maps, paths, {"band": args.map_band, "flank_lo": args.map_flanks[0],
+                                                    "flank_hi": args.map_flanks[1], "surface": args.map_surface,
+                                                    "floor": args.map_floor})
+    except pile_map.MapError as e:
+        die(e.code, str(e))
+    MAPS[name] = arrays
+    st["files"] = paths
+    return {"map": st}
+
+
 def summarise(name, path, args, rng):
     x, dx, centre, ly, runs, inputs, surface = read_base(path)
     R, n = runs.shape
@@ -340,6 +384,7 @@ def summarise(name, path, args, rng):
     Pb = Pr[idx].mean(axis=1)
     sb = dip_stats(Pb, ic, sx)
     res = dict(info)
+    res.update(group_map(name, path, inputs, args))
     corr = math.sqrt(R / (R - 1))  # the bootstrap SE of a mean of R runs is sqrt((R-1)/R) of sd/sqrt(R)
     res["merge"] = args.merge
     res["bin_width"] = args.merge * dx
@@ -486,10 +531,27 @@ def main(argv):
                     help="the fit estimator D_ref: reference distance [m] (default 0.02: 10 d)")
     ap.add_argument("--no-dumps", action="store_true", help="no local weight, no floor counts")
     ap.add_argument("--compare", action="append", default=[], metavar="A,B")
+    ap.add_argument("--maps-h5", metavar="MAPS.h5", help="the groups' mean maps")
+    ap.add_argument("--map-band", type=float, default=5.0, help="apex band |x - c| < B d (default 5)")
+    ap.add_argument("--map-flanks", default="12:30", help="flank bands A d <= |x - c| < B d (default 12:30)")
+    ap.add_argument("--map-surface", type=float, default=4.0, help="cells at least S d below the surface (4)")
+    ap.add_argument("--map-floor", type=float, default=4.0, help="cells at least F d above the plate (4)")
     try:
         args = ap.parse_args(argv)
     except SystemExit as e:
         return 1 if e.code else 0
+    try:
+        args.map_flanks = tuple(float(v) for v in args.map_flanks.split(":"))
+        if len(args.map_flanks) != 2:
+            raise ValueError
+    except ValueError:
+        print("%s: --map-flanks: expected A:B (grain diameters), got '%s'" % (PROG, args.map_flanks), file=sys.stderr)
+        return 1
+    if not (0 < args.map_band <= args.map_flanks[0] < args.map_flanks[1] and args.map_surface >= 0
+            and args.map_floor >= 0):
+        print("%s: expected 0 < --map-band <= A < B of --map-flanks, --map-surface >= 0, --map-floor >= 0" % PROG,
+              file=sys.stderr)
+        return 1
     if (args.boot < 100 or args.perm < 0 or not 0 < args.level < 1 or not args.target > 0
             or not 0 < args.fit_ref <= args.fit_window):
         print("%s: expected --boot >= 100, --perm >= 0, 0 < --level < 1, --target > 0, "
@@ -526,7 +588,14 @@ def main(argv):
             "design": "runs for a dip depth of target at 3 SE: (3 sigma_run/target)^2, sigma_run = SE(D) sqrt(runs)",
             "D_fit": "1 - q(0)/max q over [0, fit_window], q(s) = a + b s + c s^2 least squares on the folded "
                      "profile's base bins with s <= fit_window (%g m); sd_runs: sd of the per-run values" % args.fit_window,
-            "D_ref": "1 - q(0)/q(fit_ref) (%g m) of the same fit: signed, <= D_fit" % args.fit_ref},
+            "D_ref": "1 - q(0)/q(fit_ref) (%g m) of the same fit: signed, <= D_fit" % args.fit_ref,
+            "map": "groups[*].map (run records with map.h5; scripts/dem/pile_map.py, docs/dem.md \"The density "
+                   "and stress maps\"): phi_apex_minus_flanks = mean over the rows z of the mask of phi(|x - c| "
+                   "< %g d) - (phi(left flank) + phi(right flank))/2, flanks %g d <= |x - c| < %g d, cells at "
+                   "least %g d above the plate and %g d below the surface (phi = phi_bulk/2 of the mean map); "
+                   "se_runs sd/sqrt(runs) of the per-run values, se_map from each map's rows; arch.K_apex = "
+                   "sum sigma_xx / sum sigma_zz over the apex band's cells, arches when K_apex - 1 > 2 SE"
+                   % (args.map_band, args.map_flanks[0], args.map_flanks[1], args.map_floor, args.map_surface)},
             "groups": out, "comparisons": comps}
         write_atomic(args.out, lambda t: open(t, "w").write(json.dumps(clean(doc), indent=1) + "\n"))
         if args.csv:
@@ -558,6 +627,25 @@ def main(argv):
                         grp.attrs["D"] = out[nm]["D"]["value"]
                         grp.attrs["D_se"] = out[nm]["D"]["se"]
             write_atomic(args.h5, wh5)
+        if args.maps_h5:
+            units = {"x": "m", "z": "m", "h": "m", "mask": "1", "phi": "1", "phi_se": "1", "theta": "deg",
+                     "lean": "deg"}
+
+            def wmaps(t):
+                with h5py.File(t, "w") as f:
+                    f.attrs["definition"] = ("mean maps over each group's run records (scripts/dem/pile_map.py): "
+                                             "[nz][nx]; sxx szz sxz = -(cxx czz cxz), compression positive; "
+                                             "theta the major principal axis from the vertical (> 0 leaning to "
+                                             "+x), lean = -theta sign(x - centre); mask the cells of the "
+                                             "statistics")
+                    for nm in names:
+                        if nm not in MAPS:
+                            continue
+                        grp = f.create_group(nm)
+                        for k, v in MAPS[nm].items():
+                            ds = grp.create_dataset(k, data=np.asarray(v, dtype=float), compression="gzip")
+                            ds.attrs["units"] = units.get(k, "Pa")
+            write_atomic(args.maps_h5, wmaps)
     except Fail as e:
         print("%s: %s" % (PROG, e), file=sys.stderr)
         return e.code
@@ -573,6 +661,16 @@ def main(argv):
                                                r["D_fit"]["ci"][0], r["D_fit"]["ci"][1], r["D_ref"]["value"],
                                                r["D_ref"]["se"], r["D_fit"]["sd_runs"], args.target,
                                                r["D_fit"]["design"]["runs_for_target_at_3se"]))
+    for nm in names:
+        mp = out[nm].get("map")
+        if mp is None:
+            print("%s: map: %s" % (nm, out[nm].get("map_missing")))
+            continue
+        dm, ar = mp["phi_apex_minus_flanks"], mp["arch"]
+        print("%s: map: phi apex - flanks %s; K_apex %s, arches %s" % (
+            nm, "%.4f +- %s (runs), +- %s (maps)" % (dm["value"], dm["se_runs"], dm["se_map"]) if dm else "none",
+            "%.3f +- %s" % (ar["K_apex"]["value"], ar["K_apex"]["se_runs"]) if ar.get("K_apex") else "none",
+            ar.get("arches")))
     for c in comps:
         print("%s - %s: %.4f +- %.4f, permutation p = %.4g; D_fit: %.4f +- %.4f, p = %.4g"
               % (c["a"], c["b"], c["D_a_minus_D_b"], c["se"], c["p_value"], c["D_fit"]["D_a_minus_D_b"],

@@ -16,7 +16,7 @@ their weight, so check_run.sh --sandpile passes. Points source8 (the
 hopper: A = 3, a dip of 0.25) and source102 (the sieve: A = 0, no dip),
 members 1-3 each.
 
-  1. pile_record.sh records each run (exit 0), about 15 kB each; run again,
+  1. pile_record.sh records each run (exit 0) with its map.h5, under 60 kB each; run again,
      it keeps them (exit 0, record.json unchanged); a run of the plain law
      recorded as rolling is refused (2, one line naming vars.txt) and
      leaves nothing behind;
@@ -30,7 +30,8 @@ members 1-3 each.
      of pile_summary.py --runs over the same runs;
   3. a record recovered from a group file (pile_record.py recover, an
      older group file of member 4's hopper run and its summary table): the
-     hopper group gets 4 runs and no local weight (local_weight_missing);
+     hopper group gets 4 runs, no local weight (local_weight_missing) and
+     no map (map_missing: the recovered record has no map.h5);
      a summary row that does not match the profile is refused (2);
   4. bad records: pile_analysis.sh stops with one line on stderr naming the
      file and the documented status, and leaves the outputs as they were:
@@ -65,11 +66,14 @@ def check(ok, what):
         failures.append(what)
 
 
-def row(aid, typ, x, y, z, mass, fz):
-    return "%d %d %.9g %.9g %.9g 0 0 0 %.9g %.9g 0 0 0 0 0 0 0 0 0 0 0 %.9g" % (aid, typ, x, y, z, 0.5 * D, mass, fz)
+def row(aid, typ, x, y, z, mass, fz, radius=0.5 * D, sa=(0, 0, 0, 0, 0, 0)):
+    return ("%d %d %.9g %.9g %.9g 0 0 0 %.9g %.9g 0 0 0 %.9g %.9g %.9g %.9g %.9g %.9g 0 0 %.9g"
+            % ((aid, typ, x, y, z, radius, mass) + tuple(sa) + (fz,)))
 
 
-def write_run(path, amp, seed, rng):
+def write_run(path, amp, seed, rng, pile=None):
+    """A finished run; pile(): the pile grains [(x, y, z, radius, c_sa 6)] instead of
+    the surface grains and the bottom layer (tests/dem/pile_maps_test.py)."""
     os.makedirs(path, exist_ok=True)
     rows, aid = [], 0
     load = 0.0
@@ -85,17 +89,18 @@ def write_run(path, amp, seed, rng):
     # the surface: one grain per 2 d bin whose top is h(x); and a bottom
     # layer, one grain per 2 d bin on the floor (check_run.sh: a floor
     # grain no pile grain touches carries no force)
-    bins = [b for b in (np.arange(7, 58) * 2 * D + D) if H * (1 - abs(b - LX / 2) / (PLATE / 2)) > D]
-    low = np.arange(7, 58) * 2 * D + D
-    m = load / G / (len(bins) + len(low))  # the floor carries the pile's weight exactly
-    for x in bins:
+    if pile is None:
+        tops = [b for b in (np.arange(7, 58) * 2 * D + D) if H * (1 - abs(b - LX / 2) / (PLATE / 2)) > D]
+        low = np.arange(7, 58) * 2 * D + D
+        grains = [(x, 0.5 * LY, H * (1 - abs(x - LX / 2) / (PLATE / 2)) - 0.5 * D, 0.5 * D, (0,) * 6) for x in tops]
+        grains += [(x, 0.5 * LY, 0.5 * D, 0.5 * D, (0,) * 6) for x in low]
+    else:
+        grains = pile()
+    m = load / G / len(grains)  # the floor carries the pile's weight exactly
+    for x, y, z, r, sa in grains:
         aid += 1
-        h = H * (1 - abs(x - LX / 2) / (PLATE / 2))
-        rows.append(row(aid, 1, x, 0.5 * LY, h - 0.5 * D, m, 0.0))
-    for x in low:
-        aid += 1
-        rows.append(row(aid, 1, x, 0.5 * LY, 0.5 * D, m, 0.0))
-    bins = list(bins) + list(low)
+        rows.append(row(aid, 1, x, y, z, m, 0.0, r, sa))
+    bins = grains
     with open(os.path.join(path, "atoms.dump"), "w") as f:
         for s in (410000, 420000):
             f.write("ITEM: TIMESTEP\n%d\nITEM: NUMBER OF ATOMS\n%d\nITEM: BOX BOUNDS pp pp fm\n" % (s, len(rows)))
@@ -109,8 +114,8 @@ def write_run(path, amp, seed, rng):
         f.write("EKMDEM_DONE natoms %d steps 420000\n" % aid)
     width = 8 if amp else 102
     with open(os.path.join(path, "vars.txt"), "w") as f:
-        f.write("d = %g\nseed = %d\ng = %g\nlx = %g\nlp = %g\nly = %g\nmu_r = 0\nt_end = 4.2\nsource_width = %d\n"
-                % (D, seed, G, LX, PLATE, LY, width))
+        f.write("d = %g\ndt = 1e-5\nseed = %d\ng = %g\nlx = %g\nlz = %g\nlp = %g\nly = %g\nmu_r = 0\nt_end = 4.2\n"
+                "source_width = %d\n" % (D, seed, G, LX, 40 * D, PLATE, LY, width))
     with open(os.path.join(path, "run.json"), "w") as f:
         json.dump({"scenario": "sandpile", "engine": "lammps", "size": "ref", "point": "source%d" % width,
                    "scenario_file": "scenarios/sandpile.ini", "status": "ok", "wall_time_s": 1.0,
@@ -156,8 +161,9 @@ def main():
     rec1 = os.path.join(recs, "plain", "lammps-ref", "source8", "seed1")
     size = sum(os.path.getsize(os.path.join(rec1, f)) for f in os.listdir(rec1))
     check(rc == 0 and len([1 for d in os.listdir(os.path.join(recs, "plain", "lammps-ref")) for _ in
-                           os.listdir(os.path.join(recs, "plain", "lammps-ref", d))]) == 6 and size < 20000,
-          "1. pile_record.sh records 6 runs: exit %d, a record %d bytes (< 20000)\n%s" % (rc, size, se))
+                           os.listdir(os.path.join(recs, "plain", "lammps-ref", d))]) == 6 and size < 60000
+          and os.path.exists(os.path.join(rec1, "map.h5")) and not os.path.exists(os.path.join(rec1, "cg.h5")),
+          "1. pile_record.sh records 6 runs with their maps: exit %d, a record %d bytes (< 60000)\n%s" % (rc, size, se))
     before = digest(os.path.join(rec1, "record.json"))
     rc, so, se = sh(os.path.join(DEM, "pile_record.sh"), "-R", recs, "-l", "plain", dirs[(1, "source8")])
     check(rc == 0 and "kept" in so and digest(os.path.join(rec1, "record.json")) == before,
@@ -237,8 +243,10 @@ def main():
     rc2, so2, se2 = sh(os.path.join(DEM, "pile_analysis.sh"), "-o", out, recs, "ref")
     try:
         hop = json.load(open(os.path.join(out, "stats-ref.json")))["groups"]["lammps/plain/hopper"]
-        ok = rc == 0 and rc2 == 0 and hop["runs"] == 4 and "local_weight_missing" in hop and "rho_b" not in hop
-        got = "%d runs, %s" % (hop["runs"], "no local weight" if "rho_b" not in hop else "local weight")
+        ok = (rc == 0 and rc2 == 0 and hop["runs"] == 4 and "local_weight_missing" in hop and "rho_b" not in hop
+              and "map" not in hop and "1 of 4 records have no map.h5" in hop.get("map_missing", ""))
+        got = "%d runs, %s, %s" % (hop["runs"], "no local weight" if "rho_b" not in hop else "local weight",
+                                   hop.get("map_missing", "no map_missing"))
     except (OSError, ValueError, KeyError) as e:
         ok, got = False, "%s" % e
     check(ok, "3. a recovered record joins its group (exit %d, %d): %s\n%s%s" % (rc, rc2, got, se, se2))
