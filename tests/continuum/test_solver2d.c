@@ -106,6 +106,7 @@ static int load(const char *src, const char *name, const char *const *sets, size
     ekm_error err = {0};
     if (ekm_scenario_load(sc, path, sets, n, &err) != EKM_OK) {
         fprintf(stderr, "FAIL: %s\n", err.message);
+        ekm_scenario_free(sc);
         return 1;
     }
     return 0;
@@ -144,8 +145,10 @@ static int run_open(run2d *r, const char *src, const char *name, const char *con
     if (load(src, name, sets, n, &r->sc))
         return 1;
     ekm_error err = {0};
-    if (ekm2d_solver_create(&r->sc, PETSC_COMM_WORLD, init, &r->sol, &err) != EKM_OK)
+    if (ekm2d_solver_create(&r->sc, PETSC_COMM_WORLD, init, &r->sol, &err) != EKM_OK) {
+        ekm_scenario_free(&r->sc);
         FAILF("%s\n", err.message);
+    }
     r->ncell = (size_t)r->sc.cells * (size_t)r->sc.cells_x;
     r->buf = calloc(r->ncell * EKM2D_NFIELDS, sizeof *r->buf);
     for (int k = 0; k < EKM2D_NFIELDS; k++)
