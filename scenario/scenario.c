@@ -713,20 +713,24 @@ static ekm_status check_bc(const parse_ctx *c, const ekm_scenario *s, const char
     return EKM_OK;
 }
 
-/* Segment q of an inflow end: inside the end and holding a face centre of
- * the cells_x along x. */
-static ekm_status check_inlet(const parse_ctx *c, const ekm_scenario *s, const char *end, const ekm_bc *bc,
-                              int q, ekm_error *err)
+/* A segment of an end, [centre - width/2, centre + width/2] ("inlet" or
+ * "plate": its keys WHAT_x, WHAT_width): inside the end and holding a
+ * face centre of the cells_x along x. */
+static ekm_status check_segment(const parse_ctx *c, const ekm_scenario *s, const char *end, const char *what,
+                                double centre, double width, ekm_error *err)
 {
-    char w_[600];
-    const double lo = bc->inlet_x[q] - 0.5 * bc->inlet_width, hi = bc->inlet_x[q] + 0.5 * bc->inlet_width;
+    char w_[600], key_x[32], key_w[32];
+    snprintf(key_x, sizeof key_x, "%s_x", what);
+    snprintf(key_w, sizeof key_w, "%s_width", what);
+    const double lo = centre - 0.5 * width, hi = centre + 0.5 * width;
     const double slack = 1e-12 * s->width;
     if (!(lo >= -slack && hi <= s->width + slack)) {
-        const char *key = given(c, end, "inlet_x") ? "inlet_x" : "inlet_width";
+        const char *key = given(c, end, key_x) ? key_x : key_w;
         return EKM_FAIL(err, EKM_EINPUT,
-                        "%s: [%s] %s: the inlet [%g, %g] m is outside the %s boundary [0, %g] m "
-                        "(inlet_x +- inlet_width/2 must lie in [0, [domain] width])",
-                        where(c, end, key, w_, sizeof w_), end, key, lo, hi, end, s->width);
+                        "%s: [%s] %s: the %s [%g, %g] m is outside the %s boundary [0, %g] m "
+                        "(%s +- %s/2 must lie in [0, [domain] width])",
+                        where(c, end, key, w_, sizeof w_), end, key, what, lo, hi, end, s->width, key_x,
+                        key_w);
     }
     int faces = 0;
     for (int i = 0; i < s->cells_x; i++) {
@@ -735,9 +739,9 @@ static ekm_status check_inlet(const parse_ctx *c, const ekm_scenario *s, const c
     }
     if (faces == 0)
         return EKM_FAIL(err, EKM_EINPUT,
-                        "%s: [%s] inlet_width: the inlet [%g, %g] m holds no face centre of the %d cells "
+                        "%s: [%s] %s: the %s [%g, %g] m holds no face centre of the %d cells "
                         "along x (%g m wide): widen it or refine cells_x",
-                        where(c, end, "inlet_width", w_, sizeof w_), end, lo, hi, s->cells_x,
+                        where(c, end, key_w, w_, sizeof w_), end, key_w, what, lo, hi, s->cells_x,
                         s->width / s->cells_x);
     return EKM_OK;
 }
@@ -756,7 +760,7 @@ static ekm_status check_inlets(const parse_ctx *c, const ekm_scenario *s, const 
                         where(c, end, "inlet_x", w_, sizeof w_), end, bc->n_inlets);
     const double half = 0.5 * bc->inlet_width, slack = 1e-12 * s->width;
     for (int q = 0; q < bc->n_inlets; q++) {
-        const ekm_status st = check_inlet(c, s, end, bc, q, err);
+        const ekm_status st = check_segment(c, s, end, "inlet", bc->inlet_x[q], bc->inlet_width, err);
         if (st != EKM_OK)
             return st;
         for (int p = 0; p < q; p++)
@@ -791,27 +795,7 @@ static ekm_status check_plate(const parse_ctx *c, ekm_scenario *s, const char *e
                         "%s: [%s] plate_width: a wall with openings must stay put (no pressure, no "
                         "shear_rate on the same end)",
                         where(c, end, "plate_width", w_, sizeof w_), end);
-    const double lo = bc->plate_x - 0.5 * bc->plate_width, hi = bc->plate_x + 0.5 * bc->plate_width;
-    const double slack = 1e-12 * s->width;
-    if (!(lo >= -slack && hi <= s->width + slack)) {
-        const char *key = given(c, end, "plate_x") ? "plate_x" : "plate_width";
-        return EKM_FAIL(err, EKM_EINPUT,
-                        "%s: [%s] %s: the plate [%g, %g] m is outside the %s boundary [0, %g] m "
-                        "(plate_x +- plate_width/2 must lie in [0, [domain] width])",
-                        where(c, end, key, w_, sizeof w_), end, key, lo, hi, end, s->width);
-    }
-    int faces = 0;
-    for (int i = 0; i < s->cells_x; i++) {
-        const double xc = (i + 0.5) * s->width / s->cells_x;
-        faces += xc >= lo && xc <= hi;
-    }
-    if (faces == 0)
-        return EKM_FAIL(err, EKM_EINPUT,
-                        "%s: [%s] plate_width: the plate [%g, %g] m holds no face centre of the %d cells "
-                        "along x (%g m wide): widen it or refine cells_x",
-                        where(c, end, "plate_width", w_, sizeof w_), end, lo, hi, s->cells_x,
-                        s->width / s->cells_x);
-    return EKM_OK;
+    return check_segment(c, s, end, "plate", bc->plate_x, bc->plate_width, err);
 }
 
 /* The keys of a 2D domain's boundaries: the side walls ([left], [right]:

@@ -14,27 +14,33 @@
         }                                                                              \
     } while (0)
 
-/* The face columns of end k whose centres lie in its inlet segment q
- * (without a segment: all of them); 0 when the segment holds none. */
-static int inlet_columns(ekm2d_grid *g, int k, int q, const ekm_bc *bc)
+/* The face columns whose centres lie in [lo, hi] [m], *first .. *last;
+ * 0 when none does. */
+static int segment_columns(const ekm2d_grid *g, double lo, double hi, PetscInt *first, PetscInt *last)
 {
-    PetscInt *lo_col = &g->inlet_lo[k][q], *hi_col = &g->inlet_hi[k][q];
-    *lo_col = 0;
-    *hi_col = g->nx - 1;
-    if (bc->kind != EKM_BC_INFLOW || !isfinite(bc->inlet_width))
-        return 1;
-    const double lo = bc->inlet_x[q] - 0.5 * bc->inlet_width, hi = bc->inlet_x[q] + 0.5 * bc->inlet_width;
-    *lo_col = g->nx;
-    *hi_col = -1;
+    *first = g->nx;
+    *last = -1;
     for (PetscInt i = 0; i < g->nx; i++) {
         const double xc = (i + 0.5) * g->dx;
         if (xc >= lo && xc <= hi) {
-            if (i < *lo_col)
-                *lo_col = i;
-            *hi_col = i;
+            if (i < *first)
+                *first = i;
+            *last = i;
         }
     }
-    return *hi_col >= *lo_col;
+    return *last >= *first;
+}
+
+/* The face columns of end k's inlet segment q (without a segment: all of
+ * them); 0 when the segment holds none. */
+static int inlet_columns(ekm2d_grid *g, int k, int q, const ekm_bc *bc)
+{
+    g->inlet_lo[k][q] = 0;
+    g->inlet_hi[k][q] = g->nx - 1;
+    if (bc->kind != EKM_BC_INFLOW || !isfinite(bc->inlet_width))
+        return 1;
+    return segment_columns(g, bc->inlet_x[q] - 0.5 * bc->inlet_width, bc->inlet_x[q] + 0.5 * bc->inlet_width,
+                           &g->inlet_lo[k][q], &g->inlet_hi[k][q]);
 }
 
 /* The face columns of end k's plate ([bottom]/[top] plate_width, a wall;
@@ -45,18 +51,8 @@ static int plate_columns(ekm2d_grid *g, int k, const ekm_bc *bc)
     g->plate_hi[k] = g->nx - 1;
     if (bc->kind != EKM_BC_WALL || !isfinite(bc->plate_width))
         return 1;
-    const double lo = bc->plate_x - 0.5 * bc->plate_width, hi = bc->plate_x + 0.5 * bc->plate_width;
-    g->plate_lo[k] = g->nx;
-    g->plate_hi[k] = -1;
-    for (PetscInt i = 0; i < g->nx; i++) {
-        const double xc = (i + 0.5) * g->dx;
-        if (xc >= lo && xc <= hi) {
-            if (i < g->plate_lo[k])
-                g->plate_lo[k] = i;
-            g->plate_hi[k] = i;
-        }
-    }
-    return g->plate_hi[k] >= g->plate_lo[k];
+    return segment_columns(g, bc->plate_x - 0.5 * bc->plate_width, bc->plate_x + 0.5 * bc->plate_width,
+                           &g->plate_lo[k], &g->plate_hi[k]);
 }
 
 ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *g, ekm_error *err)
