@@ -3,7 +3,7 @@
 # member over every group, so that a run stopped at any point leaves
 # groups of nearly equal size.
 #
-#   scripts/dem/pile_rounds.sh [-o DIR] [-R RECORDS] [-r MU_R] [-M MASS] [-e "ENGINES"] [-l "LAWS"] SIZE [FIRST [LAST]]
+#   scripts/dem/pile_rounds.sh [-o DIR] [-R RECORDS] [-r MU_R] [-M MASS] [-e "ENGINES"] [-l "LAWS"] [-t S] SIZE [FIRST [LAST]]
 #
 # Member k (FIRST..LAST, default 1..[dem] seeds) of every group: for each
 # engine (default "lammps liggghts"), the plain contact law into
@@ -24,6 +24,9 @@
 # the records and the ensemble grows from where it stood.
 # One DEM process at a time; run it in the background, e.g.
 #   nohup nice -n 19 scripts/dem/pile_rounds.sh ref > runs/pile.log 2>&1 &
+# -t S: each run's wall-time limit (run.sh's [dem] timeout, -s timeout=S;
+# default the scenario's 3600 s): on a loaded machine a run at nice 19
+# needs more wall time than its CPU time.
 # Exit status: 0 every run ok and recorded; 1 usage; otherwise the worst
 # status of ensemble.sh and pile_record.sh (a run failing its check:
 # check_run.sh's; docs/exit-codes.md), after trying every run.
@@ -34,7 +37,8 @@ prog=pile_rounds.sh
 usage() { echo "$prog: $*" >&2; exit 1; }
 
 out=$root/runs/pile; records=$root/results/sandpile/runs; mur=0.1; rmass=""; engines="lammps liggghts"; laws="plain rolling"
-while getopts "o:R:r:M:e:l:h" opt; do
+tlimit=()
+while getopts "o:R:r:M:e:l:t:h" opt; do
   case $opt in
     o) out=$OPTARG ;;
     R) records=$OPTARG ;;
@@ -42,13 +46,15 @@ while getopts "o:R:r:M:e:l:h" opt; do
     M) rmass=$OPTARG ;;
     e) engines=$OPTARG ;;
     l) laws=$OPTARG ;;
-    h) sed -n '2,29p' "$0"; exit 0 ;;
+    t) [[ $OPTARG =~ ^[1-9][0-9]*$ ]] || usage "-t $OPTARG: expected a wall time in whole seconds"
+       tlimit=(-s "timeout=$OPTARG") ;;
+    h) sed -n '2,32p' "$0"; exit 0 ;;
     *) usage "bad option (see -h)" ;;
   esac
 done
 shift $((OPTIND - 1))
 if [ $# -lt 1 ] || [ $# -gt 3 ]; then
-  usage "usage: pile_rounds.sh [-o DIR] [-R RECORDS] [-r MU_R] [-M MASS] [-e ENGINES] [-l LAWS] SIZE [FIRST [LAST]]"
+  usage "usage: pile_rounds.sh [-o DIR] [-R RECORDS] [-r MU_R] [-M MASS] [-e ENGINES] [-l LAWS] [-t S] SIZE [FIRST [LAST]]"
 fi
 size=$1
 ekmscenario=${EKMSCENARIO:-$root/build/scenario/ekmscenario}
@@ -86,7 +92,8 @@ for ((k = first; k <= last; k++)); do
       fi
       echo "$prog: member $k, $e, $variant ($(date -u +%H:%M:%S))"
       # only the points without a record (-P)
-      "$here/ensemble.sh" -m "$k" -o "$out/$variant" "${sets[@]+"${sets[@]}"}" "${todo[@]}" sandpile "$e" "$size"
+      "$here/ensemble.sh" -m "$k" -o "$out/$variant" "${sets[@]+"${sets[@]}"}" "${tlimit[@]+"${tlimit[@]}"}" \
+        "${todo[@]}" sandpile "$e" "$size"
       note $?
       dirs=()
       for pt in $points; do
