@@ -64,8 +64,8 @@
  *             iterations), mass and switches, every field bitwise equal
  *             (also under mpirun -np 2).  Twice: a small fast pile
  *             (thesis_sandpile_2d, 28 x 14 cells, w = -0.35 m/s, the solid
- *             regime on; t1 = 0.3 s, t2 = 0.4 s: the stream and the heap's
- *             dense flow) and the ranks_solid case's layer with side walls
+ *             regime on; t1 = 0.15 s, t2 = 0.2 s: the stream landing
+ *             and its first dense cells) and the ranks_solid case's layer with side walls
  *             (t1 = 0.03 s, t2 = 0.05 s: solid cells).
  * Exit 0 on success; prints the measured numbers.
  */
@@ -919,7 +919,7 @@ static int case_restart(const char *src)
     const char *pile[] = {"run.stop=t_end", "hypo.enabled=1", "top.w=-0.35", "domain.cells_x=28",
                           "domain.cells=14"};
     const char *layer[] = {"run.stop=t_end"};
-    int rc = restart_pair(src, "thesis_sandpile_2d", pile, sizeof pile / sizeof pile[0], 0.3, 0.4, 0);
+    int rc = restart_pair(src, "thesis_sandpile_2d", pile, sizeof pile / sizeof pile[0], 0.15, 0.2, 0);
     if (!rc)
         rc = restart_pair(src, "tests/continuum/data/settled_layer_2d.ini", layer, 1, 0.03, 0.05, 1);
     return rc;
