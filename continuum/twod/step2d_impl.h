@@ -169,6 +169,19 @@ static inline int ekm2d_cell_ok(const ekm2d_grid *g, PetscInt i, PetscInt j)
  * phase 4 has set every cell's own); st->fill its fill fraction (1 elsewhere). */
 void ekm2d_surface_properties(ekm2d_step *st);
 
+/* The cell-mean properties of cell (i, j) for its normal stress
+ * (model.h's ekm_stress_plane): a surface cell's eta is the material's
+ * (its corners lie in the material: surface2d.c), its cell mean f eta, as
+ * mu_n and zeta are; with eta unscaled the full variant's lam = mu_n -
+ * 2 eta would fall below -mu_n, a normal viscous stress that feeds a
+ * compression instead of resisting it. */
+static inline ekm_cell_properties ekm2d_cell_mean_properties(const ekm2d_step *st, PetscInt i, PetscInt j)
+{
+    ekm_cell_properties p = BOX(st, prop, i, j);
+    p.eta *= BOX(st, fill, i, j);
+    return p;
+}
+
 /* Phase 5: assemble and solve the velocity system; the new vx, vz into
  * u's face slots (u: dm's local array, ghosts included after the
  * solve).  1: solved; 0: the solve failed (st->reason), the step is

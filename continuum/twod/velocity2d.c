@@ -242,10 +242,10 @@ static void normal_stress_form(const ekm2d_step *st, PetscInt i, PetscInt j, int
         a_z = (along_x ? c->Vxx : c->Vzz) / st->g.dz;
         f->c = along_x ? c->Exx : c->Ezz;
     } else {
-        const ekm_cell_properties *p = &BOX(st, prop, i, j);
-        const double two_eta = st->sc->variant == EKM_VARIANT_THESIS ? 0.0 : 2.0 * p->eta;
-        a_x = (along_x ? p->mu_n : p->mu_n - two_eta) / st->g.dx;
-        a_z = (along_x ? p->mu_n - two_eta : p->mu_n) / st->g.dz;
+        const ekm_cell_properties p = ekm2d_cell_mean_properties(st, i, j);
+        const double two_eta = st->sc->variant == EKM_VARIANT_THESIS ? 0.0 : 2.0 * p.eta;
+        a_x = (along_x ? p.mu_n : p.mu_n - two_eta) / st->g.dx;
+        a_z = (along_x ? p.mu_n - two_eta : p.mu_n) / st->g.dz;
     }
     vf_add(st, f, DMSTAG_LEFT, i + 1, j, a_x);
     vf_add(st, f, DMSTAG_LEFT, i, j, -a_x);
