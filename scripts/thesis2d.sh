@@ -19,6 +19,9 @@
 #                             the same without the surface rules that the
 #                             pile scenarios set (surface_fill, phi_vacuum
 #                             0.05: docs/model/twod.md "Surface cells in 2D")
+#   thesis_sandpile_2d/narrow7full_56x28_at_1s, _at_2s
+#                             the fast narrow pile with [model] variant =
+#                             full (normal viscosity 4/3 eta + zeta)
 #   thesis_sandpile_2d/wide_56x28
 #                             a 70 mm inlet ("sieve"), 7x the narrow mass flux
 #   thesis_sandpile_2d/2sources7_56x28, 2sources7_*_at_1s, _at_2s
@@ -59,6 +62,7 @@ cases=(
   "pile_narrow_56x28 thesis_sandpile_2d --set hypo.enabled=1"
   "pile_narrow7_28x14 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=28 --set domain.cells=14 --set run.t_end=2"
   "pile_narrow7_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35"
+  "pile_narrow7full_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.w=-0.35 --set model.variant=full --set run.t_end=2"
   "pile_wide_56x28 thesis_sandpile_2d --set hypo.enabled=1 --set top.inlet_width=0.07"
   "pile_2sources7_28x14 thesis_sandpile_2sources_2d --set hypo.enabled=1 --set top.w=-0.35 --set domain.cells_x=28 --set domain.cells=14 --set run.t_end=2"
   "pile_2sources7_56x28 thesis_sandpile_2sources_2d --set hypo.enabled=1 --set top.w=-0.35"
@@ -89,7 +93,7 @@ done
 # the piles of the faster inflows stand before the layer reaches the side
 # walls (at 3.5 s the plate is covered): their numbers at 1 and 2 s (the
 # fast narrow inlet at 3 resolutions, run to 2 s on 28 x 14 and 112 x 56)
-for k in narrow7_28x14 narrow7_56x28 narrow7_112x56 wide_56x28; do
+for k in narrow7_28x14 narrow7_56x28 narrow7_112x56 narrow7full_56x28 wide_56x28; do
   for bt in 1 2; do
     draw "$root/figures/pile2d.py" "$runs/pile_$k.h5" "$res/thesis_sandpile_2d/${k}_at_${bt}s" \
       --times 0.5,1,1.5,2 --base-time "$bt" >&2
