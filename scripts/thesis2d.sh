@@ -138,7 +138,7 @@ if os.path.exists(out):
     with open(out) as fh:
         old = json.load(fh).get("rows", {})
 rows = {}
-for name in ("narrow_56x28", "narrow_112x56", "narrow7_28x14", "narrow7_56x28", "narrow7_112x56",
+for name in ("narrow_56x28", "narrow_112x56", "narrow7_28x14", "narrow7_56x28", "narrow7_112x56", "narrow7full_56x28",
              "wide_56x28", "2sources7_28x14", "2sources7_56x28", "narrow7stop1_56x28",
              "narrow7stop1_112x56", "narrow7stop1norules_56x28"):
     path = os.path.join(runs, "pile_%s.h5" % name)
