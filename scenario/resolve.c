@@ -323,6 +323,51 @@ static ekm_status dump_every_of(const ekm_resolve_key *dump_strain, const ekm_re
     return EKM_OK;
 }
 
+/* The EKM's source and floor of a sand-pile point of width W [d] from the
+ * DEM's keys (docs/scenario-format.md "The sweep"), each set made when its
+ * keys are resolved (a size's keys: --size):
+ *   top.inlet_width = W d                        [m]
+ *   top.phi = q / (rho_p pour_speed W d), q = k pour_rate / (ly d)
+ *             (the mass flux per unit depth [kg/(m s)]; k = 2 for a sieve,
+ *             W >= plate_width, which pours 2 pile_mass at 2 pour_rate as
+ *             the decks do, else 1)
+ *   top.w = -pour_speed                          [m/s]
+ *   top.t_stop = pile_mass / pour_rate           [s]
+ *   bottom.plate_width = plate_width d           [m]
+ *   run.t_end = [dem] t_end                      [s]
+ * (d = [dem] diameter). */
+static void pile_sets(const ekm_scenario *s, const ekm_resolved *r, const char *width, ekm_resolve_point *p)
+{
+    const ekm_resolve_key *d = ekm_resolve_find(r, "dem.diameter"), *ly = ekm_resolve_find(r, "dem.ly");
+    const ekm_resolve_key *rate = ekm_resolve_find(r, "dem.pour_rate"),
+                          *speed = ekm_resolve_find(r, "dem.pour_speed");
+    const ekm_resolve_key *mass = ekm_resolve_find(r, "dem.pile_mass"),
+                          *plate = ekm_resolve_find(r, "dem.plate_width");
+    const ekm_resolve_key *t_end = ekm_resolve_find(r, "dem.t_end");
+    const double W = strtod(width, NULL);
+    p->n_sets = 0;
+    if (!d)
+        return;
+    const double dm = strtod(d->value, NULL);
+    snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.inlet_width=%.10g", W * dm);
+    if (rate && ly && speed && plate) {
+        const int sieve = W >= strtod(plate->value, NULL) - 1e-9;
+        const double q = (1 + sieve) * strtod(rate->value, NULL) / (strtod(ly->value, NULL) * dm);
+        const double v = strtod(speed->value, NULL);
+        snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.phi=%.10g",
+                 q / (s->material.rho_p * v * W * dm));
+        snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.w=%.10g", -v);
+    }
+    if (mass && rate)
+        snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.t_stop=%.10g",
+                 strtod(mass->value, NULL) / strtod(rate->value, NULL));
+    if (plate)
+        snprintf(p->set[p->n_sets++], sizeof p->set[0], "bottom.plate_width=%.10g",
+                 strtod(plate->value, NULL) * dm);
+    if (t_end)
+        snprintf(p->set[p->n_sets++], sizeof p->set[0], "run.t_end=%s", t_end->value);
+}
+
 static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, ekm_sweep_kind sweep, ekm_error *err)
 {
     const ekm_resolve_key *angles = ekm_resolve_find(r, "dem.angles");
@@ -399,8 +444,11 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, ekm_sweep
             st = split_list(widths, &a[0], err);
         if (st == EKM_OK)
             st = check_sweep_items(s, r, widths, &a[0], 0.0, 0.0, "source widths > 0 [d]", err);
+        const size_t first = r->n_points;
         if (st == EKM_OK)
             st = add_list_points(r, &a[0], "source", "source_width", NULL, err);
+        for (size_t i = 0; st == EKM_OK && i < a[0].n; i++)
+            pile_sets(s, r, a[0].item[i], &r->points[first + i]);
     } else if (sweep == EKM_SWEEP_P_RATE) {
         st = EKM_FAIL(err, EKM_EINPUT,
                       "%s: [dem] pressures: missing for this engine and size (only other variants are given; "

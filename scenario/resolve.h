@@ -27,14 +27,14 @@ typedef struct {
     char as[64];     /* the key as written when a prefixed variant was chosen, else "" */
 } ekm_resolve_key;
 
-/* One sweep point: up to 3 deck variables, up to 3 ekm overrides. */
+/* One sweep point: up to 3 deck variables, up to 6 ekm overrides. */
 typedef struct {
     char tag[160]; /* "" for the single point, "theta22", "phi0.50-rate10", "p100-rate10" */
     size_t n_vars;
     char var_name[3][16];  /* "theta"; "phi", "rate"; "pressure", "rate"; [+ "dump_every"] */
     char var_value[3][64]; /* as written in the sweep list (dump_every: computed) */
     size_t n_sets;
-    char set[3][96]; /* "gravity.angle=22", "top.velocity=0.1", ... */
+    char set[6][96]; /* "gravity.angle=22", "top.velocity=0.1", ... */
 } ekm_resolve_point;
 
 typedef struct {

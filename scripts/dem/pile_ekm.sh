@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# scripts/dem/pile_ekm.sh: the 2D EKM sand piles in the DEM's geometry
+# (issue 34, item 4; docs/dem.md "The EKM pile in the DEM's geometry"):
+# one `ekm run scenarios/sandpile.ini` per point of the DEM's sweep (the
+# hopper and the sieve) and model variant, each with the point's ekm_set
+# (`ekm scenario scenarios/sandpile.ini --engine ENGINE --size SIZE
+# --json`: its source's width and mass flux, its pouring time, the plate,
+# the end time), then figures/pile2d.py on each at the end of the pouring
+# and at the end (the DEM's pile at rest) into OUT/<point>_<variant>_at_<t>s/.
+#
+#   scripts/dem/pile_ekm.sh [-e ENGINE] [-s SIZE] [-v "VARIANTS"] [-o OUT] [BUILD_DIR]
+#
+# ENGINE lammps (default) or liggghts: the keys it resolves (the ekm_set is
+# the same for both today); SIZE ref (default) or smoke; VARIANTS default
+# "thesis full"; OUT default results/sandpile/ekm. Runs go to RUNS (default
+# runs/pile_ekm/, not committed), resumable as scripts/thesis2d.sh's
+# (scripts/lib/ekm_runs.sh), JOBS at a time (default 1: the DEM ensemble
+# usually holds the other core). About 500 s each on one core (ref, 65 x
+# 20 cells, 2026-12-07).
+# Exit status: 0; 1 usage or a missing program; 2 a run or a figure failed.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+prog=pile_ekm.sh
+engine=lammps size=ref variants="thesis full" out=$root/results/sandpile/ekm
+while getopts "e:s:v:o:h" o; do
+  case $o in
+    e) engine=$OPTARG ;;
+    s) size=$OPTARG ;;
+    v) variants=$OPTARG ;;
+    o) out=$OPTARG ;;
+    h) sed -n '2,20p' "$0"; exit 0 ;;
+    *) echo "$prog: bad option (see -h)" >&2; exit 1 ;;
+  esac
+done
+shift $((OPTIND - 1))
+[ $# -le 1 ] || { echo "$prog: usage: pile_ekm.sh [-e ENGINE] [-s SIZE] [-v VARIANTS] [-o OUT] [BUILD_DIR]" >&2; exit 1; }
+build=${1:-build}
+ekm="$root/$build/continuum/ekm"
+[ -x "$ekm" ] || { echo "$prog: $ekm not built (make build)" >&2; exit 1; }
+runs=${RUNS:-$root/runs/pile_ekm}
+jobs=${JOBS:-1}
+py=/usr/bin/python3
+mkdir -p "$runs" "$out"
+
+# the points: "tag t_stop t_end set set ..." per line
+points=$("$ekm" scenario "$root/scenarios/sandpile.ini" --engine "$engine" --size "$size" --json |
+  $py -c '
+import json, sys
+for p in json.load(sys.stdin)["points"]:
+    sets = dict(s.split("=", 1) for s in p["ekm_set"])
+    print(p["tag"], sets["top.t_stop"], sets["run.t_end"], " ".join(p["ekm_set"]))')
+cases=()
+while read -r tag t_stop t_end sets; do
+  args=""
+  for s in $sets; do args+=" --set $s"; done
+  for v in $variants; do
+    cases+=("${tag}_${size}_$v sandpile$args --set model.variant=$v")
+  done
+done <<< "$points"
+
+# shellcheck source=scripts/lib/ekm_runs.sh
+. "$root/scripts/lib/ekm_runs.sh"
+fail=0
+ekm_runs pile_ekm || fail=2
+
+while read -r tag t_stop t_end sets; do
+  for v in $variants; do
+    name=${tag}_${size}_$v
+    [ -f "$runs/$name.h5" ] || continue
+    for t in $(printf '%.2f\n' "$t_stop") "$t_end"; do
+      $py -B "$root/figures/pile2d.py" "$runs/$name.h5" "$out/${name}_at_${t}s" \
+        --times 0.5,1,2,"$t_end" --base-time "$t" >&2 || fail=2
+    done
+  done
+done <<< "$points"
+exit "$fail"
