@@ -35,7 +35,10 @@ done
 shift $((OPTIND - 1))
 [ $# -le 1 ] || { echo "$prog: usage: pile_ekm.sh [-e ENGINE] [-s SIZE] [-v VARIANTS] [-o OUT] [BUILD_DIR]" >&2; exit 1; }
 build=${1:-build}
-ekm="$root/$build/continuum/ekm"
+case $build in
+  /*) ekm=$build/continuum/ekm ;;
+  *) ekm=$root/$build/continuum/ekm ;;
+esac
 [ -x "$ekm" ] || { echo "$prog: $ekm not built (make build)" >&2; exit 1; }
 runs=${RUNS:-$root/runs/pile_ekm}
 jobs=${JOBS:-1}
