@@ -101,18 +101,12 @@ def _str(v):
 
 
 def read_vars(run):
-    out = {}
+    import pile_dump  # beside this file, as pile_record.py imports this one
     path = os.path.join(run, "vars.txt")
-    if not os.path.isfile(path):
-        raise MapError(3, "%s: no such file" % path)
-    with open(path) as f:
-        for line in f:
-            k, eq, v = line.partition("=")
-            if eq:
-                try:
-                    out[k.strip()] = float(v)
-                except ValueError:
-                    pass
+    try:
+        out = pile_dump.read_vars(run)
+    except pile_dump.DumpError as e:
+        raise MapError(e.code, str(e)) from None
     for k in ("d", "lx", "lz", "dt"):
         if not (out.get(k, 0) > 0):
             raise MapError(2, "%s: expected %s > 0 (the deck's grain diameter, box and time step)" % (path, k))
