@@ -10,11 +10,14 @@
 # and OUT/summary.md: their numbers beside the DEM's plain piles of the
 # same size (OUT/../summary-plain-SIZE.json, scripts/dem/pile_analysis.sh).
 #
-#   scripts/dem/pile_ekm.sh [-e ENGINE] [-s SIZE] [-v "VARIANTS"] [-o OUT] [BUILD_DIR]
+#   scripts/dem/pile_ekm.sh [-e ENGINE] [-s SIZE] [-v "VARIANTS"] [-m "NAME=FIT.ini ..."] [-o OUT] [BUILD_DIR]
 #
 # ENGINE lammps (default) or liggghts: the keys it resolves (the ekm_set is
 # the same for both today); SIZE ref (default) or smoke; VARIANTS default
-# "thesis full"; OUT default results/sandpile/ekm. Runs go to RUNS (default
+# "thesis full"; -m: material sets (`ekm run --material FIT.ini`, e.g.
+# rheology=results/calibration/rheology/fit.ini), each run of a set named
+# <point>_<size>_<variant>_<NAME> (without -m: the scenario's own
+# [material], no suffix); OUT default results/sandpile/ekm. Runs go to RUNS (default
 # runs/pile_ekm/, not committed), resumable as scripts/thesis2d.sh's
 # (scripts/lib/ekm_runs.sh), JOBS at a time (default 1: the DEM ensemble
 # usually holds the other core). About 500 s each on one core (ref, 65 x
@@ -23,19 +26,31 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 prog=pile_ekm.sh
-engine=lammps size=ref variants="thesis full" out=$root/results/sandpile/ekm
-while getopts "e:s:v:o:h" o; do
+engine=lammps size=ref variants="thesis full" sets="" out=$root/results/sandpile/ekm
+while getopts "e:s:v:m:o:h" o; do
   case $o in
     e) engine=$OPTARG ;;
     s) size=$OPTARG ;;
     v) variants=$OPTARG ;;
+    m) sets=$OPTARG ;;
     o) out=$OPTARG ;;
     h) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "$prog: bad option (see -h)" >&2; exit 1 ;;
   esac
 done
 shift $((OPTIND - 1))
-[ $# -le 1 ] || { echo "$prog: usage: pile_ekm.sh [-e ENGINE] [-s SIZE] [-v VARIANTS] [-o OUT] [BUILD_DIR]" >&2; exit 1; }
+[ $# -le 1 ] || { echo "$prog: usage: pile_ekm.sh [-e ENGINE] [-s SIZE] [-v VARIANTS] [-m SETS] [-o OUT] [BUILD_DIR]" >&2; exit 1; }
+# the material sets: "suffix --material FILE" per line ("" and none: the scenario's)
+materials=""
+for m in $sets; do
+  mname=${m%%=*} mfile=${m#*=}
+  if [ -z "$mname" ] || [ "$mname" = "$m" ] || [ ! -f "$mfile" ]; then
+    echo "$prog: -m $m: expected NAME=FIT.ini with an existing file" >&2
+    exit 1
+  fi
+  materials+="_$mname $mfile"$'\n'
+done
+[ -n "$materials" ] || materials=$' -'$'\n'
 build=${1:-build}
 case $build in
   /*) ekm=$build/continuum/ekm ;;
@@ -59,7 +74,11 @@ while read -r tag t_stop t_end sets; do
   args=""
   for s in $sets; do args+=" --set $s"; done
   for v in $variants; do
-    cases+=("${tag}_${size}_$v sandpile$args --set model.variant=$v")
+    while read -r suffix mfile; do
+      [ -n "$suffix" ] || continue
+      if [ "$suffix" = - ]; then suffix="" mopt=""; else mopt=" --material $mfile"; fi
+      cases+=("${tag}_${size}_$v$suffix sandpile$args --set model.variant=$v$mopt")
+    done <<< "$materials"
   done
 done <<< "$points"
 
@@ -68,9 +87,10 @@ done <<< "$points"
 fail=0
 ekm_runs pile_ekm || fail=2
 
-while read -r tag t_stop t_end sets; do
-  for v in $variants; do
-    name=${tag}_${size}_$v
+while read -r tag t_stop t_end _; do
+  for c in "${cases[@]}"; do
+    name=${c%% *}
+    case $name in "${tag}"_*) ;; *) continue ;; esac
     [ -f "$runs/$name.h5" ] || continue
     for t in $(printf '%.2f\n' "$t_stop") "$t_end"; do
       $py -B "$root/figures/pile2d.py" "$runs/$name.h5" "$out/${name}_at_${t}s" \
