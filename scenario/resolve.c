@@ -335,19 +335,28 @@ static ekm_status dump_every_of(const ekm_resolve_key *dump_strain, const ekm_re
  *   top.t_stop = pile_mass / pour_rate           [s]
  *   bottom.plate_width = plate_width d           [m]
  *   run.t_end = [dem] t_end                      [s]
- * (d = [dem] diameter). */
-static void pile_sets(const ekm_scenario *s, const ekm_resolved *r, const char *width, ekm_resolve_point *p)
+ * (d = [dem] diameter). With a size given (r->size) every key is needed:
+ * a missing one is an error naming it. */
+static ekm_status pile_sets(const ekm_scenario *s, const ekm_resolved *r, const char *width,
+                            ekm_resolve_point *p, ekm_error *err)
 {
-    const ekm_resolve_key *d = ekm_resolve_find(r, "dem.diameter"), *ly = ekm_resolve_find(r, "dem.ly");
-    const ekm_resolve_key *rate = ekm_resolve_find(r, "dem.pour_rate"),
-                          *speed = ekm_resolve_find(r, "dem.pour_speed");
-    const ekm_resolve_key *mass = ekm_resolve_find(r, "dem.pile_mass"),
-                          *plate = ekm_resolve_find(r, "dem.plate_width");
-    const ekm_resolve_key *t_end = ekm_resolve_find(r, "dem.t_end");
+    static const char *const need[] = {"dem.diameter",  "dem.ly",          "dem.pour_rate", "dem.pour_speed",
+                                       "dem.pile_mass", "dem.plate_width", "dem.t_end"};
+    const ekm_resolve_key *k[sizeof need / sizeof need[0]];
+    for (size_t i = 0; i < sizeof need / sizeof need[0]; i++) {
+        k[i] = ekm_resolve_find(r, need[i]);
+        if (!k[i] && r->size[0])
+            return EKM_FAIL(err, EKM_EINPUT,
+                            "%s: [dem] %s: missing for size %s (the sand-pile point's ekm_set, the EKM's "
+                            "source and plate, is made from it)",
+                            s->source, need[i] + 4, r->size);
+    }
+    const ekm_resolve_key *d = k[0], *ly = k[1], *rate = k[2], *speed = k[3], *mass = k[4], *plate = k[5],
+                          *t_end = k[6];
     const double W = strtod(width, NULL);
     p->n_sets = 0;
     if (!d)
-        return;
+        return EKM_OK;
     const double dm = strtod(d->value, NULL);
     snprintf(p->set[p->n_sets++], sizeof p->set[0], "top.inlet_width=%.10g", W * dm);
     if (rate && ly && speed && plate) {
@@ -365,7 +374,8 @@ static void pile_sets(const ekm_scenario *s, const ekm_resolved *r, const char *
         snprintf(p->set[p->n_sets++], sizeof p->set[0], "bottom.plate_width=%.10g",
                  strtod(plate->value, NULL) * dm);
     if (t_end)
-        snprintf(p->set[p->n_sets++], sizeof p->set[0], "run.t_end=%s", t_end->value);
+        snprintf(p->set[p->n_sets++], sizeof p->set[0], "run.t_end=%.10g", strtod(t_end->value, NULL));
+    return EKM_OK;
 }
 
 static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, ekm_sweep_kind sweep, ekm_error *err)
@@ -448,7 +458,7 @@ static ekm_status build_points(const ekm_scenario *s, ekm_resolved *r, ekm_sweep
         if (st == EKM_OK)
             st = add_list_points(r, &a[0], "source", "source_width", NULL, err);
         for (size_t i = 0; st == EKM_OK && i < a[0].n; i++)
-            pile_sets(s, r, a[0].item[i], &r->points[first + i]);
+            st = pile_sets(s, r, a[0].item[i], &r->points[first + i], err);
     } else if (sweep == EKM_SWEEP_P_RATE) {
         st = EKM_FAIL(err, EKM_EINPUT,
                       "%s: [dem] pressures: missing for this engine and size (only other variants are given; "

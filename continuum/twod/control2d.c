@@ -32,7 +32,6 @@
 
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 
 #include "control.h"
 
@@ -84,10 +83,6 @@ static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic,
                 continue;
             }
             const double rate = vx / g->dx + vz / g->dz;
-            if (getenv("EKMDBG") && rate > 0.5 / 2e-5 && j < 3)
-                fprintf(stderr, "DBG t=%.7f cell %d %d phi %.3g T %.3g vx %.3g %.3g vz %.3g %.3g\n", st->t,
-                        (int)i, (int)j, u[j][i][g->s_phi], u[j][i][g->s_T], u[j][i][g->s_vx],
-                        u[j][i + 1][g->s_vx], u[j][i][g->s_vz], u[j + 1][i][g->s_vz]);
             if (rate > 0.0)
                 take(&dt, why, cfl / rate, LIM_CONVECTIVE, i, j);
             if (!wet)

@@ -69,8 +69,9 @@ static PetscErrorCode local_fields(ekm2d_step *st, DM dmf, Vec loc)
             v[EKM2D_T] = u[j][i][g->s_T];
             const double exx = (u[j][i + 1][g->s_vx] - u[j][i][g->s_vx]) / g->dx;
             const double ezz = (u[j + 1][i][g->s_vz] - u[j][i][g->s_vz]) / g->dz;
-            const ekm_cell_properties mean = ekm2d_cell_mean_properties(st, i, j);
-            const ekm_plane_stress ps = ekm_stress_plane(&mean, sc->variant, exx, ezz);
+            /* the state's own properties (state_properties above: no surface
+             * rule, every coefficient of the cell's own phi) */
+            const ekm_plane_stress ps = ekm_stress_plane(&BOX(st, prop, i, j), sc->variant, exx, ezz);
             v[EKM2D_P] = ps.P;
             v[EKM2D_SXX] = ps.sxx;
             v[EKM2D_SZZ] = ps.szz;

@@ -206,6 +206,8 @@ ekm_status ekm2d_step_create(const ekm_scenario *sc, MPI_Comm comm, const ekm_st
         *out = NULL;
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory (2D step, %d x %d cells)", g->nx, g->nz);
     }
+    for (size_t k = 0; k < n; k++)
+        st->fill[k] = 1.0; /* no surface cell until phase 4 says so (surface2d.c) */
     PetscErrorCode pe = DMCreateGlobalVector(g->dm, &st->U);
     pe = pe ? pe : VecDuplicate(st->U, &st->U_back);
     pe = pe ? pe : DMCreateLocalVector(g->dm, &st->Ul);

@@ -169,8 +169,9 @@ static inline int ekm2d_cell_ok(const ekm2d_grid *g, PetscInt i, PetscInt j)
  * phase 4 has set every cell's own); st->fill its fill fraction (1 elsewhere). */
 void ekm2d_surface_properties(ekm2d_step *st);
 
-/* The cell-mean properties of cell (i, j) for its normal stress
- * (model.h's ekm_stress_plane): a surface cell's eta is the material's
+/* The cell-mean properties of cell (i, j) for its normal stress in the
+ * velocity system (phase 5, after phase 4 has set st->prop and st->fill
+ * at phi*; model.h's ekm_stress_plane): a surface cell's eta is the material's
  * (its corners lie in the material: surface2d.c), its cell mean f eta, as
  * mu_n and zeta are; with eta unscaled the full variant's lam = mu_n -
  * 2 eta would fall below -mu_n, a normal viscous stress that feeds a

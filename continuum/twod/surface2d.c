@@ -22,7 +22,8 @@
  * corners it shares with flowing cells are at its base, inside the
  * material (the corners at its top touch the nearly empty cell above,
  * whose small viscosity the corner's harmonic mean takes). Its cell-mean quantities are f times the
- * material's: the normal viscosities mu_n, zeta [Pa s], the conductivity lambda [kg/(m s)], the heating; its
+ * material's: the normal viscosities mu_n, zeta and the eta of its normal stress [Pa s]
+ * (step2d_impl.h's ekm2d_cell_mean_properties), the conductivity lambda [kg/(m s)], the heating; its
  * dissipation is rho_p phi eps(phi_m, T) T (eps from g(phi_m) and Y(phi_m)). Its pressure and dP/dphi stay
  * those of its own phi (P_K(phi, T)), so that its weight rests on the cell below as before (with f P(phi_m)
  * the face below would lose its pressure support as f -> 1). */

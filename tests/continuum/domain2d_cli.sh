@@ -67,6 +67,11 @@ json "sandpile smoke: the sieve pours twice the hopper's mass rate over 42 d" \
     '[.points[].ekm_set[1]] == ["top.phi=0.08333333333", "top.phi=0.03174603175"]
      and [.points[].ekm_set[0]] == ["top.inlet_width=0.016", "top.inlet_width=0.084"]' \
     "$pile" --engine lammps --size smoke --json
+# with a size, a key of the ekm_set missing is an error naming it
+sed 's/^ref\.pile_mass .*//' "$pile" > nomass.ini
+error "sandpile ref without pile_mass" 2 \
+    "^ekm: nomass.ini: \[dem\] pile_mass: missing for size ref \(the sand-pile point's ekm_set" \
+    scenario nomass.ini --engine lammps --size ref --json
 # without a size the sizes' keys (pour_rate, pile_mass) are not resolved:
 # only the sets whose keys are
 json "sandpile: one width is a single point" \

@@ -55,15 +55,20 @@ static int setup(void **state)
     snprintf(fx->dir, sizeof fx->dir, "%s/out2d_test", EKM_BINARY_DIR);
     char cmd[1200];
     snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", fx->dir, fx->dir);
-    if (system(cmd) != 0)
+    if (system(cmd) != 0) {
+        free(fx);
         return -1;
+    }
     char ini[600];
     snprintf(ini, sizeof ini, "%s/scenarios/sandpile.ini", EKM_SOURCE_DIR);
-    const char *sets[] = {"domain.cells_x=4", "domain.cells=3", "domain.width=0.2", "domain.length=0.06"};
+    /* the scenario's plate (0.204 m) is wider than this box: the whole floor */
+    const char *sets[] = {"domain.cells_x=4",   "domain.cells=3",     "domain.width=0.2",
+                          "domain.length=0.06", "bottom.plate_x=0.1", "bottom.plate_width=0.2"};
     ekm_error err = {0};
-    if (ekm_scenario_load(&fx->sc, ini, sets, 4, &err) != EKM_OK) {
+    if (ekm_scenario_load(&fx->sc, ini, sets, sizeof sets / sizeof sets[0], &err) != EKM_OK) {
         fprintf(stderr, "%s\n", err.message);
         ekm_scenario_free(&fx->sc);
+        free(fx);
         return -1;
     }
     *state = fx;
@@ -73,6 +78,8 @@ static int setup(void **state)
 static int teardown(void **state)
 {
     fixture *fx = *state;
+    if (!fx) /* setup failed (and freed it) */
+        return 0;
     ekm_scenario_free(&fx->sc);
     free(fx);
     return 0;
