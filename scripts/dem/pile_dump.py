@@ -60,7 +60,7 @@ def last_frame(path):
 def read_vars(run):
     out = {}
     path = os.path.join(run, "vars.txt")
-    if not os.path.exists(path):
+    if not os.path.isfile(path):
         raise DumpError(3, "%s: no such file" % path)
     with open(path) as f:
         for line in f:

@@ -27,15 +27,16 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 prog=pile_ekm.sh
 engine=lammps size=ref variants="thesis full" sets="" out=$root/results/sandpile/ekm
-while getopts "e:s:v:m:o:h" o; do
+while getopts ":e:s:v:m:o:h" o; do
   case $o in
     e) engine=$OPTARG ;;
     s) size=$OPTARG ;;
     v) variants=$OPTARG ;;
     m) sets=$OPTARG ;;
     o) out=$OPTARG ;;
-    h) sed -n '2,20p' "$0"; exit 0 ;;
-    *) echo "$prog: bad option (see -h)" >&2; exit 1 ;;
+    h) sed -n '2,25p' "$0"; exit 0 ;;
+    :) echo "$prog: -$OPTARG needs a value (see -h)" >&2; exit 1 ;;
+    *) echo "$prog: -$OPTARG: unknown option (see -h)" >&2; exit 1 ;;
   esac
 done
 shift $((OPTIND - 1))
@@ -44,8 +45,8 @@ shift $((OPTIND - 1))
 materials=""
 for m in $sets; do
   mname=${m%%=*} mfile=${m#*=}
-  if [ -z "$mname" ] || [ "$mname" = "$m" ] || [ ! -f "$mfile" ]; then
-    echo "$prog: -m $m: expected NAME=FIT.ini with an existing file" >&2
+  if [ -z "$mname" ] || [ "$mname" = "$m" ] || [[ $mname == */* ]] || [ ! -f "$mfile" ]; then
+    echo "$prog: -m $m: expected NAME=FIT.ini (NAME without / or blanks) with an existing file" >&2
     exit 1
   fi
   materials+="_$mname $mfile"$'\n'
@@ -62,17 +63,23 @@ jobs=${JOBS:-1}
 py=/usr/bin/python3
 mkdir -p "$runs" "$out"
 
-# the points: "tag t_stop t_end set set ..." per line
-points=$("$ekm" scenario "$root/scenarios/sandpile.ini" --engine "$engine" --size "$size" --json |
-  $py -c '
+# the points: "tag t_stop t_end set set ..." per line (a single point, tag
+# "", is "pile")
+resolved=$("$ekm" scenario "$root/scenarios/sandpile.ini" --engine "$engine" --size "$size" --json) ||
+  exit 1
+points=$($py -c '
 import json, sys
 for p in json.load(sys.stdin)["points"]:
     sets = dict(s.split("=", 1) for s in p["ekm_set"])
-    print(p["tag"], sets["top.t_stop"], sets["run.t_end"], " ".join(p["ekm_set"]))')
+    for k in ("top.t_stop", "run.t_end"):
+        if k not in sets:
+            sys.exit("pile_ekm.sh: point %r: no %s in its ekm_set" % (p["tag"], k))
+    print(p["tag"] or "pile", sets["top.t_stop"], sets["run.t_end"], " ".join(p["ekm_set"]))' <<< "$resolved") ||
+  exit 1
 cases=()
-while read -r tag t_stop t_end sets; do
+while read -r tag t_stop t_end point_sets; do
   args=""
-  for s in $sets; do args+=" --set $s"; done
+  for s in $point_sets; do args+=" --set $s"; done
   for v in $variants; do
     while read -r suffix mfile; do
       [ -n "$suffix" ] || continue
