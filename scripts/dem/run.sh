@@ -257,7 +257,7 @@ else
     die "$ini: the resolved sweep points lack a deck variable"
   [ ${#points[@]} -gt 0 ] || die "$ini: no sweep points"
   for p in "${points[@]}"; do
-    set -f; pset=(${p#*|}); set +f
+    read -ra pset <<< "${p#*|}"
     for ((i = 0; i < ${#pset[@]}; i += 2)); do num "${pset[i]}" "${pset[i+1]}"; done
   done
 fi
@@ -282,7 +282,9 @@ run_case() { # run_case TAG "name value ..."
   local tag=$1 extra=$2 dir st=ok msg="" rc
   dir=$outroot/$scen/$engine-$size${tag:+/$tag}
   local -a all=("${vars[@]}") args=()
-  set -f; all+=($extra); set +f
+  local -a ex=()
+  read -ra ex <<< "$extra"
+  all+=("${ex[@]+"${ex[@]}"}")
   local i newvars=""
   for ((i = 0; i < ${#all[@]}; i += 2)); do
     newvars+=$(printf '%s = %s' "${all[i]}" "${all[i+1]}")$'\n'
@@ -374,10 +376,12 @@ run_case() { # run_case TAG "name value ..."
       st=not_steady; msg="monitor drift $drift > $steady_tol between the last two quarters"
     fi
   fi
+  # the cleanup after && mv || runs when either fails (both leave no run.json)
+  # shellcheck disable=SC2015
   {
     echo "{"
     echo "  \"scenario\": \"$scen\", \"engine\": \"$engine\", \"version\": \"$version\","
-    echo "  \"size\": \"$size\", \"point\": \"$tag\", \"scenario_file\": \"${ini#$root/}\","
+    echo "  \"size\": \"$size\", \"point\": \"$tag\", \"scenario_file\": \"${ini#"$root"/}\","
     echo "  \"command\": \"$(echo "$cmdstr" | json_escape)\","
     echo "  \"ranks\": $np, \"steps\": ${steps:-null}, \"dt\": ${K[dem.dt]},"
     echo "  \"particles\": ${natoms:-null}, \"wall_time_s\": $wall,"
