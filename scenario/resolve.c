@@ -134,6 +134,23 @@ static ekm_status sweep_of(const ekm_scenario *s, ekm_sweep_kind *kind, ekm_erro
     return EKM_OK;
 }
 
+/* [dem] settle_max, the latest end of the sand pile's settling (default
+ * t_end: none), cannot end the run before t_end: an error naming where
+ * settle_max was given (docs/scenario-format.md). */
+static ekm_status check_settle_max(const ekm_resolved *r, ekm_error *err)
+{
+    const ekm_resolve_key *sm = ekm_resolve_find(r, "dem.settle_max"), *te = ekm_resolve_find(r, "dem.t_end");
+    if (!sm || !te)
+        return EKM_OK;
+    const double x = strtod(sm->value, NULL), t = strtod(te->value, NULL);
+    if (x >= t)
+        return EKM_OK;
+    const int te_given = strcmp(te->from, "default") != 0;
+    return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: expected a time >= [dem] t_end = %s s (%s%s), got '%s'",
+                    sm->from, sm->as[0] ? sm->as : "settle_max", te->value, te_given ? "" : "the default: ",
+                    te_given ? te->from : "[run] t_end", sm->value);
+}
+
 static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, const char *section,
                                        ekm_sweep_kind sweep, ekm_error *err)
 {
@@ -159,6 +176,8 @@ static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, c
                 src = ekm_resolve_find(r, "dem.restitution");
             else if (strcmp(name, "dem.t_end") == 0)
                 src = ekm_resolve_find(r, "run.t_end");
+            else if (strcmp(name, "dem.settle_max") == 0)
+                src = ekm_resolve_find(r, "dem.t_end");
             else if (strcmp(name, "dem.pressure") == 0)
                 src = ekm_resolve_find(r, "top.pressure");
             else if (strcmp(name, "dem.angles") == 0 && sweep == EKM_SWEEP_THETA)
@@ -180,6 +199,8 @@ static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, c
         if (st != EKM_OK)
             return st;
     }
+    if (strcmp(section, "dem") == 0)
+        return check_settle_max(r, err);
     return EKM_OK;
 }
 

@@ -26,6 +26,7 @@ static const ekm_tool_key TOOL_KEYS[] = {
     {"dem", "lx", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE},
     {"dem", "ly", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE},
     {"dem", "t_end", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE}, /* default: [run] t_end */
+    {"dem", "settle_max", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE}, /* default: [dem] t_end */
     {"dem", "rest_ke", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE},
     {"dem", "t_settle", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_THETA},
     {"dem", "t_flow", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_THETA},
@@ -218,6 +219,7 @@ static const char *dem_range(const char *base, const char *value)
         {"lx", "a length > 0 [d]", 0, HUGE_VAL, 1, 1},
         {"ly", "a length > 0 [d]", 0, HUGE_VAL, 1, 1},
         {"t_end", "a time > 0 [s]", 0, HUGE_VAL, 1, 1},
+        {"settle_max", "a time > 0 [s]", 0, HUGE_VAL, 1, 1},
         {"t_settle", "a time >= 0 [s]", 0, HUGE_VAL, 0, 1},
         {"t_flow", "a time > 0 [s]", 0, HUGE_VAL, 1, 1},
         {"t_run", "a time > 0 [s]", 0, HUGE_VAL, 1, 1},

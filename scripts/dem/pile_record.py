@@ -51,8 +51,8 @@ names the records; snapshots_read only when every record has it) and, when
 every record has its surface, h_runs, floor_grains_runs [runs][bins] and
 pile_mass_runs [runs] (pile_stats.py reads them instead of dumps). The
 records must share the grid, the engine, size, law and point, and (those
-with vars.txt) every deck variable but the seeds and the output intervals,
-and those with map.h5 its grid.
+with vars.txt) every deck variable but the seeds, the output intervals and
+the settling's end (settle_max, rest_ke), and those with map.h5 its grid.
 summary: pile_summary.py's table (per law: groups by engine, size and
 point, mean and SE over the runs) of the records' summary rows; a row's
 "run" is its record's path relative to the records' common root.
@@ -85,9 +85,12 @@ FORMAT = "ekmbench sand-pile run record 1"
 LAWS = ("plain", "rolling")
 ENGINES = ("lammps", "liggghts")
 SOURCES = ("hopper", "sieve")
-# deck variables that may differ within a group: each member's seeds, and
-# the output intervals (they do not change the pile)
-FREE_VARS = ("seed", "seed2", "seed3", "thermo_every", "dump_every")
+# deck variables that may differ within a group: each member's seeds, the
+# output intervals (they do not change the pile), and the settling's end
+# (settle_max, rest_ke: how long a pile still moving at t_end runs on; a
+# recorded pile is at rest, and one at rest at t_end is the same run
+# whatever they are; records made before the settling have neither)
+FREE_VARS = ("seed", "seed2", "seed3", "thermo_every", "dump_every", "settle_max", "rest_ke")
 SUMMARY_KEYS = ("engine", "size", "point", "seed", "mass", "weight", "base_force", "base_over_weight",
                 "angle_left", "angle_right", "angle", "height", "toe_left", "toe_right", "toe_margin",
                 "strays", "p_centre_over_max", "wall_time_s")

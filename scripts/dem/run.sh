@@ -240,6 +240,15 @@ case $scen in
     addk n_stage dem.hopper_stages
     addk mu_r dem.rolling_friction
     addk t_end dem.t_end
+    # the settling after t_end (docs/dem.md "Sand pile"): on in chunks of
+    # dump_every steps while the pile on the plate has a kinetic energy per
+    # mass >= rest_ke, until settle_max at the latest (= t_end: none)
+    addk settle_max dem.settle_max
+    addk rest_ke dem.rest_ke
+    # [dem] timeout is the wall-time of a run to t_end: a run that may settle
+    # on to settle_max gets it in proportion
+    need dem.timeout; num timeout "${K[dem.timeout]}"
+    run_scale=$(calc "${K[dem.settle_max]} / ${K[dem.t_end]}")
     pointvars=(source_width) ;;
   *) die "no variable mapping for scenario '$scen' (see docs/dem.md)" ;;
 esac
@@ -257,7 +266,7 @@ else
     die "$ini: the resolved sweep points lack a deck variable"
   [ ${#points[@]} -gt 0 ] || die "$ini: no sweep points"
   for p in "${points[@]}"; do
-    set -f; pset=(${p#*|}); set +f
+    read -ra pset <<< "${p#*|}"
     for ((i = 0; i < ${#pset[@]}; i += 2)); do num "${pset[i]}" "${pset[i+1]}"; done
   done
 fi
@@ -272,6 +281,11 @@ if [ ${#only[@]} -gt 0 ]; then # -P: the named points only, each one the scenari
 fi
 if [ $list -eq 1 ]; then printf '%s\n' "${points[@]}"; exit 0; fi
 need dem.timeout; timeout_s=${K[dem.timeout]}
+# a sand pile that may settle past t_end (settle_max > t_end): the limit
+# scaled by settle_max / t_end, rounded up to whole seconds
+if [ -n "${run_scale:-}" ]; then
+  timeout_s=$(awk -v t="$timeout_s" -v r="$run_scale" 'BEGIN { x = t * (r > 1 ? r : 1); n = int(x); if (n < x) n++; print n }')
+fi
 need dem.require_steady; require_steady=${K[dem.require_steady]}
 need dem.steady_tol; steady_tol=${K[dem.steady_tol]}
 
@@ -282,7 +296,9 @@ run_case() { # run_case TAG "name value ..."
   local tag=$1 extra=$2 dir st=ok msg="" rc
   dir=$outroot/$scen/$engine-$size${tag:+/$tag}
   local -a all=("${vars[@]}") args=()
-  set -f; all+=($extra); set +f
+  local -a ex=()
+  read -ra ex <<< "$extra"
+  all+=("${ex[@]+"${ex[@]}"}")
   local i newvars=""
   for ((i = 0; i < ${#all[@]}; i += 2)); do
     newvars+=$(printf '%s = %s' "${all[i]}" "${all[i+1]}")$'\n'
@@ -374,13 +390,15 @@ run_case() { # run_case TAG "name value ..."
       st=not_steady; msg="monitor drift $drift > $steady_tol between the last two quarters"
     fi
   fi
+  # the cleanup after && mv || runs when either fails (both leave no run.json)
+  # shellcheck disable=SC2015
   {
     echo "{"
     echo "  \"scenario\": \"$scen\", \"engine\": \"$engine\", \"version\": \"$version\","
-    echo "  \"size\": \"$size\", \"point\": \"$tag\", \"scenario_file\": \"${ini#$root/}\","
+    echo "  \"size\": \"$size\", \"point\": \"$tag\", \"scenario_file\": \"${ini#"$root"/}\","
     echo "  \"command\": \"$(echo "$cmdstr" | json_escape)\","
     echo "  \"ranks\": $np, \"steps\": ${steps:-null}, \"dt\": ${K[dem.dt]},"
-    echo "  \"particles\": ${natoms:-null}, \"wall_time_s\": $wall,"
+    echo "  \"particles\": ${natoms:-null}, \"wall_time_s\": $wall, \"timeout_s\": $timeout_s,"
     echo "  \"steady\": $steady, \"monitor_drift\": $drift, \"steady_tol\": $steady_tol,"
     echo "  \"dumps\": $dumps,"
     echo "  \"status\": \"$st\", \"message\": \"$(echo "$msg" | json_escape)\","

@@ -456,6 +456,11 @@ static const error_case TOOL_ERRORS[] = {
      {NULL},
      EKM_EINPUT,
      FILE_NAME ":31: [dem] spread: expected a size spread in [0, 1), got '1'"},
+    {"[dem] range settle_max",
+     "[dem]\nref.settle_max = 0",
+     {NULL},
+     EKM_EINPUT,
+     FILE_NAME ":31: [dem] ref.settle_max: expected a time > 0 [s], got '0'"},
     {"[dem] range friction --set",
      NULL,
      {"dem.friction=-0.1", NULL},
@@ -800,6 +805,41 @@ static void test_lookup_rule(void **state)
     assert_key(&x, "dem.lx", "30", "--set", "");
     assert_key(&x, "dem.ly", "70", "--set", "ref.ly");
     assert_key(&x, "dem.restitution_input", "0.7", "--set", "");
+    resolved_free(&x);
+}
+
+/* [dem] settle_max: by default t_end (no settling), else at least t_end, an
+ * error naming where it was given. */
+static void test_settle_max(void **state)
+{
+    (void)state;
+    resolved x;
+    write_scenario("[dem]\nt_end = 2\nref.settle_max = 3\nsmoke.settle_max = 1.5");
+    assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "ref", NULL, 0), EKM_OK);
+    assert_key(&x, "dem.settle_max", "3", FILE_NAME ":32", "ref.settle_max");
+    resolved_free(&x);
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, NULL, 0), EKM_OK);
+    assert_key(&x, "dem.settle_max", "2", "default", "");
+    resolved_free(&x);
+    assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "smoke", NULL, 0), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ":33: [dem] smoke.settle_max: expected a time >= [dem] t_end "
+                                                 "= 2 s (" FILE_NAME ":31), got '1.5'");
+    resolved_free(&x);
+    /* t_end raised by --set past the file's settle_max; the default t_end */
+    const char *later[] = {"dem.t_end=4"};
+    assert_int_equal(resolve_file(&x, FILE_NAME, "liggghts", "ref", later, 1), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ":32: [dem] ref.settle_max: expected a time >= [dem] t_end "
+                                                 "= 4 s (--set), got '3'");
+    resolved_free(&x);
+    write_scenario("[dem]\nsettle_max = 4");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, NULL, 0), EKM_EINPUT);
+    assert_string_equal(x.err.message, FILE_NAME ":31: [dem] settle_max: expected a time >= [dem] t_end = 5 s "
+                                                 "(the default: [run] t_end), got '4'");
+    resolved_free(&x);
+    /* without a [dem] t_end nor settle_max: the default t_end, unchanged */
+    write_scenario("[dem]\ndt = 1e-5");
+    assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, NULL, 0), EKM_OK);
+    assert_key(&x, "dem.settle_max", "5", "default", "");
     resolved_free(&x);
 }
 
@@ -1182,6 +1222,7 @@ int main(void)
         cmocka_unit_test(test_material_text),
         cmocka_unit_test(test_ekm_run_reads_tool_sections),
         cmocka_unit_test(test_lookup_rule),
+        cmocka_unit_test(test_settle_max),
         cmocka_unit_test(test_ekm_keys),
         cmocka_unit_test(test_chute_points),
         cmocka_unit_test(test_chute_smoke_point),

@@ -275,6 +275,12 @@ def main():
     vtext = open(vt).read()
     bad_case("a record whose t_end differs from its group's", lambda: open(vt, "w").write(vtext.replace("4.2", "3.4")),
              lambda: open(vt, "w").write(vtext), 2, vt)
+    # the settling's end may differ (a record made before it has no
+    # settle_max, rest_ke): the group still pools
+    open(vt, "a").write("settle_max = 8\nrest_ke = 1e-5\n")
+    rc, so, se = sh(os.path.join(DEM, "pile_analysis.sh"), "-o", out + "_settle", recs, "ref")
+    open(vt, "w").write(vtext)
+    check(rc == 0, "4. a record with settle_max and rest_ke pools with records without: exit %d (0)\n%s" % (rc, se))
     rc, so, se = sh(os.path.join(DEM, "pile_analysis.sh"), "-o", out, os.path.join(work, "runs"), "ref")
     check(rc == 2 and len(se.strip().splitlines()) == 1 and "pile_record.sh" in se and outputs(out) == saved,
           "4. a ROOT of runs, not records: exit %d (2), one line\n%s" % (rc, se))
