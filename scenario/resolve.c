@@ -147,8 +147,8 @@ static ekm_status check_settle_max(const ekm_resolved *r, ekm_error *err)
         return EKM_OK;
     const int te_given = strcmp(te->from, "default") != 0;
     return EKM_FAIL(err, EKM_EINPUT, "%s: [dem] %s: expected a time >= [dem] t_end = %s s (%s%s), got '%s'",
-                    sm->from, sm->as[0] ? sm->as : "settle_max", te->value, te_given ? "" : "the default: ",
-                    te_given ? te->from : "[run] t_end", sm->value);
+                    sm->from, sm->as[0] ? sm->as : "settle_max", te->value,
+                    te_given ? "" : "the default: ", te_given ? te->from : "[run] t_end", sm->value);
 }
 
 static ekm_status resolve_tool_section(const ekm_scenario *s, ekm_resolved *r, const char *section,

@@ -25,7 +25,7 @@ static const ekm_tool_key TOOL_KEYS[] = {
     {"dem", "dump_every", EKM_TOOL_INTEGER, NULL, "5000", EKM_SWEEP_NONE},
     {"dem", "lx", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE},
     {"dem", "ly", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE},
-    {"dem", "t_end", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE}, /* default: [run] t_end */
+    {"dem", "t_end", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE},      /* default: [run] t_end */
     {"dem", "settle_max", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE}, /* default: [dem] t_end */
     {"dem", "rest_ke", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_NONE},
     {"dem", "t_settle", EKM_TOOL_NUMBER, NULL, NULL, EKM_SWEEP_THETA},

@@ -822,8 +822,9 @@ static void test_settle_max(void **state)
     assert_key(&x, "dem.settle_max", "2", "default", "");
     resolved_free(&x);
     assert_int_equal(resolve_file(&x, FILE_NAME, "lammps", "smoke", NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message, FILE_NAME ":33: [dem] smoke.settle_max: expected a time >= [dem] t_end "
-                                                 "= 2 s (" FILE_NAME ":31), got '1.5'");
+    assert_string_equal(x.err.message,
+                        FILE_NAME ":33: [dem] smoke.settle_max: expected a time >= [dem] t_end "
+                                  "= 2 s (" FILE_NAME ":31), got '1.5'");
     resolved_free(&x);
     /* t_end raised by --set past the file's settle_max; the default t_end */
     const char *later[] = {"dem.t_end=4"};
@@ -833,8 +834,9 @@ static void test_settle_max(void **state)
     resolved_free(&x);
     write_scenario("[dem]\nsettle_max = 4");
     assert_int_equal(resolve_file(&x, FILE_NAME, NULL, NULL, NULL, 0), EKM_EINPUT);
-    assert_string_equal(x.err.message, FILE_NAME ":31: [dem] settle_max: expected a time >= [dem] t_end = 5 s "
-                                                 "(the default: [run] t_end), got '4'");
+    assert_string_equal(x.err.message,
+                        FILE_NAME ":31: [dem] settle_max: expected a time >= [dem] t_end = 5 s "
+                                  "(the default: [run] t_end), got '4'");
     resolved_free(&x);
     /* without a [dem] t_end nor settle_max: the default t_end, unchanged */
     write_scenario("[dem]\ndt = 1e-5");
