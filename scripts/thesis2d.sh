@@ -165,35 +165,7 @@ os.replace(tmp, out)
 PY
 # one table of every pile's numbers at its base time (pile2d.json), the
 # numbers docs/model/twod.md "The thesis's 2D cases" quotes
-$py -B - "$res/thesis_sandpile_2d" <<'PY'
-import json, os, sys
-d = sys.argv[1]
-def v(q, fmt, scale=1.0):
-    return "-" if q is None or q.get("value") is None else fmt % (q["value"] * scale)
-rows = []
-for name in sorted(os.listdir(d)):
-    path = os.path.join(d, name, "pile2d.json")
-    if not os.path.isfile(path):
-        continue
-    with open(path) as fh:
-        j = json.load(fh)
-    b, bp = j["base_time"], j["base_time"]["base_pressure"]
-    slopes = ", ".join("-" if b[k]["angle"].get("value") is None else
-                       v(b[k]["angle"], "%.1f") + " +- " + v(b[k].get("se"), "%.1f")
-                       for k in ("slope_left", "slope_right"))
-    dip = b["dip"]["value"]
-    rows.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
-        name, v(b["time"], "%g"), b["bed"], v(b["height"], "%.1f", 1e3), slopes,
-        v(b["phi_apex_minus_flank"], "%+.1e"), v(bp["ratio_centre_to_max"], "%.3f"),
-        "-" if dip is None else ("yes" if dip else "no"), j["input"]["code_version"]))
-out = os.path.join(d, "summary.md")
-with open(out + ".tmp", "w") as fh:
-    fh.write("# thesis_sandpile_2d: every pile at its base time\n\n"
-             "Written by scripts/thesis2d.sh from each folder's pile2d.json (figures/pile2d.py: "
-             "the definitions); the code version of each run in its row.\n\n"
-             "| folder | t [s] | bed | height [mm] | slopes left, right [deg] (+- se) "
-             "| phi apex - flank | P(centre)/P(max) | dip (3 sigma) | code |\n"
-             "|---|---|---|---|---|---|---|---|---|\n" + "\n".join(rows) + "\n")
-os.replace(out + ".tmp", out)
-PY
+$py -B "$root/figures/pile2d_table.py" "$res/thesis_sandpile_2d" "$res/thesis_sandpile_2d/summary.md" \
+  --title "thesis_sandpile_2d: every pile at its base time" \
+  --about "Written by scripts/thesis2d.sh from each folder's pile2d.json (figures/pile2d.py: the definitions); the code version of each run in its row."
 echo "thesis2d: figures and numbers in $res" >&2

@@ -107,49 +107,11 @@ while read -r tag t_stop t_end _; do
 done <<< "$points"
 
 # the table: every EKM folder's numbers (pile2d.json) and the DEM groups'
-$py -B - "$out" "$(dirname "$out")/summary-plain-$size.json" "$size" <<'PY' || fail=2
-import json, os, sys
-out, dem_path, size = sys.argv[1:4]
-def v(q, fmt, scale=1.0):
-    if isinstance(q, dict):
-        q = q.get("value")
-    return "-" if q is None else fmt % (q * scale)
-lines = ["# The EKM sand piles in the DEM's geometry (%s size)" % size, "",
-         "Written by scripts/dem/pile_ekm.sh from each folder's pile2d.json (figures/pile2d.py: the "
-         "definitions; the EKM's base pressure is P of its bottom row of cells, 2 d wide) and, for the DEM, "
-         "from %s (scripts/dem/pile_analysis.sh: the records' mean +- SE over seeds; p(centre)/p(max) of "
-         "the floor's normal stress in 4 d bins)." % os.path.relpath(dem_path, os.path.dirname(out)), "",
-         "| run | t [s] | height [mm] | angle left, right [deg] | P(centre)/P(max) | dip (3 sigma) "
-         "| phi apex - flank | code |", "|---|---|---|---|---|---|---|---|"]
-for name in sorted(os.listdir(out)):
-    path = os.path.join(out, name, "pile2d.json")
-    if not os.path.isfile(path):
-        continue
-    with open(path) as f:
-        j = json.load(f)
-    b = j["base_time"]
-    dip = b["dip"]["value"]
-    lines.append("| EKM %s | %s | %s | %s, %s | %s | %s | %s | %s |" % (
-        name, v(b["time"], "%g"), v(b["height"], "%.1f", 1e3), v(b["slope_left"].get("angle"), "%.1f"),
-        v(b["slope_right"].get("angle"), "%.1f"), v(b["base_pressure"].get("ratio_centre_to_max"), "%.3f"),
-        "-" if dip is None else ("yes" if dip else "no"), v(b.get("phi_apex_minus_flank"), "%+.1e"),
-        j["input"]["code_version"]))
-if os.path.isfile(dem_path):
-    with open(dem_path) as f:
-        groups = json.load(f)["groups"]
-    for g in groups:
-        def pm(k, fmt, scale=1.0):
-            if g.get(k) is None:
-                return "-"
-            se = g.get(k + "_se")
-            return (fmt % (g[k] * scale)) + ("" if se is None else " +- " + fmt % (se * scale))
-        lines.append("| DEM %s %s, %d seed(s) | at rest | %s | %s | %s | - | - | - |" % (
-            g["engine"], g["point"], g["seeds"], pm("height", "%.1f", 1e3), pm("angle", "%.1f"),
-            pm("p_centre_over_max", "%.3f")))
-tmp = os.path.join(out, "summary.md.tmp")
-with open(tmp, "w") as f:
-    f.write("\n".join(lines) + "\n")
-os.replace(tmp, os.path.join(out, "summary.md"))
-print("pile_ekm: %s" % os.path.join(out, "summary.md"), file=sys.stderr)
-PY
+dem=$(dirname "$out")/summary-plain-$size.json
+dem_opt=()
+[ -f "$dem" ] && dem_opt=(--dem "$dem")
+$py -B "$root/figures/pile2d_table.py" "$out" "$out/summary.md" "${dem_opt[@]}" \
+  --title "The EKM sand piles in the DEM's geometry ($size size)" \
+  --about "Written by scripts/dem/pile_ekm.sh from each folder's pile2d.json (figures/pile2d.py: the definitions; the EKM's base pressure is P of its bottom row of cells, 2 d wide) and, for the DEM, from $(basename "$dem") beside OUT (scripts/dem/pile_analysis.sh: the records' mean +- SE over seeds; p(centre)/p(max) of the floor's normal stress in 4 d bins)." ||
+  fail=2
 exit "$fail"

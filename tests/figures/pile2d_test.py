@@ -364,6 +364,45 @@ def bad_inputs(src, work):
         print("%s: %d: %s" % (what, rc, lines[-1] if lines else ""))
 
 
+def table(src, work):
+    """figures/pile2d_table.py over the synthetic folders: a row per folder
+    with pile2d.json's numbers, the DEM rows of a summary, one error line for
+    a broken pile2d.json and no output then."""
+    import json
+    tab = os.path.join(work, "table.md")
+    dem = os.path.join(work, "dem-summary.json")
+    with open(dem, "w") as fh:
+        json.dump({"groups": [{"engine": "lammps", "point": "source8", "seeds": 3, "height": 0.0407,
+                               "height_se": 0.0002, "angle_left": 22.0, "angle_left_se": 0.7,
+                               "angle_right": 22.4, "angle_right_se": 0.3, "p_centre_over_max": 0.81,
+                               "p_centre_over_max_se": 0.027}]}, fh)
+    cmd = [sys.executable, os.path.join(src, "figures", "pile2d_table.py"), work, tab, "--title", "T",
+           "--about", "A", "--dem", dem]
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    check(p.returncode == 0, "pile2d_table: exit %d: %s" % (p.returncode, p.stderr.strip()))
+    rows = open(tab).read().splitlines() if os.path.isfile(tab) else []
+    js, _ = load_json(os.path.join(work, "out", "pile2d.json"))
+    b = js["base_time"]
+    want = "| out | %g | %s | %.1f |" % (b["time"]["value"], b["bed"], b["height"]["value"] * 1e3)
+    check(any(r.startswith(want) for r in rows), "pile2d_table: no row starting %r in %s" % (want, tab))
+    check("| DEM lammps source8 (3 seeds) | at rest | pile | 40.7 +- 0.2 | 22.0 +- 0.7, 22.4 +- 0.3 | - "
+          "| 0.810 +- 0.027 | - | - |" in rows, "pile2d_table: the DEM row is not as given")
+    check(rows[:1] == ["# T"], "pile2d_table: title %r" % rows[:1])
+    bad = os.path.join(work, "tab-bad")
+    os.makedirs(os.path.join(bad, "broken"), exist_ok=True)
+    with open(os.path.join(bad, "broken", "pile2d.json"), "w") as fh:
+        fh.write("{\"base_time\": {}}")
+    out = os.path.join(bad, "t.md")
+    p = subprocess.run(cmd[:2] + [bad, out, "--title", "T", "--about", "A"], capture_output=True, text=True,
+                       timeout=60)
+    lines = p.stderr.strip().splitlines()
+    check(p.returncode == 2 and len(lines) == 1 and "broken/pile2d.json" in lines[0],
+          "pile2d_table on a broken pile2d.json: exit %d, stderr %r" % (p.returncode, p.stderr))
+    check(not os.path.exists(out) and not os.path.exists(out + ".tmp"), "pile2d_table: output left on error")
+    n = sum(r.startswith("| ") for r in rows) - 1  # less the header
+    print("pile2d_table: %d rows; broken pile2d.json: %s" % (n, lines[-1] if lines else ""))
+
+
 def main():
     if len(sys.argv) != 3:
         print("usage: pile2d_test.py SOURCE_DIR WORK", file=sys.stderr)
@@ -380,6 +419,7 @@ def main():
     os.makedirs(work)
     synthetic(src, work)
     bad_inputs(src, work)
+    table(src, work)
     if failures:
         print("%d failure(s)" % len(failures), file=sys.stderr)
         return 1
