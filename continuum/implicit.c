@@ -258,6 +258,15 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
     return EKM_OK;
 }
 
+void ekm_implicit_vapour_heating(ekm_source_coeffs *src, double phi, double phi_vacuum)
+{
+    if (phi_vacuum > 0.0 && phi < phi_vacuum) {
+        const double f = phi > 0.0 ? phi / phi_vacuum : 0.0;
+        src->k_heat_a *= f;
+        src->k_heat_y *= f;
+    }
+}
+
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz, double rho_p,
                                     const double *phi, const double *rhoT_star, const double *lambda,
                                     const ekm_source_coeffs *src, const unsigned char *dry, double phi_vacuum,

@@ -109,6 +109,16 @@ ekm_status ekm_implicit_shear_faces(ekm_implicit_work *wk, int n, double dt, dou
  * "Surface cells in 2D"); 0: off.  Returns EKM_ENUMERIC when Newton does
  * not converge in newton_max iterations (the caller retries with a
  * smaller step). */
+/* The vacuum rule's heating ([numerics] phi_vacuum > 0): a cell below
+ * phi_vacuum (a Knudsen "vapour": its mean free path, about d/phi, is
+ * longer than the cell) heats by phi/phi_vacuum times the kinetic heating
+ * (k_heat_a and k_heat_y scaled; the dissipation k_diss, proportional to
+ * phi, kept), so that its balance temperature under a given shear rate is
+ * that of a cell at phi_vacuum instead of growing as 1/phi (the kinetic
+ * viscosities do not vanish with phi; docs/model/twod.md "Vapour cells").
+ * Unchanged at or above phi_vacuum and with phi_vacuum = 0. */
+void ekm_implicit_vapour_heating(ekm_source_coeffs *src, double phi, double phi_vacuum);
+
 ekm_status ekm_implicit_temperature(ekm_implicit_work *wk, int n, double dt, double dz, double rho_p,
                                     const double *phi, const double *rhoT_star, const double *lambda,
                                     const ekm_source_coeffs *src, const unsigned char *dry, double phi_vacuum,

@@ -443,6 +443,7 @@ static int temperature(ekm_stepper *st, ekm_state *s, const ekm_bc_face *bb, con
         }
         st->src[j] = ekm_temperature_source_coeffs_gY(m, sc->variant, s->phi[j], st->g_cell[j], st->Y_cell[j],
                                                       st->u2[j], st->w2[j]);
+        ekm_implicit_vapour_heating(&st->src[j], s->phi[j], sc->numerics.phi_vacuum);
     }
     if (ekm_implicit_temperature(st->wk, n, dt, s->dz, m->rho_p, s->phi, st->rhoT, st->lambda, st->src,
                                  st->regime.dry_T, sc->numerics.phi_vacuum, sc->numerics.T_floor,

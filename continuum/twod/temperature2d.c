@@ -13,7 +13,8 @@
  * below phi_vacuum and a cell above it) and the source's coefficients from the new
  * velocities (model.h's ekm_temperature_source_coeffs_plane: the shear
  * rate the mean square of the cell's corners that carry one, the normal
- * rates its own).  Newton's method on the 5-point system, with the 1D
+ * rates its own; a surface cell's heating its fill fraction's, a cell below
+ * phi_vacuum's phi/phi_vacuum's: implicit.h).  Newton's method on the 5-point system, with the 1D
  * solver's rules (docs/model/slab.md "Temperature step"): the first iterate T*
  * plus the last step's change scaled to dt; the local balance S = 0 at the
  * first iteration where the source is stiff and it fits the cell's
@@ -26,6 +27,8 @@
  * (the 1D solver assembles as it decides, cell after cell).
  */
 #include "step2d_impl.h"
+
+#include "implicit.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -72,6 +75,7 @@ static void sources(ekm2d_step *st, PetscScalar ***u)
              * (surface2d.c); k_diss holds its own phi already */
             c.k_heat_a *= BOX(st, fill, i, j);
             c.k_heat_y *= BOX(st, fill, i, j);
+            ekm_implicit_vapour_heating(&c, BOX(st, phi_new, i, j), st->sc->numerics.phi_vacuum);
             BOX(st, src, i, j) = c;
         }
 }

@@ -53,6 +53,48 @@ static void test_shear_faces_known_solution(void **state)
     ekm_implicit_free(wk);
 }
 
+/* The vacuum rule's heating (ekm_implicit_vapour_heating): below
+ * phi_vacuum a cell's local balance temperature (S = 0) under a given
+ * strain rate is that of a cell at phi_vacuum (the kinetic heating does not
+ * fall with phi, the dissipation does: without the rule it grows as
+ * 1/phi); at or above phi_vacuum, and with phi_vacuum = 0, the
+ * coefficients are untouched.  The thesis material, below phi_co (no
+ * yield terms), simple shear 50 1/s with a compression of 5 1/s. */
+static void test_temperature_vapour_heating(void **state)
+{
+    (void)state;
+    const ekm_material m = ekm_material_thesis();
+    const double vac = 0.05;
+    const ekm_variant variants[2] = {EKM_VARIANT_THESIS, EKM_VARIANT_FULL};
+    for (int v = 0; v < 2; v++) {
+        ekm_source_coeffs at =
+            ekm_temperature_source_coeffs_plane(&m, variants[v], vac, ekm_g(&m, vac), 0.0, 2500.0, -5.0, 0.0);
+        ekm_implicit_vapour_heating(&at, vac, vac);
+        const double T_vac = ekm_source_balance(&at);
+        assert_true(T_vac > 0.0);
+        const double phis[] = {1e-6, 2e-4, 1e-3, 0.02, 0.0499, 0.05, 0.3};
+        for (size_t k = 0; k < sizeof phis / sizeof *phis; k++) {
+            const double phi = phis[k];
+            const ekm_source_coeffs raw = ekm_temperature_source_coeffs_plane(
+                &m, variants[v], phi, ekm_g(&m, phi), 0.0, 2500.0, -5.0, 0.0);
+            ekm_source_coeffs off = raw, on = raw;
+            ekm_implicit_vapour_heating(&off, phi, 0.0);
+            ekm_implicit_vapour_heating(&on, phi, vac);
+            assert_memory_equal(&off, &raw, sizeof raw);
+            if (phi >= vac) {
+                assert_memory_equal(&on, &raw, sizeof raw);
+                continue;
+            }
+            const double T_raw = ekm_source_balance(&raw), T_on = ekm_source_balance(&on);
+            if (!(fabs(T_on - T_vac) <= 1e-12 * T_vac))
+                fail_msg("phi %g: balance T %.17g with the rule, want phi_vacuum's %.17g", phi, T_on, T_vac);
+            if (!(fabs(T_raw * phi / vac - T_vac) <= 1e-12 * T_vac))
+                fail_msg("phi %g: balance T %.17g without the rule, want %.17g x phi_vacuum/phi", phi, T_raw,
+                         T_vac);
+        }
+    }
+}
+
 /* Temperature, conduction only (no source), adiabatic ends: a dense bed
  * (cells 0-1, phi 0.6, T 1e-8 m^2/s^2) under a hot dilute vapour (cells
  * 2-3, phi 0.01, T 1e-3), every lambda 1 kg/(m s).  Without the vacuum
@@ -171,6 +213,7 @@ int main(void)
         cmocka_unit_test(test_normal_velocity_known_solution),
         cmocka_unit_test(test_singular_refused),
         cmocka_unit_test(test_temperature_vacuum_insulates),
+        cmocka_unit_test(test_temperature_vapour_heating),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
