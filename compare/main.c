@@ -1,4 +1,4 @@
-/* main.c: the ekmcompare command line (cg, score, fit, steady and base subcommands). */
+/* main.c: the ekmcompare command line (cg, score, score2d, fit, steady and base subcommands). */
 #include <gsl/gsl_errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -13,11 +13,14 @@
 #include "fit_cli.h"
 #include "h5.h"
 #include "score.h"
+#include "score2d.h"
 #include "steadiness.h"
 
 static const char usage_text[] =
     "usage: ekmcompare cg [options] DUMP... (-o OUT.h5 | --csv OUT.csv)\n"
     "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [--support F] [--scalars L] [-o "
+    "SCORE.json]\n"
+    "       ekmcompare score2d --dem MAPS.h5 --group G --model RUN.h5 [--time T] [--fields L] [-o "
     "SCORE.json]\n"
     "       ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu [--start FILE.ini]\n"
     "                      [--fields P,sxz,T] -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
@@ -76,6 +79,16 @@ static const char usage_text[] =
     "                       filling, simple_shear) or scalar names (docs/compare.md)\n"
     "  --dem-sha256 H --ekm-sha256 H  record the inputs' SHA-256 digests (sha256sum's 64 hex\n"
     "                       digits) in the JSON's \"inputs\" (the campaign's score_step.sh)\n"
+    "\n"
+    "score2d: a 2D ekm run's output frame (the last, or --time T [s]) against a sand pile's DEM map\n"
+    "(a group of scripts/dem/pile_map.py's maps, e.g. results/sandpile/maps-ref.h5); per field the\n"
+    "relative L2 and noise-normalised errors over the common support and the map's interior\n"
+    "(docs/compare.md \"Scoring a 2D pile\"). Stresses compression positive (ekm's negated).\n"
+    "  --dem FILE --group G   the DEM map and its group (/ENGINE/LAW/SOURCE)\n"
+    "  --model FILE         an ekm 2D run output, or (with --model-group G2) a second map\n"
+    "  --fields LIST        of phi,sxx,szz,sxz (default all four)\n"
+    "  --support F          as score's (default 0.1)\n"
+    "  -o FILE              JSON output\n"
     "\n"
     "base: the base pressure p(x) = -sum(fz of the floor grains in a bin)/(dx L_y) of a pile,\n"
     "time-averaged per run (each DUMP one run: an independent pile), with the SE across runs and\n"
@@ -307,6 +320,46 @@ static ekm_status cmd_score(int argc, char **argv, ekm_error *err)
     return rc;
 }
 
+static ekm_status cmd_score2d(int argc, char **argv, ekm_error *err)
+{
+    cg_score2d_opts o = cg_score2d_opts_default();
+    o.table = stdout;
+    ekm_status rc = EKM_OK;
+    for (int i = 0; i < argc && !rc; i++) {
+        const char *a = argv[i], *v = NULL;
+        if (!strcmp(a, "--dem")) {
+            ARG();
+            o.dem = v;
+        } else if (!strcmp(a, "--group")) {
+            ARG();
+            o.group = v;
+        } else if (!strcmp(a, "--model")) {
+            ARG();
+            o.model = v;
+        } else if (!strcmp(a, "--model-group")) {
+            ARG();
+            o.model_group = v;
+        } else if (!strcmp(a, "--time")) {
+            ARG();
+            rc = get_double(a, v, &o.time, err);
+        } else if (!strcmp(a, "--fields")) {
+            ARG();
+            o.fields = v;
+        } else if (!strcmp(a, "--support")) {
+            ARG();
+            rc = get_double(a, v, &o.support, err);
+        } else if (!strcmp(a, "-o")) {
+            ARG();
+            o.json = v;
+        } else
+            rc = usage_error(err, "score2d: unknown argument '%s' (see ekmcompare --help)", a);
+    }
+    size_t nrows;
+    if (!rc)
+        rc = cg_score2d(&o, NULL, &nrows, err);
+    return rc;
+}
+
 /* A number for JSON that reads back to the same double. */
 static void print_exact(double v)
 {
@@ -398,13 +451,16 @@ int main(int argc, char **argv)
         rc = cmd_cg(argc - 2, argv + 2, &err);
     else if (!strcmp(argv[1], "score"))
         rc = cmd_score(argc - 2, argv + 2, &err);
+    else if (!strcmp(argv[1], "score2d"))
+        rc = cmd_score2d(argc - 2, argv + 2, &err);
     else if (!strcmp(argv[1], "steady"))
         rc = cmd_steady(argc - 2, argv + 2, &err);
     else if (!strcmp(argv[1], "base"))
         rc = cmd_base(argc - 2, argv + 2, &err);
     else
         rc = EKM_FAIL(&err, EKM_EUSAGE,
-                      "unknown command '%s': expected cg, score, fit, steady or base (see --help)", argv[1]);
+                      "unknown command '%s': expected cg, score, score2d, fit, steady or base (see --help)",
+                      argv[1]);
     if (rc) {
         ekm_error_print("ekmcompare", &err);
         return ekm_status_exit_code(rc);

@@ -1,0 +1,63 @@
+/* score2d.h: `ekmcompare score2d`: a 2D EKM run (or a second DEM map)
+ * against a sand pile's DEM map (docs/compare.md "Scoring a 2D pile").
+ *
+ * The DEM side is one group of a pile-map file (scripts/dem/pile_map.py,
+ * results/sandpile/maps-ref.h5): x [nx], z [nz] (cell centres, z from the
+ * plate's top), fields [nz][nx] with their standard errors FIELD_se (over
+ * the group's runs) and mask (the pile's interior: away from the plate's
+ * layering and the loose surface). Its stresses are compression positive.
+ *
+ * The model side is either an `ekm run` output of a 2D scenario (x, z,
+ * t and fields [nt][nz][nx]: one frame, the last or the one at --time;
+ * its stresses, tension positive, are negated to the DEM's sign) or a
+ * group of a second pile-map file (engine against engine: the standard
+ * errors of both added in quadrature).
+ *
+ * The model's values are interpolated bilinearly onto the DEM's cell
+ * centres (exact where the grids coincide); a DEM centre outside the
+ * model's centres is left out. Per field, over two regions:
+ *   support   the common support: DEM phi and model phi both above
+ *             support x the DEM's largest phi (default CG_SCORE_SUPPORT)
+ *   interior  the support and the DEM's mask
+ * metric.h's rel_l2 and noise-normalised error.
+ */
+#ifndef CG_SCORE2D_H
+#define CG_SCORE2D_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "metric.h"
+#include "status.h"
+
+typedef struct {
+    const char *dem;         /* pile-map file */
+    const char *group;       /* its group, e.g. /liggghts/plain/hopper */
+    const char *model;       /* ekm 2D run output, or a second pile-map file */
+    const char *model_group; /* NULL: model is an ekm run; else the map group to compare */
+    double time;             /* the ekm run's output time [s]; NAN: its last output */
+    const char *fields;      /* comma-separated, or NULL: phi,sxx,szz,sxz */
+    double support;          /* common support threshold, a fraction of the DEM's largest phi */
+    const char *json;        /* JSON output path, or NULL */
+    FILE *table;             /* markdown table (stdout), or NULL */
+} cg_score2d_opts;
+
+cg_score2d_opts cg_score2d_opts_default(void);
+
+enum { CG_SCORE2D_MAX_ROWS = 16 };
+
+typedef struct {
+    char field[16];     /* phi, sxx, szz or sxz */
+    const char *units;  /* "1" or "Pa" */
+    const char *region; /* "support" or "interior" */
+    cg_metric m;
+} cg_score2d_row;
+
+/* Score o->model against o->dem; rows[0..*nrows-1] (may be NULL) the
+ * results, two per field (support, interior); writes the table and the
+ * JSON. EKM_EUSAGE bad options; EKM_EINPUT a file of the wrong kind, a
+ * missing group, field or output time, grids that share no point;
+ * EKM_EIO unreadable files or an output that would overwrite an input. */
+ekm_status cg_score2d(const cg_score2d_opts *o, cg_score2d_row *rows, size_t *nrows, ekm_error *err);
+
+#endif
