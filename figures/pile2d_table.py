@@ -13,6 +13,11 @@ version. With --dem, a row per group of a DEM summary
 mean +- SE over seeds; p(centre)/p(max) of the floor's normal stress).
 TEXT is the paragraph under the title (what wrote the table, from what).
 OUT.md is written under a temporary name and renamed when complete.
+A folder holding `ekmcompare score2d` outputs (score2d-*.json: a pile
+against a DEM mean map, or one engine's map against the other's) adds a
+row per file to a second table: the relative L2 error of phi, sxx, szz
+and sxz over the common support and over the map's interior, with the
+points of each.
 Used by scripts/thesis2d.sh and scripts/dem/pile_ekm.sh.
 Exit status: 0; 2 a pile2d.json or the summary unreadable or without its
 numbers (one line naming the file); 3 DIR or an output folder missing.
@@ -55,6 +60,25 @@ def dem_row(g):
         pm("angle_left", "%.1f"), pm("angle_right", "%.1f"), pm("p_centre_over_max", "%.3f"))
 
 
+SCORE_FIELDS = ("phi", "sxx", "szz", "sxz")
+
+
+def score_row(name, j):
+    def rel(field):
+        f = j["fields"].get(field)
+        if f is None:
+            return "-"
+        return " / ".join("-" if f.get(r) is None or f[r]["rel_l2"] is None else "%.3f" % f[r]["rel_l2"]
+                          for r in ("support", "interior"))
+    phi = j["fields"]["phi"]
+    model = j["model"]
+    against = model["group"] if model["group"] else "t = %g s" % model["t_s"]
+    pts = "%d / %s" % (phi["support"]["points"],
+                       phi["interior"]["points"] if phi.get("interior") else "-")
+    return "| %s | %s | %s | %s | %s |" % (name, against, j["dem"]["group"], pts,
+                                          " | ".join(rel(f) for f in SCORE_FIELDS))
+
+
 def main():
     ap = argparse.ArgumentParser(description="the table of 2D piles' numbers (pile2d.json)")
     ap.add_argument("dir")
@@ -75,6 +99,18 @@ def main():
                 rows.append(pile_row(name, json.load(fh)))
         except (OSError, ValueError, KeyError, TypeError, AttributeError) as e:
             fail(2, "%s: expected pile2d.py's numbers (%s: %s)" % (path, type(e).__name__, e))
+    scores = []
+    for name in sorted(os.listdir(a.dir)):
+        folder = os.path.join(a.dir, name)
+        if not os.path.isdir(folder):
+            continue
+        for fn in sorted(f for f in os.listdir(folder) if f.startswith("score2d-") and f.endswith(".json")):
+            path = os.path.join(folder, fn)
+            try:
+                with open(path) as fh:
+                    scores.append(score_row(name, json.load(fh)))
+            except (OSError, ValueError, KeyError, TypeError, AttributeError) as e:
+                fail(2, "%s: expected ekmcompare score2d's JSON (%s: %s)" % (path, type(e).__name__, e))
     if a.dem:
         try:
             with open(a.dem) as fh:
@@ -85,6 +121,13 @@ def main():
             "| folder | t [s] | bed | height [mm] | slopes left, right [deg] (+- se) "
             "| phi apex - flank | P(centre)/P(max) | dip (3 sigma) | code |\n"
             "|---|---|---|---|---|---|---|---|---|\n" % (a.title, a.about) + "\n".join(rows) + "\n")
+    if scores:
+        text += ("\n## Against the DEM's mean maps (ekmcompare score2d)\n\n"
+                 "Relative L2 error over the common support / the map's interior (docs/compare.md "
+                 "\"Scoring a 2D pile\"; stresses compression positive). The engine floor rows score "
+                 "one engine's map against the other's.\n\n"
+                 "| folder | model | DEM map | points | phi | sxx | szz | sxz |\n"
+                 "|---|---|---|---|---|---|---|---|\n" + "\n".join(scores) + "\n")
     tmp = a.out + ".tmp"
     try:
         with open(tmp, "w") as fh:

@@ -8,7 +8,12 @@
 # the end time), then figures/pile2d.py on each at the end of the pouring
 # and at the end (the DEM's pile at rest) into OUT/<point>_<variant>_at_<t>s/,
 # and OUT/summary.md: their numbers beside the DEM's plain piles of the
-# same size (OUT/../summary-plain-SIZE.json, scripts/dem/pile_analysis.sh).
+# same size (OUT/../summary-plain-SIZE.json, scripts/dem/pile_analysis.sh),
+# and each pile at the end scored against the DEM's mean maps of its
+# source (`ekmcompare score2d`, OUT/../maps-SIZE.h5: every engine and law
+# that has one) into its folder's score2d-ENGINE-LAW.json, with the engine
+# floor (LAMMPS's map against LIGGGHTS's, OUT/engine_floor_LAW_SOURCE/)
+# where both engines have a map.
 #
 #   scripts/dem/pile_ekm.sh [-e ENGINE] [-s SIZE] [-v "VARIANTS"] [-m "NAME=FIT.ini ..."] [-o OUT] [BUILD_DIR]
 #
@@ -22,7 +27,7 @@
 # (scripts/lib/ekm_runs.sh), JOBS at a time (default 1: the DEM ensemble
 # usually holds the other core). About 500 s each on one core (ref, 65 x
 # 20 cells, 2026-12-07).
-# Exit status: 0; 1 usage or a missing program; 2 a run or a figure failed.
+# Exit status: 0; 1 usage or a missing program; 2 a run, a figure or a score failed.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 prog=pile_ekm.sh
@@ -34,7 +39,7 @@ while getopts ":e:s:v:m:o:h" o; do
     v) variants=$OPTARG ;;
     m) sets=$OPTARG ;;
     o) out=$OPTARG ;;
-    h) sed -n '2,25p' "$0"; exit 0 ;;
+    h) sed -n '2,30p' "$0"; exit 0 ;;
     :) echo "$prog: -$OPTARG needs a value (see -h)" >&2; exit 1 ;;
     *) echo "$prog: -$OPTARG: unknown option (see -h)" >&2; exit 1 ;;
   esac
@@ -74,10 +79,11 @@ for p in json.load(sys.stdin)["points"]:
     for k in ("top.t_stop", "run.t_end"):
         if k not in sets:
             sys.exit("pile_ekm.sh: point %r: no %s in its ekm_set" % (p["tag"], k))
-    print(p["tag"] or "pile", sets["top.t_stop"], sets["run.t_end"], " ".join(p["ekm_set"]))' <<< "$resolved") ||
+    src = "sieve" if float(sets.get("top.inlet_width", 0)) >= float(sets.get("bottom.plate_width", 1e300)) else "hopper"
+    print(p["tag"] or "pile", src, sets["top.t_stop"], sets["run.t_end"], " ".join(p["ekm_set"]))' <<< "$resolved") ||
   exit 1
 cases=()
-while read -r tag t_stop t_end point_sets; do
+while read -r tag _ t_stop t_end point_sets; do
   args=""
   for s in $point_sets; do args+=" --set $s"; done
   for v in $variants; do
@@ -94,7 +100,25 @@ done <<< "$points"
 fail=0
 ekm_runs pile_ekm || fail=2
 
-while read -r tag t_stop t_end _; do
+# the DEM's mean maps (scripts/dem/pile_analysis.sh): their groups
+# /ENGINE/LAW/SOURCE
+maps=$(dirname "$out")/maps-$size.h5
+groups=""
+if [ -f "$maps" ]; then
+  groups=$($py -c '
+import sys, h5py
+with h5py.File(sys.argv[1], "r") as f:
+    f.visit(lambda n: print("/" + n) if n.count("/") == 2 and "phi" in f[n] else None)' "$maps") ||
+    { echo "$prog: $maps: cannot list its map groups" >&2; exit 2; }
+fi
+compare=$(dirname "$(dirname "$ekm")")/compare/ekmcompare
+# score2d ARGS... OUT.json: ekmcompare score2d, its table to the log
+score2d() {
+  local o=${*: -1}
+  "$compare" score2d "${@:1:$#-1}" -o "$o" >&2 || fail=2
+}
+
+while read -r tag src t_stop t_end _; do
   for c in "${cases[@]}"; do
     name=${c%% *}
     case $name in "${tag}"_*) ;; *) continue ;; esac
@@ -103,6 +127,22 @@ while read -r tag t_stop t_end _; do
       $py -B "$root/figures/pile2d.py" "$runs/$name.h5" "$out/${name}_at_${t}s" \
         --times 0.5,1,2,"$t_end" --base-time "$t" >&2 || fail=2
     done
+    # the pile at rest against each DEM map of its source
+    for g in $groups; do
+      case $g in */"$src") ;; *) continue ;; esac
+      e=${g#/} e=${e%%/*} l=${g#/*/} l=${l%/*}
+      score2d --dem "$maps" --group "$g" --model "$runs/$name.h5" --time "$t_end" \
+        "$out/${name}_at_${t_end}s/score2d-$e-$l.json"
+    done
+  done
+  # the engine floor: one engine's map against the other's
+  for g in $groups; do
+    case $g in /lammps/*/"$src") ;; *) continue ;; esac
+    l=${g#/*/} l=${l%/*}
+    case " $groups " in *" /liggghts/$l/$src "*) ;; *) continue ;; esac
+    mkdir -p "$out/engine_floor_${l}_$src"
+    score2d --dem "$maps" --group "/liggghts/$l/$src" --model "$maps" --model-group "$g" \
+      "$out/engine_floor_${l}_$src/score2d-lammps-$l.json"
   done
 done <<< "$points"
 

@@ -376,6 +376,15 @@ def table(src, work):
                                "height_se": 0.0002, "angle_left": 22.0, "angle_left_se": 0.7,
                                "angle_right": 22.4, "angle_right_se": 0.3, "p_centre_over_max": 0.81,
                                "p_centre_over_max_se": 0.027}]}, fh)
+    # an ekmcompare score2d output in the folder: a row of the scores' table
+    with open(os.path.join(work, "out", "score2d-lammps-plain.json"), "w") as fh:
+        json.dump({"tool": "ekmcompare score2d",
+                   "dem": {"path": "maps.h5", "group": "/lammps/plain/hopper", "t_s": None},
+                   "model": {"path": "run.h5", "group": None, "t_s": 4.2},
+                   "fields": {"phi": {"units": "1", "support": {"points": 85, "rel_l2": 0.0512},
+                                      "interior": {"points": 37, "rel_l2": 0.0431}},
+                              "szz": {"units": "Pa", "support": {"points": 85, "rel_l2": 0.25},
+                                      "interior": {"points": 37, "rel_l2": None}}}}, fh)
     cmd = [sys.executable, os.path.join(src, "figures", "pile2d_table.py"), work, tab, "--title", "T",
            "--about", "A", "--dem", dem]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
@@ -388,6 +397,8 @@ def table(src, work):
     check("| DEM lammps source8 (3 seeds) | at rest | pile | 40.7 +- 0.2 | 22.0 +- 0.7, 22.4 +- 0.3 | - "
           "| 0.810 +- 0.027 | - | - |" in rows, "pile2d_table: the DEM row is not as given")
     check(rows[:1] == ["# T"], "pile2d_table: title %r" % rows[:1])
+    want = "| out | t = 4.2 s | /lammps/plain/hopper | 85 / 37 | 0.051 / 0.043 | - | 0.250 / - | - |"
+    check(want in rows, "pile2d_table: no scores row %r in %s" % (want, tab))
     bad = os.path.join(work, "tab-bad")
     os.makedirs(os.path.join(bad, "broken"), exist_ok=True)
     with open(os.path.join(bad, "broken", "pile2d.json"), "w") as fh:
