@@ -20,7 +20,7 @@ static const char usage_text[] =
     "usage: ekmcompare cg [options] DUMP... (-o OUT.h5 | --csv OUT.csv)\n"
     "       ekmcompare score --dem CG.h5 --ekm RUN.h5 [--fields phi,vx,T] [--support F] [--scalars L] [-o "
     "SCORE.json]\n"
-    "       ekmcompare score2d --dem MAPS.h5 --group G --model RUN.h5 [--time T] [--fields L] [-o "
+    "       ekmcompare score2d --dem MAPS.h5 [--group G] --model RUN.h5 [--time T] [--fields L] [-o "
     "SCORE.json]\n"
     "       ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu [--start FILE.ini]\n"
     "                      [--fields P,sxz,T] -o FIT.json [--ini FIT.ini]   (docs/compare.md)\n"
@@ -81,14 +81,15 @@ static const char usage_text[] =
     "                       digits) in the JSON's \"inputs\" (the campaign's score_step.sh)\n"
     "\n"
     "score2d: a 2D ekm run's output frame (the last, or --time T [s]) against a sand pile's DEM map\n"
-    "(a group of scripts/dem/pile_map.py's maps, e.g. results/sandpile/maps-ref.h5); per field the\n"
-    "relative L2 and noise-normalised errors over the common support and the map's interior\n"
-    "(docs/compare.md \"Scoring a 2D pile\"). Stresses compression positive (ekm's negated).\n"
-    "  --dem FILE --group G   the DEM map and its group (/ENGINE/LAW/SOURCE)\n"
+    "(a group of scripts/dem/pile_map.py's maps, e.g. results/sandpile/maps-ref.h5) or against the\n"
+    "last window of an `ekmcompare cg --axes x,z` output; per field the relative L2 and\n"
+    "noise-normalised errors over the common support and the map's interior (docs/compare.md\n"
+    "\"Scoring a 2D pile\"). Stresses compression positive (ekm's and cg's negated).\n"
+    "  --dem FILE [--group G]  the DEM: a map file and its group (/ENGINE/LAW/SOURCE), or a cg output\n"
     "  --model FILE         an ekm 2D run output, or (with --model-group G2) a second map\n"
-    "  --fields LIST        of phi,sxx,szz,sxz (default all four)\n"
+    "  --fields LIST        of phi,P,sxx,szz,sxz (default: those both files have)\n"
     "  --support F          as score's (default 0.1)\n"
-    "  -o FILE              JSON output\n"
+    "  -o FILE              JSON output (--dem-sha256 H --ekm-sha256 H: recorded as score's)\n"
     "\n"
     "base: the base pressure p(x) = -sum(fz of the floor grains in a bin)/(dx L_y) of a pile,\n"
     "time-averaged per run (each DUMP one run: an independent pile), with the SE across runs and\n"
@@ -351,6 +352,12 @@ static ekm_status cmd_score2d(int argc, char **argv, ekm_error *err)
         } else if (!strcmp(a, "-o")) {
             ARG();
             o.json = v;
+        } else if (!strcmp(a, "--dem-sha256")) {
+            ARG();
+            o.dem_sha256 = v;
+        } else if (!strcmp(a, "--ekm-sha256")) {
+            ARG();
+            o.ekm_sha256 = v;
         } else
             rc = usage_error(err, "score2d: unknown argument '%s' (see ekmcompare --help)", a);
     }

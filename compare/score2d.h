@@ -6,6 +6,10 @@
  * plate's top), fields [nz][nx] with their standard errors FIELD_se (over
  * the group's runs) and mask (the pile's interior: away from the plate's
  * layering and the loose surface). Its stresses are compression positive.
+ * Or (no --group) an `ekmcompare cg --axes x,z` output (x, z, t, fields
+ * [nt][nz][nx] with FIELD_se; with --ensemble the SE over the runs): its
+ * last window; its stresses, negative in compression, are negated; it has
+ * no mask (no interior region).
  *
  * The model side is either an `ekm run` output of a 2D scenario (x, z,
  * t and fields [nt][nz][nx]: one frame, the last or the one at --time;
@@ -32,13 +36,16 @@
 
 typedef struct {
     const char *dem;         /* pile-map file */
-    const char *group;       /* its group, e.g. /liggghts/plain/hopper */
+    const char *group;       /* its group, e.g. /liggghts/plain/hopper; NULL: dem is a cg 2D output */
     const char *model;       /* ekm 2D run output, or a second pile-map file */
     const char *model_group; /* NULL: model is an ekm run; else the map group to compare */
     double time;             /* the ekm run's output time [s]; NAN: its last output */
-    const char *fields;      /* comma-separated, or NULL: phi,sxx,szz,sxz */
+    const char *fields;      /* comma-separated (phi, P, sxx, szz, sxz), or NULL: those of
+                                phi,P,sxx,szz,sxz both files have */
     double support;          /* common support threshold, a fraction of the DEM's largest phi */
     const char *json;        /* JSON output path, or NULL */
+    const char *dem_sha256;  /* the inputs' SHA-256 digests to record in the */
+    const char *ekm_sha256;  /* JSON's "inputs" (score.h's), or NULL (both or neither) */
     FILE *table;             /* markdown table (stdout), or NULL */
 } cg_score2d_opts;
 
@@ -47,10 +54,11 @@ cg_score2d_opts cg_score2d_opts_default(void);
 enum { CG_SCORE2D_MAX_ROWS = 16 };
 
 typedef struct {
-    char field[16];     /* phi, sxx, szz or sxz */
+    char field[16];     /* phi, P, sxx, szz or sxz */
     const char *units;  /* "1" or "Pa" */
     const char *region; /* "support" or "interior" */
     cg_metric m;
+    size_t left_out; /* DEM cells with material (phi above the threshold) not compared */
 } cg_score2d_row;
 
 /* Score o->model against o->dem; rows[0..*nrows-1] (may be NULL) the

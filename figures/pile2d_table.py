@@ -68,13 +68,13 @@ def score_row(name, j):
         f = j["fields"].get(field)
         if f is None:
             return "-"
-        return " / ".join("-" if f.get(r) is None or f[r]["rel_l2"] is None else "%.3f" % f[r]["rel_l2"]
-                          for r in ("support", "interior"))
+        # the support's metric at the field's level, the interior's under "interior"
+        return " / ".join("-" if r is None or r.get("rel_l2") is None else "%.3f" % r["rel_l2"]
+                          for r in (f, f.get("interior")))
     phi = j["fields"]["phi"]
     model = j["model"]
     against = model["group"] if model["group"] else "t = %g s" % model["t_s"]
-    pts = "%d / %s" % (phi["support"]["points"],
-                       phi["interior"]["points"] if phi.get("interior") else "-")
+    pts = "%d / %s" % (phi["points"], phi["interior"]["points"] if phi.get("interior") else "-")
     return "| %s | %s | %s | %s | %s |" % (name, against, j["dem"]["group"], pts,
                                           " | ".join(rel(f) for f in SCORE_FIELDS))
 

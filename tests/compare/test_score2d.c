@@ -7,13 +7,17 @@
  * Bilinear interpolation is exact for linear fields, so the scores are the
  * offset's: rel_l2 = |delta| sqrt(n) / ||DEM||, noise = |delta| / se; the
  * empty row is outside the common support and the mask's first row outside
- * the interior; a map against itself scores 0. */
+ * the interior; a map against itself scores 0; the same fields written as
+ * an `ekmcompare cg --axes x,z` output (stresses negative in compression,
+ * P as a field) score the same. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
 #include <math.h>
 #include <string.h>
+
+#include <jansson.h>
 
 #include "h5.h"
 #include "score2d.h"
@@ -80,7 +84,46 @@ static void write_map(const char *path)
     assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
 }
 
-/* frame 0: the fields + 5 (a wrong frame); frame 1 (t = 1 s): + DELTA */
+/* The map's fields as a cg 2D output: two windows (the first wrong by 7),
+ * stresses negative in compression, P = (sxx + szz)/2 of the map's linear
+ * fields with SE 3 (a field the map lacks). */
+static void write_cg(const char *path)
+{
+    ekm_h5_file *w;
+    ekm_error err;
+    assert_int_equal(ekm_h5_create(&w, path, &err), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_string(w, NULL, "kernel", "gauss", &err), EKM_OK);
+    assert_int_equal(ekm_h5_attr_set_double(w, NULL, "snapshots_used", 2.0, &err), EKM_OK);
+    double x[DNX], z[DNZ], t[NT] = {0.5, 1.0}, f[NT * DNZ * DNX], se[NT * DNZ * DNX];
+    for (int i = 0; i < DNX; i++)
+        x[i] = dem_x(i);
+    for (int j = 0; j < DNZ; j++)
+        z[j] = dem_z(j);
+    const size_t nx = DNX, nz = DNZ, nt = NT, dims[3] = {NT, DNZ, DNX};
+    put(w, "x", 1, &nx, x, "m");
+    put(w, "z", 1, &nz, z, "m");
+    put(w, "t", 1, &nt, t, "s");
+    const char *names[5] = {"phi", "sxx", "szz", "sxz", "P"};
+    for (int k = 0; k < 5; k++) {
+        char sen[16];
+        for (int n = 0; n < NT; n++)
+            for (int j = 0; j < DNZ; j++)
+                for (int i = 0; i < DNX; i++) {
+                    const double v =
+                        k < 4 ? linear(k, x[i], z[j]) : 0.5 * (linear(1, x[i], z[j]) + linear(2, x[i], z[j]));
+                    const size_t c = ((size_t)n * DNZ + (size_t)j) * DNX + (size_t)i;
+                    f[c] = j == DNZ - 1 ? 0.0 : (k == 0 || k == 4 ? 1.0 : -1.0) * v + (n ? 0.0 : 7.0);
+                    se[c] = k < 4 ? SE[k] : 3.0;
+                }
+        put(w, names[k], 3, dims, f, k ? "Pa" : "1");
+        snprintf(sen, sizeof sen, "%s_se", names[k]);
+        put(w, sen, 3, dims, se, k ? "Pa" : "1");
+    }
+    assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+}
+
+/* frame 0: the fields + 5 (a wrong frame); frame 1 (t = 1 s): + DELTA;
+ * P = (sxx + szz)/2 + 1.5 at t = 1 s */
 static void write_run(const char *path)
 {
     ekm_h5_file *w;
@@ -105,6 +148,12 @@ static void write_run(const char *path)
                     f[(n * MNZ + j) * MNX + i] = sign * (linear(k, x[i], z[j]) + (n ? DELTA[k] : 5.0));
         put(w, FIELDS[k], 3, dims, f, k ? "Pa" : "1");
     }
+    for (int n = 0; n < NT; n++)
+        for (int j = 0; j < MNZ; j++)
+            for (int i = 0; i < MNX; i++)
+                f[(n * MNZ + j) * MNX + i] =
+                    0.5 * (linear(1, x[i], z[j]) + linear(2, x[i], z[j])) + (n ? 1.5 : 5.0);
+    put(w, "P", 3, dims, f, "Pa");
     assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
 }
 
@@ -156,6 +205,51 @@ static void test_known_offsets(void **state)
     assert_non_null(strstr(err.message, "no output at t = 0.7 s"));
 }
 
+/* The DEM as a cg 2D output: its last window, stresses negated, P scored
+ * too (offset 1.5, SE 3), no interior region (a cg file has no mask). */
+static void test_cg_dem(void **state)
+{
+    (void)state;
+    char map[512], run[512], cg[512], out[512];
+    paths(map, run, sizeof map);
+    write_cg(tmp_path(cg, sizeof cg, "score2d_cg.h5"));
+    cg_score2d_opts o = cg_score2d_opts_default();
+    o.dem = cg;
+    o.model = run;
+    o.json = tmp_path(out, sizeof out, "score2d_cg.json");
+    o.dem_sha256 = "0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef";
+    o.ekm_sha256 = "fedcba9876543210fedcba9876543210fedcba9876543210fedcba9876543210";
+    cg_score2d_row rows[CG_SCORE2D_MAX_ROWS];
+    size_t n = 0;
+    ekm_error err = {0};
+    if (cg_score2d(&o, rows, &n, &err))
+        fail_msg("%s", err.message);
+    assert_int_equal(n, 5); /* phi, P, sxx, szz, sxz over the support */
+    const char *order[5] = {"phi", "P", "sxx", "szz", "sxz"};
+    for (size_t r = 0; r < n; r++) {
+        assert_string_equal(rows[r].field, order[r]);
+        assert_string_equal(rows[r].region, "support");
+        assert_int_equal(rows[r].m.points, 5 * DNX);
+        assert_int_equal(rows[r].left_out, 0);
+        const double delta = r == 1 ? 1.5 : DELTA[r == 0 ? 0 : r - 1],
+                     se = r == 1 ? 3.0 : SE[r == 0 ? 0 : r - 1];
+        assert_close(rows[r].m.noise, fabs(delta) / se, 1e-9 * fabs(delta) / se);
+    }
+    /* SCORE.json: the support's metric at the field's level, the inputs recorded */
+    json_error_t jerr;
+    json_t *root = json_load_file(out, 0, &jerr);
+    assert_non_null(root);
+    json_t *szz = json_object_get(json_object_get(root, "fields"), "szz");
+    assert_non_null(szz);
+    assert_int_equal(json_integer_value(json_object_get(szz, "points")), 5 * DNX);
+    assert_int_equal(json_integer_value(json_object_get(szz, "points_left_out")), 0);
+    assert_close(json_real_value(json_object_get(szz, "noise_normalised")), 0.5, 1e-8);
+    assert_string_equal(
+        json_string_value(json_object_get(json_object_get(json_object_get(root, "inputs"), "dem"), "sha256")),
+        o.dem_sha256);
+    json_decref(root);
+}
+
 static void test_map_against_itself(void **state)
 {
     (void)state;
@@ -191,9 +285,12 @@ static void test_refused(void **state)
     o.model = run;
     size_t n = 0;
     ekm_error err = {0};
-    o.fields = "phi,P";
+    o.fields = "phi,T";
     assert_int_equal(cg_score2d(&o, NULL, &n, &err), EKM_EUSAGE);
-    assert_non_null(strstr(err.message, "unknown field 'P'"));
+    assert_non_null(strstr(err.message, "unknown field 'T'"));
+    o.fields = "phi,P"; /* the map has no P */
+    assert_int_equal(cg_score2d(&o, NULL, &n, &err), EKM_EINPUT);
+    assert_non_null(strstr(err.message, "expected a dataset P"));
     o.fields = NULL;
     o.model = map; /* a map given as an ekm run */
     assert_int_equal(cg_score2d(&o, NULL, &n, &err), EKM_EINPUT);
@@ -217,6 +314,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_known_offsets),
+        cmocka_unit_test(test_cg_dem),
         cmocka_unit_test(test_map_against_itself),
         cmocka_unit_test(test_refused),
     };

@@ -381,9 +381,9 @@ def table(src, work):
         json.dump({"tool": "ekmcompare score2d",
                    "dem": {"path": "maps.h5", "group": "/lammps/plain/hopper", "t_s": None},
                    "model": {"path": "run.h5", "group": None, "t_s": 4.2},
-                   "fields": {"phi": {"units": "1", "support": {"points": 85, "rel_l2": 0.0512},
+                   "fields": {"phi": {"units": "1", "points": 85, "rel_l2": 0.0512,
                                       "interior": {"points": 37, "rel_l2": 0.0431}},
-                              "szz": {"units": "Pa", "support": {"points": 85, "rel_l2": 0.25},
+                              "szz": {"units": "Pa", "points": 85, "rel_l2": 0.25,
                                       "interior": {"points": 37, "rel_l2": None}}}}, fh)
     cmd = [sys.executable, os.path.join(src, "figures", "pile2d_table.py"), work, tab, "--title", "T",
            "--about", "A", "--dem", dem]
