@@ -86,7 +86,7 @@ static const char usage_text[] =
     "noise-normalised errors over the common support and the map's interior (docs/compare.md\n"
     "\"Scoring a 2D pile\"). Stresses compression positive (ekm's and cg's negated).\n"
     "  --dem FILE [--group G]  the DEM: a map file and its group (/ENGINE/LAW/SOURCE), or a cg output\n"
-    "  --model FILE         an ekm 2D run output, or (with --model-group G2) a second map\n"
+    "  --model FILE         an ekm 2D run output, a second cg output, or (--model-group G2) a map\n"
     "  --fields LIST        of phi,P,sxx,szz,sxz (default: those both files have)\n"
     "  --support F          as score's (default 0.1)\n"
     "  -o FILE              JSON output (--dem-sha256 H --ekm-sha256 H: recorded as score's)\n"

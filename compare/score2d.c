@@ -187,10 +187,14 @@ static ekm_status open_side(side2d *s, const char *option, double time, ekm_erro
             return EKM_FAIL(err, EKM_EINPUT, "%s: no group %s (a pile map's groups are /ENGINE/LAW/SOURCE)",
                             s->path, s->group);
     } else {
-        rc =
-            cg_h5kind_check(s->f, "score2d", option, s->kind == SIDE_RUN ? CG_H5KIND_EKM : CG_H5KIND_CG, err);
+        /* the DEM: a cg output; the model: an ekm run or a cg output
+         * (engine against engine) */
+        const unsigned allowed = s->kind == SIDE_CG ? CG_H5KIND_CG : CG_H5KIND_EKM | CG_H5KIND_CG;
+        rc = cg_h5kind_check(s->f, "score2d", option, allowed, err);
         if (rc)
             return rc;
+        if (s->kind == SIDE_RUN && cg_h5kind_of(s->f) == CG_H5KIND_CG)
+            s->kind = SIDE_CG;
     }
     rc = read_axis(s, "x", &s->x, &s->nx, err);
     if (!rc)

@@ -13,9 +13,10 @@
  *
  * The model side is either an `ekm run` output of a 2D scenario (x, z,
  * t and fields [nt][nz][nx]: one frame, the last or the one at --time;
- * its stresses, tension positive, are negated to the DEM's sign) or a
- * group of a second pile-map file (engine against engine: the standard
- * errors of both added in quadrature).
+ * its stresses, tension positive, are negated to the DEM's sign), or,
+ * engine against engine (the standard errors of both added in
+ * quadrature), a group of a second pile-map file or a second cg 2D output
+ * (its last window, or the one at --time).
  *
  * The model's values are interpolated bilinearly onto the DEM's cell
  * centres (exact where the grids coincide); a DEM centre outside the

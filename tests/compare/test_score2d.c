@@ -248,6 +248,20 @@ static void test_cg_dem(void **state)
         json_string_value(json_object_get(json_object_get(json_object_get(root, "inputs"), "dem"), "sha256")),
         o.dem_sha256);
     json_decref(root);
+    /* engine against engine: the cg output against itself, the first
+     * window against the last (offset 7 in every field but the empty row;
+     * SEs in quadrature) */
+    o.model = cg;
+    o.json = NULL;
+    o.dem_sha256 = o.ekm_sha256 = NULL;
+    o.time = 0.5;
+    if (cg_score2d(&o, rows, &n, &err))
+        fail_msg("%s", err.message);
+    assert_int_equal(n, 5);
+    for (size_t r = 0; r < n; r++) {
+        const double se = r == 1 ? 3.0 : SE[r == 0 ? 0 : r - 1];
+        assert_close(rows[r].m.noise, 7.0 / (se * sqrt(2.0)), 1e-9 * 7.0 / se);
+    }
 }
 
 static void test_map_against_itself(void **state)
