@@ -308,19 +308,29 @@ def group_map(name, path, inputs, args):
         return {"map_missing": "not assembled from run records (pile_record.py group): the maps are in the records"}
     paths = [os.path.join(i, "map.h5") for i in inputs]
     have = [p for p in paths if os.path.exists(p)]
+    if not have:
+        return {"map_missing": "none of the %d records has a map.h5 (recorded before the maps, or recovered from "
+                               "group files): no density or stress map" % len(paths)}
+    # a record without a map was recorded before the maps (or recovered from
+    # a group file): nothing about its pile, so the records that have one
+    # are a fair subset
+    partial = None
     if len(have) < len(paths):
-        return {"map_missing": "%d of %d records have no map.h5 (recorded before the maps, or recovered from group "
-                               "files): no density or stress map" % (len(paths) - len(have), len(paths))}
+        partial = ("over the %d of %d records that have a map.h5 (the others recorded before the maps, or "
+                   "recovered from group files)" % (len(have), len(paths)))
     import pile_map
     try:
-        maps = [pile_map.read_map(p) for p in paths]
-        st, arrays = pile_map.analyse(maps, paths, {"band": args.map_band, "flank_lo": args.map_flanks[0],
+        maps = [pile_map.read_map(p) for p in have]
+        st, arrays = pile_map.analyse(maps, have, {"band": args.map_band, "flank_lo": args.map_flanks[0],
                                                     "flank_hi": args.map_flanks[1], "surface": args.map_surface,
                                                     "floor": args.map_floor})
     except pile_map.MapError as e:
         die(e.code, str(e))
     MAPS[name] = arrays
-    st["files"] = paths
+    st["files"] = have
+    st["runs"] = len(have)
+    if partial:
+        st["partial"] = partial
     return {"map": st}
 
 
