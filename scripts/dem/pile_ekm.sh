@@ -108,7 +108,7 @@ if [ -f "$maps" ]; then
   groups=$($py -c '
 import sys, h5py
 with h5py.File(sys.argv[1], "r") as f:
-    f.visit(lambda n: print("/" + n) if n.count("/") == 2 and "phi" in f[n] else None)' "$maps") ||
+    f.visit(lambda n: print("/" + n, end=" ") if n.count("/") == 2 and "phi" in f[n] else None)' "$maps") ||
     { echo "$prog: $maps: cannot list its map groups" >&2; exit 2; }
 fi
 compare=$(dirname "$(dirname "$ekm")")/compare/ekmcompare
