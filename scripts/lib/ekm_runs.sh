@@ -28,15 +28,23 @@ ekm_run_one() {
   echo "$tag: $name done" >&2
 }
 
+# (wait -n collects each run's status as it ends: waiting on a saved pid
+# after `jobs` has reported its job done fails with "not a child of this
+# shell", which made a batch whose runs all succeeded report a failure)
 ekm_runs() {
-  local tag=$1 c p fail=0
-  local -a pids=()
+  local tag=$1 c fail=0 running=0
   for c in "${cases[@]}"; do
     # shellcheck disable=SC2086
     ekm_run_one "$tag" $c &
-    pids+=($!)
-    while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do sleep 1; done
+    running=$((running + 1))
+    if [ "$running" -ge "$jobs" ]; then
+      wait -n || fail=1
+      running=$((running - 1))
+    fi
   done
-  for p in "${pids[@]}"; do wait "$p" || fail=1; done
+  while [ "$running" -gt 0 ]; do
+    wait -n || fail=1
+    running=$((running - 1))
+  done
   return "$fail"
 }
