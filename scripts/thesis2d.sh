@@ -35,9 +35,10 @@
 # an interruption, and a run cut short goes on from its checkpoint
 # (NAME.ckpt.h5 beside it: scripts/lib/ekm_runs.sh). FIGURES_ONLY=1: no runs, the figures and numbers of the
 # runs made so far (the others' figures are left as they are). One core per run, JOBS runs at a time (default 2). The
-# 112 x 56 piles take about 45 min each with the surface rules and the
-# kept LU (2026-12-07, two at a time: 2591, 2600 and 2769 s), the rest a
-# few minutes each (this 2-core machine); each run's log
+# 112 x 56 piles take 33-50 min each with the surface rules, the
+# vapour-cell rule and the kept LU (2026-12-07, two at a time on a 2-core
+# machine shared with a CI run: 1965, 2315 and 3019 s), the rest a few
+# minutes each; each run's log
 # carries its progress line once a minute (ETA included).
 # usage: scripts/thesis2d.sh [BUILD_DIR]     env: RUNS, JOBS, FIGURES_ONLY
 set -euo pipefail
