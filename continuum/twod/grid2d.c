@@ -32,15 +32,35 @@ static int segment_columns(const ekm2d_grid *g, double lo, double hi, PetscInt *
 }
 
 /* The face columns of end k's inlet segment q (without a segment: all of
- * them); 0 when the segment holds none. */
+ * them): every face the segment [x - w/2, x + w/2] overlaps (by more than
+ * 1e-9 of a face, so that an edge on a face boundary takes no neighbour),
+ * with the covered fraction of the first and the last; 0 when it covers
+ * none. (The plate keeps the face-centre rule: a face is wall or open.) */
 static int inlet_columns(ekm2d_grid *g, int k, int q, const ekm_bc *bc)
 {
     g->inlet_lo[k][q] = 0;
     g->inlet_hi[k][q] = g->nx - 1;
+    g->inlet_cover_lo[k][q] = g->inlet_cover_hi[k][q] = 1.0;
     if (bc->kind != EKM_BC_INFLOW || !isfinite(bc->inlet_width))
         return 1;
-    return segment_columns(g, bc->inlet_x[q] - 0.5 * bc->inlet_width, bc->inlet_x[q] + 0.5 * bc->inlet_width,
-                           &g->inlet_lo[k][q], &g->inlet_hi[k][q]);
+    const double lo = bc->inlet_x[q] - 0.5 * bc->inlet_width, hi = bc->inlet_x[q] + 0.5 * bc->inlet_width;
+    const double tol = 1e-9 * g->dx;
+    PetscInt first = g->nx, last = -1;
+    for (PetscInt i = 0; i < g->nx; i++) {
+        const double a = fmax(lo, i * g->dx), b = fmin(hi, (i + 1) * g->dx);
+        if (b - a <= tol)
+            continue;
+        const double cover = b - a >= g->dx - tol ? 1.0 : (b - a) / g->dx;
+        if (i < first) {
+            first = i;
+            g->inlet_cover_lo[k][q] = cover;
+        }
+        last = i;
+        g->inlet_cover_hi[k][q] = cover;
+    }
+    g->inlet_lo[k][q] = first;
+    g->inlet_hi[k][q] = last;
+    return last >= first;
 }
 
 /* The face columns of end k's plate ([bottom]/[top] plate_width, a wall;
@@ -74,8 +94,8 @@ ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *
         g->n_inlets[k] = segmented ? ends[k]->n_inlets : 1;
         for (int q = 0; q < g->n_inlets[k]; q++)
             if (!inlet_columns(g, k, q, ends[k]))
-                return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] inlet_width: the inlet holds no face centre",
-                                sc->source, k ? "top" : "bottom");
+                return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] inlet_width: the inlet covers no face", sc->source,
+                                k ? "top" : "bottom");
         if (!plate_columns(g, k, ends[k]))
             return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] plate_width: the plate holds no face centre",
                             sc->source, k ? "top" : "bottom");
@@ -161,6 +181,8 @@ ekm2d_end ekm2d_grid_end(const ekm2d_grid *g, int top, double t)
         for (int q = 0; q < e.n_inlets; q++) {
             e.inlet_lo[q] = g->inlet_lo[top][q];
             e.inlet_hi[q] = g->inlet_hi[top][q];
+            e.inlet_cover_lo[q] = g->inlet_cover_lo[top][q];
+            e.inlet_cover_hi[q] = g->inlet_cover_hi[top][q];
         }
     }
     return e;

@@ -47,8 +47,11 @@ typedef struct {
     int periodic;               /* 1: periodic in x */
     double side_conductance[2]; /* side walls x = 0, x = width: 1/(dx/2 + slip_length) [1/m] */
     int n_inlets[2];            /* bottom, top: the inlet segments (one: the whole end without) */
-    /* bottom, top: each segment's first and last face column */
+    /* bottom, top: each segment's first and last face column, and the
+     * fraction [-] of those two faces' width the segment covers (1 between
+     * them): an inlet edge inside a face lets that face carry its share */
     PetscInt inlet_lo[2][EKM_INLETS_MAX], inlet_hi[2][EKM_INLETS_MAX];
+    double inlet_cover_lo[2][EKM_INLETS_MAX], inlet_cover_hi[2][EKM_INLETS_MAX];
     /* bottom, top: a wall with a plate ([bottom] plate_width): its first and
      * last face column (without one: 0 and nx - 1) */
     PetscInt plate_lo[2], plate_hi[2];
@@ -74,13 +77,14 @@ typedef struct {
         conductance; /* wall (also an inflow end beside its inlet): 1/(dz/2 + slip_length) [1/m]; free: 0 */
     int n_inlets;    /* inflow: its segments q < n_inlets, face columns lo[q] .. hi[q] */
     PetscInt inlet_lo[EKM_INLETS_MAX], inlet_hi[EKM_INLETS_MAX];
+    double inlet_cover_lo[EKM_INLETS_MAX], inlet_cover_hi[EKM_INLETS_MAX]; /* [-], as the grid's */
     /* wall: the plate's face columns plate_lo .. plate_hi (the whole end
      * without [bottom]/[top] plate_width); the faces outside are open */
     PetscInt plate_lo, plate_hi;
 } ekm2d_end;
 
 /* The grid of sc on comm (collective).  EKM_EINPUT: an inlet segment that
- * holds no face centre; EKM_EINTERNAL: a PETSc error. */
+ * covers no face; EKM_EINTERNAL: a PETSc error. */
 ekm_status ekm2d_grid_create(const ekm_scenario *sc, MPI_Comm comm, ekm2d_grid *g, ekm_error *err);
 void ekm2d_grid_destroy(ekm2d_grid *g);
 
@@ -99,6 +103,24 @@ static inline int ekm2d_inlet_face(const ekm2d_grid *g, const ekm2d_end *e, Pets
         if (i >= e->inlet_lo[q] && i <= e->inlet_hi[q])
             return 1;
     return 0;
+}
+
+/* The phi an entering flow carries through z-face column i of end e: the
+ * inflow's phi_in times the fraction of the face its segment covers (1
+ * inside the segment, less at an edge that cuts a face), 0 beside the
+ * inlets, so that the inflow is rho_p phi_in |w| inlet_width on any grid. */
+static inline double ekm2d_inlet_phi(const ekm2d_grid *g, const ekm2d_end *e, PetscInt i)
+{
+    if (e->kind != EKM_BC_INFLOW)
+        return 0.0;
+    if (g->periodic)
+        i = (i % g->nx + g->nx) % g->nx;
+    for (int q = 0; q < e->n_inlets; q++)
+        if (i >= e->inlet_lo[q] && i <= e->inlet_hi[q])
+            return e->phi_in * (i == e->inlet_lo[q]   ? e->inlet_cover_lo[q]
+                                : i == e->inlet_hi[q] ? e->inlet_cover_hi[q]
+                                                      : 1.0);
+    return 0.0;
 }
 
 /* z-face column i of end e is open: a free end, or a wall's face beside

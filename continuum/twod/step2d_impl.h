@@ -126,8 +126,9 @@ static inline double ekm2d_flux_x(const ekm2d_grid *g, PetscScalar ***u, PetscIn
 
 /* ... through z-face (i, j) (along +z), relative to the face (a moving
  * top wall: face j moves at j w_grid, the walls carry none); an end face
- * carries its inlet's phi_in when the flow enters (nothing beside the
- * inlet), its cell's phi when it leaves. */
+ * carries its inlet's phi_in when the flow enters (times the face's
+ * covered fraction: ekm2d_inlet_phi; nothing beside the inlet), its cell's
+ * phi when it leaves. */
 static inline double ekm2d_flux_z(const ekm2d_grid *g, const ekm2d_end *bottom, const ekm2d_end *top,
                                   PetscScalar ***u, PetscInt i, PetscInt j)
 {
@@ -139,9 +140,9 @@ static inline double ekm2d_flux_z(const ekm2d_grid *g, const ekm2d_end *bottom, 
     }
     const double v = u[j][i][g->s_vz];
     if (j == 0)
-        return v * (v > 0.0 ? (ekm2d_inlet_face(g, bottom, i) ? bottom->phi_in : 0.0) : u[0][i][g->s_phi]);
+        return v * (v > 0.0 ? ekm2d_inlet_phi(g, bottom, i) : u[0][i][g->s_phi]);
     if (j == g->nz)
-        return v * (v < 0.0 ? (ekm2d_inlet_face(g, top, i) ? top->phi_in : 0.0) : u[j - 1][i][g->s_phi]);
+        return v * (v < 0.0 ? ekm2d_inlet_phi(g, top, i) : u[j - 1][i][g->s_phi]);
     return v == 0.0 ? 0.0 : v * (v > 0.0 ? u[j - 1][i][g->s_phi] : u[j][i][g->s_phi]);
 }
 

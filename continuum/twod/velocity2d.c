@@ -271,11 +271,9 @@ static void coupling_phi(ekm2d_step *st, PetscScalar ***u)
                 const double v = u[j][i][g->s_vz];
                 double p;
                 if (j == 0)
-                    p = v > 0.0 ? (ekm2d_inlet_face(g, &st->bottom, i) ? st->bottom.phi_in : 0.0)
-                                : BOX(st, phi_new, i, 0);
+                    p = v > 0.0 ? ekm2d_inlet_phi(g, &st->bottom, i) : BOX(st, phi_new, i, 0);
                 else if (j == g->nz)
-                    p = v < 0.0 ? (ekm2d_inlet_face(g, &st->top, i) ? st->top.phi_in : 0.0)
-                                : BOX(st, phi_new, i, j - 1);
+                    p = v < 0.0 ? ekm2d_inlet_phi(g, &st->top, i) : BOX(st, phi_new, i, j - 1);
                 else { /* upwind by the velocity relative to the face (a moving top wall) */
                     const double a = BOX(st, phi_new, i, j - 1), b = BOX(st, phi_new, i, j);
                     const double v_rel = v - j * g->w_grid;
