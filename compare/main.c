@@ -89,7 +89,10 @@ static const char usage_text[] =
     "  --model FILE         an ekm 2D run output, a second cg output, or (--model-group G2) a map\n"
     "  --fields LIST        of phi,P,sxx,szz,sxz (default: those both files have)\n"
     "  --support F          as score's (default 0.1)\n"
+    "  --noise se|none      se (default): the inputs' SEs; none: no noise estimate (one DEM pile at\n"
+    "                       rest, whose time SE is not its pile-to-pile scatter): noise-normalised null\n"
     "  -o FILE              JSON output (--dem-sha256 H --ekm-sha256 H: recorded as score's)\n"
+    "  --quiet              no table on stdout\n"
     "\n"
     "base: the base pressure p(x) = -sum(fz of the floor grains in a bin)/(dx L_y) of a pile,\n"
     "time-averaged per run (each DUMP one run: an independent pile), with the SE across runs and\n"
@@ -349,6 +352,16 @@ static ekm_status cmd_score2d(int argc, char **argv, ekm_error *err)
         } else if (!strcmp(a, "--support")) {
             ARG();
             rc = get_double(a, v, &o.support, err);
+        } else if (!strcmp(a, "--quiet")) {
+            o.table = NULL;
+        } else if (!strcmp(a, "--noise")) {
+            ARG();
+            if (!strcmp(v, "se"))
+                o.no_noise = 0;
+            else if (!strcmp(v, "none"))
+                o.no_noise = 1;
+            else
+                rc = usage_error(err, "score2d: --noise: expected se or none, got '%s'", v);
         } else if (!strcmp(a, "-o")) {
             ARG();
             o.json = v;

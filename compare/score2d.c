@@ -272,7 +272,11 @@ static ekm_status write_json(const cg_score2d_opts *o, const side2d *d, const si
     ekm_json_set(opt, "support_phi", ekm_json_number(support_phi), &bad);
     ekm_json_set(opt, "stress_sign", json_string("compression positive (ekm's and cg's stresses negated)"),
                  &bad);
-    ekm_json_set(opt, "se", json_string(m->kind == SIDE_RUN ? "dem" : "dem and model in quadrature"), &bad);
+    ekm_json_set(opt, "se",
+                 json_string(o->no_noise           ? "none (--noise none: noise-normalised errors null)"
+                             : m->kind == SIDE_RUN ? "dem"
+                                                   : "dem and model in quadrature"),
+                 &bad);
     ekm_json_set(opt, "se_floor_rel_rms", ekm_json_number(CG_SCORE_SE_FLOOR), &bad);
     ekm_json_set(root, "options", opt, &bad);
     for (size_t r = 0; r < nrows; r++) {
@@ -281,7 +285,11 @@ static ekm_status write_json(const cg_score2d_opts *o, const side2d *d, const si
             fr = metric_json(&rows[r].m, &bad);
             ekm_json_set(fr, "units", json_string(rows[r].units), &bad);
             ekm_json_set(fr, "points_left_out", json_integer((json_int_t)rows[r].left_out), &bad);
-            ekm_json_set(fr, "se", json_string(m->kind == SIDE_RUN ? "dem" : "both, in quadrature"), &bad);
+            ekm_json_set(fr, "se",
+                         json_string(o->no_noise           ? "none"
+                                     : m->kind == SIDE_RUN ? "dem"
+                                                           : "both, in quadrature"),
+                         &bad);
             ekm_json_set(res, rows[r].field, fr, &bad);
         } else
             ekm_json_set(fr, rows[r].region, metric_json(&rows[r].m, &bad), &bad);
@@ -313,9 +321,14 @@ static void write_table(FILE *fp, const side2d *d, const side2d *m, const cg_sco
         fprintf(fp, " against %s at t = %g s\n\n", d->path, d->t);
     fprintf(fp, "| field | region | points | left out | rel. L2 | noise-normalised |\n"
                 "|---|---|---:|---:|---:|---:|\n");
-    for (size_t r = 0; r < nrows; r++)
-        fprintf(fp, "| %s [%s] | %s | %zu | %zu | %.4g | %.4g |\n", rows[r].field, rows[r].units,
-                rows[r].region, rows[r].m.points, rows[r].left_out, rows[r].m.rel_l2, rows[r].m.noise);
+    for (size_t r = 0; r < nrows; r++) {
+        fprintf(fp, "| %s [%s] | %s | %zu | %zu | %.4g | ", rows[r].field, rows[r].units, rows[r].region,
+                rows[r].m.points, rows[r].left_out, rows[r].m.rel_l2);
+        if (isfinite(rows[r].m.noise))
+            fprintf(fp, "%.4g |\n", rows[r].m.noise);
+        else
+            fprintf(fp, "- |\n");
+    }
 }
 
 static ekm_status check_opts(const cg_score2d_opts *o, ekm_error *err)
@@ -449,6 +462,10 @@ ekm_status cg_score2d(const cg_score2d_opts *o, cg_score2d_row *rows, size_t *nr
             cg_score2d_row row = {.units = units_of(names[k]), .region = region ? "interior" : "support"};
             snprintf(row.field, sizeof row.field, "%s", names[k]);
             row.m = cg_metric_compute(mv, dv, sv, p, CG_SCORE_SE_FLOOR);
+            if (o->no_noise) { /* --noise none: no SE is a noise estimate */
+                row.m.noise = NAN;
+                row.m.points_se = 0;
+            }
             row.left_out = left_out;
             out[(*nrows)++] = row;
         }

@@ -44,6 +44,8 @@ typedef struct {
     const char *fields;      /* comma-separated (phi, P, sxx, szz, sxz), or NULL: those of
                                 phi,P,sxx,szz,sxz both files have */
     double support;          /* common support threshold, a fraction of the DEM's largest phi */
+    int no_noise;            /* 1: the inputs carry no noise estimate (one pile at rest: its time
+                                SE is not its pile-to-pile scatter): noise-normalised null */
     const char *json;        /* JSON output path, or NULL */
     const char *dem_sha256;  /* the inputs' SHA-256 digests to record in the */
     const char *ekm_sha256;  /* JSON's "inputs" (score.h's), or NULL (both or neither) */

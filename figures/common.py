@@ -47,8 +47,9 @@ FIELD_LABEL = {
     "P": r"$P$",
     "sxz": r"$\sigma_{xz}$",
     "szz": r"$\sigma_{zz}$",
+    "sxx": r"$\sigma_{xx}$",
 }
-FIELD_ORDER = ("phi", "vx", "vz", "T", "P", "sxz", "szz")
+FIELD_ORDER = ("phi", "vx", "vz", "T", "P", "sxz", "szz", "sxx")
 
 
 BAD_INPUT = 2     # exit statuses, docs/exit-codes.md
@@ -169,6 +170,7 @@ class Scenario:
         self.engines = []           # engines that can run it (not n/a)
         self.steady = True          # scored with ekm_time = last
         self.units = {}             # field -> `units` attribute of its datasets
+        self.twod = False           # scored by ekmcompare score2d: maps (Map2D), not profiles
 
     def velocity(self):
         return "vz" if "vz" in self.fields else "vx"
@@ -488,6 +490,103 @@ class EkmRun:
         return (1 - w) * v[j - 1] + w * v[j]
 
 
+class Map2D:
+    """The last frame of a 2D field set, for the maps of a 2D scenario
+    (figures/pilemaps.py): a cg 2D output's last window (docs/compare.md,
+    stresses negative in compression) or an ekm 2D run's last output
+    (docs/output-format.md "2D runs", tension positive). x [nx], z [nz]
+    [m], t [s], val[name] [nz][nx] with stresses negated to compression
+    positive (as score2d compares them); wall_time [s] for an ekm run (the
+    cost chart), None for a cg output."""
+
+    STRESSES = ("sxx", "szz", "sxz")
+
+    def __init__(self, path, fields, what, ekm):
+        self.path = path
+        with _open(path, what) as f:
+            for n in ("x", "z", "t"):
+                if n not in f:
+                    raise InputError("%s: dataset /%s: missing (%s)" % (rel(path), n, what))
+            self.x = np.asarray(f["x"][()], dtype=float)
+            self.z = np.asarray(f["z"][()], dtype=float)
+            t = np.asarray(f["t"][()], dtype=float).reshape(-1)
+            if self.x.ndim != 1 or self.z.ndim != 1 or t.size == 0:
+                raise InputError("%s: datasets /x, /z, /t: expected 1-D arrays (a 2D output; %s)"
+                                 % (rel(path), what))
+            self.t = float(t[-1])
+            shape = (t.size, self.z.size, self.x.size)
+            self.val = {}
+            for n in fields:
+                if n not in f:
+                    raise InputError("%s: dataset /%s: missing (%s)" % (rel(path), n, what))
+                a = np.asarray(f[n][()], dtype=float)
+                if a.shape != shape:
+                    raise InputError("%s: dataset /%s: expected shape [nt][nz][nx] = %s (a 2D output), got %s"
+                                     % (rel(path), n, shape, a.shape))
+                self.val[n] = -a[-1] if n in self.STRESSES else a[-1]
+            self.units = _units(f, path, fields)
+            self.wall_time = (_attr(f, path, "stats.wall_time_s", "the EKM wall time for the cost chart")
+                              if ekm else None)
+
+
+def _scored_2d(sc):
+    """Whether a scenario is scored in 2D: its score files say `ekmcompare
+    score2d`; without one, its cg outputs hold [nt][nz][nx] fields."""
+    for pt in sc.points:
+        if not os.path.isdir(pt.folder):
+            continue
+        for f in sorted(os.listdir(pt.folder)):
+            if f.startswith("score_") and f.endswith(".json"):
+                js = read_json(os.path.join(pt.folder, f), "a score of %s" % sc.name)
+                return isinstance(js, dict) and js.get("tool") == "ekmcompare score2d"
+    for pt in sc.points:
+        for e in ENGINES:
+            cg = os.path.join(pt.folder, "cg_%s.h5" % e)
+            if os.path.isfile(cg):
+                with _open(cg, "a cg output of %s" % sc.name) as f:
+                    return "phi" in f and len(f["phi"].shape) == 3
+    return False
+
+
+def _load_maps(sc):
+    """A 2D scenario's maps: per point each engine's cg output and the EKM
+    runs (thesis and fitted sets), their last frames; the run manifests for
+    the cost chart. Returns the notes."""
+    notes = []
+    fields = sc.plotted_fields()
+    for pt in sc.points:
+        where = sc.name + (" " + pt.name if pt.name else "")
+        for e in sc.engines:
+            st = pt.status.get(e)
+            if st is None:
+                continue
+            cg = os.path.join(pt.folder, "cg_%s.h5" % e)
+            dj = os.path.join(pt.folder, "dem_%s.json" % e)
+            if st == "missing" and not os.path.isfile(cg):
+                notes.append("%s: no %s map (%s missing: a failed step): left out" % (where, ENGINE_LABEL[e], rel(cg)))
+                continue
+            pt.cg[e] = Map2D(cg, fields, "the coarse-grained %s map of %s" % (ENGINE_LABEL[e], where), False)
+            if os.path.isfile(dj):
+                js = read_json(dj, "the %s run manifest of %s" % (ENGINE_LABEL[e], where))
+                w = js.get("wall_time_s") if isinstance(js, dict) else None
+                if isinstance(w, (int, float)) and not isinstance(w, bool) and w >= 0:
+                    pt.dem_json[e] = js
+        ekm = os.path.join(pt.folder, "ekm.h5")
+        if os.path.isfile(ekm) or pt.cg:
+            pt.ekm = Map2D(ekm, fields, "the EKM run of %s, drawn beside its DEM maps" % where, True)
+            for f in sorted(os.listdir(pt.folder)):
+                m = re.fullmatch(r"ekm_([A-Za-z0-9_.-]+)\.h5", f)
+                if m:
+                    pt.ekm_sets[m.group(1)] = Map2D(os.path.join(pt.folder, f), fields,
+                                                    "the EKM run of %s with parameter set %s" % (where, m.group(1)),
+                                                    True)
+        for src in list(pt.cg.values()) + ([pt.ekm] if pt.ekm is not None else []):
+            for n, u in src.units.items():
+                sc.units.setdefault(n, u)
+    sc.steady = True
+    return notes
+
+
 def load_campaign(res, size):
     """Read and check everything the figures need; returns the scenarios.
     Rules: a comparison scored 'ok' needs its cg_<engine>.h5,
@@ -500,6 +599,10 @@ def load_campaign(res, size):
     notes = []
     scenarios = load_index(res)
     for sc in scenarios:
+        sc.twod = _scored_2d(sc)
+        if sc.twod:
+            notes += _load_maps(sc)
+            continue
         fields = sc.plotted_fields()
         # the options of every score that exists: engine -> [(shift, ekm_time)]
         opts = {}

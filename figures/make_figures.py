@@ -21,6 +21,9 @@ the list of the files written (one path a line):
                           closed form of every parameter set, residuals
   calibration_matrix      the train/test matrix (RES/calibration.json)
   cost                    wall time of DEM (per engine) and EKM per scenario
+  maps_<S>_<P>            a 2D scenario (the sand pile, scored by ekmcompare
+                          score2d): phi and sigma_zz maps of each engine and
+                          the EKM (every parameter set), sigma_zz along the base
 
 Every input is read and checked before anything is drawn. A missing or
 malformed input stops with one line on stderr naming it and what it is
@@ -104,6 +107,7 @@ def main(argv=None):
     import rheology
     import calibration
     import cost
+    import pilemaps
     # every input read and every closed form evaluated before any drawing
     try:
         scenarios, notes = C.load_campaign(a.res, a.size)
@@ -119,7 +123,7 @@ def main(argv=None):
     outdir = os.path.join(a.res, "figures")
     try:
         return draw(outdir, scenarios, [ps.name for ps in sets], rheo, matrix,
-                    (profiles, spacetime, rheology, calibration, cost), stop)
+                    (profiles, spacetime, rheology, calibration, cost, pilemaps), stop)
     except C.InputError as e:
         print("%s: %s" % (C.PROG, e), file=sys.stderr)
         return e.status
@@ -132,7 +136,7 @@ def main(argv=None):
 def draw(outdir, scenarios, set_names, rheo, matrix, modules, stop):
     """Every figure into outdir, then the listing figures.txt (not after a
     signal: stop.check())."""
-    profiles, spacetime, rheology, calibration, cost = modules
+    profiles, spacetime, rheology, calibration, cost, pilemaps = modules
     listing = os.path.join(outdir, "figures.txt")
     previous = []
     if os.path.isfile(listing):
@@ -142,7 +146,8 @@ def draw(outdir, scenarios, set_names, rheo, matrix, modules, stop):
     w = C.Writer(outdir)
     profiles.make(scenarios, w, set_names)
     spacetime.make(scenarios, w)
-    for n in rheology.make(rheo, w) + calibration.make(matrix, w) + cost.make(scenarios, w):
+    for n in (rheology.make(rheo, w) + calibration.make(matrix, w) + cost.make(scenarios, w)
+              + pilemaps.make(scenarios, w, set_names)):
         print("%s: note: %s" % (C.PROG, n), file=sys.stderr)
     # figures of a previous run that this one did not make again
     now = {os.path.basename(p) for p in w.written}

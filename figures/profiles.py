@@ -310,6 +310,8 @@ def make(scenarios, writer, set_names):
     for n in sorted({n for sc in scenarios for p in sc.points for n in p.ekm_sets}):
         set_index.setdefault(n, len(set_index))
     for sc in scenarios:
+        if sc.twod:
+            continue   # maps, not profiles: figures/pilemaps.py
         pts = [p for p in sc.points if p.cg and p.ekm is not None]
         if not pts:
             continue

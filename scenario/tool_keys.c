@@ -64,6 +64,9 @@ static const ekm_tool_key TOOL_KEYS[] = {
     {"compare", "shift", EKM_TOOL_NUMBER, NULL, "0", EKM_SWEEP_NONE},
     {"compare", "support", EKM_TOOL_NUMBER, NULL, "0.1", EKM_SWEEP_NONE},
     {"compare", "scalars", EKM_TOOL_FIELDS, NULL, NULL, EKM_SWEEP_NONE},
+    /* se: the cg output's SEs are the DEM's noise; none: it has no noise
+     * estimate (a 2D pile: one run at rest), noise-normalised errors n/a */
+    {"compare", "noise", EKM_TOOL_ENUM, "se none", "se", EKM_SWEEP_NONE},
     /* the calibration (docs/campaign.md "Calibration"): the training set
      * the scenario's points belong to, and how that set is fitted */
     {"campaign", "train", EKM_TOOL_WORD, NULL, "none", EKM_SWEEP_NONE},

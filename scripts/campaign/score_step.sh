@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # score_step.sh: one score of the campaign (rules score_ekm, score_ekm_set,
 # score_engines of workflow/Snakefile), with a record of its inputs.
-#   score_step.sh OUT EKMCOMPARE score ARG...   (run from the checkout)
-# Takes the SHA-256 of the two files the score reads (its --dem and --ekm),
-# runs `EKMCOMPARE score ARG... --dem-sha256 S --ekm-sha256 S -o OUT.tmp.PID`
+#   score_step.sh OUT EKMCOMPARE score|score2d ARG...   (run from the checkout)
+# Takes the SHA-256 of the two files the score reads (its --dem and --ekm;
+# score2d's --dem and --model), runs `EKMCOMPARE score ARG... --dem-sha256
+# S --ekm-sha256 S -o OUT.tmp.PID`
 # (ekmcompare writes them into the score's "inputs": {"dem": {"path",
 # "sha256"}, "ekm": {...}}), checks that neither input changed meanwhile,
 # and moves the score to OUT: OUT is whole or absent. table.sh recomputes
@@ -15,12 +16,13 @@
 # that no longer matches), else ekmcompare's.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-usage="usage: score_step.sh OUT EKMCOMPARE score ARG... (with --dem CG.h5 --ekm RUN.h5)"
-if [ $# -lt 3 ] || [ "$3" != score ]; then echo "score_step.sh: $usage" >&2; exit 1; fi
+usage="usage: score_step.sh OUT EKMCOMPARE score|score2d ARG... (with --dem CG.h5 and --ekm RUN.h5, score2d's --model RUN.h5)"
+if [ $# -lt 3 ] || { [ "$3" != score ] && [ "$3" != score2d ]; }; then echo "score_step.sh: $usage" >&2; exit 1; fi
+model_flag=--ekm; [ "$3" = score2d ] && model_flag=--model
 out=$1; shift
 dem="" ekm="" prev=""
 for a in "${@:3}"; do
-  case $prev in --dem) dem=$a ;; --ekm) ekm=$a ;; esac
+  case $prev in --dem) dem=$a ;; "$model_flag") ekm=$a ;; esac
   prev=$a
 done
 if [ -z "$dem" ] || [ -z "$ekm" ]; then echo "score_step.sh: $usage" >&2; exit 1; fi

@@ -23,7 +23,7 @@ camp > "$work/run1.log" 2>&1; rc=$?
 [ $rc -eq 0 ] || { tail -30 "$work/run1.log" >&2; fail "make campaign exit status $rc"; }
 scores=$work/results/scores.json
 [ -s "$scores" ] || { fail "no $scores"; echo "$fails failure(s)" >&2; exit 1; }
-expected=0 expected_cmp=0 expected_ekm=0
+expected=0 expected_cmp=0 expected_ekm=0 no_noise='[]'
 for ini in "$src"/scenarios/*.ini; do
   # the campaign's scenarios: [dem] and [compare] in the file itself
   js=$("$build/continuum/ekm" scenario "$ini" --engine lammps --size smoke --json) ||
@@ -31,6 +31,9 @@ for ini in "$src"/scenarios/*.ini; do
   jq -e '[.keys | to_entries[] | select(.value.from != "default") | .key | split(".")[0]]
          | index("dem") != null and index("compare") != null' <<< "$js" > /dev/null || continue
   f=$(jq -r '.keys["compare.fields"].value' <<< "$js")
+  # [compare] noise = none (a 2D pile, one run at rest): no noise-normalised error
+  [ "$(jq -r '.keys["compare.noise"].value' <<< "$js")" = none ] &&
+    no_noise=$(jq -c --arg s "$(basename "$ini" .ini)" '. + [$s]' <<< "$no_noise")
   n=$(echo "$f" | tr ',' '\n' | grep -c .)
   np=$(jq '.points | length' <<< "$js")
   expected=$((expected + n * np))   # every field at every smoke sweep point
@@ -43,10 +46,21 @@ for ini in "$src"/scenarios/*.ini; do
 done
 rows=$(jq '.rows | length' "$scores")
 [ "$rows" -eq "$expected" ] && [ "$rows" -gt 0 ] || fail "score table has $rows rows, expected $expected"
-bad=$(jq '[.rows[] | (.ekm_vs_liggghts, .ekm_vs_lammps, .liggghts_vs_lammps)
+bad=$(jq --argjson nn "$no_noise" '[.rows[] | (.scenario | IN($nn[])) as $none
+           | (.ekm_vs_liggghts, .ekm_vs_lammps, .liggghts_vs_lammps)
            | select(.status != "n/a")
-           | select(.status != "ok" or (.rel_l2 | type) != "number" or (.noise_normalised | type) != "number")] | length' "$scores")
-[ "$bad" -eq 0 ] || fail "$bad comparisons are missing or not finite in $scores"
+           | select(.status != "ok" or (.rel_l2 | type) != "number"
+                    or (.noise_normalised | type) != (if $none then "null" else "number" end))] | length' "$scores")
+[ "$bad" -eq 0 ] || fail "$bad comparisons are missing or not finite in $scores (noise-normalised null only for $no_noise)"
+[ "$no_noise" != '[]' ] || fail "no scenario with [compare] noise = none (the sand pile's 2D rows)"
+# the 2D scenario's rows: scored by score2d, a map figure per point
+for s in $(jq -r '.[]' <<< "$no_noise"); do
+  for j in "$work"/results/"$s"/*/score_ekm_lammps.json; do
+    jq -e '.tool == "ekmcompare score2d" and (.fields.szz.interior | not)' "$j" > /dev/null ||
+      fail "$j: expected a score2d score (a cg map: no interior region)"
+  done
+  ls "$work"/results/figures/maps_"$s"_*.png > /dev/null 2>&1 || fail "no map figure of $s"
+done
 okn=$(jq '[.rows[] | (.ekm_vs_liggghts, .ekm_vs_lammps, .liggghts_vs_lammps) | select(.status == "ok")] | length' "$scores")
 [ "$okn" -eq "$expected_cmp" ] || fail "$okn comparisons made, expected $expected_cmp"
 grep -q "| chute | - | phi |" "$work/results/scores.md" || fail "scores.md has no chute phi row"

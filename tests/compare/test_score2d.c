@@ -262,6 +262,29 @@ static void test_cg_dem(void **state)
         const double se = r == 1 ? 3.0 : SE[r == 0 ? 0 : r - 1];
         assert_close(rows[r].m.noise, 7.0 / (se * sqrt(2.0)), 1e-9 * 7.0 / se);
     }
+    /* --noise none (one pile at rest): the same relative L2, no
+     * noise-normalised error, no point counted with an SE, and the JSON
+     * says so (null, se "none") */
+    double rel[CG_SCORE2D_MAX_ROWS];
+    for (size_t r = 0; r < n; r++)
+        rel[r] = rows[r].m.rel_l2;
+    o.no_noise = 1;
+    o.json = out;
+    if (cg_score2d(&o, rows, &n, &err))
+        fail_msg("%s", err.message);
+    assert_int_equal(n, 5);
+    for (size_t r = 0; r < n; r++) {
+        assert_true(rows[r].m.rel_l2 == rel[r]);
+        assert_true(isnan(rows[r].m.noise));
+        assert_int_equal(rows[r].m.points_se, 0);
+    }
+    root = json_load_file(out, 0, &jerr);
+    assert_non_null(root);
+    szz = json_object_get(json_object_get(root, "fields"), "szz");
+    assert_true(json_is_null(json_object_get(szz, "noise_normalised")));
+    assert_string_equal(json_string_value(json_object_get(szz, "se")), "none");
+    assert_int_equal(json_integer_value(json_object_get(szz, "points_with_se")), 0);
+    json_decref(root);
 }
 
 static void test_map_against_itself(void **state)
