@@ -529,6 +529,22 @@ class Map2D:
                               if ekm else None)
 
 
+def _manifest(pt, e, st, dj, where, notes):
+    """The run manifest dem_<e>.json of a point (its wall time for the cost
+    chart) into pt.dem_json: required when the comparison is 'ok', used
+    when there for a 'missing' one (a note when it has no wall time)."""
+    if not (st == "ok" or os.path.isfile(dj)):
+        return
+    js = read_json(dj, "the %s run manifest of %s: its wall time for the cost chart" % (ENGINE_LABEL[e], where))
+    w = js.get("wall_time_s") if isinstance(js, dict) else None
+    if isinstance(w, (int, float)) and not isinstance(w, bool) and w >= 0:
+        pt.dem_json[e] = js
+    elif st == "missing":
+        notes.append("%s: %s has no wall_time_s: left out of the cost chart" % (where, rel(dj)))
+    else:
+        raise InputError("%s: 'wall_time_s': expected a number >= 0 (the cost chart), got %r" % (rel(dj), w))
+
+
 def _scored_2d(sc):
     """Whether a scenario is scored in 2D: its score files say `ekmcompare
     score2d`; without one, its cg outputs hold [nt][nz][nx] fields."""
@@ -566,11 +582,7 @@ def _load_maps(sc):
                 notes.append("%s: no %s map (%s missing: a failed step): left out" % (where, ENGINE_LABEL[e], rel(cg)))
                 continue
             pt.cg[e] = Map2D(cg, fields, "the coarse-grained %s map of %s" % (ENGINE_LABEL[e], where), False)
-            if os.path.isfile(dj):
-                js = read_json(dj, "the %s run manifest of %s" % (ENGINE_LABEL[e], where))
-                w = js.get("wall_time_s") if isinstance(js, dict) else None
-                if isinstance(w, (int, float)) and not isinstance(w, bool) and w >= 0:
-                    pt.dem_json[e] = js
+            _manifest(pt, e, st, dj, where, notes)
         ekm = os.path.join(pt.folder, "ekm.h5")
         if os.path.isfile(ekm) or pt.cg:
             pt.ekm = Map2D(ekm, fields, "the EKM run of %s, drawn beside its DEM maps" % where, True)
@@ -637,18 +649,7 @@ def load_campaign(res, size):
                     pt.cg[e] = CgData(cg, e, fields, "the coarse-grained %s profiles of %s, "
                                       "plotted against the EKM" % (name, where))
                     pt.cg[e].shift = shift
-                if st == "ok" or os.path.isfile(dj):
-                    js = read_json(dj, "the %s run manifest of %s: its wall time for the cost chart"
-                                   % (name, where))
-                    w = js.get("wall_time_s") if isinstance(js, dict) else None
-                    if isinstance(w, (int, float)) and not isinstance(w, bool) and w >= 0:
-                        pt.dem_json[e] = js
-                    elif st == "missing":
-                        notes.append("%s: %s has no wall_time_s: left out of the cost chart"
-                                     % (where, rel(dj)))
-                    else:
-                        raise InputError("%s: 'wall_time_s': expected a number >= 0 (the cost "
-                                         "chart), got %r" % (rel(dj), w))
+                _manifest(pt, e, st, dj, where, notes)
             ekm = os.path.join(pt.folder, "ekm.h5")
             if pt.cg:
                 pt.ekm = EkmRun(ekm, fields, "the EKM run of %s, plotted against its DEM profiles "
