@@ -13,7 +13,10 @@
 # source (`ekmcompare score2d`, OUT/../maps-SIZE.h5: every engine and law
 # that has one) into its folder's score2d-ENGINE-LAW.json, with the engine
 # floor (LAMMPS's map against LIGGGHTS's, OUT/engine_floor_LAW_SOURCE/)
-# where both engines have a map.
+# where both engines have a map; OUT/pile_base.pdf, .png, .csv: the base
+# pressure p(x) of the DEM's plain piles (mean +- 2 SE over the runs of
+# OUT/../base-plain-ENGINE-SOURCE-SIZE.h5) beside every EKM pile in RUNS at
+# the end (figures/pile_base.py).
 #
 #   scripts/dem/pile_ekm.sh [-e ENGINE] [-s SIZE] [-v "VARIANTS"] [-m "NAME=FIT.ini ..."] [-o OUT] [BUILD_DIR]
 #
@@ -39,7 +42,7 @@ while getopts ":e:s:v:m:o:h" o; do
     v) variants=$OPTARG ;;
     m) sets=$OPTARG ;;
     o) out=$OPTARG ;;
-    h) sed -n '2,30p' "$0"; exit 0 ;;
+    h) sed -n '2,33p' "$0"; exit 0 ;;
     :) echo "$prog: -$OPTARG needs a value (see -h)" >&2; exit 1 ;;
     *) echo "$prog: -$OPTARG: unknown option (see -h)" >&2; exit 1 ;;
   esac
@@ -118,7 +121,20 @@ score2d() {
   "$compare" score2d "${@:1:$#-1}" -o "$o" >&2 || fail=2
 }
 
+base_args=()
 while read -r tag src t_stop t_end _; do
+  # the base-pressure figure: the DEM's plain groups of this source and
+  # every EKM run of the point in RUNS (all variants and sets made so far)
+  for e in lammps liggghts; do
+    f=$(dirname "$out")/base-plain-$e-$src-$size.h5
+    [ -f "$f" ] && base_args+=(--dem "$src:$e=$f")
+  done
+  for f in "$runs/${tag}_${size}"_*.h5; do
+    [ -f "$f" ] || continue
+    lab=$(basename "$f" .h5) lab=${lab#"${tag}_${size}_"}
+    base_args+=(--ekm "$src:$lab=$f")
+  done
+  base_time=$t_end
   for c in "${cases[@]}"; do
     name=${c%% *}
     case $name in "${tag}"_*) ;; *) continue ;; esac
@@ -145,6 +161,13 @@ while read -r tag src t_stop t_end _; do
       "$out/engine_floor_${l}_$src/score2d-lammps-$l.json"
   done
 done <<< "$points"
+
+# p(x) under the piles at rest: the DEM's ensembles with +-2 SE bands
+# beside every EKM pile (figures/pile_base.py; OUT/pile_base.pdf, .png and
+# the curves as .csv)
+if [ ${#base_args[@]} -gt 0 ]; then
+  $py -B "$root/figures/pile_base.py" "$out/pile_base" "${base_args[@]}" --time "$base_time" >&2 || fail=2
+fi
 
 # the table: every EKM folder's numbers (pile2d.json) and the DEM groups'
 dem=$(dirname "$out")/summary-plain-$size.json
