@@ -18,9 +18,14 @@ PHI_MATERIAL), against x. SOURCE is the panel (hopper, sieve), in order of
 first appearance. The abscissa is x - x_c in grain diameters d (x_c the
 box's middle, where the sources pour; d from --d, default 2 mm).
 
-Writes OUT_STEM.pdf, OUT_STEM.png and OUT_STEM.csv (every curve drawn:
-source, what, x [m], p [Pa], se [Pa] (the DEM's; empty for the EKM)), each
-under a temporary name renamed when complete. Exit status: 0; 1 usage; 2 an
+Writes OUT_STEM.pdf, OUT_STEM.png, OUT_STEM.csv (every curve drawn:
+source, what, x [m], p [Pa], se [Pa] (the DEM's; empty for the EKM)) and
+OUT_STEM.json: per source and EKM pile, the relative L2 error of its base
+pressure (its cells averaged over each DEM bin) against each engine's mean
+over the bins where both have material, with a jackknife SE over the
+DEM's piles, the bins used and those left out; and the engine floor
+(LIGGGHTS's mean against LAMMPS's, both jackknife SEs in quadrature).
+Each is written under a temporary name renamed when complete. Exit status: 0; 1 usage; 2 an
 input not as expected (one line naming it); 3 an input missing or an output
 that cannot be written; 7 numpy, h5py or matplotlib missing.
 """
@@ -69,7 +74,42 @@ def read_dem(path, merge):
     x = x[:n].reshape(-1, merge).mean(axis=1)
     pr = pr[:, :n].reshape(pr.shape[0], -1, merge).mean(axis=2)
     runs = pr.shape[0]
-    return x, pr.mean(axis=0), pr.std(axis=0, ddof=1) / np.sqrt(runs), runs
+    return x, pr.mean(axis=0), pr.std(axis=0, ddof=1) / np.sqrt(runs), runs, pr
+
+
+def on_bins(xm, pm, xb):
+    """The model curve (xm, pm) averaged over the cells whose centres lie
+    in each bin of centres xb (bins of equal width); NaN where a bin holds
+    no cell or an empty one."""
+    import numpy as np
+    w = xb[1] - xb[0] if xb.size > 1 else np.inf
+    out = np.full(xb.size, np.nan)
+    for k, c in enumerate(xb):
+        sel = np.abs(xm - c) < 0.5 * w * (1 - 1e-9)
+        if sel.any() and np.all(np.isfinite(pm[sel])):
+            out[k] = pm[sel].mean()
+    return out
+
+
+def rel_l2(model, runs):
+    """||model - mean(runs)|| / ||mean(runs)|| over the bins where the DEM's
+    mean is above 0 and the model has material, with its jackknife SE over
+    the runs (the same bins), the bins used and the DEM bins with material
+    the model has none at."""
+    import numpy as np
+    mean = runs.mean(axis=0)
+    on = (mean > 0) & np.isfinite(model)
+    left = int(np.sum((mean > 0) & ~np.isfinite(model)))
+
+    if not on.any():
+        return {"rel_l2": None, "se": None, "bins": 0, "bins_left_out": left}
+
+    def r(ref):
+        return float(np.linalg.norm(model[on] - ref[on]) / np.linalg.norm(ref[on]))
+    n = runs.shape[0]
+    jack = np.array([r(np.delete(runs, i, axis=0).mean(axis=0)) for i in range(n)])
+    se = float(np.sqrt((n - 1) / n * np.sum((jack - jack.mean()) ** 2)))
+    return {"rel_l2": r(mean), "se": se, "bins": int(on.sum()), "bins_left_out": left}
 
 
 def read_ekm(path, time):
@@ -139,13 +179,29 @@ def main(argv=None):
     except Bad as e:
         print("%s: %s" % (PROG, e), file=sys.stderr)
         return e.status
+    scores = {}
+    for src in sources:
+        sd = {e: d for s, e, d in dem if s == src}
+        entry = {"ekm": {}, "floor": None}
+        for s, n, (x, p, t) in ekm:
+            if s == src:
+                entry["ekm"][n] = {e: rel_l2(on_bins(x, p, d[0]), d[4]) for e, d in sd.items()}
+        if "lammps" in sd and "liggghts" in sd and np.allclose(sd["lammps"][0], sd["liggghts"][0]):
+            # the engine floor: LIGGGHTS's mean against LAMMPS's piles, and
+            # the jackknife over LIGGGHTS's piles added in quadrature
+            lig = rel_l2(sd["liggghts"][1], sd["lammps"][4])
+            lam = rel_l2(sd["lammps"][1], sd["liggghts"][4])
+            if lig["se"] is not None:
+                lig["se"] = float(np.hypot(lig["se"], lam["se"]))
+            entry["floor"] = lig
+        scores[src] = entry
     C.style()
     fig, axes = plt.subplots(1, len(sources), figsize=(C.PAGE_W, 3.2), sharey=True, squeeze=False)
     rows = []
     dashes = ["-"] + C.SET_DASHES
     for k, src in enumerate(sources):
         ax = axes[0][k]
-        for s, e, (x, p, se, runs) in dem:
+        for s, e, (x, p, se, runs, _) in dem:
             if s != src:
                 continue
             xc = 0.5 * (x[0] + x[-1])
@@ -188,11 +244,31 @@ def main(argv=None):
                     fh.write("%s,%s,%.9g,%s,%s\n" % (s, w, xi, "" if pi != pi else "%.9g" % pi,
                                                      "" if si != si else "%.9g" % si))
         write_atomic(a.out + ".csv", csv)
+
+        def js(tmp):
+            import json
+            with open(tmp, "w") as fh:
+                json.dump({"program": PROG, "definition": "relative L2 of the EKM's base pressure (its "
+                           "lowest row's -szz averaged over each DEM bin) against the DEM's mean over "
+                           "its piles, over the bins where both have material; se: jackknife over the "
+                           "DEM's piles; floor: LIGGGHTS's mean against LAMMPS's (jackknife SEs of "
+                           "both in quadrature)", "bin_width_m": None if not dem else
+                           float(dem[0][2][0][1] - dem[0][2][0][0]), "time_s": a.time,
+                           "sources": scores}, fh, indent=1, allow_nan=False)
+                fh.write("\n")
+        write_atomic(a.out + ".json", js)
     except OSError as e:
         print("%s: %s: cannot write (%s)" % (PROG, e.filename or a.out, e.strerror), file=sys.stderr)
         return 3
     plt.close(fig)
-    print("%s: %s.pdf, .png, .csv" % (PROG, a.out))
+    for src, entry in scores.items():
+        for n, vs in entry["ekm"].items():
+            print("%s: %s, EKM %s: base p rel. L2 %s" % (PROG, src, n, ", ".join(
+                ("%.3f +- %.3f against %s" % (v["rel_l2"], v["se"], e)) if v["rel_l2"] is not None
+                else "none against %s (no common bin)" % e for e, v in vs.items())))
+        if entry["floor"]:
+            print("%s: %s, engine floor: %.3f +- %.3f" % (PROG, src, entry["floor"]["rel_l2"], entry["floor"]["se"]))
+    print("%s: %s.pdf, .png, .csv, .json" % (PROG, a.out))
     return 0
 
 
