@@ -501,8 +501,16 @@ class Map2D:
 
     STRESSES = ("sxx", "szz", "sxz")
 
-    def __init__(self, path, fields, what, ekm):
+    def __init__(self, path, fields, what, ekm, group=None, time=None):
+        """group: a group of a pile-map file (scripts/dem/pile_map.py,
+        results/sandpile/maps-SIZE.h5: x, z and [nz][nx] fields, stresses
+        already compression positive, no time: t None); time: the frame
+        of an ekm run or cg output at that time [s] (to 1e-9), else the
+        last."""
         self.path = path
+        if group is not None:
+            self._group(path, group, fields, what)
+            return
         with _open(path, what) as f:
             for n in ("x", "z", "t"):
                 if n not in f:
@@ -513,7 +521,10 @@ class Map2D:
             if self.x.ndim != 1 or self.z.ndim != 1 or t.size == 0:
                 raise InputError("%s: datasets /x, /z, /t: expected 1-D arrays (a 2D output; %s)"
                                  % (rel(path), what))
-            self.t = float(t[-1])
+            i = t.size - 1 if time is None else int(np.argmin(np.abs(t - time)))
+            if time is not None and abs(t[i] - time) > 1e-9:
+                raise InputError("%s: no output at t = %g s (nearest %g s; %s)" % (rel(path), time, t[i], what))
+            self.t = float(t[i])
             shape = (t.size, self.z.size, self.x.size)
             self.val = {}
             for n in fields:
@@ -523,10 +534,30 @@ class Map2D:
                 if a.shape != shape:
                     raise InputError("%s: dataset /%s: expected shape [nt][nz][nx] = %s (a 2D output), got %s"
                                      % (rel(path), n, shape, a.shape))
-                self.val[n] = -a[-1] if n in self.STRESSES else a[-1]
+                self.val[n] = -a[i] if n in self.STRESSES else a[i]
             self.units = _units(f, path, fields)
             self.wall_time = (_attr(f, path, "stats.wall_time_s", "the EKM wall time for the cost chart")
                               if ekm else None)
+
+    def _group(self, path, group, fields, what):
+        with _open(path, what) as f:
+            if group not in f:
+                raise InputError("%s: group %s: missing (%s)" % (rel(path), group, what))
+            g = f[group]
+            for n in ("x", "z") + tuple(fields):
+                if n not in g:
+                    raise InputError("%s: dataset %s/%s: missing (%s)" % (rel(path), group, n, what))
+            self.x = np.asarray(g["x"][()], dtype=float)
+            self.z = np.asarray(g["z"][()], dtype=float)
+            self.t, self.wall_time, self.val, self.units = None, None, {}, {}
+            for n in fields:
+                a = np.asarray(g[n][()], dtype=float)
+                if a.shape != (self.z.size, self.x.size):
+                    raise InputError("%s: dataset %s/%s: expected shape [nz][nx] = (%d, %d), got %s"
+                                     % (rel(path), group, n, self.z.size, self.x.size, a.shape))
+                self.val[n] = a
+                u = g[n].attrs.get("units")
+                self.units[n] = u.decode() if isinstance(u, bytes) else u
 
 
 def _manifest(pt, e, st, dj, where, notes):

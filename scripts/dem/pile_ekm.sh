@@ -16,7 +16,9 @@
 # where both engines have a map; OUT/pile_base.pdf, .png, .csv: the base
 # pressure p(x) of the DEM's plain piles (mean +- 2 SE over the runs of
 # OUT/../base-plain-ENGINE-SOURCE-SIZE.h5) beside every EKM pile in RUNS at
-# the end (figures/pile_base.py).
+# the end (figures/pile_base.py); OUT/maps_SOURCE.pdf, .png: phi and
+# sigma_zz of the DEM's plain mean maps beside every EKM pile at the end
+# (figures/pilemaps.py).
 #
 #   scripts/dem/pile_ekm.sh [-e ENGINE] [-s SIZE] [-v "VARIANTS"] [-m "NAME=FIT.ini ..."] [-o OUT] [BUILD_DIR]
 #
@@ -42,7 +44,7 @@ while getopts ":e:s:v:m:o:h" o; do
     v) variants=$OPTARG ;;
     m) sets=$OPTARG ;;
     o) out=$OPTARG ;;
-    h) sed -n '2,33p' "$0"; exit 0 ;;
+    h) sed -n '2,36p' "$0"; exit 0 ;;
     :) echo "$prog: -$OPTARG needs a value (see -h)" >&2; exit 1 ;;
     *) echo "$prog: -$OPTARG: unknown option (see -h)" >&2; exit 1 ;;
   esac
@@ -151,6 +153,21 @@ while read -r tag src t_stop t_end _; do
         "$out/${name}_at_${t_end}s/score2d-$e-$l.json"
     done
   done
+  # the maps at rest: each engine's plain mean map beside every EKM run of
+  # the point at the end (figures/pilemaps.py; OUT/maps_SOURCE.pdf, .png)
+  map_args=()
+  for e in lammps liggghts; do
+    case " $groups " in *" /$e/plain/$src "*) map_args+=(--map "$e=$maps:/$e/plain/$src") ;; esac
+  done
+  for f in "$runs/${tag}_${size}"_*.h5; do
+    [ -f "$f" ] || continue
+    lab=$(basename "$f" .h5) lab=${lab#"${tag}_${size}_"}
+    map_args+=(--ekm "$lab=$f")
+  done
+  if [ ${#map_args[@]} -gt 0 ]; then
+    $py -B "$root/figures/pilemaps.py" "$out/maps_$src" "${map_args[@]}" --time "$t_end" \
+      --title "$src: the DEM's plain mean maps at rest ($(basename "$maps")) and the EKM at $t_end s" >&2 || fail=2
+  fi
   # the engine floor: one engine's map against the other's
   for g in $groups; do
     case $g in /lammps/*/"$src") ;; *) continue ;; esac

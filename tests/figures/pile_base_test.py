@@ -16,7 +16,9 @@ beside them. Checks: the CSV holds those numbers to its 9 digits; the
 JSON's scores (below, at the check) to 1e-12; a panel per source in their order, the PDF and PNG exist. Bad inputs: a
 missing DEM file: status 3, one line naming it; a DEM file without
 p_base_runs: status 2; --time with no such output: status 2 naming the
-nearest; a malformed --ekm: status 1; nothing written on an error.
+nearest; a malformed --ekm: status 1; nothing written on an error. And
+figures/pilemaps.py's command line: a map group beside the EKM run drawn;
+a missing group or output time: one line, exit 2, nothing written.
 Exit status 77 (skipped) when numpy, h5py or matplotlib is missing.
 """
 import csv
@@ -69,6 +71,8 @@ with h5py.File(ekm, "w") as f:
     szz = np.zeros((3, 2, NX))
     szz[-1, 0, :] = -(50.0 + np.arange(NX))
     f["phi"], f["szz"] = phi, szz
+    f["phi"].attrs["units"], f["szz"].attrs["units"] = "1", "Pa"
+    f.attrs["stats.wall_time_s"] = 1.0
 
 out = os.path.join(work, "fig", "pile_base")
 r = subprocess.run(prog + [out, "--dem", "hopper:lammps=" + dem, "--dem", "sieve:liggghts=" + dem,
@@ -142,6 +146,33 @@ bad(["--dem", "hopper:lammps=" + nop], 2, "/p_base_runs: missing", "DEM file wit
 bad(["--dem", "hopper:lammps=" + dem, "--ekm", "hopper:full=" + ekm, "--time", "0.7"], 2,
     "no output at t = 0.7 s (nearest 0.5 s)", "no EKM output at --time")
 bad(["--dem", "hopper:lammps=" + dem, "--ekm", "full=" + ekm], 1, "", "malformed --ekm")
+
+# figures/pilemaps.py's command line (the sand pile's maps at ref size):
+# a map group beside the EKM run at t = 1 s draws both files; a group the
+# map file lacks and an output time the run lacks: one line, exit 2
+maps = os.path.join(work, "maps.h5")
+with h5py.File(maps, "w") as f:
+    g = f.create_group("lammps/plain/hopper")
+    g["x"] = (np.arange(NX) + 0.5) * D
+    g["z"] = (np.arange(2) + 0.5) * D
+    g["phi"] = np.full((2, NX), 0.6)
+    g["szz"] = np.full((2, NX), 300.0)
+pm = [sys.executable, "-B", os.path.join(src, "figures", "pilemaps.py")]
+o = os.path.join(work, "maps", "maps_hopper")
+r = subprocess.run(pm + [o, "--map", "lammps=%s:/lammps/plain/hopper" % maps, "--ekm", "full=" + ekm, "--time", "1"],
+                   capture_output=True, text=True)
+check(r.returncode == 0 and all(os.path.getsize(o + e) > 0 for e in (".pdf", ".png") if os.path.exists(o + e))
+      and os.path.exists(o + ".png"), "pilemaps.py: a map group and an EKM run drawn (%d: %s)" % (r.returncode, r.stderr.strip()))
+for args, text, what in (
+        (["--map", "lammps=%s:/lammps/plain/sieve" % maps], "group /lammps/plain/sieve: missing", "a missing map group"),
+        (["--map", "lammps=%s:/lammps/plain/hopper" % maps, "--ekm", "full=" + ekm, "--time", "0.7"],
+         "no output at t = 0.7 s (nearest 0.5 s", "an EKM time the run lacks")):
+    ob = os.path.join(work, "maps", "bad")
+    r = subprocess.run(pm + [ob] + args, capture_output=True, text=True)
+    lines = r.stderr.strip().splitlines()
+    check(r.returncode == 2 and len(lines) == 1 and text in lines[0] and not os.path.exists(ob + ".png"),
+          "pilemaps.py, %s: exit 2, one line with '%s' (%d: %s)" % (what, text, r.returncode, lines))
+
 
 print("pile_base_test: %s" % ("%d failure(s)" % len(fails) if fails else "all passed"))
 sys.exit(1 if fails else 0)
