@@ -131,10 +131,13 @@ while read -r tag src t_stop t_end _; do
     f=$(dirname "$out")/base-plain-$e-$src-$size.h5
     [ -f "$f" ] && base_args+=(--dem "$src:$e=$f")
   done
+  # every EKM run of the point, for both figures (pile_base, pilemaps)
+  map_args=()
   for f in "$runs/${tag}_${size}"_*.h5; do
     [ -f "$f" ] || continue
     lab=$(basename "$f" .h5) lab=${lab#"${tag}_${size}_"}
     base_args+=(--ekm "$src:$lab=$f")
+    map_args+=(--ekm "$lab=$f")
   done
   base_time=$t_end
   for c in "${cases[@]}"; do
@@ -155,15 +158,11 @@ while read -r tag src t_stop t_end _; do
   done
   # the maps at rest: each engine's plain mean map beside every EKM run of
   # the point at the end (figures/pilemaps.py; OUT/maps_SOURCE.pdf, .png)
-  map_args=()
+  dem_maps=()
   for e in lammps liggghts; do
-    case " $groups " in *" /$e/plain/$src "*) map_args+=(--map "$e=$maps:/$e/plain/$src") ;; esac
+    case " $groups " in *" /$e/plain/$src "*) dem_maps+=(--map "$e=$maps:/$e/plain/$src") ;; esac
   done
-  for f in "$runs/${tag}_${size}"_*.h5; do
-    [ -f "$f" ] || continue
-    lab=$(basename "$f" .h5) lab=${lab#"${tag}_${size}_"}
-    map_args+=(--ekm "$lab=$f")
-  done
+  map_args=("${dem_maps[@]}" "${map_args[@]}")
   if [ ${#map_args[@]} -gt 0 ]; then
     $py -B "$root/figures/pilemaps.py" "$out/maps_$src" "${map_args[@]}" --time "$t_end" \
       --title "$src: the DEM's plain mean maps at rest ($(basename "$maps")) and the EKM at $t_end s" >&2 || fail=2
