@@ -15,9 +15,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "closure.h"
 #include "homogeneous.h"
 
-typedef enum { TR_LOG, TR_PHI_CP, TR_PHI_CO } transform;
+/* TR_LOG: p = exp(x); TR_PHI_CP: phi_cp = lo + (1 - lo) s(x); TR_PHI_CO:
+ * phi_co = phi_cp s(x); for the closures' parameters (closure.h's ranges)
+ * TR_ABOVE_PREV: p = prev + exp(x), TR_BELOW_PREV: p = prev s(x),
+ * TR_ABOVE_DATA: p = phi_data + (1 - phi_data) s(x), with prev the value
+ * of the parameter listed before it in its closure and s the logistic
+ * function. */
+typedef enum { TR_LOG, TR_PHI_CP, TR_PHI_CO, TR_ABOVE_PREV, TR_BELOW_PREV, TR_ABOVE_DATA } transform;
 
 typedef struct {
     const char *name;
@@ -35,33 +42,91 @@ static const param_spec PARAMS[] = {
     {MAT(A_h), TR_LOG, 0, 0},     {MAT(B_h), TR_LOG, 0, 0},       {MAT(alpha), TR_LOG, 0, 0},
 };
 #undef MAT
-#define NPARAM_NAMES ((int)(sizeof PARAMS / sizeof PARAMS[0]))
+#define NPARAM_EKM ((int)(sizeof PARAMS / sizeof PARAMS[0]))
+
+/* The other closures' parameters follow the EKM's: index NPARAM_EKM + s
+ * is law_p slot s (closure.h), fitted in log (each is positive). */
+static int closure_param_at(int index, const ekm_closure **c, size_t *k)
+{
+    int slot = index - NPARAM_EKM;
+    for (size_t i = 0; slot >= 0 && i < ekm_closure_count(); i++) {
+        const ekm_closure *ci = ekm_closure_at(i);
+        if ((size_t)slot < ci->nparams) {
+            *c = ci;
+            *k = (size_t)slot;
+            return 1;
+        }
+        slot -= (int)ci->nparams;
+    }
+    return 0;
+}
+
+int cg_fit_param_count(void)
+{
+    int n = NPARAM_EKM;
+    for (size_t i = 0; i < ekm_closure_count(); i++)
+        n += (int)ekm_closure_at(i)->nparams;
+    return n;
+}
 
 int cg_fit_param_lookup(const char *name)
 {
-    for (int i = 0; i < NPARAM_NAMES; i++)
-        if (!strcmp(PARAMS[i].name, name))
+    for (int i = 0; i < cg_fit_param_count(); i++)
+        if (!strcmp(cg_fit_param_name(i), name))
             return i;
     return -1;
 }
 
 const char *cg_fit_param_name(int index)
 {
-    return index >= 0 && index < NPARAM_NAMES ? PARAMS[index].name : "?";
+    const ekm_closure *c;
+    size_t k;
+    if (index >= 0 && index < NPARAM_EKM)
+        return PARAMS[index].name;
+    return closure_param_at(index, &c, &k) ? c->params[k].key : "?";
 }
 
-int cg_fit_param_count(void)
+const ekm_closure *cg_fit_param_closure(int index)
 {
-    return NPARAM_NAMES;
+    const ekm_closure *c = NULL;
+    size_t k;
+    return index >= NPARAM_EKM && closure_param_at(index, &c, &k) ? c : NULL;
+}
+
+int cg_fit_param_read_by(const ekm_closure *c, int index)
+{
+    if (index >= 0 && index < NPARAM_EKM)
+        return ekm_closure_reads_ekm_key(c, PARAMS[index].name);
+    return cg_fit_param_closure(index) == c;
+}
+
+static transform param_transform(int index)
+{
+    const ekm_closure *c;
+    size_t k;
+    if (index < NPARAM_EKM)
+        return PARAMS[index].tr;
+    if (!closure_param_at(index, &c, &k))
+        return TR_LOG;
+    switch (c->params[k].range) {
+    case EKM_PARAM_ABOVE_PREVIOUS: return k > 0 ? TR_ABOVE_PREV : TR_LOG;
+    case EKM_PARAM_BELOW_PREVIOUS: return k > 0 ? TR_BELOW_PREV : TR_LOG;
+    case EKM_PARAM_PHI_ABOVE_DATA: return TR_ABOVE_DATA;
+    default: return TR_LOG;
+    }
 }
 
 static double *param_ptr(ekm_material *m, int index)
 {
+    if (index >= NPARAM_EKM)
+        return &m->law_p[index - NPARAM_EKM];
     return (double *)((char *)m + PARAMS[index].offset);
 }
 
 double cg_fit_param_get(const ekm_material *m, int index)
 {
+    if (index >= NPARAM_EKM)
+        return m->law_p[index - NPARAM_EKM];
     return *(const double *)((const char *)m + PARAMS[index].offset);
 }
 
@@ -78,6 +143,7 @@ typedef struct {
     size_t nfree;
     int free_param[CG_FIT_MAXP]; /* indices into PARAMS of the fitted ones */
     double lo_cp;                /* lower bound of phi_cp [-] */
+    double phi_data;             /* the largest phi of the data [-] (TR_ABOVE_DATA) */
     size_t nres;
 } fit_ctx;
 
@@ -95,14 +161,24 @@ static void x_to_material(const fit_ctx *c, const double *x, ekm_material *m)
 {
     *m = c->base;
     for (size_t k = 0; k < c->nfree; k++)
-        if (PARAMS[c->free_param[k]].tr == TR_PHI_CP)
+        if (param_transform(c->free_param[k]) == TR_PHI_CP)
             m->phi_cp = c->lo_cp + (1.0 - c->lo_cp) * logistic(x[k]);
     for (size_t k = 0; k < c->nfree; k++) {
         const int i = c->free_param[k];
-        if (PARAMS[i].tr == TR_LOG)
+        if (param_transform(i) == TR_LOG)
             *param_ptr(m, i) = exp(x[k]);
-        else if (PARAMS[i].tr == TR_PHI_CO)
+        else if (param_transform(i) == TR_PHI_CO)
             m->phi_co = m->phi_cp * logistic(x[k]);
+        else if (param_transform(i) == TR_ABOVE_DATA)
+            *param_ptr(m, i) = c->phi_data + (1.0 - c->phi_data) * logistic(x[k]);
+    }
+    /* relative to the previous parameter, once that has its value */
+    for (size_t k = 0; k < c->nfree; k++) {
+        const int i = c->free_param[k];
+        if (param_transform(i) == TR_ABOVE_PREV)
+            *param_ptr(m, i) = cg_fit_param_get(m, i - 1) + exp(x[k]);
+        else if (param_transform(i) == TR_BELOW_PREV)
+            *param_ptr(m, i) = cg_fit_param_get(m, i - 1) * logistic(x[k]);
     }
 }
 
@@ -112,11 +188,11 @@ static ekm_status material_to_x(const fit_ctx *c, const ekm_material *m, double 
         const int i = c->free_param[k];
         const double p = cg_fit_param_get(m, i);
         double s;
-        switch (PARAMS[i].tr) {
+        switch (param_transform(i)) {
         case TR_LOG:
             if (!(p > 0.0))
                 return EKM_FAIL(err, EKM_EINPUT, "start %s = %g: expected a positive start value to fit it",
-                                PARAMS[i].name, p);
+                                cg_fit_param_name(i), p);
             x[k] = log(p);
             break;
         case TR_PHI_CP:
@@ -133,6 +209,29 @@ static ekm_status material_to_x(const fit_ctx *c, const ekm_material *m, double 
             if (!(s > 0.0 && s < 1.0))
                 return EKM_FAIL(err, EKM_EINPUT, "start phi_co = %g: expected a value in (0, phi_cp = %g)", p,
                                 m->phi_cp);
+            x[k] = logit(s);
+            break;
+        case TR_ABOVE_DATA:
+            s = (p - c->phi_data) / (1.0 - c->phi_data);
+            if (!(s > 0.0 && s < 1.0))
+                return EKM_FAIL(err, EKM_EINPUT,
+                                "start %s = %g: expected a value in (%g, 1) (above every point's phi)",
+                                cg_fit_param_name(i), p, c->phi_data);
+            x[k] = logit(s);
+            break;
+        case TR_ABOVE_PREV:
+            if (!(p > cg_fit_param_get(m, i - 1)))
+                return EKM_FAIL(err, EKM_EINPUT, "start %s = %g: expected a value above %s = %g",
+                                cg_fit_param_name(i), p, cg_fit_param_name(i - 1),
+                                cg_fit_param_get(m, i - 1));
+            x[k] = log(p - cg_fit_param_get(m, i - 1));
+            break;
+        case TR_BELOW_PREV:
+            s = p / cg_fit_param_get(m, i - 1);
+            if (!(s > 0.0 && s < 1.0))
+                return EKM_FAIL(err, EKM_EINPUT, "start %s = %g: expected a value in (0, %s = %g)",
+                                cg_fit_param_name(i), p, cg_fit_param_name(i - 1),
+                                cg_fit_param_get(m, i - 1));
             x[k] = logit(s);
             break;
         }
@@ -185,7 +284,7 @@ static ekm_status scaled_jacobian(const fit_ctx *c, const ekm_material *m, const
         if (!okp && !okm) {
             free(rp);
             return EKM_FAIL(err, EKM_ENUMERIC, "%s = %g: the model cannot be evaluated around it",
-                            PARAMS[idx[j]].name, p);
+                            cg_fit_param_name(idx[j]), p);
         }
         if (!okp || !okm) { /* one-sided: the missing side is r(p) */
             sp->residuals(sp->ctx, m, okp ? rm : rp);
@@ -242,7 +341,7 @@ static ekm_status fit_free(const fit_ctx *c, const double *xs, double *xbest, do
     *chi2best = INFINITY;
     for (int s = 0; s < c->sp->nstarts; s++) {
         for (size_t k = 0; k < p; k++) {
-            const double width = PARAMS[c->free_param[k]].tr == TR_LOG ? log(3.0) : 2.0;
+            const double width = param_transform(c->free_param[k]) == TR_LOG ? log(3.0) : 2.0;
             const double u = gsl_rng_uniform(rng); /* drawn for every start: start s sees the same numbers */
             gsl_vector_set(x0, k, xs[k] + (s == 0 ? 0.0 : width * (2.0 * u - 1.0)));
         }
@@ -282,7 +381,8 @@ void cg_fit_result_free(cg_fit_result *res)
         return;
     free(res->resid);
     free(res->model);
-    res->resid = res->model = NULL;
+    free(res->model_phi);
+    res->resid = res->model = res->model_phi = NULL;
 }
 
 static void mark_held(cg_fit_result *res, size_t j, ekm_material *base, const ekm_material *start,
@@ -330,10 +430,12 @@ ekm_status cg_fit_solve(const cg_fit_spec *sp, cg_fit_result *res, ekm_error *er
             if (i < j && sp->param[i] == sp->param[j]) {
                 gsl_matrix_free(Jall);
                 free(r);
-                return EKM_FAIL(err, EKM_EINPUT, "--params: %s is listed twice", PARAMS[sp->param[j]].name);
+                return EKM_FAIL(err, EKM_EINPUT, "--params: %s is listed twice",
+                                cg_fit_param_name(sp->param[j]));
             }
     }
     c.lo_cp = phi_max;
+    c.phi_data = phi_max;
     ekm_status st = EKM_OK;
     /* Sensitivity at the start. */
     st = scaled_jacobian(&c, &sp->start, sp->param, sp->nparams, Jall, err);
@@ -357,7 +459,7 @@ ekm_status cg_fit_solve(const cg_fit_spec *sp, cg_fit_result *res, ekm_error *er
             if (res->identifiable[j]) {
                 slot[c.nfree] = j;
                 c.free_param[c.nfree++] = sp->param[j];
-                phi_co_free |= PARAMS[sp->param[j]].tr == TR_PHI_CO;
+                phi_co_free |= param_transform(sp->param[j]) == TR_PHI_CO;
             }
         /* phi_cp stays above every point's phi, and above phi_co when that is held */
         c.lo_cp = phi_co_free ? phi_max : fmax(phi_max, c.base.phi_co);
@@ -428,7 +530,7 @@ ekm_status cg_fit_solve(const cg_fit_spec *sp, cg_fit_result *res, ekm_error *er
                                    sqrt(gsl_matrix_get(cov, wa, wa) * gsl_matrix_get(cov, wb, wb));
                 char why[CG_FIT_WHY_MAX];
                 snprintf(why, sizeof why, "its correlation with %s is %.4f (|rho| > %g) on this data",
-                         PARAMS[c.free_param[wb]].name, rho, CG_FIT_CORR_MAX);
+                         cg_fit_param_name(c.free_param[wb]), rho, CG_FIT_CORR_MAX);
                 mark_held(res, slot[wa], &c.base, &sp->start, why);
                 changed = 1;
             }
@@ -473,21 +575,34 @@ ekm_status cg_fit_solve(const cg_fit_spec *sp, cg_fit_result *res, ekm_error *er
 /* Residuals (model - data)/SE at material m into r (nres), and the model
  * values (npts x CG_FIT_NFIELD, may be NULL). Non-zero if the model
  * cannot be evaluated. */
-static int model_residuals(const cg_fit_problem *pb, const ekm_material *m, double *r, double *model)
+static int model_residuals(const cg_fit_problem *pb, const ekm_material *m, double *r, double *model,
+                           double *model_phi)
 {
     size_t i = 0;
     for (size_t k = 0; k < pb->npts; k++) {
         const cg_fit_point *pt = &pb->pts[k];
         ekm_homog_state h;
         ekm_error e;
-        if (ekm_homog_shear(m, pb->variant, pt->phi, pt->gdot, &h, &e) != EKM_OK)
+        /* volume control: the model at the data's phi; pressure control: at
+         * its P, and phi is the response compared (in the P residual) */
+        const ekm_status st =
+            pt->at_pressure
+                ? ekm_closure_homog_at_pressure(pb->closure, m, pt->value[CG_FIT_P], pt->gdot, &h, &e)
+                : ekm_closure_homog(pb->closure, m, pt->phi, pt->gdot, &h, &e);
+        if (st != EKM_OK)
             return 1;
         const double mv[CG_FIT_NFIELD] = {
             [CG_FIT_P] = h.P, [CG_FIT_SXZ] = h.sxz, [CG_FIT_T] = h.T, [CG_FIT_MU] = h.mu};
+        if (model_phi)
+            model_phi[k] = h.phi;
         for (int f = 0; f < CG_FIT_NFIELD; f++) {
             if (model)
                 model[k * CG_FIT_NFIELD + f] = mv[f];
-            if (pb->fields & (1u << f))
+            if (!(pb->fields & (1u << f)))
+                continue;
+            if (f == CG_FIT_P && pt->at_pressure)
+                r[i++] = (h.phi - pt->phi) / pt->phi_se;
+            else
                 r[i++] = (mv[f] - pt->value[f]) / pt->se[f];
         }
     }
@@ -496,7 +611,7 @@ static int model_residuals(const cg_fit_problem *pb, const ekm_material *m, doub
 
 static int rheology_residuals(void *ctx, const ekm_material *m, double *r)
 {
-    return model_residuals(ctx, m, r, NULL);
+    return model_residuals(ctx, m, r, NULL, NULL);
 }
 
 static int all_below_phi_co(const cg_fit_problem *pb, const ekm_material *m)
@@ -510,6 +625,12 @@ static int all_below_phi_co(const cg_fit_problem *pb, const ekm_material *m)
 static int rheology_why(void *ctx, const ekm_material *m, int i, int at_start, char *buf, size_t size)
 {
     const cg_fit_problem *pb = ctx;
+    if (!cg_fit_param_read_by(pb->closure, i)) {
+        snprintf(buf, size, "closure %s does not read %s", pb->closure->name, cg_fit_param_name(i));
+        return 1;
+    }
+    if (i >= NPARAM_EKM)
+        return 0;
     const param_spec *ps = &PARAMS[i];
     if (!ps->enters)
         snprintf(buf, size, "steady homogeneous simple shear does not depend on %s (no gradients, w' = 0)",
@@ -540,8 +661,22 @@ ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *e
         return EKM_FAIL(err, EKM_EINPUT, "--fields: expected at least one of P, sxz, T, mu");
     if (pb->nstarts < 1)
         return EKM_FAIL(err, EKM_EINPUT, "--starts: expected at least 1");
+    /* no closure given: the EKM style of the variant */
+    cg_fit_problem with_closure = *pb;
+    if (!with_closure.closure)
+        with_closure.closure = ekm_closure_of_variant(pb->variant);
+    pb = &with_closure;
+    if ((pb->fields & (1u << CG_FIT_T)) && !pb->closure->has_temperature)
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "--fields T: closure %s has no granular temperature (fit P, sxz or mu, e.g. --fields "
+                        "P,sxz)",
+                        pb->closure->name);
+    for (size_t j = 0; j < pb->nparams; j++)
+        if (!cg_fit_param_read_by(pb->closure, pb->param[j]))
+            return EKM_FAIL(err, EKM_EINPUT, "--params: %s: not a parameter of closure %s",
+                            cg_fit_param_name(pb->param[j]), pb->closure->name);
     ekm_error merr;
-    if (ekm_material_check(&pb->start, &merr) != EKM_OK)
+    if (ekm_closure_check(pb->closure, &pb->start, &merr) != EKM_OK)
         return EKM_FAIL(err, EKM_EINPUT, "start material: %s", merr.message);
     cg_fit_spec sp = {.residuals = rheology_residuals,
                       .why_insensitive = rheology_why,
@@ -559,7 +694,24 @@ ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *e
     double phi_max = 0.0;
     for (size_t k = 0; k < pb->npts; k++) {
         const cg_fit_point *pt = &pb->pts[k];
-        if (!(pt->phi > 0.0 && pt->phi < pb->start.phi_cp))
+        if (pt->at_pressure && !((pb->fields & (1u << CG_FIT_P)) && pt->phi_se > 0.0 && isfinite(pt->phi_se)))
+            return EKM_FAIL(
+                err, EKM_EINPUT,
+                "%s: a pressure-controlled point needs --fields P (its residual is that of phi, the "
+                "response) and a phi SE > 0 (got %g)",
+                pt->file, pt->phi_se);
+        if (!pb->closure->is_ekm || pt->at_pressure) {
+            /* the closure's own range: its steady shear at the start */
+            ekm_homog_state h;
+            ekm_error herr;
+            const ekm_status hs =
+                pt->at_pressure ? ekm_closure_homog_at_pressure(pb->closure, &pb->start, pt->value[CG_FIT_P],
+                                                                pt->gdot, &h, &herr)
+                                : ekm_closure_homog(pb->closure, &pb->start, pt->phi, pt->gdot, &h, &herr);
+            if (hs != EKM_OK)
+                return EKM_FAIL(err, EKM_EINPUT, "%s: closure %s at the start material: %s", pt->file,
+                                pb->closure->name, herr.message);
+        } else if (!(pt->phi > 0.0 && pt->phi < pb->start.phi_cp))
             return EKM_FAIL(err, EKM_EINPUT,
                             "%s: phi = %g: expected a volume fraction in (0, phi_cp = %g of the start "
                             "material)",
@@ -574,12 +726,13 @@ ekm_status cg_fit_run(const cg_fit_problem *pb, cg_fit_result *res, ekm_error *e
         return st;
     res->resid = malloc(pb->npts * CG_FIT_NFIELD * sizeof *res->resid);
     res->model = malloc(pb->npts * CG_FIT_NFIELD * sizeof *res->model);
+    res->model_phi = malloc(pb->npts * sizeof *res->model_phi);
     double *r = malloc(sp.nres * sizeof *r);
-    if (!res->resid || !res->model || !r) {
+    if (!res->resid || !res->model || !res->model_phi || !r) {
         free(r);
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
     }
-    if (model_residuals(pb, &res->fitted, r, res->model))
+    if (model_residuals(pb, &res->fitted, r, res->model, res->model_phi))
         st = EKM_FAIL(err, EKM_ENUMERIC, "the fitted material cannot be evaluated at every point");
     size_t i = 0;
     for (size_t k = 0; k < pb->npts && st == EKM_OK; k++)

@@ -1,7 +1,8 @@
 /* fit.h: calibration of EKM material parameters on steady homogeneous
  * simple shear (`ekmcompare fit --rheology`, docs/compare.md).
  *
- * Model: ekm_homog_shear (law/homogeneous.h) at each point's phi
+ * Model: the closure's steady homogeneous shear (law/closure.h: the EKM's
+ * ekm_homog_shear, law/homogeneous.h, or another style's) at each point's phi
  * and gdot, which are taken as exact. Residuals (model - data)/SE for
  * the chosen observables (P, |sxz|, T, mu). GSL multifit_nlinear trust
  * region (Levenberg-Marquardt) in transformed parameters: log for the
@@ -27,6 +28,7 @@
 #include <stddef.h>
 
 #include "fit_data.h"
+#include "closure.h"
 #include "model.h"
 #include "status.h"
 
@@ -35,10 +37,16 @@
 #define CG_FIT_CORR_MAX 0.99
 #define CG_FIT_WHY_MAX  192
 
-/* The [material] key names that can be fitted, and their count. */
+/* The [material] key names that can be fitted, and their count: the
+ * EKM's, then every other closure's (closure.h, in the table's order). */
 int cg_fit_param_lookup(const char *name); /* index, or -1 if unknown */
 const char *cg_fit_param_name(int index);
 int cg_fit_param_count(void);
+/* The closure style whose own [material] key parameter `index` is; NULL
+ * for the EKM's keys (0 .. 11, in ekm_material's order). */
+const ekm_closure *cg_fit_param_closure(int index);
+/* 1 if closure c reads parameter `index`. */
+int cg_fit_param_read_by(const ekm_closure *c, int index);
 /* The value of parameter `index` in m. */
 double cg_fit_param_get(const ekm_material *m, int index);
 /* Set parameter `index` of m to v. */
@@ -75,13 +83,14 @@ typedef struct {
 typedef struct {
     const cg_fit_point *pts; /* data points (not owned) */
     size_t npts;
-    unsigned fields;        /* bit mask of enum cg_fit_field */
-    ekm_material start;     /* start values; also the values of every key not fitted */
-    ekm_variant variant;    /* model variant (no effect in simple shear; recorded) */
-    size_t nparams;         /* parameters asked for, in order */
-    int param[CG_FIT_MAXP]; /* their indices (cg_fit_param_lookup) */
-    int nstarts;            /* starts (>= 1) */
-    unsigned long seed;     /* of the perturbed starts */
+    unsigned fields;            /* bit mask of enum cg_fit_field */
+    ekm_material start;         /* start values; also the values of every key not fitted */
+    ekm_variant variant;        /* model variant (no effect in simple shear; recorded) */
+    const ekm_closure *closure; /* the closure style (closure.h); its steady shear is the model */
+    size_t nparams;             /* parameters asked for, in order */
+    int param[CG_FIT_MAXP];     /* their indices (cg_fit_param_lookup) */
+    int nstarts;                /* starts (>= 1) */
+    unsigned long seed;         /* of the perturbed starts */
 } cg_fit_problem;
 
 typedef struct {
@@ -101,8 +110,9 @@ typedef struct {
     double chi2_dof;                           /* chi2 / dof, NAN if dof == 0 */
     double cov_scale;                          /* factor applied to (J^T J)^-1 */
     int starts_run, starts_converged;
-    double *resid; /* --rheology: npts x CG_FIT_NFIELD, NAN for fields not fitted */
-    double *model; /* --rheology: the model's values, same layout */
+    double *resid;     /* --rheology: npts x CG_FIT_NFIELD, NAN for fields not fitted */
+    double *model;     /* --rheology: the model's values, same layout */
+    double *model_phi; /* --rheology: the model's phi per point (the data's at volume control) */
 } cg_fit_result;
 
 /* The driver: multistart trust region, identifiability, covariance.

@@ -23,8 +23,9 @@
 
 static const char fit_usage[] =
     "usage: ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu[,...]\n"
-    "                      [--start FILE.ini] [--fields P,sxz,T] [--starts N] -o FIT.json [--ini FIT.ini]\n"
-    "                      [--quiet]\n"
+    "                      [--control pressure CG.h5 ...] [--start FILE.ini] [--closure NAME] [--fields "
+    "P,sxz,T]\n"
+    "                      [--starts N] -o FIT.json [--ini FIT.ini] [--quiet]\n"
     "       ekmcompare fit --scenario CASES.json --params eta0,eps0[,...] [--fields phi,vx,T,P,sxz]\n"
     "                      [--start FILE.ini] [--starts N] [--support FRAC] [--progress] -o FIT.json\n"
     "                      [--ini FIT.ini] [--quiet]\n";
@@ -35,8 +36,10 @@ typedef struct {
     const char *support;  /* --support FRAC */
     int progress;
     const char **inputs;
+    int *at_pressure; /* per input: 1 after --control pressure */
     size_t ninputs;
     const char *params, *start, *fields, *json, *ini;
+    const char *closure; /* --closure NAME: the start file's [model] closure replaced */
     int nstarts;
     int quiet;
 } fit_args;
@@ -51,10 +54,22 @@ static int usage(const char *fmt, const char *arg)
 
 static int parse_args(int argc, char **argv, fit_args *a)
 {
+    int at_pressure = 0;
     for (int i = 0; i < argc; i++) {
         const char *s = argv[i];
         if (s[0] != '-') {
+            a->at_pressure[a->ninputs] = at_pressure;
             a->inputs[a->ninputs++] = s;
+            continue;
+        }
+        if (!strcmp(s, "--control")) {
+            if (i + 1 >= argc)
+                return usage("%s", "--control: missing its value (volume or pressure)");
+            const char *v = argv[++i];
+            if (strcmp(v, "volume") && strcmp(v, "pressure"))
+                return usage(
+                    "--control %s: expected volume or pressure (the control of the CG files after it)", v);
+            at_pressure = !strcmp(v, "pressure");
             continue;
         }
         if (!strcmp(s, "--rheology")) {
@@ -73,6 +88,7 @@ static int parse_args(int argc, char **argv, fit_args *a)
                            : !strcmp(s, "--support") ? &a->support
                            : !strcmp(s, "--params")  ? &a->params
                            : !strcmp(s, "--start")   ? &a->start
+                           : !strcmp(s, "--closure") ? &a->closure
                            : !strcmp(s, "--fields")  ? &a->fields
                            : !strcmp(s, "-o")        ? &a->json
                            : !strcmp(s, "--ini")     ? &a->ini
@@ -102,6 +118,8 @@ static int parse_args(int argc, char **argv, fit_args *a)
         return usage("unexpected argument '%s' (--scenario takes one CASES.json)", a->inputs[0]);
     if (!a->params)
         return usage("%s", "expected --params (e.g. T0,phi_co,eta0,eps0,nu)");
+    if (a->closure && !a->rheology)
+        return usage("%s", "--closure: for --rheology (a --scenario fit takes each case's closure)");
     if (!a->json)
         return usage("%s", "expected -o FIT.json");
     return 0;
@@ -212,10 +230,15 @@ static ekm_status run_fit(const fit_args *a, ekm_error *err)
         return st;
     char source[600];
     if (a->start) {
+        /* --closure NAME: the start file read as with --set model.closure=NAME */
+        char set[128];
+        snprintf(set, sizeof set, "model.closure=%s", a->closure ? a->closure : "");
+        const char *sets[] = {set};
         ekm_scenario sc;
-        st = ekm_scenario_load(&sc, a->start, NULL, 0, err);
+        st = ekm_scenario_load(&sc, a->start, a->closure ? sets : NULL, a->closure ? 1 : 0, err);
         pb.start = sc.material;
         pb.variant = sc.variant;
+        pb.closure = sc.closure;
         ekm_scenario_free(&sc);
         if (st != EKM_OK)
             return st;
@@ -223,6 +246,20 @@ static ekm_status run_fit(const fit_args *a, ekm_error *err)
     } else {
         pb.start = ekm_material_thesis();
         pb.variant = EKM_VARIANT_FULL;
+        pb.closure = ekm_closure_of_variant(pb.variant);
+        if (a->closure) {
+            ekm_error cerr;
+            pb.closure = ekm_closure_find(a->closure, &cerr);
+            if (!pb.closure)
+                return EKM_FAIL(err, EKM_EINPUT, "--closure: %s", cerr.message);
+            if (!pb.closure->is_ekm)
+                return EKM_FAIL(
+                    err, EKM_EINPUT,
+                    "--closure %s: its parameters have no defaults: give --start FILE.ini with its "
+                    "[material] keys",
+                    a->closure);
+            pb.variant = pb.closure->variant;
+        }
         snprintf(source, sizeof source, "thesis material (ekm_material_thesis)");
     }
     st = check_not_input(a->json, a, err);
@@ -239,6 +276,7 @@ static ekm_status run_fit(const fit_args *a, ekm_error *err)
         st = cg_h5kind_check_path(a->inputs[k], "fit", "--rheology", CG_H5KIND_CG, err);
         if (st == EKM_OK)
             st = cg_fit_point_read(a->inputs[k], pb.fields, &pts[k], err);
+        pts[k].at_pressure = a->at_pressure[k];
     }
     pb.pts = pts;
     pb.npts = a->ninputs;
@@ -250,6 +288,7 @@ static ekm_status run_fit(const fit_args *a, ekm_error *err)
         const cg_fit_outputs o = {.pb = &pb,
                                   .nstarts = pb.nstarts,
                                   .variant = pb.variant,
+                                  .closure = pb.closure,
                                   .res = &res,
                                   .start_source = source,
                                   .json_path = a->json,
@@ -353,6 +392,7 @@ static ekm_status run_scenario_fit(const fit_args *a, ekm_error *err)
             const cg_fit_outputs o = {.sc = &sc,
                                       .nstarts = sp.nstarts,
                                       .variant = variant,
+                                      .closure = ekm_closure_of_variant(variant),
                                       .res = &res,
                                       .start_source = source,
                                       .json_path = a->json,
@@ -376,7 +416,10 @@ int cg_fit_main(int argc, char **argv)
         }
     fit_args a = {.nstarts = 0};
     a.inputs = calloc((size_t)argc + 1, sizeof *a.inputs);
-    if (!a.inputs) {
+    a.at_pressure = calloc((size_t)argc + 1, sizeof *a.at_pressure);
+    if (!a.inputs || !a.at_pressure) {
+        free(a.inputs);
+        free(a.at_pressure);
         fprintf(stderr, "ekmcompare fit: out of memory\n");
         return ekm_status_exit_code(EKM_ENOMEM);
     }
@@ -391,5 +434,6 @@ int cg_fit_main(int argc, char **argv)
         rc = ekm_status_exit_code(st);
     }
     free(a.inputs);
+    free(a.at_pressure);
     return rc;
 }

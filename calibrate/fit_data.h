@@ -43,6 +43,8 @@ typedef struct {
     double r2;                   /* R^2 of the linear vx profile [-] */
     double value[CG_FIT_NFIELD]; /* P [Pa], |sxz| [Pa], T [m^2/s^2], mu [-]; NAN if not read */
     double se[CG_FIT_NFIELD];    /* their standard errors, same units */
+    int at_pressure;             /* 1: a pressure-controlled run (--control pressure): the model is
+                                  * given P and gdot, and the P residual is that of phi, the response */
 } cg_fit_point;
 
 /* The profiles of one window, n bins each (NULL: not available). */

@@ -66,8 +66,10 @@ static json_t *fit_json(const cg_fit_outputs *o)
                                               ekm_json_number(pt->se[f])));
                 json_object_set_new(model, name, ekm_json_number(res->model[k * CG_FIT_NFIELD + f]));
             }
+            json_object_set_new(model, "phi", ekm_json_number(res->model_phi[k]));
             json_array_append_new(
-                points, json_pack("{s:s, s:o, s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "file", pt->file, "phi",
+                points, json_pack("{s:s, s:s, s:o, s:o, s:o, s:o, s:o, s:o, s:o, s:o}", "file", pt->file,
+                                  "control", pt->at_pressure ? "pressure" : "volume", "phi",
                                   ekm_json_number(pt->phi), "phi_se", ekm_json_number(pt->phi_se), "gdot",
                                   ekm_json_number(pt->gdot), "gdot_se", ekm_json_number(pt->gdot_se), "vx_r2",
                                   ekm_json_number(pt->r2), "residuals", resid, "data", data, "model", model));
@@ -129,10 +131,14 @@ static json_t *fit_json(const cg_fit_outputs *o)
                         json_pack("{s:s, s:o}", "source", o->start_source, "values", start_values));
     json_t *material = json_object();
     for (int i = 0; i < cg_fit_param_count(); i++)
-        json_object_set_new(material, cg_fit_param_name(i), json_real(cg_fit_param_get(&res->fitted, i)));
+        if (cg_fit_param_read_by(o->closure, i))
+            json_object_set_new(material, cg_fit_param_name(i), json_real(cg_fit_param_get(&res->fitted, i)));
     json_object_set_new(root, "material", material);
     json_object_set_new(root, "fields", fields);
-    json_object_set_new(root, "variant", json_string(variant_names[o->variant == EKM_VARIANT_THESIS]));
+    json_object_set_new(root, "closure", json_string(o->closure->name));
+    json_object_set_new(root, "variant",
+                        o->closure->is_ekm ? json_string(variant_names[o->variant == EKM_VARIANT_THESIS])
+                                           : json_null());
     json_object_set_new(root, "starts",
                         json_pack("{s:i, s:i, s:i}", "requested", o->nstarts, "run", res->starts_run,
                                   "converged", res->starts_converged));
@@ -168,8 +174,12 @@ static void ini_write(FILE *fp, const cg_fit_outputs *o)
             fputc('\n', fp);
         }
     }
+    if (!o->closure->is_ekm)
+        fprintf(fp, "; the [material] of [model] closure = %s\n", o->closure->name);
     fprintf(fp, "[material]\n");
     for (int i = 0; i < cg_fit_param_count(); i++) {
+        if (!cg_fit_param_read_by(o->closure, i))
+            continue;
         const char *name = cg_fit_param_name(i);
         fprintf(fp, "%-7s = %.17g", name, cg_fit_param_get(&res->fitted, i));
         size_t j = 0;

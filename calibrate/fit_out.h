@@ -14,6 +14,7 @@ typedef struct {
     const cg_fitsc_problem *sc; /* --scenario, or NULL */
     int nstarts;                /* starts requested */
     ekm_variant variant;        /* of the start material */
+    const ekm_closure *closure; /* the closure fitted: the [material] keys written are those it reads */
     const cg_fit_result *res;
     const char *start_source; /* "thesis material (ekm_material_thesis)" or the --start file */
     const char *json_path;    /* required */

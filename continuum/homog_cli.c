@@ -11,7 +11,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "closure.h"
 #include "homogeneous.h"
+#include "json_out.h"
 #include "scenario.h"
 
 #define HOMOG_MAX_PHI    100000  /* points of --phi LO:HI:N */
@@ -101,8 +103,18 @@ static ekm_status homog_parse_rates(const char *arg, homog_grid *g, ekm_error *e
     return st;
 }
 
-static json_t *homog_material_json(const ekm_material *m)
+static json_t *homog_material_json(const ekm_closure *c, const ekm_material *m)
 {
+    if (!c->is_ekm) {
+        /* the keys the closure reads: the EKM's it names and its own */
+        json_t *o = json_object();
+        for (const char *const *k = c->ekm_keys; o && *k; k++)
+            if (strcmp(*k, "rho_p") == 0)
+                json_object_set_new(o, *k, json_real(m->rho_p));
+        for (size_t k = 0; o && k < c->nparams; k++)
+            json_object_set_new(o, c->params[k].key, json_real(m->law_p[ekm_closure_slot(c, k)]));
+        return o;
+    }
     return json_pack("{s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f}", "rho_p", m->rho_p,
                      "phi_co", m->phi_co, "phi_cp", m->phi_cp, "T0", m->T0, "eta0", m->eta0, "zeta0",
                      m->zeta0, "lambda0", m->lambda0, "eps0", m->eps0, "nu", m->nu, "A_h", m->A_h, "B_h",
@@ -117,12 +129,14 @@ static json_t *homog_point_json(const ekm_scenario *sc, double phi, double rate)
 {
     ekm_homog_state h;
     ekm_error why = {0};
-    const ekm_status st = ekm_homog_shear(&sc->material, sc->variant, phi, rate, &h, &why);
+    const ekm_status st = ekm_closure_homog(sc->closure, &sc->material, phi, rate, &h, &why);
     if (st != EKM_OK)
         return json_pack("{s:f, s:f, s:s, s:s}", "phi", phi, "rate", rate, "status", "no_steady_state",
                          "reason", why.message);
-    return json_pack("{s:f, s:f, s:s, s:f, s:f, s:f, s:f, s:f, s:f}", "phi", phi, "rate", rate, "status",
-                     "ok", "T", h.T, "P", h.P, "P_K", h.P_K, "P_Y", h.P_Y, "abs_sxz", h.sxz, "mu", h.mu);
+    /* a closure without a temperature: T, P_K and P_Y are null (n/a) */
+    return json_pack("{s:f, s:f, s:s, s:o, s:f, s:o, s:o, s:f, s:f}", "phi", phi, "rate", rate, "status",
+                     "ok", "T", ekm_json_number(h.T), "P", h.P, "P_K", ekm_json_number(h.P_K), "P_Y",
+                     ekm_json_number(h.P_Y), "abs_sxz", h.sxz, "mu", h.mu);
 }
 
 static ekm_status homog_write(const char *ini, const char *material, const ekm_scenario *sc,
@@ -130,10 +144,13 @@ static ekm_status homog_write(const char *ini, const char *material, const ekm_s
 {
     json_t *points = json_array();
     json_t *root =
-        json_pack("{s:s, s:s?, s:s, s:o, s:{s:s, s:s, s:s, s:s, s:s, s:s, s:s, s:s}}", "scenario", ini,
-                  "material_file", material, "variant", sc->variant == EKM_VARIANT_THESIS ? "thesis" : "full",
-                  "material", homog_material_json(&sc->material), "units", "phi", "1", "rate", "1/s", "T",
-                  "m^2/s^2", "P", "Pa", "P_K", "Pa", "P_Y", "Pa", "abs_sxz", "Pa", "mu", "1");
+        json_pack("{s:s, s:s?, s:s, s:s?, s:o, s:{s:s, s:s, s:s, s:s, s:s, s:s, s:s, s:s}}", "scenario", ini,
+                  "material_file", material, "closure", sc->closure->name, "variant",
+                  !sc->closure->is_ekm                ? NULL
+                  : sc->variant == EKM_VARIANT_THESIS ? "thesis"
+                                                      : "full",
+                  "material", homog_material_json(sc->closure, &sc->material), "units", "phi", "1", "rate",
+                  "1/s", "T", "m^2/s^2", "P", "Pa", "P_K", "Pa", "P_Y", "Pa", "abs_sxz", "Pa", "mu", "1");
     ekm_status st = EKM_OK;
     if (!points || !root || json_object_set(root, "points", points) != 0)
         st = EKM_FAIL(err, EKM_ENOMEM, "out of memory (the JSON output)");

@@ -1,5 +1,7 @@
 #include "steady_solve.h"
 
+#include "closure.h"
+
 #include <float.h>
 #include <lapacke.h>
 #include <math.h>
@@ -146,6 +148,9 @@ static ekm_status problem_alloc(ss_problem *p, const ekm_scenario *sc, ekm_error
 
 ekm_status ekm_steady_supported(const ekm_scenario *sc, ekm_error *err)
 {
+    ekm_error cerr;
+    if (ekm_closure_require_ekm(sc->closure, "ekm steady", &cerr) != EKM_OK)
+        return EKM_FAIL(err, cerr.code, "%s: %s", sc->source, cerr.message);
     if (sc->hypo.enabled)
         return EKM_FAIL(err, EKM_EINPUT,
                         "%s: [hypo] enabled = 1: the solid regime's stress depends on its history, "
@@ -1198,6 +1203,8 @@ ekm_status ekm_steady_solve(const ekm_scenario *sc, ekm_state *s, ekm_steady_rep
     if (!g || !st) {
         ekm_state_free(g);
         problem_free(&p);
+        if (g) /* the status ekm_step_alloc recorded */
+            return err->code;
         return EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the steady solver (%d cells)", sc->cells);
     }
     ekm_state_copy(g, s);

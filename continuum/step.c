@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "bc.h"
+#include "closure.h"
 #include "control.h"
 #include "rates.h"
 #include "regime.h"
@@ -18,6 +19,11 @@
 
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
 {
+    ekm_error cerr;
+    if (ekm_closure_require_ekm(sc->closure, "the 1D time stepper (ekm run, ekm steady)", &cerr) != EKM_OK) {
+        EKM_FAIL(err, cerr.code, "%s: %s", sc->source, cerr.message);
+        return NULL;
+    }
     ekm_stepper *st = calloc(1, sizeof *st);
     if (!st) {
         EKM_FAIL(err, EKM_ENOMEM, "out of memory allocating the stepper");

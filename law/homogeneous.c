@@ -28,5 +28,26 @@ ekm_status ekm_homog_shear(const ekm_material *m, ekm_variant v, double phi, dou
     out->P = s.P;
     out->sxz = fabs(s.sigma_xz);
     out->mu = out->sxz / out->P;
+    out->phi = phi;
     return EKM_OK;
+}
+
+ekm_status ekm_homog_shear_at_pressure(const ekm_material *m, ekm_variant v, double P, double gdot,
+                                       ekm_homog_state *out, ekm_error *err)
+{
+    if (!(P > 0.0 && isfinite(P)))
+        return EKM_FAIL(err, EKM_EINPUT, "P = %g: expected a finite pressure > 0 [Pa]", P);
+    if (!(gdot > 0.0 && isfinite(gdot)))
+        return EKM_FAIL(err, EKM_EINPUT, "gdot = %g: expected a finite shear rate > 0 [1/s]", gdot);
+    const double rK = m->rho_p * 2.0 * m->eta0 * gdot * gdot / (3.0 * m->eps0); /* rho_p phi T [Pa] */
+    if (!(P > rK))
+        return EKM_FAIL(
+            err, EKM_EINPUT,
+            "P = %g, gdot = %g: expected P above the dilute limit rho_p 2 eta0 gdot^2 / (3 eps0) = "
+            "%g Pa (no volume fraction gives a lower pressure at this rate)",
+            P, gdot, rK);
+    double phi = m->phi_cp * (1.0 - rK / P);
+    if (phi > m->phi_co)
+        phi = m->phi_cp * (P - rK + m->rho_p * m->T0 * m->phi_co) / (P + m->rho_p * m->phi_cp * m->T0);
+    return ekm_homog_shear(m, v, phi, gdot, out, err);
 }

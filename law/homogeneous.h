@@ -28,6 +28,7 @@ typedef struct {
     double r;   /* P_Y / P_K [-] */
     double sxz; /* |sigma_xz| [Pa] */
     double mu;  /* |sigma_xz| / P [-] */
+    double phi; /* the volume fraction [-] (given, or found at a given P) */
 } ekm_homog_state;
 
 /* The steady state at volume fraction phi in (0, phi_cp) and shear rate
@@ -35,5 +36,16 @@ typedef struct {
  * range; EKM_ENUMERIC if the balance has no positive finite root. */
 ekm_status ekm_homog_shear(const ekm_material *m, ekm_variant v, double phi, double gdot,
                            ekm_homog_state *out, ekm_error *err);
+
+/* The same state at a given pressure P > 0 [Pa] and shear rate gdot > 0
+ * (pressure control): with K = 2 eta0 gdot^2 / (3 eps0) = phi T,
+ * P = rho_p g(phi) (K + T0 (phi - phi_co)_+) rises with phi, and its
+ * inverse is closed:
+ *   phi = phi_cp (1 - rho_p K / P)                              if that is <= phi_co,
+ *   phi = phi_cp (P - rho_p K + rho_p T0 phi_co) / (P + rho_p phi_cp T0)  otherwise.
+ * EKM_EINPUT when P <= rho_p K (the dilute limit of P at this rate: no
+ * volume fraction gives so low a pressure). */
+ekm_status ekm_homog_shear_at_pressure(const ekm_material *m, ekm_variant v, double P, double gdot,
+                                       ekm_homog_state *out, ekm_error *err);
 
 #endif

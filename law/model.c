@@ -19,6 +19,8 @@ ekm_material ekm_material_thesis(void)
         .B_h = 200e6,
         .alpha = 0.0,
     };
+    for (int i = 0; i < EKM_LAW_PARAMS_MAX; i++)
+        m.law_p[i] = NAN; /* no other closure's parameters given */
     return m;
 }
 

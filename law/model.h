@@ -35,6 +35,10 @@
 
 typedef enum { EKM_VARIANT_FULL = 0, EKM_VARIANT_THESIS = 1 } ekm_variant;
 
+/* Slots for the parameters of the closure styles other than the EKM
+ * (closure.h: one per registered parameter, in the table's order). */
+#define EKM_LAW_PARAMS_MAX 32
+
 /* Material constants, SI, rho_p factored out (docs/model-notes.md section 1). */
 typedef struct {
     double rho_p;   /* particle material density [kg/m^3] */
@@ -49,6 +53,9 @@ typedef struct {
     double A_h;     /* hypoplastic stiffness, volumetric part [Pa] */
     double B_h;     /* hypoplastic stiffness, shear part [Pa] */
     double alpha;   /* exponent of the hypoplastic density factor f(phi) [-] */
+    /* the other closures' parameters (closure.h: their keys and units; NAN:
+     * not given; an EKM style reads none of them) */
+    double law_p[EKM_LAW_PARAMS_MAX];
 } ekm_material;
 
 /* Transport coefficients at one state. */

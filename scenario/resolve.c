@@ -2,6 +2,8 @@
  * defaults, and the sweep points (resolve.h, docs/resolved-scenario.md). */
 #include "resolve.h"
 
+#include "closure.h"
+
 #include "number.h"
 #include "tool_keys.h"
 
@@ -509,12 +511,24 @@ ekm_status ekm_resolve(const ekm_scenario *s, const char *engine, const char *si
         ekm_scenario_key_name(i, &section, &key);
         char name[64], from[600], value[EKM_VALUE_MAX];
         snprintf(name, sizeof name, "%s.%s", section, key);
+        if (strcmp(section, "material") == 0 && !ekm_closure_reads_ekm_key(s->closure, key))
+            continue; /* a key the scenario's closure does not read */
         const ekm_entry *e = ekm_scenario_entry_find(s->entries, s->n_entries, name);
         if (e) {
             entry_from(s, e, from, sizeof from);
             st = add_key(r, name, e->value, from, NULL, err);
         } else if (ekm_scenario_key_default(s, i, value, sizeof value)) {
             st = add_key(r, name, value, "default", NULL, err);
+        }
+    }
+    /* the closure's own [material] keys (closure.h), each given */
+    for (size_t k = 0; k < s->closure->nparams && st == EKM_OK; k++) {
+        char name[64], from[600];
+        snprintf(name, sizeof name, "material.%s", s->closure->params[k].key);
+        const ekm_entry *e = ekm_scenario_entry_find(s->entries, s->n_entries, name);
+        if (e) {
+            entry_from(s, e, from, sizeof from);
+            st = add_key(r, name, e->value, from, NULL, err);
         }
     }
     ekm_sweep_kind sweep = EKM_SWEEP_NONE;

@@ -1,6 +1,7 @@
 /* scenario.c: defaults, INI reading (inih) and validation of a scenario. */
 #include "scenario.h"
 
+#include "closure.h"
 #include "number.h"
 #include "tool_keys.h"
 #include "utf8.h"
@@ -83,6 +84,7 @@ static const key_spec KEYS[] = {
     MAT(B_h),
     MAT(alpha),
     {"model", "variant", KEY_STRING, 0, 0, 0, NULL},
+    {"model", "closure", KEY_STRING, 0, 0, 0, NULL},
     {"domain", "length", KEY_DOUBLE, SC(length), 0, 1, NULL},
     {"domain", "cells", KEY_INT, SC(cells), 0, 1, NULL},
     {"domain", "width", KEY_DOUBLE, SC(width), 0, 0, NULL},
@@ -144,6 +146,7 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
     snprintf(s->name, sizeof s->name, "unnamed");
     s->material = ekm_material_thesis();
     s->variant = EKM_VARIANT_FULL;
+    s->closure = &ekm_closure_ekm_full;
     s->gravity = 0.0;
     s->angle_deg = 0.0;
     s->T_init = 0.0;
@@ -480,6 +483,24 @@ static int record_failed(parse_ctx *c)
 
 #define VALUE_MAX (sizeof(((ekm_entry *)0)->value) - 1)
 
+/* A [material] key of a closure style other than the EKM (closure.h):
+ * its number into its law_p slot, recorded like every key; whether the
+ * scenario's closure reads it is checked after reading (check_closure). */
+static int closure_param(parse_ctx *c, const char *section, const char *key, const char *value,
+                         const ekm_closure *owner, size_t k)
+{
+    if (refuse_duplicate(c, c->s->entries, c->s->n_entries, section, key))
+        return 0;
+    double v;
+    if (!parse_double(value, &v))
+        return fail_once(c, EKM_EINPUT, "[%s] %s: expected a number, got '%s'", section, key, value);
+    c->s->material.law_p[ekm_closure_slot(owner, k)] = v;
+    if (record_entry(&c->s->entries, &c->s->n_entries, section, key, value, c->origin, c->line, c->err) !=
+        EKM_OK)
+        return record_failed(c);
+    return 1;
+}
+
 static int handler(void *user, const char *section, const char *key, const char *value)
 {
     parse_ctx *c = user;
@@ -511,6 +532,10 @@ static int handler(void *user, const char *section, const char *key, const char 
     for (k = 0; k < N_KEYS; k++)
         if (strcmp(KEYS[k].section, section) == 0 && strcmp(KEYS[k].key, key) == 0)
             break;
+    const ekm_closure *owner = NULL;
+    size_t owner_k = 0;
+    if (k == N_KEYS && strcmp(section, "material") == 0 && ekm_closure_param_find(key, &owner, &owner_k) == 0)
+        return closure_param(c, section, key, value, owner, owner_k);
     if (k == N_KEYS)
         return fail_once(c, EKM_EINPUT, "[%s] %s: unknown key%s", section, key, "");
     if (refuse_duplicate(c, c->s->entries, c->s->n_entries, section, key))
@@ -524,7 +549,13 @@ static int handler(void *user, const char *section, const char *key, const char 
     }
     const key_spec *ks = &KEYS[k];
     char *base = (char *)c->s;
-    if (strcmp(key, "variant") == 0) {
+    if (strcmp(key, "closure") == 0) {
+        ekm_error cerr;
+        const ekm_closure *cl = ekm_closure_find(value, &cerr);
+        if (!cl)
+            return fail_once(c, EKM_EINPUT, "[%s] %s: %s", section, key, cerr.message);
+        c->s->closure = cl;
+    } else if (strcmp(key, "variant") == 0) {
         if (strcmp(value, "full") == 0)
             c->s->variant = EKM_VARIANT_FULL;
         else if (strcmp(value, "thesis") == 0)
@@ -880,22 +911,110 @@ static int word_listed(const char *list, const char *word)
     return 0;
 }
 
+/* Where a [material] key outside the registry's KEYS (a closure's) was
+ * given: FILE:LINE or --set. */
+static const char *where_entry(const parse_ctx *c, const ekm_entry *e, char *buf, size_t n)
+{
+    if (e->origin == EKM_FROM_SET)
+        snprintf(buf, n, "--set %s", e->name);
+    else
+        snprintf(buf, n, "%s:%d", e->origin == EKM_FROM_MATERIAL ? c->s->material_source : c->s->source,
+                 e->line);
+    return buf;
+}
+
+/* The closure: [model] closure and the older [model] variant agree; the
+ * closure's own [material] keys are all given and no other closure's is;
+ * an EKM [material] key it does not read is not given (closure.h). */
+static ekm_status check_closure(const parse_ctx *c, ekm_scenario *s, ekm_error *err)
+{
+    char w_[600];
+    int has_closure = given(c, "model", "closure"), has_variant = given(c, "model", "variant");
+    if (has_closure && has_variant && !(s->closure->is_ekm && s->closure->variant == s->variant)) {
+        /* a --set overrides the file's key of the other spelling */
+        const ekm_entry *ec = ekm_scenario_entry_find(s->entries, s->n_entries, "model.closure");
+        const ekm_entry *ev = ekm_scenario_entry_find(s->entries, s->n_entries, "model.variant");
+        if (ec && ev && (ec->origin == EKM_FROM_SET) != (ev->origin == EKM_FROM_SET)) {
+            if (ec->origin == EKM_FROM_SET)
+                has_variant = 0;
+            else
+                has_closure = 0;
+        }
+    }
+    if (has_closure && has_variant && !(s->closure->is_ekm && s->closure->variant == s->variant))
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [model] variant = %s disagrees with [model] closure = %s (variant is the older "
+                        "spelling of closure = ekm_full | ekm_thesis: give one of them)",
+                        where(c, "model", "variant", w_, sizeof w_),
+                        s->variant == EKM_VARIANT_THESIS ? "thesis" : "full", s->closure->name);
+    if (!has_closure)
+        s->closure = ekm_closure_of_variant(s->variant);
+    else if (s->closure->is_ekm)
+        s->variant = s->closure->variant;
+    for (size_t i = 0; i < s->n_entries; i++) {
+        const ekm_entry *e = &s->entries[i];
+        if (strncmp(e->name, "material.", 9) != 0)
+            continue;
+        const char *key = e->name + 9;
+        const ekm_closure *owner;
+        size_t k;
+        if (ekm_closure_param_find(key, &owner, &k) == 0) {
+            if (owner != s->closure)
+                return EKM_FAIL(err, EKM_EINPUT,
+                                "%s: [material] %s: a parameter of closure %s, but [model] closure = %s",
+                                where_entry(c, e, w_, sizeof w_), key, owner->name, s->closure->name);
+        } else if (!ekm_closure_reads_ekm_key(s->closure, key)) {
+            char list[300] = "";
+            for (const char *const *q = s->closure->ekm_keys; *q; q++) {
+                const size_t n = strlen(list);
+                snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "", *q);
+            }
+            for (size_t j = 0; j < s->closure->nparams; j++) {
+                const size_t n = strlen(list);
+                snprintf(list + n, sizeof list - n, ", %s", s->closure->params[j].key);
+            }
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [material] %s: closure %s does not read it (its keys: %s)",
+                            where_entry(c, e, w_, sizeof w_), key, s->closure->name, list);
+        }
+    }
+    for (size_t j = 0; j < s->closure->nparams; j++) {
+        const ekm_closure_param *p = &s->closure->params[j];
+        char name[80];
+        snprintf(name, sizeof name, "material.%s", p->key);
+        if (!ekm_scenario_entry_find(s->entries, s->n_entries, name))
+            return EKM_FAIL(err, EKM_EINPUT, "%s: [material] %s: missing (closure %s needs it: %s [%s])",
+                            s->material_source[0] ? s->material_source : c->file, p->key, s->closure->name,
+                            p->about, p->unit);
+    }
+    return EKM_OK;
+}
+
 static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error *err)
 {
     const char *material_file = s->material_source[0] ? s->material_source : c->file;
+    ekm_status cst = check_closure(c, s, err);
+    if (cst != EKM_OK)
+        return cst;
     for (size_t k = 0; k < N_KEYS; k++)
-        if (KEYS[k].required && !c->seen[k])
+        if (KEYS[k].required && !c->seen[k] &&
+            !(strcmp(KEYS[k].section, "material") == 0 &&
+              !ekm_closure_reads_ekm_key(s->closure, KEYS[k].key)))
             return EKM_FAIL(err, EKM_EINPUT, "%s: [%s] %s: missing (a required key)",
                             strcmp(KEYS[k].section, "material") == 0 ? material_file : c->file,
                             KEYS[k].section, KEYS[k].key);
     ekm_error merr;
-    if (ekm_material_check(&s->material, &merr) != EKM_OK) {
+    if (ekm_closure_check(s->closure, &s->material, &merr) != EKM_OK) {
         /* merr says "[material] KEY: ..."; prefix where KEY came from (FILE:LINE of the
          * scenario or material file, or --set) */
-        char key[64] = "", w_[600];
+        char key[64] = "", w_[600], name[80];
         if (sscanf(merr.message, "[material] %63[^:]", key) != 1)
             key[0] = '\0';
-        return EKM_FAIL(err, EKM_EINPUT, "%s: %s", where(c, "material", key, w_, sizeof w_), merr.message);
+        snprintf(name, sizeof name, "material.%s", key);
+        const ekm_entry *ce =
+            s->closure->nparams ? ekm_scenario_entry_find(s->entries, s->n_entries, name) : NULL;
+        return EKM_FAIL(err, EKM_EINPUT, "%s: %s",
+                        ce ? where_entry(c, ce, w_, sizeof w_) : where(c, "material", key, w_, sizeof w_),
+                        merr.message);
     }
     RANGE(s->length > 0.0, "domain", "length", "a length > 0 [m]", s->length);
     RANGE(s->cells >= 1 && s->cells <= 10000000, "domain", "cells", "an integer in [1, 1e7]", s->cells);
@@ -1293,8 +1412,12 @@ int ekm_scenario_key_default(const ekm_scenario *s, size_t i, char *value, size_
          strcmp(ks->key, "surface_fill") == 0 || strcmp(ks->key, "solid_lag_tol") == 0) &&
         !isfinite(s->width))
         return 0; /* keys of a 2D domain only (a width given) */
-    if (strcmp(ks->key, "variant") == 0)
+    if (strcmp(ks->key, "variant") == 0) {
+        if (!s->closure->is_ekm)
+            return 0; /* not a key of this closure */
         snprintf(value, size, "%s", s->variant == EKM_VARIANT_THESIS ? "thesis" : "full");
+    } else if (strcmp(ks->key, "closure") == 0)
+        snprintf(value, size, "%s", s->closure->name);
     else if (strcmp(ks->key, "convection") == 0)
         snprintf(value, size, "%s", s->numerics.convection == EKM_CONVECTION_TVD ? "tvd" : "upwind");
     else if (strcmp(ks->key, "normal_coupling") == 0)

@@ -79,9 +79,10 @@ typedef struct {
     char source[512];          /* file it was read from */
     char material_source[512]; /* the material file its [material] came from, "" : none */
     ekm_material material;
-    ekm_variant variant;
-    double length;          /* domain height, z in [0, length] [m] */
-    int cells;              /* number of finite-volume cells */
+    ekm_variant variant;               /* the EKM's variant (closure->variant for an EKM closure) */
+    const struct ekm_closure *closure; /* [model] closure (closure.h): ekm_full unless given */
+    double length;                     /* domain height, z in [0, length] [m] */
+    int cells;                         /* number of finite-volume cells */
     double width;           /* 2D domain: width, x in [0, width] [m]; NAN: not given (the 1D column) */
     int cells_x;            /* 2D domain: cells along x; 1: the 1D column (the only case ekm solves) */
     int periodic_x;         /* 2D domain: 1: periodic in x; 0: walls at x = 0 and x = width */

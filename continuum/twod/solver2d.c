@@ -2,6 +2,8 @@
  * semi-implicit step (step2d.h). */
 #include "solver2d.h"
 
+#include "closure.h"
+
 #include <math.h>
 #include <stdlib.h>
 
@@ -13,6 +15,9 @@ struct ekm2d_solver {
 ekm_status ekm2d_supported(const ekm_scenario *sc, ekm_error *err)
 {
     const char *src = sc->source;
+    ekm_error cerr;
+    if (ekm_closure_require_ekm(sc->closure, "the 2D solver", &cerr) != EKM_OK)
+        return EKM_FAIL(err, cerr.code, "%s: %s", src, cerr.message);
     if (!(sc->cells_x >= 2))
         return EKM_FAIL(err, EKM_EINPUT, "%s: [domain] cells_x = %d: the 2D solver needs cells_x >= 2", src,
                         sc->cells_x);

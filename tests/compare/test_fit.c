@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "cg_run.h"
+#include "closure.h"
 #include "fit.h"
 #include "fit_data.h"
 #include "h5.h"
@@ -440,6 +441,26 @@ static int exists(const char *path)
     return access(path, F_OK) == 0;
 }
 
+/* dst: the scenario file src with its [material] section replaced by
+ * `material` (the text of a [material] section). */
+static void with_material(const char *src, const char *dst, const char *material)
+{
+    char line[1024];
+    FILE *in = fopen(src, "r"), *out = fopen(dst, "w");
+    assert_non_null(in);
+    assert_non_null(out);
+    int skip = 0;
+    while (fgets(line, sizeof line, in)) {
+        if (line[0] == '[')
+            skip = !strncmp(line, "[material]", 10);
+        if (!skip)
+            fputs(line, out);
+    }
+    fputs(material, out);
+    fclose(in);
+    assert_int_equal(fclose(out), 0);
+}
+
 static void test_end_to_end(void **state)
 {
     (void)state;
@@ -493,22 +514,13 @@ static void test_end_to_end(void **state)
     /* the INI's [material] replaces simple_shear.ini's: the fitted values load */
     char merged[512], line[1024];
     tmp_path(merged, sizeof merged, "fit_merged.ini");
-    FILE *in = fopen(start, "r"), *mo = fopen(merged, "w"), *fi = fopen(ini, "r");
-    assert_non_null(in);
-    assert_non_null(mo);
+    FILE *fi = fopen(ini, "r");
     assert_non_null(fi);
-    int skip = 0;
-    while (fgets(line, sizeof line, in)) {
-        if (line[0] == '[')
-            skip = !strncmp(line, "[material]", 10);
-        if (!skip)
-            fputs(line, mo);
-    }
+    char material[16384] = "";
     while (fgets(line, sizeof line, fi))
-        fputs(line, mo);
-    fclose(in);
+        snprintf(material + strlen(material), sizeof material - strlen(material), "%s", line);
     fclose(fi);
-    fclose(mo);
+    with_material(start, merged, material);
     ekm_scenario sc;
     ekm_error e;
     assert_int_equal(ekm_scenario_load(&sc, merged, NULL, 0, &e), EKM_OK);
@@ -565,6 +577,117 @@ static void test_end_to_end(void **state)
     }
 }
 
+/* The mu_i closure through the command: --closure mu_i with a start
+ * scenario of that closure, P and |sxz| of mu_i in DEM-like profiles (T
+ * there too, not fitted); its five parameters to 1e-6 (the profiles are
+ * exact but for a scatter that averages out), FIT.json's closure and
+ * FIT.ini's keys (those mu_i reads), which load as a --material file;
+ * --fields T and --closure mu_i without --start refused. */
+static void test_end_to_end_mu_i(void **state)
+{
+    (void)state;
+    ekm_material truth = truth_material();
+    const char *keys[] = {"mu_s", "mu_2", "I_0", "phi_max", "phi_min", "d"};
+    const double values[] = {0.36, 0.7, 0.25, 0.65, 0.45, 0.002};
+    for (int i = 0; i < 6; i++)
+        cg_fit_param_set(&truth, cg_fit_param_lookup(keys[i]), values[i]);
+    char files[4096] = "", path[512], out[512], ini[512], start[512], args[8192], errbuf[4096];
+    const double phis[] = {0.52, 0.57, 0.605, 0.615, 0.625, 0.632};
+    const double gdots[] = {4.0, 15.0, 60.0};
+    for (int a = 0; a < 6; a++)
+        for (int b = 0; b < 3; b++) {
+            profiles p;
+            make_profiles(&p, phis[a], gdots[b], 0);
+            ekm_homog_state h;
+            ekm_error e;
+            assert_int_equal(ekm_closure_homog(&ekm_closure_mu_i, &truth, phis[a], gdots[b], &h, &e), EKM_OK);
+            const double v[CG_FIT_NFIELD] = {h.P, h.sxz, NAN, h.mu};
+            for (int k = 0; k < NB; k++)
+                for (int f = 0; f < CG_FIT_NFIELD; f++)
+                    if (f != CG_FIT_T) {
+                        p.f[f][k] = v[f] * (k % 2 ? 1.005 : 0.995);
+                        p.se[f][k] = REL_SE * v[f];
+                    }
+            char name[64];
+            snprintf(name, sizeof name, "fit_mu_i_%d_%d.h5", a, b);
+            write_cg(tmp_path(path, sizeof path, name), &p);
+            /* the densest six under pressure control: phi is their response */
+            snprintf(files + strlen(files), sizeof files - strlen(files), "%s %s",
+                     a == 4 && b == 0 ? " --control pressure" : "", path);
+        }
+    /* the start: simple_shear.ini with a mu_i [material] (10-30% off) */
+    char src[512];
+    snprintf(src, sizeof src, "%s/scenarios/simple_shear.ini", EKM_SOURCE_DIR);
+    tmp_path(start, sizeof start, "fit_mu_i_start.ini");
+    with_material(
+        src, start,
+        "[material]\nrho_p = 2500\nmu_s = 0.4\nmu_2 = 0.6\nI_0 = 0.3\nphi_max = 0.66\nphi_min = 0.4\n"
+        "d = 0.002\n");
+    tmp_path(out, sizeof out, "fit_mu_i.json");
+    tmp_path(ini, sizeof ini, "fit_mu_i.ini");
+    unlink(out);
+    unlink(ini);
+    snprintf(
+        args, sizeof args,
+        "--rheology%s --closure mu_i --params mu_s,mu_2,I_0,phi_max,phi_min --fields P,sxz --start %s -o %s "
+        "--ini %s",
+        files, start, out, ini);
+    if (run_fit(args, errbuf, sizeof errbuf) != 0)
+        fail_msg("ekmcompare fit %s: %s", args, errbuf);
+    json_error_t je;
+    json_t *root = json_load_file(out, 0, &je);
+    assert_non_null(root);
+    assert_string_equal(json_string_value(json_object_get(root, "closure")), "mu_i");
+    assert_true(json_is_null(json_object_get(root, "variant")));
+    for (int j = 0; j < 5; j++) {
+        json_t *pj = json_object_get(json_object_get(root, "params"), keys[j]);
+        assert_non_null(pj);
+        const double v = json_real_value(json_object_get(pj, "value"));
+        if (!(fabs(v / values[j] - 1.0) < 1e-6))
+            fail_msg("%s: fitted %.9g, truth %.9g", keys[j], v, values[j]);
+    }
+    assert_int_equal(json_object_size(json_object_get(root, "material")), 7);
+    const json_t *points = json_object_get(root, "points");
+    assert_int_equal(json_array_size(points), 18);
+    for (size_t k = 0; k < 18; k++) {
+        const json_t *pk = json_array_get(points, k);
+        assert_string_equal(json_string_value(json_object_get(pk, "control")),
+                            k >= 12 ? "pressure" : "volume");
+        const double phi_model = json_real_value(json_object_get(json_object_get(pk, "model"), "phi"));
+        assert_true(fabs(phi_model - json_real_value(json_object_get(pk, "phi"))) < 1e-6);
+    }
+    json_decref(root);
+    /* FIT.ini is a --material file of a mu_i scenario */
+    ekm_scenario sc;
+    ekm_error e;
+    const char *sets[] = {"model.closure=mu_i"};
+    assert_int_equal(ekm_scenario_load_material(&sc, src, ini, sets, 1, &e), EKM_OK);
+    assert_true(fabs(cg_fit_param_get(&sc.material, cg_fit_param_lookup("I_0")) / 0.25 - 1.0) < 1e-6);
+    ekm_scenario_free(&sc);
+    /* refusals: one line, exit 2, no output */
+    unlink(out);
+    snprintf(args, sizeof args, "--rheology%s --closure mu_i --params mu_s --fields P,sxz,T --start %s -o %s",
+             files, start, out);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
+    assert_non_null(strstr(errbuf, "--fields T: closure mu_i has no granular temperature"));
+    assert_int_equal(count_lines(errbuf), 1);
+    snprintf(args, sizeof args, "--rheology%s --closure mu_i --params mu_s --fields P -o %s", files, out);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
+    assert_non_null(strstr(errbuf, "--closure mu_i: its parameters have no defaults: give --start FILE.ini"));
+    snprintf(args, sizeof args, "--rheology%s --control temperature --params mu_s --fields P -o %s", files,
+             out);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 1);
+    assert_non_null(strstr(errbuf, "--control temperature: expected volume or pressure"));
+    snprintf(args, sizeof args, "--rheology%s --closure mu_i --params mu_s --fields sxz --start %s -o %s",
+             files, start, out);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
+    assert_non_null(strstr(errbuf, "a pressure-controlled point needs --fields P"));
+    snprintf(args, sizeof args, "--rheology%s --closure mu --params mu_s --fields P -o %s", files, out);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
+    assert_non_null(strstr(errbuf, "unknown closure 'mu': expected one of ekm_full, ekm_thesis, mu_i"));
+    assert_false(exists(out));
+}
+
 int main(void)
 {
     ekm_h5_quiet();
@@ -576,6 +699,7 @@ int main(void)
         cmocka_unit_test(test_profile_reduction),
         cmocka_unit_test(test_real_cg_output),
         cmocka_unit_test(test_end_to_end),
+        cmocka_unit_test(test_end_to_end_mu_i),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -13,6 +13,7 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "closure.h"
 #include "homogeneous.h"
 #include "scenario.h"
 
@@ -139,6 +140,60 @@ static void test_material_file_and_set(void **state)
     json_decref(root);
 }
 
+/* A closure without a temperature (mu_i): the scenario read with a mu_i
+ * material file and --set model.closure=mu_i (overriding the file's
+ * variant); T, P_K, P_Y null, P and |sxz| equal to the closure's steady
+ * shear bit for bit and to the closed form P = rho_p (d gdot / I)^2,
+ * I = (phi_max - phi)/(phi_max - phi_min); phi_max itself has no steady
+ * state. */
+static void test_mu_i_closure(void **state)
+{
+    (void)state;
+    char mat[600], ini[600], args[2048];
+    snprintf(mat, sizeof mat, "%s/homog_cli_mu_i.ini", EKM_BINARY_DIR);
+    snprintf(ini, sizeof ini, "%s/scenarios/simple_shear.ini", EKM_SOURCE_DIR);
+    FILE *fp = fopen(mat, "w");
+    assert_non_null(fp);
+    fputs("[material]\nrho_p = 2500\nmu_s = 0.38\nmu_2 = 0.64\nI_0 = 0.28\nphi_max = 0.6\nphi_min = 0.4\n"
+          "d = 0.002\n",
+          fp);
+    assert_int_equal(fclose(fp), 0);
+    snprintf(args, sizeof args,
+             "'%s' --material '%s' --set model.closure=mu_i --phi 0.5:0.6:5 --rate 10,40 --json", ini, mat);
+    json_t *root = run_homog(args);
+    assert_string_equal(json_string_value(json_object_get(root, "closure")), "mu_i");
+    assert_true(json_is_null(json_object_get(root, "variant")));
+    const json_t *material = json_object_get(root, "material");
+    assert_int_equal(json_object_size(material), 7);
+    assert_true(number(material, "d") == 0.002);
+    const char *sets[] = {"model.closure=mu_i"};
+    ekm_scenario sc;
+    ekm_error err = {0};
+    assert_int_equal(ekm_scenario_load_material(&sc, ini, mat, sets, 1, &err), EKM_OK);
+    const json_t *pts = json_object_get(root, "points");
+    assert_int_equal(json_array_size(pts), 10);
+    for (size_t i = 0; i < 10; i++) {
+        const json_t *p = json_array_get(pts, i);
+        const double phi = number(p, "phi"), rate = number(p, "rate");
+        const char *status = json_string_value(json_object_get(p, "status"));
+        if (i >= 8) { /* phi = phi_max */
+            assert_string_equal(status, "no_steady_state");
+            assert_non_null(strstr(json_string_value(json_object_get(p, "reason")), "phi_max = 0.6"));
+            continue;
+        }
+        assert_string_equal(status, "ok");
+        assert_true(json_is_null(json_object_get(p, "T")) && json_is_null(json_object_get(p, "P_K")) &&
+                    json_is_null(json_object_get(p, "P_Y")));
+        ekm_homog_state h;
+        assert_int_equal(ekm_closure_homog(sc.closure, &sc.material, phi, rate, &h, &err), EKM_OK);
+        assert_true(number(p, "P") == h.P && number(p, "abs_sxz") == h.sxz && number(p, "mu") == h.mu);
+        const double I = (0.6 - phi) / 0.2, P = 2500.0 * pow(0.002 * rate / I, 2.0);
+        assert_true(fabs(h.P / P - 1.0) < 1e-13);
+    }
+    ekm_scenario_free(&sc);
+    json_decref(root);
+}
+
 static void test_single_phi(void **state)
 {
     (void)state;
@@ -158,6 +213,7 @@ int main(void)
         cmocka_unit_test(test_scenario_material),
         cmocka_unit_test(test_material_file_and_set),
         cmocka_unit_test(test_single_phi),
+        cmocka_unit_test(test_mu_i_closure),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
