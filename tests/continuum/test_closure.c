@@ -14,6 +14,7 @@
 #include "closure.h"
 #include "homogeneous.h"
 #include "mu_i.h"
+#include "resolve.h"
 #include "scenario.h"
 
 static void assert_rel(const char *what, double got, double want, double tol)
@@ -237,6 +238,18 @@ static void test_reader(void **state)
     ekm_error err;
     assert_int_equal(load(NULL, 0, &sc, &err), EKM_OK);
     assert_ptr_equal(sc.closure, &ekm_closure_mu_i);
+    /* the resolved scenario lists the keys the closure reads, where they came from */
+    ekm_resolved r;
+    assert_int_equal(ekm_resolve(&sc, NULL, NULL, &r, &err), EKM_OK);
+    const ekm_resolve_key *k = ekm_resolve_find(&r, "material.phi_min");
+    assert_non_null(k);
+    assert_string_equal(k->value, "0.4");
+    assert_string_equal(k->from, "mu_i.ini:9");
+    assert_non_null(ekm_resolve_find(&r, "material.rho_p"));
+    assert_string_equal(ekm_resolve_find(&r, "model.closure")->value, "mu_i");
+    assert_null(ekm_resolve_find(&r, "material.eta0"));
+    assert_null(ekm_resolve_find(&r, "model.variant"));
+    ekm_resolve_free(&r);
     ekm_homog_state a, b;
     const ekm_material m = mu_i_material();
     assert_int_equal(ekm_closure_homog(sc.closure, &sc.material, 0.58, 10.0, &a, &err), EKM_OK);
