@@ -11,6 +11,7 @@ static const ekm_closure *const CLOSURES[] = {
     &ekm_closure_ekm_full,
     &ekm_closure_ekm_thesis,
     &ekm_closure_mu_i,
+    &ekm_closure_ekm_jam,
 };
 #define N_CLOSURES (sizeof CLOSURES / sizeof CLOSURES[0])
 

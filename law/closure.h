@@ -113,5 +113,6 @@ ekm_status ekm_closure_require_ekm(const ekm_closure *c, const char *what, ekm_e
 extern const ekm_closure ekm_closure_ekm_full;
 extern const ekm_closure ekm_closure_ekm_thesis;
 extern const ekm_closure ekm_closure_mu_i;
+extern const ekm_closure ekm_closure_ekm_jam;
 
 #endif

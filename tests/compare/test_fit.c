@@ -684,7 +684,8 @@ static void test_end_to_end_mu_i(void **state)
     assert_non_null(strstr(errbuf, "a pressure-controlled point needs --fields P"));
     snprintf(args, sizeof args, "--rheology%s --closure mu --params mu_s --fields P -o %s", files, out);
     assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
-    assert_non_null(strstr(errbuf, "unknown closure 'mu': expected one of ekm_full, ekm_thesis, mu_i"));
+    assert_non_null(
+        strstr(errbuf, "unknown closure 'mu': expected one of ekm_full, ekm_thesis, mu_i, ekm_jam"));
     assert_false(exists(out));
 }
 

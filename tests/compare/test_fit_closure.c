@@ -122,6 +122,50 @@ static void test_mu_i_recovers(void **state)
     cg_fit_result_free(&res);
 }
 
+/* ekm_jam's density factor from P, sxz and T below phi_co: eta0, eps0,
+ * phi_J and beta within 3 SE. */
+static void test_ekm_jam_recovers(void **state)
+{
+    (void)state;
+    ekm_material truth = ekm_material_thesis();
+    truth.rho_p = 2500.0;
+    truth.phi_co = 0.58;
+    truth.eta0 = 5e-4;
+    truth.eps0 = 320.0;
+    set_law_p(&truth, "phi_J", 0.6);
+    set_law_p(&truth, "beta", 2.0);
+    ekm_material start = truth;
+    start.eta0 = 4e-4;
+    start.eps0 = 250.0;
+    set_law_p(&start, "phi_J", 0.62);
+    set_law_p(&start, "beta", 1.5);
+    const double phis[] = {0.45, 0.50, 0.53, 0.55, 0.57};
+    cg_fit_point pts[NPTS];
+    cg_fit_problem pb = {.pts = pts,
+                         .npts = synth(&ekm_closure_ekm_jam, &truth, phis, 5, GDOTS, 3, 31, pts),
+                         .fields = 1u << CG_FIT_P | 1u << CG_FIT_SXZ | 1u << CG_FIT_T,
+                         .start = start,
+                         .closure = &ekm_closure_ekm_jam,
+                         .nstarts = 6,
+                         .seed = 7};
+    const char *names[] = {"eta0", "eps0", "phi_J", "beta"};
+    set_params(&pb, names, 4);
+    cg_fit_result res;
+    ekm_error err;
+    if (cg_fit_run(&pb, &res, &err) != EKM_OK)
+        fail_msg("%s", err.message);
+    printf("ekm_jam: chi2/dof = %.3f (dof %ld)\n", res.chi2_dof, res.dof);
+    assert_int_equal(res.nfree, 4);
+    for (size_t j = 0; j < res.nparams; j++) {
+        const double want = cg_fit_param_get(&truth, res.param[j]);
+        printf("  %-7s truth %-8.4g fit %-10.6g SE %.3g\n", cg_fit_param_name(res.param[j]), want,
+               res.value[j], res.se[j]);
+        assert_true(fabs(res.value[j] - want) < 3.0 * res.se[j]);
+    }
+    assert_true(res.chi2_dof > 0.4 && res.chi2_dof < 1.8);
+    cg_fit_result_free(&res);
+}
+
 static void test_refusals(void **state)
 {
     (void)state;
@@ -316,6 +360,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mu_i_recovers),
+        cmocka_unit_test(test_ekm_jam_recovers),
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_own_closure_wins),
         cmocka_unit_test(test_at_pressure_recovers),

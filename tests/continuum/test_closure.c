@@ -59,8 +59,8 @@ static void test_table(void **state)
     ekm_scenario_free(&defaults);
     ekm_error err;
     assert_null(ekm_closure_find("mu_of_i", &err));
-    assert_non_null(
-        strstr(err.message, "unknown closure 'mu_of_i': expected one of ekm_full, ekm_thesis, mu_i"));
+    assert_non_null(strstr(err.message,
+                           "unknown closure 'mu_of_i': expected one of ekm_full, ekm_thesis, mu_i, ekm_jam"));
 }
 
 /* The EKM styles are ekm_homog_shear of their variant, to the bit. */
@@ -147,6 +147,69 @@ static void test_mu_i_homog(void **state)
     assert_int_equal(ekm_closure_homog(c, &m, 0.5, 0.0, &h, &err), EKM_EINPUT);
 }
 
+/* An EKM material with the ekm_jam keys phi_J and beta set. */
+static ekm_material jam_material(double phi_J, double beta)
+{
+    ekm_material m = ekm_material_thesis();
+    m.rho_p = 2500.0;
+    m.phi_co = 0.55;
+    const char *keys[] = {"phi_J", "beta"};
+    const double values[] = {phi_J, beta};
+    for (size_t i = 0; i < 2; i++) {
+        const ekm_closure *owner;
+        size_t k;
+        assert_int_equal(ekm_closure_param_find(keys[i], &owner, &k), 0);
+        assert_ptr_equal(owner, &ekm_closure_ekm_jam);
+        m.law_p[ekm_closure_slot(owner, k)] = values[i];
+    }
+    return m;
+}
+
+/* ekm_jam: with beta = 1 and phi_J = phi_cp the EKM's state (to
+ * round-off); with beta = 2 P and |sxz| carry one more factor g1 =
+ * 1/(1 - phi/phi_J), T and mu are the EKM's, and below phi_co the inertial
+ * number I = gdot d / sqrt(P / rho_p) = d sqrt(3 eps0 / (2 eta0)) (1 -
+ * phi/phi_J) is linear in phi: the linear dilatancy law. */
+static void test_ekm_jam(void **state)
+{
+    (void)state;
+    const ekm_material one = jam_material(0.64, 1.0), two = jam_material(0.6, 2.0);
+    ekm_error err;
+    assert_int_equal(ekm_closure_check(&ekm_closure_ekm_jam, &two, &err), EKM_OK);
+    for (double phi = 0.2; phi < 0.595; phi += 0.05) {
+        ekm_homog_state a, b, c;
+        assert_int_equal(ekm_closure_homog(&ekm_closure_ekm_jam, &one, phi, 8.0, &a, &err), EKM_OK);
+        assert_int_equal(ekm_homog_shear(&one, EKM_VARIANT_FULL, phi, 8.0, &b, &err), EKM_OK);
+        assert_rel("beta 1: P", a.P, b.P, 1e-14);
+        assert_rel("beta 1: sxz", a.sxz, b.sxz, 1e-14);
+        assert_true(a.T == b.T);
+        ekm_material e = two;
+        e.phi_cp = 0.6;
+        assert_int_equal(ekm_closure_homog(&ekm_closure_ekm_jam, &two, phi, 8.0, &a, &err), EKM_OK);
+        assert_int_equal(ekm_homog_shear(&e, EKM_VARIANT_FULL, phi, 8.0, &c, &err), EKM_OK);
+        const double g1 = 1.0 / (1.0 - phi / 0.6);
+        assert_rel("beta 2: P", a.P, c.P * g1, 1e-13);
+        assert_rel("beta 2: sxz", a.sxz, c.sxz * g1, 1e-13);
+        assert_rel("beta 2: mu", a.mu, c.mu, 1e-13);
+        assert_true(a.T == c.T);
+        if (phi < two.phi_co) {
+            const double d = 0.002, I = 8.0 * d / sqrt(a.P / two.rho_p);
+            assert_rel("linear dilatancy", I, d * sqrt(3.0 * two.eps0 / (2.0 * two.eta0)) * (1.0 - phi / 0.6),
+                       1e-13);
+        }
+    }
+    ekm_homog_state h;
+    assert_int_equal(ekm_closure_homog(&ekm_closure_ekm_jam, &two, 0.6, 8.0, &h, &err), EKM_EINPUT);
+    assert_non_null(strstr(err.message, "phi_J = 0.6"));
+    ekm_material bad = jam_material(0.6, 0.0);
+    assert_int_equal(ekm_closure_check(&ekm_closure_ekm_jam, &bad, &err), EKM_EINPUT);
+    assert_non_null(strstr(err.message, "[material] beta: expected a positive number, got 0"));
+    bad = jam_material(0.5, 2.0); /* below its phi_co = 0.55 */
+    assert_int_equal(ekm_closure_check(&ekm_closure_ekm_jam, &bad, &err), EKM_EINPUT);
+    assert_non_null(
+        strstr(err.message, "[material] phi_co: expected a number in (0, phi_J = 0.5), got 0.55"));
+}
+
 /* Pressure control is the inverse of volume control: at the P of a state
  * found at phi, each closure finds that phi back (the EKM on both sides of
  * phi_co, both variants; mu_i), and refuses a P it cannot reach. */
@@ -155,15 +218,16 @@ static void test_at_pressure(void **state)
     (void)state;
     ekm_material m = ekm_material_thesis();
     m.rho_p = 2500.0;
-    const ekm_material mu = mu_i_material();
+    const ekm_material mu = mu_i_material(), jam = jam_material(0.62, 2.5);
     const struct {
         const ekm_closure *c;
         const ekm_material *m;
         double phi_lo, phi_hi;
     } cases[] = {{&ekm_closure_ekm_full, &m, 0.05, 0.635},
                  {&ekm_closure_ekm_thesis, &m, 0.3, 0.63},
-                 {&ekm_closure_mu_i, &mu, 0.41, 0.599}};
-    for (size_t c = 0; c < 3; c++)
+                 {&ekm_closure_mu_i, &mu, 0.41, 0.599},
+                 {&ekm_closure_ekm_jam, &jam, 0.05, 0.615}};
+    for (size_t c = 0; c < 4; c++)
         for (double gdot = 0.5; gdot < 100.0; gdot *= 4.0)
             for (int i = 0; i <= 20; i++) {
                 const double phi = cases[c].phi_lo + (cases[c].phi_hi - cases[c].phi_lo) * i / 20.0;
@@ -263,7 +327,7 @@ static void test_reader(void **state)
         {"model.closure=ekm_full", "mu_i.ini:5: [material] mu_s: a parameter of closure mu_i, but [model] "
                                    "closure = ekm_full"},
         {"model.closure=mu",
-         "[model] closure: unknown closure 'mu': expected one of ekm_full, ekm_thesis, mu_i"},
+         "[model] closure: unknown closure 'mu': expected one of ekm_full, ekm_thesis, mu_i, ekm_jam"},
         /* a --set of either spelling overrides the file's other one */
         {"model.variant=thesis", "mu_i.ini:5: [material] mu_s: a parameter of closure mu_i, but [model] "
                                  "closure = ekm_thesis"},
@@ -362,8 +426,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_table),       cmocka_unit_test(test_ekm_styles),
         cmocka_unit_test(test_mu_i_homog),  cmocka_unit_test(test_mu_i_ranges),
-        cmocka_unit_test(test_at_pressure), cmocka_unit_test(test_reader),
-        cmocka_unit_test(test_reader_ekm),
+        cmocka_unit_test(test_at_pressure), cmocka_unit_test(test_ekm_jam),
+        cmocka_unit_test(test_reader),      cmocka_unit_test(test_reader_ekm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
