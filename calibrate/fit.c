@@ -118,16 +118,15 @@ static transform param_transform(int index)
 
 static double *param_ptr(ekm_material *m, int index)
 {
-    if (index >= NPARAM_EKM)
-        return &m->law_p[index - NPARAM_EKM];
+    if (index >= NPARAM_EKM) /* its law_p slot or the field it names (closure.h) */
+        return ekm_closure_slot_ptr((size_t)(index - NPARAM_EKM), m);
     return (double *)((char *)m + PARAMS[index].offset);
 }
 
 double cg_fit_param_get(const ekm_material *m, int index)
 {
-    if (index >= NPARAM_EKM)
-        return m->law_p[index - NPARAM_EKM];
-    return *(const double *)((const char *)m + PARAMS[index].offset);
+    ekm_material copy = *m;
+    return *param_ptr(&copy, index);
 }
 
 void cg_fit_param_set(ekm_material *m, int index, double v)

@@ -98,20 +98,14 @@ static thermal_rate_max thermal_rate(const ekm_scenario *sc, const ekm_state *s)
     const ekm_material *m = &sc->material;
     const double phi_dry = sc->numerics.phi_dry;
     thermal_rate_max th = {0.0, -1};
-    /* eps P_K / (P_K + P_Y) with eps = eps0 g (sqrt(T) + nu Y / sqrt(T)),
-     * P_K = rho_p g phi T, P_Y = rho_p g phi Y, g = phi_cp / (phi_cp - phi),
-     * Y = T0 (phi - phi_co)+ / phi:
-     *   eps0 g sqrt(T) (T + nu Y) / (T + Y)
-     *   = eps0 sqrt(T) phi_cp (phi T + nu T0 x) / ((phi_cp - phi) (phi T + T0 x)),
-     * x = (phi - phi_co)+: one division per cell, no branch (cells without a
-     * rate get 0; the loop vectorises), then the cell of the largest. */
+    /* ekm_thermal_relaxation_rate: cells without a rate get a harmless
+     * state and are not counted, with no branch (the loop vectorises), then
+     * the cell of the largest */
     for (int j = 0; j < s->n; j++) {
         const double phi = s->phi[j], T = s->T[j];
         const int has_rate = (phi >= phi_dry) & !s->solid[j] & (T > 0.0);
-        const double x = max2(phi - m->phi_co, 0.0), Tp = has_rate ? T : 1.0,
-                     pp = has_rate ? phi : 0.5 * m->phi_cp;
-        const double rate = m->eps0 * sqrt(Tp) * m->phi_cp * (pp * Tp + m->nu * m->T0 * x) /
-                            ((m->phi_cp - pp) * (pp * Tp + m->T0 * x));
+        const double Tp = has_rate ? T : 1.0, pp = has_rate ? phi : 0.5 * m->phi_cp;
+        const double rate = ekm_thermal_relaxation_rate(m, pp, Tp);
         if (has_rate && rate > th.rate) {
             th.rate = rate;
             th.cell = j;

@@ -108,11 +108,13 @@ static json_t *homog_material_json(const ekm_closure *c, const ekm_material *m)
     if (!c->is_ekm) {
         /* the keys the closure reads: the EKM's it names and its own */
         json_t *o = json_object();
-        for (const char *const *k = c->ekm_keys; o && *k; k++)
-            if (strcmp(*k, "rho_p") == 0)
-                json_object_set_new(o, *k, json_real(m->rho_p));
+        for (const char *const *k = c->ekm_keys; o && *k; k++) {
+            const double *v = ekm_material_key(m, *k);
+            if (v)
+                json_object_set_new(o, *k, json_real(*v));
+        }
         for (size_t k = 0; o && k < c->nparams; k++)
-            json_object_set_new(o, c->params[k].key, json_real(m->law_p[ekm_closure_slot(c, k)]));
+            json_object_set_new(o, c->params[k].key, json_real(ekm_closure_param_value(c, k, m)));
         return o;
     }
     return json_pack("{s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f}", "rho_p", m->rho_p,

@@ -92,13 +92,6 @@ void ekm_state_copy_step(ekm_state *dst, const ekm_state *src, int grid, int sol
     dst->mass_in = src->mass_in;
 }
 
-/* phi with P_Y(phi) = P: P (1 - phi/phi_cp) = rho_p T0 (phi - phi_co). */
-static double phi_of_yield_pressure(const ekm_material *m, double P)
-{
-    const double K = m->rho_p * m->T0;
-    return (P + K * m->phi_co) / (K + P / m->phi_cp);
-}
-
 /* [initial] settled: a solid layer at rest under the initial gravity, every
  * cell at its yield pressure (tr(sigma) = -3 P_Y, isotropic normal stress)
  * with the discrete momentum balance of the solver exactly satisfied:
@@ -121,7 +114,7 @@ static void settle(ekm_state *s, const ekm_scenario *sc)
         for (int it = 0; it < 100; it++) {
             const double load = j == top - 1 ? m->rho_p * phi * gn * s->dz / 2
                                              : -sig_above + m->rho_p * 0.5 * (phi + phi_above) * gn * s->dz;
-            const double next = phi_of_yield_pressure(m, load);
+            const double next = ekm_phi_of_yield_pressure(m, load);
             if (fabs(next - phi) < 1e-15)
                 break;
             phi = next;

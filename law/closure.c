@@ -53,6 +53,27 @@ size_t ekm_closure_slot(const ekm_closure *c, size_t k)
     return slot + k;
 }
 
+double *ekm_closure_param_ptr(const ekm_closure *c, size_t k, ekm_material *m)
+{
+    return c->params[k].field ? c->params[k].field(m) : &m->law_p[ekm_closure_slot(c, k)];
+}
+
+double ekm_closure_param_value(const ekm_closure *c, size_t k, const ekm_material *m)
+{
+    ekm_material copy = *m; /* the field accessors take a writable material */
+    return *ekm_closure_param_ptr(c, k, &copy);
+}
+
+double *ekm_closure_slot_ptr(size_t slot, ekm_material *m)
+{
+    for (size_t i = 0; i < N_CLOSURES; i++) {
+        if (slot < CLOSURES[i]->nparams)
+            return ekm_closure_param_ptr(CLOSURES[i], slot, m);
+        slot -= CLOSURES[i]->nparams;
+    }
+    return NULL;
+}
+
 int ekm_closure_param_find(const char *key, const ekm_closure **c, size_t *k)
 {
     for (size_t i = 0; i < N_CLOSURES; i++)
@@ -100,10 +121,10 @@ ekm_status ekm_closure_homog_at_pressure(const ekm_closure *c, const ekm_materia
 
 ekm_status ekm_closure_require_ekm(const ekm_closure *c, const char *what, ekm_error *err)
 {
-    if (c->is_ekm)
+    if (c->ekm_transport)
         return EKM_OK;
     return EKM_FAIL(err, EKM_EUNAVAILABLE,
-                    "[model] closure = %s: %s solves the EKM's closures only (ekm_full, ekm_thesis); %s runs "
-                    "in ekm homog and ekmcompare fit --rheology (docs/model/closures.md)",
+                    "[model] closure = %s: %s solves the EKM's transport law only (ekm_full, ekm_thesis, "
+                    "ekm_jam); %s runs in ekm homog and ekmcompare fit --rheology (docs/model/closures.md)",
                     c->name, what, c->name);
 }

@@ -11,14 +11,18 @@
  * the file to law/CMakeLists.txt).
  *
  * The EKM's two variants are the styles ekm_full and ekm_thesis
- * (`[model] variant = full | thesis` is the older spelling of the same):
- * every solver runs them. The other styles run where their functions
- * exist (today: the homogeneous steady shear, `ekm homog` and `ekmcompare
- * fit --rheology`); elsewhere the tool refuses them by name
- * (ekm_closure_require_ekm).
+ * (`[model] variant = full | thesis` is the older spelling of the same).
+ * Every solver runs the styles that are the EKM's transport law with
+ * their material (ekm_transport: the EKM's, and ekm_jam, whose phi_J and
+ * beta are the material's phi_cp and g_beta). The other styles run where
+ * their functions exist (today: the homogeneous steady shear, `ekm homog`
+ * and `ekmcompare fit --rheology`); elsewhere the tool refuses them by
+ * name (ekm_closure_require_ekm).
  *
- * The parameters of the non-EKM styles live in ekm_material.law_p, one
- * slot per registered parameter (the table's order), NAN when not given.
+ * A style's parameters live in ekm_material.law_p, one slot per
+ * registered parameter in the table's order, NAN when not given; or, for
+ * a parameter that is an EKM material field under its own name (field),
+ * in that field.
  */
 #ifndef EKM_CLOSURE_H
 #define EKM_CLOSURE_H
@@ -44,14 +48,19 @@ typedef struct {
     const char *unit;      /* SI unit, "1" for a number */
     const char *about;     /* one line: what it is */
     ekm_param_range range; /* what the fit keeps it in */
+    /* NULL: held in its law_p slot; else the ekm_material field that holds
+     * it (ekm_jam's phi_J: &m->phi_cp) */
+    double *(*field)(ekm_material *m);
 } ekm_closure_param;
 
 typedef struct ekm_closure ekm_closure;
 struct ekm_closure {
     const char *name;    /* `[model] closure` value */
     const char *about;   /* one line, with its reference */
-    int is_ekm;          /* 1: the EKM's transport law (variant below): every solver runs it */
-    ekm_variant variant; /* is_ekm: which variant */
+    int is_ekm;          /* 1: one of the EKM's two variants (ekm_full, ekm_thesis) */
+    int ekm_transport;   /* 1: the EKM's transport law (model.h) with its material, variant
+                          * below: every solver runs it */
+    ekm_variant variant; /* ekm_transport: which variant */
     int has_temperature; /* 0: no granular temperature (its T is n/a: NAN) */
     /* the EKM [material] keys it reads (NULL-terminated; NULL: all of them) */
     const char *const *ekm_keys;
@@ -84,6 +93,15 @@ const ekm_closure *ekm_closure_of_variant(ekm_variant v);
 /* The slot in ekm_material.law_p of parameter k of closure c. */
 size_t ekm_closure_slot(const ekm_closure *c, size_t k);
 
+/* Where parameter k of closure c is held in m: its law_p slot or its field. */
+double *ekm_closure_param_ptr(const ekm_closure *c, size_t k, ekm_material *m);
+double ekm_closure_param_value(const ekm_closure *c, size_t k, const ekm_material *m);
+
+/* The same by global slot (ekm_closure_slot's numbering over every
+ * registered closure; the fit's parameter index space); NULL when no
+ * registered parameter has that slot. */
+double *ekm_closure_slot_ptr(size_t slot, ekm_material *m);
+
 /* The closure and parameter index whose [material] key is `key`, over
  * every registered closure; 0 if found, -1 if not. */
 int ekm_closure_param_find(const char *key, const ekm_closure **c, size_t *k);
@@ -105,8 +123,9 @@ ekm_status ekm_closure_homog(const ekm_closure *c, const ekm_material *m, double
 ekm_status ekm_closure_homog_at_pressure(const ekm_closure *c, const ekm_material *m, double P, double gdot,
                                          ekm_homog_state *out, ekm_error *err);
 
-/* EKM_OK for an EKM style; else EKM_EUNAVAILABLE naming the closure and
- * `what` (the tool or command that needs the EKM, e.g. "ekm run"). */
+/* EKM_OK for a style that is the EKM's transport law (ekm_transport);
+ * else EKM_EUNAVAILABLE naming the closure and `what` (the tool or command
+ * that needs the EKM, e.g. "ekm run"). */
 ekm_status ekm_closure_require_ekm(const ekm_closure *c, const char *what, ekm_error *err);
 
 /* The registered styles (closure_<name>.c). */

@@ -4,6 +4,8 @@
 
 #include <math.h>
 
+#include "root.h"
+
 ekm_status ekm_homog_shear(const ekm_material *m, ekm_variant v, double phi, double gdot,
                            ekm_homog_state *out, ekm_error *err)
 {
@@ -32,6 +34,23 @@ ekm_status ekm_homog_shear(const ekm_material *m, ekm_variant v, double phi, dou
     return EKM_OK;
 }
 
+typedef struct {
+    const ekm_material *m;
+    ekm_variant v;
+    double P, gdot; /* [Pa], [1/s] */
+} pressure_target;
+
+/* log(P(phi) / P) of the steady shear at gdot; NAN outside (0, phi_cp) */
+static double pressure_mismatch(double phi, void *params)
+{
+    const pressure_target *q = params;
+    ekm_homog_state h;
+    ekm_error e;
+    if (ekm_homog_shear(q->m, q->v, phi, q->gdot, &h, &e) != EKM_OK)
+        return NAN;
+    return log(h.P / q->P);
+}
+
 ekm_status ekm_homog_shear_at_pressure(const ekm_material *m, ekm_variant v, double P, double gdot,
                                        ekm_homog_state *out, ekm_error *err)
 {
@@ -46,8 +65,22 @@ ekm_status ekm_homog_shear_at_pressure(const ekm_material *m, ekm_variant v, dou
             "P = %g, gdot = %g: expected P above the dilute limit rho_p 2 eta0 gdot^2 / (3 eps0) = "
             "%g Pa (no volume fraction gives a lower pressure at this rate)",
             P, gdot, rK);
-    double phi = m->phi_cp * (1.0 - rK / P);
-    if (phi > m->phi_co)
-        phi = m->phi_cp * (P - rK + m->rho_p * m->T0 * m->phi_co) / (P + m->rho_p * m->phi_cp * m->T0);
+    if (m->g_beta == 1.0) { /* P = rho_p g (phi T + T0 (phi - phi_co)_+), phi T = rK/rho_p */
+        double phi = m->phi_cp * (1.0 - rK / P);
+        if (phi > m->phi_co)
+            phi = m->phi_cp * (P - rK + m->rho_p * m->T0 * m->phi_co) / (P + m->rho_p * m->phi_cp * m->T0);
+        return ekm_homog_shear(m, v, phi, gdot, out, err);
+    }
+    /* P rises with phi from rK at phi -> 0 to infinity at phi_cp: its root */
+    pressure_target q = {m, v, P, gdot};
+    double lo = 1e-12 * m->phi_cp, hi = m->phi_cp * (1.0 - 1e-15);
+    if (!(pressure_mismatch(lo, &q) < 0.0 && pressure_mismatch(hi, &q) > 0.0))
+        return EKM_FAIL(err, EKM_ENUMERIC, "P = %g, gdot = %g: no volume fraction in (0, phi_cp) brackets it",
+                        P, gdot);
+    double phi;
+    ekm_error rerr;
+    if (ekm_root_bracketed(pressure_mismatch, &q, lo, hi, &phi, &rerr) != EKM_OK)
+        return EKM_FAIL(err, rerr.code, "P = %g, gdot = %g: the volume fraction at this pressure: %s", P,
+                        gdot, rerr.message);
     return ekm_homog_shear(m, v, phi, gdot, out, err);
 }

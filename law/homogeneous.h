@@ -40,9 +40,11 @@ ekm_status ekm_homog_shear(const ekm_material *m, ekm_variant v, double phi, dou
 /* The same state at a given pressure P > 0 [Pa] and shear rate gdot > 0
  * (pressure control): with K = 2 eta0 gdot^2 / (3 eps0) = phi T,
  * P = rho_p g(phi) (K + T0 (phi - phi_co)_+) rises with phi, and its
- * inverse is closed:
+ * inverse is closed when g_beta = 1:
  *   phi = phi_cp (1 - rho_p K / P)                              if that is <= phi_co,
- *   phi = phi_cp (P - rho_p K + rho_p T0 phi_co) / (P + rho_p phi_cp T0)  otherwise.
+ *   phi = phi_cp (P - rho_p K + rho_p T0 phi_co) / (P + rho_p phi_cp T0)  otherwise;
+ * else phi is the root of P(phi) on (0, phi_cp) (GSL's Brent solver;
+ * EKM_ENUMERIC if not found).
  * EKM_EINPUT when P <= rho_p K (the dilute limit of P at this rate: no
  * volume fraction gives so low a pressure). */
 ekm_status ekm_homog_shear_at_pressure(const ekm_material *m, ekm_variant v, double P, double gdot,

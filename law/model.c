@@ -2,6 +2,9 @@
 #include "model.h"
 
 #include <math.h>
+#include <string.h>
+
+#include "root.h"
 
 ekm_material ekm_material_thesis(void)
 {
@@ -18,10 +21,27 @@ ekm_material ekm_material_thesis(void)
         .A_h = 200e6,
         .B_h = 200e6,
         .alpha = 0.0,
+        .g_beta = 1.0,
     };
     for (int i = 0; i < EKM_LAW_PARAMS_MAX; i++)
         m.law_p[i] = NAN; /* no other closure's parameters given */
     return m;
+}
+
+const double *ekm_material_key(const ekm_material *m, const char *key)
+{
+    const struct {
+        const char *key;
+        const double *field;
+    } keys[] = {
+        {"rho_p", &m->rho_p}, {"phi_co", &m->phi_co}, {"phi_cp", &m->phi_cp},   {"T0", &m->T0},
+        {"eta0", &m->eta0},   {"zeta0", &m->zeta0},   {"lambda0", &m->lambda0}, {"eps0", &m->eps0},
+        {"nu", &m->nu},       {"A_h", &m->A_h},       {"B_h", &m->B_h},         {"alpha", &m->alpha},
+    };
+    for (unsigned i = 0; i < sizeof keys / sizeof keys[0]; i++)
+        if (strcmp(keys[i].key, key) == 0)
+            return keys[i].field;
+    return NULL;
 }
 
 ekm_status ekm_material_check(const ekm_material *m, ekm_error *err)
@@ -41,6 +61,11 @@ ekm_status ekm_material_check(const ekm_material *m, ekm_error *err)
         return EKM_FAIL(err, EKM_EINPUT, "[material] lambda0: expected a number >= 0, got %g", m->lambda0);
     if (!(m->alpha >= 0.0))
         return EKM_FAIL(err, EKM_EINPUT, "[material] alpha: expected a number >= 0, got %g", m->alpha);
+    if (!(m->g_beta > 0.0 && isfinite(m->g_beta)))
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "the density factor's exponent g_beta (closure ekm_jam: [material] beta): expected "
+                        "a positive number, got %g",
+                        m->g_beta);
     if (!(m->phi_cp < 1.0))
         return EKM_FAIL(err, EKM_EINPUT, "[material] phi_cp: expected a number in (0, 1), got %g", m->phi_cp);
     if (!(m->phi_co > 0.0 && m->phi_co < m->phi_cp))
@@ -49,15 +74,20 @@ ekm_status ekm_material_check(const ekm_material *m, ekm_error *err)
     return EKM_OK;
 }
 
-/* g(phi) = 1/(1 - phi/phi_cp) */
-static inline double phi_cp_factor(const ekm_material *m, double phi)
-{
-    return 1.0 / (1.0 - phi / m->phi_cp);
-}
-
+/* g(phi) = (1 - phi/phi_cp)^(-g_beta); the EKM's 1/(1 - phi/phi_cp) as
+ * written before the exponent existed (the same bits) */
 double ekm_g(const ekm_material *m, double phi)
 {
-    return phi_cp_factor(m, phi);
+    if (m->g_beta == 1.0)
+        return 1.0 / (1.0 - phi / m->phi_cp);
+    return pow(1.0 - phi / m->phi_cp, -m->g_beta);
+}
+
+double ekm_g_dphi(const ekm_material *m, double phi, double g)
+{
+    if (m->g_beta == 1.0)
+        return g * g / m->phi_cp;
+    return m->g_beta * g / (m->phi_cp - phi);
 }
 
 double ekm_pressure_kinetic(const ekm_material *m, double phi, double T)
@@ -68,6 +98,36 @@ double ekm_pressure_kinetic(const ekm_material *m, double phi, double T)
 double ekm_pressure_yield(const ekm_material *m, double phi)
 {
     return phi > m->phi_co ? m->rho_p * m->T0 * (phi - m->phi_co) * ekm_g(m, phi) : 0.0;
+}
+
+typedef struct {
+    const ekm_material *m;
+    double P; /* [Pa] */
+} yield_target;
+
+static double yield_mismatch(double phi, void *params)
+{
+    const yield_target *y = params;
+    return ekm_pressure_yield(y->m, phi) - y->P;
+}
+
+double ekm_phi_of_yield_pressure(const ekm_material *m, double P)
+{
+    if (!(P > 0.0))
+        return m->phi_co;
+    if (m->g_beta == 1.0) { /* P (1 - phi/phi_cp) = rho_p T0 (phi - phi_co) */
+        const double K = m->rho_p * m->T0;
+        return (P + K * m->phi_co) / (K + P / m->phi_cp);
+    }
+    /* P_Y rises from 0 at phi_co to infinity at phi_cp */
+    const double hi = m->phi_cp * (1.0 - 1e-15);
+    if (!(ekm_pressure_yield(m, hi) > P))
+        return hi;
+    yield_target y = {m, P};
+    double phi;
+    ekm_error err;
+    (void)ekm_root_bracketed(yield_mismatch, &y, m->phi_co, hi, &phi, &err);
+    return phi; /* on a (never seen) failure, the solver's last estimate, inside the bracket */
 }
 
 double ekm_yield_temperature(const ekm_material *m, double phi)
@@ -203,7 +263,7 @@ double ekm_temperature_local_balance(const ekm_material *m, ekm_variant v, doubl
 double ekm_pressure_dphi(const ekm_material *m, double phi, double T)
 {
     const double g = ekm_g(m, phi);
-    const double dg = g * g / m->phi_cp; /* dg/dphi */
+    const double dg = ekm_g_dphi(m, phi, g);
     double K = T * (g + phi * dg);
     if (phi > m->phi_co)
         K += m->T0 * (g + (phi - m->phi_co) * dg);
@@ -218,7 +278,7 @@ double ekm_sound_speed(const ekm_material *m, double phi, double T)
 double ekm_sound_speed_squared(const ekm_material *m, double phi, double T)
 {
     const double g = ekm_g(m, phi);
-    const double dg = g * g / m->phi_cp; /* dg/dphi */
+    const double dg = ekm_g_dphi(m, phi, g);
     double c2 = T * (g + phi * dg) + 2.0 / 3.0 * T * g * g;
     if (phi > m->phi_co)
         c2 += m->T0 * (g + (phi - m->phi_co) * dg);

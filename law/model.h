@@ -5,7 +5,7 @@
  * granular temperature per degree of freedom [m^2/s^2]; stress negative in
  * compression, P = -tr(sigma)/3 positive in compression.  With
  *
- *   g(phi) = 1 / (1 - phi/phi_cp)
+ *   g(phi) = (1 - phi/phi_cp)^(-g_beta)          g_beta = 1 in the EKM
  *   P_K    = rho_p phi T g                       kinetic pressure   [Pa]
  *   P_Y    = rho_p T0 (phi - phi_co)_+ g         yield pressure     [Pa]
  *   r      = P_Y / P_K = Y / T,  Y = T0 (phi - phi_co)_+ / phi    [m^2/s^2]
@@ -53,6 +53,8 @@ typedef struct {
     double A_h;     /* hypoplastic stiffness, volumetric part [Pa] */
     double B_h;     /* hypoplastic stiffness, shear part [Pa] */
     double alpha;   /* exponent of the hypoplastic density factor f(phi) [-] */
+    double g_beta;  /* exponent of the density factor g(phi) [-]: 1 in the EKM; the
+                     * ekm_jam closure's beta (closure_ekm_jam.c), not an EKM key */
     /* the other closures' parameters (closure.h: their keys and units; NAN:
      * not given; an EKM style reads none of them) */
     double law_p[EKM_LAW_PARAMS_MAX];
@@ -77,13 +79,32 @@ typedef struct {
 /* Thesis default material (Sections 4.6.2, 6.5) in SI. */
 ekm_material ekm_material_thesis(void);
 
+/* The field of the EKM [material] key `key` (rho_p ... alpha: the twelve
+ * keys of docs/scenario-format.md); NULL for any other name. */
+const double *ekm_material_key(const ekm_material *m, const char *key);
+
 /* Check ranges (0 < phi_co < phi_cp < 1, positive constants); names the
  * offending key in err. */
 ekm_status ekm_material_check(const ekm_material *m, ekm_error *err);
 
+/* The density factor g(phi) = (1 - phi/phi_cp)^(-g_beta), 0 <= phi < phi_cp. */
 double ekm_g(const ekm_material *m, double phi);
+/* dg/dphi at phi, given g = ekm_g(m, phi): g_beta g / (phi_cp - phi). */
+double ekm_g_dphi(const ekm_material *m, double phi, double g);
+/* The same g, as the per-cell loops of the solvers write it (model.c's
+ * ekm_g to round-off): phi_cp / (phi_cp - phi) when g_beta = 1, with no
+ * call, so that a loop over cells vectorises. */
+static inline double ekm_g_cell(const ekm_material *m, double phi)
+{
+    return m->g_beta == 1.0 ? m->phi_cp / (m->phi_cp - phi)
+                            : __builtin_pow(1.0 - phi / m->phi_cp, -m->g_beta);
+}
 double ekm_pressure_kinetic(const ekm_material *m, double phi, double T);
 double ekm_pressure_yield(const ekm_material *m, double phi);
+/* The volume fraction whose yield pressure is P >= 0 [Pa]: phi_co for P = 0,
+ * in [phi_co, phi_cp) (P_Y rises from 0 to infinity there); a closed form
+ * when g_beta = 1, else GSL's Brent root. */
+double ekm_phi_of_yield_pressure(const ekm_material *m, double P);
 /* Y = T0 (phi - phi_co)_+ / phi, so that r = P_Y/P_K = Y/T [m^2/s^2]. */
 double ekm_yield_temperature(const ekm_material *m, double phi);
 
@@ -96,7 +117,7 @@ ekm_transport ekm_transport_coefficients(const ekm_material *m, ekm_variant v, d
  * phi > 0 and T > 0 (the step's wet cells: phi >= phi_dry > 0, T >= T_floor
  * > 0); no branch on a division, so that a loop over cells vectorises. */
 typedef struct {
-    double g;      /* density factor 1/(1 - phi/phi_cp) [-] */
+    double g;      /* density factor g(phi) [-] */
     double Y;      /* yield temperature [m^2/s^2] */
     double eta;    /* shear viscosity [Pa s] */
     double mu_n;   /* normal viscosity of sigma_zz [Pa s] */
@@ -109,7 +130,7 @@ static inline ekm_cell_properties ekm_cell_properties_at(const ekm_material *m, 
                                                          double T)
 {
     ekm_cell_properties c;
-    const double g = m->phi_cp / (m->phi_cp - phi);
+    const double g = ekm_g_cell(m, phi);
     const double a = __builtin_sqrt(T);
     const double above_co = phi - m->phi_co;
     const double excess = above_co > 0.0 ? above_co : 0.0;
@@ -125,6 +146,22 @@ static inline ekm_cell_properties ekm_cell_properties_at(const ekm_material *m, 
     c.zeta = zeta;
     c.P = rg * (phi * T + m->T0 * excess);
     return c;
+}
+
+/* The rate at which dissipation relaxes T at a flowing cell (phi, T > 0),
+ * eps P_K / (P_K + P_Y) [1/s], with eps = eps0 g (sqrt(T) + nu Y/sqrt(T)),
+ * P_K = rho_p g phi T, P_Y = rho_p g phi Y, Y = T0 (phi - phi_co)_+ / phi:
+ *   eps0 sqrt(T) g (phi T + nu T0 x) / (phi T + T0 x),  x = (phi - phi_co)_+
+ * (the time steps' thermal limit). With g_beta = 1, g = phi_cp/(phi_cp -
+ * phi) as the solvers always wrote it: one division, no call, so that a
+ * loop over cells vectorises. */
+static inline double ekm_thermal_relaxation_rate(const ekm_material *m, double phi, double T)
+{
+    const double above_co = phi - m->phi_co;
+    const double x = above_co > 0.0 ? above_co : 0.0;
+    const double g_num = m->g_beta == 1.0 ? m->phi_cp : (m->phi_cp - phi) * ekm_g_cell(m, phi);
+    return m->eps0 * __builtin_sqrt(T) * g_num * (phi * T + m->nu * m->T0 * x) /
+           ((m->phi_cp - phi) * (phi * T + m->T0 * x));
 }
 
 /* The normal stresses of plane strain (x, z in the plane, y out of it;

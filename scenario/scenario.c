@@ -494,7 +494,7 @@ static int closure_param(parse_ctx *c, const char *section, const char *key, con
     double v;
     if (!parse_double(value, &v))
         return fail_once(c, EKM_EINPUT, "[%s] %s: expected a number, got '%s'", section, key, value);
-    c->s->material.law_p[ekm_closure_slot(owner, k)] = v;
+    *ekm_closure_param_ptr(owner, k, &c->s->material) = v;
     if (record_entry(&c->s->entries, &c->s->n_entries, section, key, value, c->origin, c->line, c->err) !=
         EKM_OK)
         return record_failed(c);
@@ -949,7 +949,7 @@ static ekm_status check_closure(const parse_ctx *c, ekm_scenario *s, ekm_error *
                         s->variant == EKM_VARIANT_THESIS ? "thesis" : "full", s->closure->name);
     if (!has_closure)
         s->closure = ekm_closure_of_variant(s->variant);
-    else if (s->closure->is_ekm)
+    else if (s->closure->ekm_transport)
         s->variant = s->closure->variant;
     for (size_t i = 0; i < s->n_entries; i++) {
         const ekm_entry *e = &s->entries[i];

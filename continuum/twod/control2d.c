@@ -104,9 +104,7 @@ static double max_dt_local(const ekm2d_step *st, PetscScalar ***u, int acoustic,
                     fmin(*dt_solid_floor, cfl * h / (fmax(vx, vz) + ekm_sound_speed(m, phi, T)));
                 continue;
             }
-            const double x = fmax(phi - m->phi_co, 0.0);
-            const double relax = m->eps0 * sqrt(T) * m->phi_cp * (phi * T + m->nu * m->T0 * x) /
-                                 ((m->phi_cp - phi) * (phi * T + m->T0 * x));
+            const double relax = ekm_thermal_relaxation_rate(m, phi, T);
             if (relax > 0.0)
                 take(&dt, why, sc->numerics.thermal_relax_step / relax, LIM_THERMAL, i, j);
         }

@@ -343,10 +343,7 @@ static double thermal_rate(const ekm2d_step *st, PetscScalar ***u)
             if (!(phi >= st->sc->numerics.phi_dry && T > 0.0) ||
                 (g->s_solid >= 0 && u[j][i][g->s_solid] > 0.5))
                 continue;
-            const double x = fmax(phi - m->phi_co, 0.0);
-            const double r = m->eps0 * sqrt(T) * m->phi_cp * (phi * T + m->nu * m->T0 * x) /
-                             ((m->phi_cp - phi) * (phi * T + m->T0 * x));
-            rate = fmax(rate, r);
+            rate = fmax(rate, ekm_thermal_relaxation_rate(m, phi, T));
         }
     return rate;
 }

@@ -26,7 +26,7 @@ static void set_law_p(ekm_material *m, const char *key, double v)
     const ekm_closure *c;
     size_t k;
     assert_int_equal(ekm_closure_param_find(key, &c, &k), 0);
-    m->law_p[ekm_closure_slot(c, k)] = v;
+    *ekm_closure_param_ptr(c, k, m) = v;
 }
 
 /* mu_i with the given parameters on the DEM grains' density. */

@@ -54,7 +54,10 @@ static void test_cooling(void **state)
 
 /* ---- steady Couette = homogeneous simple shear ---- */
 
-static void couette_case(double phi, const char *t_end, const char *cells)
+/* scenario: the shear cell (the EKM) or a closure's; g_of: its density
+ * factor written out here, independently of the law's code */
+static void couette_run(const char *scenario, double (*g_of)(double phi), double phi, const char *t_end,
+                        const char *cells)
 {
     char set_phi[64], set_rate[64], set_T[64];
     const double L = 0.042, V = 0.42, gdot = V / L;
@@ -66,13 +69,13 @@ static void couette_case(double phi, const char *t_end, const char *cells)
     {
         ekm_scenario tmp;
         ekm_error e;
-        assert_int_equal(ekm_scenario_load(&tmp, test_path("scenarios/shear_cell.ini"), NULL, 0, &e), EKM_OK);
+        assert_int_equal(ekm_scenario_load(&tmp, test_path(scenario), NULL, 0, &e), EKM_OK);
         m = tmp.material;
         ekm_scenario_free(&tmp);
     }
     assert_true(m.nu == 1.0);
     const double T_exact = 2 * m.eta0 * gdot * gdot / (3 * phi * m.eps0);
-    const double g = ekm_g(&m, phi);
+    const double g = g_of(phi);
     const double P_exact =
         m.rho_p * g * (2 * m.eta0 * gdot * gdot / (3 * m.eps0) + m.T0 * fmax(phi - m.phi_co, 0.0));
     const double mu_exact = sqrt(3 * m.eta0 * m.eps0 / (2 * phi));
@@ -83,7 +86,7 @@ static void couette_case(double phi, const char *t_end, const char *cells)
     /* the fixed-gap cell: the wall stays put, the run goes to t_end */
     const char *sets[] = {
         set_phi, set_rate, set_T, set_t, set_n, "run.output_dt=0.1", "top.pressure=none", "run.stop=t_end"};
-    assert_int_equal(test_run_scenario(&r, "scenarios/shear_cell.ini", sets, 8, NULL, NULL), EKM_OK);
+    assert_int_equal(test_run_scenario(&r, scenario, sets, 8, NULL, NULL), EKM_OK);
     const int n = r.s->n;
     double *buf = calloc((size_t)n * 5, sizeof(double));
     int *regime = calloc((size_t)n, sizeof(int));
@@ -96,8 +99,8 @@ static void couette_case(double phi, const char *t_end, const char *cells)
         emu = fmax(emu, fabs(fabs(f.sxz[j]) / f.P[j] / mu_exact - 1));
         ephi = fmax(ephi, fabs(r.s->phi[j] / phi - 1));
     }
-    printf("couette phi = %.2f: T %.6g (exact %.6g)  rel errors T %.2e  P %.2e  sxz/P %.2e  phi %.2e\n", phi,
-           r.s->T[n / 2], T_exact, eT, eP, emu, ephi);
+    printf("couette %s phi = %.2f: T %.6g (exact %.6g)  rel errors T %.2e  P %.2e  sxz/P %.2e  phi %.2e\n",
+           scenario, phi, r.s->T[n / 2], T_exact, eT, eP, emu, ephi);
     assert_true(eT < 1e-3);
     assert_true(eP < 1e-3);
     assert_true(emu < 1e-3);
@@ -105,6 +108,17 @@ static void couette_case(double phi, const char *t_end, const char *cells)
     free(buf);
     free(regime);
     test_run_free(&r);
+}
+
+/* the EKM's g = 1/(1 - phi/phi_cp), phi_cp = 0.64 of shear_cell.ini */
+static double g_ekm(double phi)
+{
+    return 1.0 / (1.0 - phi / 0.64);
+}
+
+static void couette_case(double phi, const char *t_end, const char *cells)
+{
+    couette_run("scenarios/shear_cell.ini", g_ekm, phi, t_end, cells);
 }
 
 static void test_couette_dilute(void **state)
@@ -116,6 +130,22 @@ static void test_couette_dense(void **state)
 {
     (void)state;
     couette_case(0.62, "0.5", "10");
+}
+
+/* ekm_jam's g = (1 - phi/phi_J)^(-beta), phi_J = 0.6, beta = 2 of
+ * shear_cell_jam.ini: the time stepper runs the closure, and its steady
+ * Couette flow is the homogeneous shear of the closed form, below phi_co
+ * = 0.55 and above it */
+static double g_jam(double phi)
+{
+    return 1.0 / ((1.0 - phi / 0.6) * (1.0 - phi / 0.6));
+}
+
+static void test_couette_ekm_jam(void **state)
+{
+    (void)state;
+    couette_run("tests/continuum/data/shear_cell_jam.ini", g_jam, 0.40, "10", "10");
+    couette_run("tests/continuum/data/shear_cell_jam.ini", g_jam, 0.58, "2", "10");
 }
 
 /* ---- chute flow, lambda0 = 0, Bagnold profile ---- */
@@ -182,9 +212,8 @@ static void test_chute_bagnold(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_cooling),
-        cmocka_unit_test(test_couette_dilute),
-        cmocka_unit_test(test_couette_dense),
+        cmocka_unit_test(test_cooling),       cmocka_unit_test(test_couette_dilute),
+        cmocka_unit_test(test_couette_dense), cmocka_unit_test(test_couette_ekm_jam),
         cmocka_unit_test(test_chute_bagnold),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -96,7 +96,7 @@ static ekm_material mu_i_material(void)
         size_t k;
         assert_int_equal(ekm_closure_param_find(keys[i], &owner, &k), 0);
         assert_ptr_equal(owner, c);
-        m.law_p[ekm_closure_slot(c, k)] = values[i];
+        *ekm_closure_param_ptr(c, k, &m) = values[i];
     }
     return m;
 }
@@ -160,7 +160,7 @@ static ekm_material jam_material(double phi_J, double beta)
         size_t k;
         assert_int_equal(ekm_closure_param_find(keys[i], &owner, &k), 0);
         assert_ptr_equal(owner, &ekm_closure_ekm_jam);
-        m.law_p[ekm_closure_slot(owner, k)] = values[i];
+        *ekm_closure_param_ptr(owner, k, &m) = values[i];
     }
     return m;
 }
@@ -185,6 +185,7 @@ static void test_ekm_jam(void **state)
         assert_true(a.T == b.T);
         ekm_material e = two;
         e.phi_cp = 0.6;
+        e.g_beta = 1.0; /* the EKM at phi_cp = phi_J */
         assert_int_equal(ekm_closure_homog(&ekm_closure_ekm_jam, &two, phi, 8.0, &a, &err), EKM_OK);
         assert_int_equal(ekm_homog_shear(&e, EKM_VARIANT_FULL, phi, 8.0, &c, &err), EKM_OK);
         const double g1 = 1.0 / (1.0 - phi / 0.6);
@@ -273,7 +274,7 @@ static void test_mu_i_ranges(void **state)
         const ekm_closure *owner;
         size_t k;
         assert_int_equal(ekm_closure_param_find(bad[i].key, &owner, &k), 0);
-        m.law_p[ekm_closure_slot(c, k)] = bad[i].value;
+        *ekm_closure_param_ptr(c, k, &m) = bad[i].value;
         ekm_error err;
         assert_int_equal(ekm_closure_check(c, &m, &err), EKM_EINPUT);
         if (!strstr(err.message, bad[i].message))
@@ -418,7 +419,9 @@ static void test_reader_ekm(void **state)
     /* every solver refuses a closure it cannot run, by name */
     assert_int_equal(ekm_closure_require_ekm(&ekm_closure_ekm_thesis, "ekm run", &err), EKM_OK);
     assert_int_equal(ekm_closure_require_ekm(&ekm_closure_mu_i, "ekm run", &err), EKM_EUNAVAILABLE);
-    assert_non_null(strstr(err.message, "[model] closure = mu_i: ekm run solves the EKM's closures only"));
+    assert_non_null(
+        strstr(err.message, "[model] closure = mu_i: ekm run solves the EKM's transport law only"));
+    assert_int_equal(ekm_closure_require_ekm(&ekm_closure_ekm_jam, "ekm run", &err), EKM_OK);
 }
 
 int main(void)
