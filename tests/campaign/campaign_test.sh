@@ -72,12 +72,22 @@ jq -e '(.params | keys) == ["eps0", "eta0"] and (.chi2_dof | type) == "number" a
        and ([.points[] | .residuals.P, .residuals.sxz, .residuals.T | type == "number"] | all)' "$fit" > /dev/null ||
   fail "$fit: no fit of eta0 and eps0 with finite chi2/dof and residuals"
 grep -q '^eta0 *=' "$work/results/calibration/rheology/fit.ini" || fail "no [material] eta0 in the fitted fit.ini"
+# like for like: simple_shear_p's points ran under a barostat and are fitted
+# under pressure control, simple_shear's under volume control
+jq -e '([.points[] | select(.file | test("/simple_shear_p/")) | .control == "pressure"] | (length > 0 and all))
+       and ([.points[] | select(.file | test("/simple_shear/")) | .control == "volume"] | (length > 0 and all))' \
+  "$fit" > /dev/null || fail "$fit: expected simple_shear_p's points under pressure control, simple_shear's under volume control"
+# every comparison with the fitted set is made: a score, or `not_steady`
+# when the EKM with that set reaches no steady state in its run (the smoke
+# set's chute: docs/campaign.md); the training scenarios' are all scores
 okr=$(jq '[.rows[] | (.ekm_rheology_vs_liggghts, .ekm_rheology_vs_lammps)
-           | select(.status == "ok" and (.rel_l2 | type) == "number")] | length' "$scores")
+           | select((.status == "ok" and (.rel_l2 | type) == "number") or .status == "not_steady")] | length' "$scores")
 [ "$okr" -eq "$expected_ekm" ] || fail "$okr comparisons with the fitted set, expected $expected_ekm"
+jq -e '[.rows[] | select(.scenario | startswith("simple_shear")) | .ekm_rheology_vs_lammps.status == "ok"] | (length > 0 and all)' \
+  "$scores" > /dev/null || fail "$scores: a training point of the fitted set without a score"
 cal=$work/results/calibration.json
 jq -e '(.sets | map(.name)) == ["thesis", "rheology"]
-       and ([.matrix[][] | .rel_l2 | type == "number"] | all)
+       and ([.matrix[][] | (.rel_l2 | type == "number") or (.rel_l2 == null and .not_steady > 0)] | all)
        and .matrix.rheology.simple_shear.train and .matrix.rheology.simple_shear_p.train
        and (.matrix.rheology.chute.train | not) and (.matrix.thesis.simple_shear.train | not)
        and .sets[1].fitted.params.eta0.value > 0' "$cal" > /dev/null ||
