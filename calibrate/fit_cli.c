@@ -23,8 +23,9 @@
 
 static const char fit_usage[] =
     "usage: ekmcompare fit --rheology CG.h5 [CG.h5 ...] --params T0,phi_co,eta0,eps0,nu[,...]\n"
-    "                      [--control pressure CG.h5 ...] [--start FILE.ini] [--closure NAME] [--fields "
-    "P,sxz,T]\n"
+    "                      [--control pressure CG.h5 ...] [--start FILE.ini [--material M.ini]] [--closure "
+    "NAME]\n"
+    "                      [--fields P,sxz,T]\n"
     "                      [--starts N] -o FIT.json [--ini FIT.ini] [--quiet]\n"
     "       ekmcompare fit --scenario CASES.json --params eta0,eps0[,...] [--fields phi,vx,T,P,sxz]\n"
     "                      [--start FILE.ini] [--starts N] [--support FRAC] [--progress] -o FIT.json\n"
@@ -39,7 +40,8 @@ typedef struct {
     int *at_pressure; /* per input: 1 after --control pressure */
     size_t ninputs;
     const char *params, *start, *fields, *json, *ini;
-    const char *closure; /* --closure NAME: the start file's [model] closure replaced */
+    const char *closure;  /* --closure NAME: the start file's [model] closure replaced */
+    const char *material; /* --material M.ini: the start file's [material] replaced */
     int nstarts;
     int quiet;
 } fit_args;
@@ -84,15 +86,16 @@ static int parse_args(int argc, char **argv, fit_args *a)
             a->progress = 1;
             continue;
         }
-        const char **dst = !strcmp(s, "--scenario")  ? &a->scenario
-                           : !strcmp(s, "--support") ? &a->support
-                           : !strcmp(s, "--params")  ? &a->params
-                           : !strcmp(s, "--start")   ? &a->start
-                           : !strcmp(s, "--closure") ? &a->closure
-                           : !strcmp(s, "--fields")  ? &a->fields
-                           : !strcmp(s, "-o")        ? &a->json
-                           : !strcmp(s, "--ini")     ? &a->ini
-                                                     : NULL;
+        const char **dst = !strcmp(s, "--scenario")   ? &a->scenario
+                           : !strcmp(s, "--support")  ? &a->support
+                           : !strcmp(s, "--params")   ? &a->params
+                           : !strcmp(s, "--start")    ? &a->start
+                           : !strcmp(s, "--closure")  ? &a->closure
+                           : !strcmp(s, "--material") ? &a->material
+                           : !strcmp(s, "--fields")   ? &a->fields
+                           : !strcmp(s, "-o")         ? &a->json
+                           : !strcmp(s, "--ini")      ? &a->ini
+                                                      : NULL;
         if (!dst && strcmp(s, "--starts"))
             return usage("unknown option '%s'", s);
         if (i + 1 >= argc)
@@ -120,6 +123,9 @@ static int parse_args(int argc, char **argv, fit_args *a)
         return usage("%s", "expected --params (e.g. T0,phi_co,eta0,eps0,nu)");
     if (a->closure && !a->rheology)
         return usage("%s", "--closure: for --rheology (a --scenario fit takes each case's closure)");
+    if (a->material && !(a->rheology && a->start))
+        return usage("%s", "--material M.ini: for --rheology with --start FILE.ini (it replaces the start "
+                           "file's [material])");
     if (!a->json)
         return usage("%s", "expected -o FIT.json");
     return 0;
@@ -235,14 +241,18 @@ static ekm_status run_fit(const fit_args *a, ekm_error *err)
         snprintf(set, sizeof set, "model.closure=%s", a->closure ? a->closure : "");
         const char *sets[] = {set};
         ekm_scenario sc;
-        st = ekm_scenario_load(&sc, a->start, a->closure ? sets : NULL, a->closure ? 1 : 0, err);
+        st = ekm_scenario_load_material(&sc, a->start, a->material, a->closure ? sets : NULL,
+                                        a->closure ? 1 : 0, err);
         pb.start = sc.material;
         pb.variant = sc.variant;
         pb.closure = sc.closure;
         ekm_scenario_free(&sc);
         if (st != EKM_OK)
             return st;
-        snprintf(source, sizeof source, "%s", a->start);
+        if (a->material)
+            snprintf(source, sizeof source, "%s with [material] of %s", a->start, a->material);
+        else
+            snprintf(source, sizeof source, "%s", a->start);
     } else {
         pb.start = ekm_material_thesis();
         pb.variant = EKM_VARIANT_FULL;

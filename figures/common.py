@@ -773,9 +773,10 @@ class ParamSet:
     or one fitted by the campaign's calibration, whose [material] is
     RES/calibration/<name>/fit.ini (`ekmcompare fit --ini`)."""
 
-    def __init__(self, name, fit_ini=None):
+    def __init__(self, name, fit_ini=None, closure=None):
         self.name = name
         self.fit_ini = fit_ini      # None: the scenario file's [material]
+        self.closure = closure      # None: the scenario file's closure (the EKM's)
 
 
 def set_style(index):
@@ -790,7 +791,7 @@ def load_sets(res):
     RES/calibration/<set>/, in that order; a set without its fit.ini is
     left out with a note. Returns (sets, notes)."""
     sets, notes = [ParamSet(THESIS)], []
-    names = []
+    names, closures = [], {}
     cal = os.path.join(res, "calibration.json")
     if os.path.isfile(cal):
         js = read_json(cal, "the calibration summary, which names the parameter sets")
@@ -799,6 +800,7 @@ def load_sets(res):
                                                 for s in lst):
             raise InputError("%s: 'sets': expected a list of objects with a 'name'" % rel(cal))
         names = [s["name"] for s in lst if s["name"] != THESIS]
+        closures = {s["name"]: s.get("closure") for s in lst}
     folder = os.path.join(res, "calibration")
     if os.path.isdir(folder):
         names += sorted(n for n in os.listdir(folder)
@@ -808,7 +810,10 @@ def load_sets(res):
             raise InputError("%s: bad parameter set name %r" % (rel(cal), n))
         ini = os.path.join(folder, n, "fit.ini")
         if os.path.isfile(ini):
-            sets.append(ParamSet(n, ini))
+            closure = closures.get(n)
+            if closure is not None and not (isinstance(closure, str) and re.fullmatch(r"[a-z0-9_]+", closure)):
+                raise InputError("%s: set %s: bad closure %r" % (rel(cal), n, closure))
+            sets.append(ParamSet(n, ini, closure))
         else:
             notes.append("parameter set %s: %s missing: left out" % (n, rel(ini)))
     return sets, notes
@@ -832,6 +837,8 @@ def homog(ekm, ini, pset, phis, rates):
     cmd = [ekm, "homog", ini]
     if pset.fit_ini:
         cmd += ["--material", pset.fit_ini]
+    if pset.closure:
+        cmd += ["--set", "model.closure=" + pset.closure]
     cmd += ["--phi", "%.17g:%.17g:%d" % phis, "--rate", ",".join("%.17g" % r for r in rates), "--json"]
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:

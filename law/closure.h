@@ -51,6 +51,9 @@ typedef struct {
     /* NULL: held in its law_p slot; else the ekm_material field that holds
      * it (ekm_jam's phi_J: &m->phi_cp) */
     double *(*field)(ekm_material *m);
+    /* 1: a property of the grains (mu_i's d), given as rho_p is, not a
+     * constitutive constant: the campaign's closure fits hold it */
+    int grain_property;
 } ekm_closure_param;
 
 typedef struct ekm_closure ekm_closure;

@@ -29,10 +29,16 @@ static double *beta_field(ekm_material *m)
 }
 
 static const ekm_closure_param PARAMS[] = {
-    {"phi_J", "1", "volume fraction where the density factor g diverges", EKM_PARAM_PHI_ABOVE_DATA,
-     phi_J_field},
-    {"beta", "1", "exponent of the density factor g = (1 - phi/phi_J)^(-beta)", EKM_PARAM_POSITIVE,
-     beta_field},
+    {.key = "phi_J",
+     .unit = "1",
+     .about = "volume fraction where the density factor g diverges",
+     .range = EKM_PARAM_PHI_ABOVE_DATA,
+     .field = phi_J_field},
+    {.key = "beta",
+     .unit = "1",
+     .about = "exponent of the density factor g = (1 - phi/phi_J)^(-beta)",
+     .range = EKM_PARAM_POSITIVE,
+     .field = beta_field},
 };
 
 /* every EKM key but phi_cp (phi_J takes its place) */

@@ -13,7 +13,11 @@ static const ekm_closure_param PARAMS[NPARAMS] = {
     [I_0] = {"I_0", "1", "inertial number of the friction's transition", EKM_PARAM_POSITIVE},
     [PHI_MAX] = {"phi_max", "1", "volume fraction of the dilatancy law at I -> 0", EKM_PARAM_PHI_ABOVE_DATA},
     [PHI_MIN] = {"phi_min", "1", "volume fraction of the dilatancy law at I = 1", EKM_PARAM_BELOW_PREVIOUS},
-    [D] = {"d", "m", "grain diameter", EKM_PARAM_POSITIVE},
+    [D] = {.key = "d",
+           .unit = "m",
+           .about = "grain diameter",
+           .range = EKM_PARAM_POSITIVE,
+           .grain_property = 1},
 };
 
 static const char *const EKM_KEYS[] = {"rho_p", NULL};

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "closure.h"
 #include "ekm_version.h"
 
 /* json_object_set_new that remembers a failure (NULL value, out of memory). */
@@ -37,6 +38,17 @@ static json_t *resolved_object(const ekm_scenario *s, const ekm_resolved *r, int
     put(root, "engine", string_or_null(r->engine), failed);
     put(root, "size", string_or_null(r->size), failed);
     put(root, "code_version", json_string(EKMBENCH_VERSION), failed);
+    /* the closure style the [material] keys belong to (docs/model/closures.md) */
+    json_t *closure = json_object(), *own = json_array(), *grains = json_array();
+    put(closure, "name", json_string(s->closure->name), failed);
+    put(closure, "ekm_transport", json_boolean(s->closure->ekm_transport), failed);
+    put(closure, "has_temperature", json_boolean(s->closure->has_temperature), failed);
+    for (size_t k = 0; k < s->closure->nparams; k++)
+        append(s->closure->params[k].grain_property ? grains : own, json_string(s->closure->params[k].key),
+               failed);
+    put(closure, "params", own, failed);
+    put(closure, "grain_properties", grains, failed);
+    put(root, "closure", closure, failed);
     json_t *keys = json_object();
     for (size_t i = 0; i < r->n_keys; i++) {
         const ekm_resolve_key *k = &r->keys[i];

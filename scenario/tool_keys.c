@@ -75,6 +75,9 @@ static const ekm_tool_key TOOL_KEYS[] = {
     {"campaign", "fit_fields", EKM_TOOL_FIELDS, NULL, NULL, EKM_SWEEP_NONE},
     {"campaign", "fit_engine", EKM_TOOL_ENUM, "lammps liggghts", "lammps", EKM_SWEEP_NONE},
     {"campaign", "fit_starts", EKM_TOOL_INTEGER, NULL, NULL, EKM_SWEEP_NONE},
+    /* the closure styles fitted on the set beside the EKM, each a parameter
+     * set <train>_<closure> started from scenarios/closures/<closure>.ini */
+    {"campaign", "fit_closures", EKM_TOOL_FIELDS, NULL, NULL, EKM_SWEEP_NONE},
 };
 #define N_TOOL_KEYS (sizeof TOOL_KEYS / sizeof TOOL_KEYS[0])
 

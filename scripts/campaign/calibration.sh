@@ -5,7 +5,8 @@
 # PLAN.json (written by the Snakefile): {"size", "engines", "scenarios":
 # [every campaign scenario], "sets": [{"name", "fit": the fit's FIT.json
 # relative to RES or null (thesis), "train": [the member scenarios],
-# "how": "rheology"|"scenario"|null}]}.
+# "how": "rheology"|"scenario"|null, "closure": the closure style of a
+# closure set or null, "runs": false when the solvers cannot run it}]}.
 # Reads RES/scores.json (table.sh) and every set's FIT.json; writes
 # RES/calibration.json and RES/calibration.md (atomically) and prints the
 # markdown. A cell (set x scenario):
@@ -20,6 +21,8 @@
 #               the set that have no score (a failed step); not_steady:
 #               comparisons left out because the EKM run with that set
 #               ended at its t_end without reaching its steady state;
+#   no_solver   the set's closure has no solver yet: fitted, not run (its
+#               cells say n/a);
 #   train       whether the scenario is in the set's training data.
 # The floor row is LIGGGHTS vs LAMMPS (the scenarios both engines run).
 # Exit status (docs/exit-codes.md): 1 usage, 2 bad plan or score table,
@@ -61,6 +64,7 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
                    scalar_rel: "mean |relative error| of the scenario'"'"'s scalar observables over its points, same engine",
                    n_scores: "relative L2 errors averaged", points: "DEM points those errors were taken over (sets on the same scenario can differ: each run has its own common support)", missing: "comparisons of the set without a score (failed step)",
                    not_steady: "comparisons left out: the EKM run with the set ended at t_end without reaching its steady state",
+                   no_solver: "the set'"'"'s closure has no solver yet (docs/model/closures.md): fitted, not run",
                    train: "the scenario is in the set'"'"'s training data"},
      sets: [$p.sets[] | . + {fitted: $fits[.name]}],
      scenarios: $p.scenarios,
@@ -74,8 +78,9 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
            scalar_rel: ($scells | map(select(.rel_error != null) | .rel_error | fabs) | mean),
            n_scores: ($cells | map(select(.status == "ok" and .rel_l2 != null)) | length),
            points: ($cells | map(select(.status == "ok") | .points // 0) | add // 0),
-           missing: ($cells | map(select(.status == "missing")) | length),
+           missing: (if $set.runs == false then 0 else ($cells | map(select(.status == "missing")) | length) end),
            not_steady: ($cells | map(select(.status == "not_steady")) | length),
+           no_solver: ($set.runs == false),
            train: (($set.train | index($s)) != null)}}] | from_entries)}] | from_entries),
      floor: ([$p.scenarios[] as $s
        | ($rows | map(select(.scenario == $s) | .liggghts_vs_lammps)) as $cells
@@ -100,7 +105,7 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
   echo "Made $(date -u +%Y-%m-%d) by \`make campaign SIZE=$(jq -r .size "$plan")\` ($(jq -r .code_version "$res/calibration.json.tmp"))."
   echo
   jq -r 'def n: if . == null then "-" else (. * 1000 | round / 1000 | tostring) end;
-         def c: if .rel_l2 == null and .scalar_rel == null then "-" else "\(.rel_l2 | n) / \(.scalar_rel | n)" end;
+         def c: if .no_solver then "n/a (no solver)" elif .rel_l2 == null and .scalar_rel == null then "-" else "\(.rel_l2 | n) / \(.scalar_rel | n)" end;
          . as $c
          | "| set | " + ($c.scenarios | join(" | ")) + " |",
            "|---|" + ($c.scenarios | map("---:") | join("|")) + "|",
@@ -120,7 +125,7 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
   jq -r 'def g: if . == null then "-" elif . == 0 then "0"
                 else . as $x | ($x | fabs | log10 | floor) as $e | ($x / pow(10; $e) * 1000 | round / 1000 | tostring) + "e" + ($e | tostring) end;
          .sets[] | select(.fitted != null) | . as $s
-         | "### \(.name) (\(.how) fit of \(.train | join(", ")): chi2/dof = \(.fitted.chi2_dof | g), dof \(.fitted.dof), \(.fitted.inputs) inputs, fields \(.fitted.fields | join(",")))",
+         | "### \(.name) (\(.how) fit\(if .closure then " of closure " + .closure else "" end) on \(.train | join(", ")): chi2/dof = \(.fitted.chi2_dof | g), dof \(.fitted.dof), \(.fitted.inputs) inputs, fields \(.fitted.fields | join(",")))",
            "",
            "| parameter | value | SE | |",
            "|---|---:|---:|---|",

@@ -86,13 +86,28 @@ okr=$(jq '[.rows[] | (.ekm_rheology_vs_liggghts, .ekm_rheology_vs_lammps)
 jq -e '[.rows[] | select(.scenario | startswith("simple_shear")) | .ekm_rheology_vs_lammps.status == "ok"] | (length > 0 and all)' \
   "$scores" > /dev/null || fail "$scores: a training point of the fitted set without a score"
 cal=$work/results/calibration.json
-jq -e '(.sets | map(.name)) == ["thesis", "rheology"]
-       and ([.matrix[][] | (.rel_l2 | type == "number") or (.rel_l2 == null and .not_steady > 0)] | all)
+jq -e '(.sets | map(.name)) == ["thesis", "rheology", "rheology_ekm_jam", "rheology_mu_i"]
+       and ([.matrix[][] | (.rel_l2 | type == "number") or (.rel_l2 == null and (.not_steady > 0 or .no_solver))] | all)
        and .matrix.rheology.simple_shear.train and .matrix.rheology.simple_shear_p.train
        and (.matrix.rheology.chute.train | not) and (.matrix.thesis.simple_shear.train | not)
-       and .sets[1].fitted.params.eta0.value > 0' "$cal" > /dev/null ||
-  fail "$cal: expected sets thesis and rheology, every cell finite, the training cells marked"
+       and .sets[1].fitted.params.eta0.value > 0
+       and ([.matrix.rheology_mu_i[] | .no_solver] | all) and ([.matrix.rheology_ekm_jam[] | .no_solver | not] | all)' \
+  "$cal" > /dev/null ||
+  fail "$cal: expected sets thesis, rheology and its closure sets, every cell finite (mu_i: no solver), the training cells marked"
 grep -q "^| rheology | " "$work/results/calibration.md" || fail "calibration.md has no rheology row"
+grep -q "^| rheology_mu_i | n/a (no solver) | " "$work/results/calibration.md" || fail "calibration.md has no mu_i row"
+# the closure sets ([campaign] fit_closures): each fitted on the same points
+# with its own constants; ekm_jam's run and scored at every point, mu_i's
+# fitted without T (it has no temperature)
+jq -e '.closure == "ekm_jam" and (.params | has("phi_J") and has("beta") and has("eta0"))
+       and ([.points[] | .residuals.T | type == "number"] | all)' \
+  "$work/results/calibration/rheology_ekm_jam/fit.json" > /dev/null || fail "no ekm_jam fit with phi_J, beta and T"
+jq -e '.closure == "mu_i" and (.params | keys) == ["I_0", "mu_2", "mu_s", "phi_max", "phi_min"]
+       and ([.points[] | .residuals | has("T") | not] | all)' \
+  "$work/results/calibration/rheology_mu_i/fit.json" > /dev/null || fail "no mu_i fit of its five constants without T"
+okj=$(jq '[.rows[] | (.ekm_rheology_ekm_jam_vs_liggghts, .ekm_rheology_ekm_jam_vs_lammps)
+           | select((.status == "ok" and (.rel_l2 | type) == "number") or .status == "not_steady")] | length' "$scores")
+[ "$okj" -eq "$expected_ekm" ] || fail "$okj comparisons with the ekm_jam set, expected $expected_ekm"
 grep -q "^## By parameter set" "$work/results/scores.md" || fail "scores.md has no table by parameter set"
 figs=$work/results/figures/figures.txt
 [ -s "$figs" ] || fail "no figures listed in $figs"

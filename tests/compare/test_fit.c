@@ -664,6 +664,42 @@ static void test_end_to_end_mu_i(void **state)
     assert_int_equal(ekm_scenario_load_material(&sc, src, ini, sets, 1, &e), EKM_OK);
     assert_true(fabs(cg_fit_param_get(&sc.material, cg_fit_param_lookup("I_0")) / 0.25 - 1.0) < 1e-6);
     ekm_scenario_free(&sc);
+    /* the same start as a material file beside the unchanged scenario
+     * (--material, as the campaign's closure sets start): the same fit */
+    char mat[512], out2[512];
+    tmp_path(mat, sizeof mat, "fit_mu_i_material.ini");
+    FILE *fm = fopen(mat, "w");
+    assert_non_null(fm);
+    fputs("; mu_i start\n[material]\nrho_p = 2500\nmu_s = 0.4\nmu_2 = 0.6\nI_0 = 0.3\nphi_max = 0.66\n"
+          "phi_min = 0.4\nd = 0.002\n",
+          fm);
+    fclose(fm);
+    tmp_path(out2, sizeof out2, "fit_mu_i_material.json");
+    unlink(out2);
+    snprintf(args, sizeof args,
+             "--rheology%s --closure mu_i --params mu_s,mu_2,I_0,phi_max,phi_min --fields P,sxz --start %s "
+             "--material %s -o %s",
+             files, src, mat, out2);
+    if (run_fit(args, errbuf, sizeof errbuf) != 0)
+        fail_msg("ekmcompare fit %s: %s", args, errbuf);
+    json_t *r1 = json_load_file(out, 0, &je), *r2 = json_load_file(out2, 0, &je);
+    assert_non_null(r1);
+    assert_non_null(r2);
+    for (int j = 0; j < 5; j++) {
+        const double v1 = json_real_value(
+            json_object_get(json_object_get(json_object_get(r1, "params"), keys[j]), "value"));
+        const double v2 = json_real_value(
+            json_object_get(json_object_get(json_object_get(r2, "params"), keys[j]), "value"));
+        assert_true(v1 == v2);
+    }
+    assert_non_null(strstr(json_string_value(json_object_get(json_object_get(r2, "start"), "source")),
+                           "with [material] of"));
+    json_decref(r1);
+    json_decref(r2);
+    snprintf(args, sizeof args, "--rheology%s --closure mu_i --params mu_s --fields P --material %s -o %s",
+             files, mat, out2);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 1);
+    assert_non_null(strstr(errbuf, "--material M.ini: for --rheology with --start FILE.ini"));
     /* refusals: one line, exit 2, no output */
     unlink(out);
     snprintf(args, sizeof args, "--rheology%s --closure mu_i --params mu_s --fields P,sxz,T --start %s -o %s",

@@ -143,6 +143,16 @@ sed "s/^description .*/description = caf$(printf '\xe9')/" "$src/scenarios/cooli
 n=$(line "$src/scenarios/cooling.ini" description)
 error "not UTF-8" 2 "latin1.ini:$n: \[scenario\] description: expected UTF-8 text" scenario latin1.ini --json
 
+# the closure style of the [material] keys: the EKM's, ekm_jam's (its own
+# constants), mu_i's (its grain diameter a property, not a constant)
+cl() { "$ekm" scenario "$@" --json | jq -c .closure; }
+[ "$(cl "$src/scenarios/chute.ini")" = '{"name":"ekm_full","ekm_transport":true,"has_temperature":true,"params":[],"grain_properties":[]}' ] &&
+  ok "resolved closure: ekm_full" || bad "resolved closure of chute.ini: $(cl "$src/scenarios/chute.ini")"
+[ "$(cl "$src/tests/continuum/data/shear_cell_jam.ini")" = '{"name":"ekm_jam","ekm_transport":true,"has_temperature":true,"params":["phi_J","beta"],"grain_properties":[]}' ] &&
+  ok "resolved closure: ekm_jam" || bad "resolved closure of shear_cell_jam.ini"
+[ "$(cl "$src/scenarios/simple_shear.ini" --material "$src/scenarios/closures/mu_i.ini" --set model.closure=mu_i)" = '{"name":"mu_i","ekm_transport":false,"has_temperature":false,"params":["mu_s","mu_2","I_0","phi_max","phi_min"],"grain_properties":["d"]}' ] &&
+  ok "resolved closure: mu_i" || bad "resolved closure of mu_i"
+
 if "$ekm" --help | grep -q "ekm scenario FILE.ini"; then ok "ekm --help documents ekm scenario"; else bad "ekm --help"; fi
 
 echo "$passed passed, $failures failed"
