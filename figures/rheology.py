@@ -254,6 +254,26 @@ def make(prepared, writer):
     return notes
 
 
+def num(v):
+    """A number of ekm homog's output; NaN for null (a closure without a
+    temperature prints T as null)."""
+    return np.nan if v is None else float(v)
+
+
+def phi_limit(material):
+    """The volume fraction where a set's closure ends: the EKM's phi_cp,
+    ekm_jam's phi_J, mu_i's phi_max (docs/model/closures.md)."""
+    for k in ("phi_cp", "phi_J", "phi_max"):
+        if k in material:
+            return float(material[k])
+    raise C.InputError("ekm homog: material without phi_cp, phi_J or phi_max")
+
+
+def model_label(pset):
+    """The legend's name of a set's model: the EKM, or its closure style."""
+    return "%s, %s" % ("EKM" if pset.closure in (None, "ekm_full", "ekm_thesis") else pset.closure, pset.name)
+
+
 def model_curves(m, rate, d, rho_fallback):
     """Arrays phi, I, mu, P*, T* of a set's grid at one rate (ok points)."""
     rho = float(m.material["rho_p"]) or rho_fallback
@@ -263,7 +283,7 @@ def model_curves(m, rate, d, rho_fallback):
             continue
         ph.append(float(p["phi"]))
         P.append(float(p["P"]))
-        T.append(float(p["T"]))
+        T.append(num(p["T"]))
         mu.append(float(p["mu"]))
     ph, P, T, mu = map(np.asarray, (ph, P, T, mu))
     return dict(phi=ph, I=rate * d / np.sqrt(P / rho), mu=mu, Ps=P / (rho * d ** 2 * rate ** 2),
@@ -329,7 +349,7 @@ def make_fit(fd, writer):
         lo, hi = min(xs["I"]) / 2.0, max(xs["I"]) * 2.0
         top[k].set_xlim(lo, hi)
         bot[k].set_xlabel(r"$I = \dot\gamma d / \sqrt{P/\rho_p}$")
-    plo, phi_hi = min(xs["phi"]) - 0.03, max(max(xs["phi"]), max(float(m.material["phi_cp"]) for m in fd.models))
+    plo, phi_hi = min(xs["phi"]) - 0.03, max(max(xs["phi"]), max(phi_limit(m.material) for m in fd.models))
     for k in (2, 3):
         top[k].set_xlim(plo, phi_hi + 0.01)
         top[k].set_yscale("log")
@@ -368,7 +388,7 @@ def make_fit(fd, writer):
                 label=r"DEM LAMMPS, %s ($\pm$2 SE)" % lab) for lab, mk in fd.sweeps]
     for m in fd.models:
         colour, dash = C.set_style(m.index)
-        h.append(Line2D([], [], color=colour, ls=dash, lw=0.9, label="EKM, %s" % m.pset.name))
+        h.append(Line2D([], [], color=colour, ls=dash, lw=0.9, label=model_label(m.pset)))
     fig.legend(handles=h, loc="upper center", ncol=min(len(h), 4), bbox_to_anchor=(0.5, 1.0))
     fig.text(0.99, 0.005, r"EKM lines at $\dot\gamma$ = %s s$^{-1}$" % ", ".join("%g" % r for r in fd.rates),
              ha="right", va="bottom", fontsize=6)
@@ -392,7 +412,7 @@ def residuals(fd, m):
             out += [(0, p, (float(s["mu"]) - p.mu) / p.mu_se),
                     (1, p, (phi_at_I(m, p.rate, I, d, fd.rho_p) - p.phi) / p.phi_se),
                     (2, p, (float(s["P"]) - p.P) / p.P_se),
-                    (3, p, (float(s["T"]) - p.T) / p.T_se)]
+                    (3, p, (num(s["T"]) - p.T) / p.T_se)]
     return out
 
 

@@ -78,6 +78,9 @@ static const ekm_tool_key TOOL_KEYS[] = {
     /* the closure styles fitted on the set beside the EKM, each a parameter
      * set <train>_<closure> started from scenarios/closures/<closure>.ini */
     {"campaign", "fit_closures", EKM_TOOL_FIELDS, NULL, NULL, EKM_SWEEP_NONE},
+    /* the closures' own constants fitted (each closure takes its own; none
+     * given: all of them) */
+    {"campaign", "fit_closure_params", EKM_TOOL_FIELDS, NULL, NULL, EKM_SWEEP_NONE},
 };
 #define N_TOOL_KEYS (sizeof TOOL_KEYS / sizeof TOOL_KEYS[0])
 
