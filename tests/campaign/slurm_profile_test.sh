@@ -5,8 +5,8 @@
 # 1. `snakemake -n --profile workflow/profiles/slurm` (dry run, SIZE=ref,
 #    NP=4): one cluster job (rule dem) per campaign scenario x supported
 #    engine with ntasks = 4 and runtime = (points x [dem] timeout)/60 + 5
-#    min from the resolved scenario; one cluster job (rule fit) per training
-#    set; every other rule is a localrule.
+#    min from the resolved scenario; one cluster job (rule fit) per parameter
+#    set (the training sets and their closure sets); every other rule is a localrule.
 # 2. The same through a fake `sbatch` on PATH that records its arguments and
 #    job script and refuses the job: each dem job is submitted with
 #    --ntasks=4 and --time=<that runtime>, its job script runs that rule for
@@ -47,9 +47,9 @@ n=$(grep -c '^rule dem:' "$work/dry.log")
 other=$(grep -E '^rule ' "$work/dry.log" | grep -v -E '^rule (dem|fit):' | sort -u | tr '\n' ' ')
 [ -z "$other" ] || fail "dry run: rules other than dem and fit would go to the cluster: $other"
 # the calibration fits are cluster jobs too (a scenario fit runs the EKM
-# hundreds of times), one per training set
+# hundreds of times), one per parameter set (with the closure sets)
 nfit=$(grep -c '^rule fit:' "$work/dry.log")
-[ "$nfit" -eq 2 ] || fail "dry run: $nfit cluster jobs of rule fit, expected 2 (training sets chute, rheology)"
+[ "$nfit" -eq 4 ] || fail "dry run: $nfit cluster jobs of rule fit, expected 4 (the sets chute, rheology, rheology_ekm_jam, rheology_mu_i)"
 for r in cg ekm ekm_set score_ekm score_ekm_set score_engines; do
   grep -q "^localrule $r:" "$work/dry.log" || fail "dry run: no local job of rule $r"
 done
