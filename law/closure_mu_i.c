@@ -46,8 +46,9 @@ static ekm_status mu_i_homog(const ekm_closure *c, const ekm_material *m, double
                              ekm_homog_state *out, ekm_error *err)
 {
     const ekm_mu_i_params p = params_of(c, m);
-    if (!(gdot > 0.0 && isfinite(gdot)))
-        return EKM_FAIL(err, EKM_EINPUT, "gdot = %g: expected a finite shear rate > 0 [1/s]", gdot);
+    const ekm_status cst = ekm_homog_check_rate(gdot, err);
+    if (cst != EKM_OK)
+        return cst;
     const double I = ekm_mu_i_I_of_phi(&p, phi);
     if (!(I > 0.0))
         return EKM_FAIL(err, EKM_EINPUT,
@@ -75,10 +76,9 @@ static ekm_status mu_i_homog_p(const ekm_closure *c, const ekm_material *m, doub
                                ekm_homog_state *out, ekm_error *err)
 {
     const ekm_mu_i_params p = params_of(c, m);
-    if (!(P > 0.0 && isfinite(P)))
-        return EKM_FAIL(err, EKM_EINPUT, "P = %g: expected a finite pressure > 0 [Pa]", P);
-    if (!(gdot > 0.0 && isfinite(gdot)))
-        return EKM_FAIL(err, EKM_EINPUT, "gdot = %g: expected a finite shear rate > 0 [1/s]", gdot);
+    const ekm_status cst = ekm_homog_check_pressure(P, gdot, err);
+    if (cst != EKM_OK)
+        return cst;
     const double I = gdot * p.d / sqrt(P / p.rho_p);
     const double phi = ekm_mu_i_phi_of_I(&p, I);
     if (!(phi > 0.0))

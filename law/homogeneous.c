@@ -6,14 +6,29 @@
 
 #include "root.h"
 
+ekm_status ekm_homog_check_rate(double gdot, ekm_error *err)
+{
+    if (!(gdot > 0.0 && isfinite(gdot)))
+        return EKM_FAIL(err, EKM_EINPUT, "gdot = %g: expected a finite shear rate > 0 [1/s]", gdot);
+    return EKM_OK;
+}
+
+ekm_status ekm_homog_check_pressure(double P, double gdot, ekm_error *err)
+{
+    if (!(P > 0.0 && isfinite(P)))
+        return EKM_FAIL(err, EKM_EINPUT, "P = %g: expected a finite pressure > 0 [Pa]", P);
+    return ekm_homog_check_rate(gdot, err);
+}
+
 ekm_status ekm_homog_shear(const ekm_material *m, ekm_variant v, double phi, double gdot,
                            ekm_homog_state *out, ekm_error *err)
 {
     if (!(phi > 0.0 && phi < m->phi_cp))
         return EKM_FAIL(err, EKM_EINPUT, "phi = %g: expected a volume fraction in (0, phi_cp = %g)", phi,
                         m->phi_cp);
-    if (!(gdot > 0.0 && isfinite(gdot)))
-        return EKM_FAIL(err, EKM_EINPUT, "gdot = %g: expected a finite shear rate > 0 [1/s]", gdot);
+    const ekm_status cst = ekm_homog_check_rate(gdot, err);
+    if (cst != EKM_OK)
+        return cst;
     /* The root of the local temperature source with u'^2 = gdot^2, w' = 0:
      * the quadratic (T + nu Y)(phi eps0 T - 2/3 eta0 gdot^2) = 0 of model.c,
      * whose only non-negative root is the one returned. */
@@ -54,10 +69,9 @@ static double pressure_mismatch(double phi, void *params)
 ekm_status ekm_homog_shear_at_pressure(const ekm_material *m, ekm_variant v, double P, double gdot,
                                        ekm_homog_state *out, ekm_error *err)
 {
-    if (!(P > 0.0 && isfinite(P)))
-        return EKM_FAIL(err, EKM_EINPUT, "P = %g: expected a finite pressure > 0 [Pa]", P);
-    if (!(gdot > 0.0 && isfinite(gdot)))
-        return EKM_FAIL(err, EKM_EINPUT, "gdot = %g: expected a finite shear rate > 0 [1/s]", gdot);
+    const ekm_status cst = ekm_homog_check_pressure(P, gdot, err);
+    if (cst != EKM_OK)
+        return cst;
     const double rK = m->rho_p * 2.0 * m->eta0 * gdot * gdot / (3.0 * m->eps0); /* rho_p phi T [Pa] */
     if (!(P > rK))
         return EKM_FAIL(

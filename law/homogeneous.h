@@ -31,6 +31,12 @@ typedef struct {
     double phi; /* the volume fraction [-] (given, or found at a given P) */
 } ekm_homog_state;
 
+/* The checks every closure's homogeneous shear makes of its control
+ * (closure.h): a finite shear rate gdot > 0 [1/s], and a finite pressure
+ * P > 0 [Pa]; EKM_EINPUT naming the value. */
+ekm_status ekm_homog_check_rate(double gdot, ekm_error *err);
+ekm_status ekm_homog_check_pressure(double P, double gdot, ekm_error *err);
+
 /* The steady state at volume fraction phi in (0, phi_cp) and shear rate
  * gdot = |du/dz| > 0 [1/s].  EKM_EINPUT (naming phi or gdot) when out of
  * range; EKM_ENUMERIC if the balance has no positive finite root. */
