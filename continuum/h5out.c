@@ -1,5 +1,7 @@
 #include "h5out.h"
 
+#include "closure.h"
+
 #include "bc.h"
 #include "ekm_version.h"
 
@@ -62,6 +64,11 @@ ekm_status ekm_h5out_scenario_attrs(ekm_h5_file *file, const ekm_scenario *sc, e
     if (rc == EKM_OK)
         rc = ekm_h5_attr_set_string(file, NULL, "variant",
                                     sc->variant == EKM_VARIANT_THESIS ? "thesis" : "full", err);
+    if (rc == EKM_OK)
+        rc = ekm_h5_attr_set_string(file, NULL, "closure", sc->closure->name, err);
+    if (rc == EKM_OK)
+        rc = ekm_h5_attr_set_double(file, NULL, "has_temperature", sc->closure->has_temperature ? 1.0 : 0.0,
+                                    err);
     if (rc == EKM_OK)
         rc = ekm_h5_attr_set_string(file, NULL, "code_version", EKMBENCH_VERSION, err);
     if (rc == EKM_OK)
@@ -186,7 +193,8 @@ ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error 
     memcpy(w->buf[F_T], s->T, w->nz * sizeof(double));
     for (int f = 0; f < N_FIELDS - 1; f++)
         for (size_t j = 0; j < w->nz; j++)
-            if (!isfinite(w->buf[f][j]))
+            if (!isfinite(w->buf[f][j]) &&
+                !(f == F_T && !w->sc->closure->has_temperature && isnan(w->buf[f][j])))
                 return EKM_FAIL(err, EKM_ENUMERIC,
                                 "t = %g s, cell %llu (z = %g m): field %s is not finite (%g); "
                                 "nothing written",

@@ -9,8 +9,11 @@
  *   /phi /vx /vz /T /P /sxz /szz   double[nt][nz], SI, cell-centred
  *   /regime                 int32[nt][nz] (fields.h)
  *   every dataset has a string attribute "units";
+ *   /T is NAN in every cell for a closure without a granular temperature
+ *   (has_temperature = 0: mu_i; its T is n/a);
  *   root attributes: every scenario key as "section.key" (number or
- *   string), gravity_x, gravity_z [m/s^2], variant, code_version,
+ *   string), gravity_x, gravity_z [m/s^2], variant, closure (its name),
+ *   has_temperature (1 or 0), code_version,
  *   scenario_file, created (UTC); with [hypo] enabled also
  *   hypo.to_solid, hypo.to_flow (switch counts), hypo.jump_max (largest
  *   relative stress jump at a switch), hypo.fail_time [s], hypo.fail_angle

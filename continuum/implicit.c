@@ -77,6 +77,12 @@ static ekm_status solve_in(ekm_implicit_work *wk, int m, int spd, double *x, con
     return EKM_OK;
 }
 
+ekm_status ekm_implicit_solve(ekm_implicit_work *wk, int m, int spd, double *x, const char *what,
+                              ekm_error *err)
+{
+    return solve_in(wk, m, spd, x, what, err);
+}
+
 /* Row j of the system in wk as solve_in's test needs it: a positive
  * diagonal that dominates the row, and (j > 0) symmetric with row j - 1. */
 static inline int row_spd(const ekm_implicit_work *wk, int j)

@@ -31,6 +31,14 @@ typedef struct {
 ekm_implicit_work *ekm_implicit_alloc(int n);
 void ekm_implicit_free(ekm_implicit_work *wk);
 
+/* Solve the m x m (m <= n + 1) tridiagonal system held in wk (diag, sub[i]
+ * coupling row i to i-1, sup[i] to i+1) with the right-hand side x, into
+ * x; spd != 0: the system is symmetric with a positive diagonal and weakly
+ * diagonally dominant (dptsv), else dgtsv. The system is overwritten.
+ * `what` names the solve in the error message (EKM_ENUMERIC: singular). */
+ekm_status ekm_implicit_solve(ekm_implicit_work *wk, int m, int spd, double *x, const char *what,
+                              ekm_error *err);
+
 /* Boundary data of a velocity solve at one end. */
 typedef struct {
     int follows;        /* normal solve: w_b = adjacent interior w (zero gradient) */

@@ -13,6 +13,7 @@
 #include "ekm_version.h"
 #include "h5out.h"
 #include "homog_cli.h"
+#include "local_slab.h"
 #include "run.h"
 #include "scenario.h"
 #include "scenario_cli.h"
@@ -190,22 +191,43 @@ static int cmd_run(int argc, char **argv)
         ekm_scenario_free(&sc);
         return ekm_status_exit_code(EKM_EUSAGE);
     }
+    /* a local rheology without a temperature (mu_i): the dense slab solver */
+    const int local = ekm_local_slab_applies(&sc);
     ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
-    ekm_stepper *stepper = s ? ekm_step_alloc(&sc, &err) : NULL;
-    if (!s || !stepper) {
+    ekm_stepper *stepper = NULL;
+    ekm_local_slab *slab = NULL;
+    if (s && local)
+        slab = ekm_local_slab_alloc(&sc, &err);
+    else if (s)
+        stepper = ekm_step_alloc(&sc, &err);
+    if (!s || (!stepper && !slab)) {
         if (!s)
             EKM_FAIL(&err, EKM_ENOMEM, "out of memory (%d cells)", sc.cells);
         ekm_state_free(s);
         ekm_scenario_free(&sc);
-        return fail(&err, err.code); /* the status ekm_step_alloc recorded */
+        return fail(&err, err.code); /* the status the allocation recorded */
     }
-    ekm_state_init(s, &sc);
+    if (local)
+        st = ekm_local_slab_init(slab, s, &err);
+    else
+        ekm_state_init(s, &sc);
     frame_ctx fc = {0};
     ekm_run_stats stats;
-    st = ekm_h5_writer_open(&fc.writer, out, &sc, s, &err);
+    if (st == EKM_OK)
+        st = ekm_h5_writer_open(&fc.writer, out, &sc, s, &err);
     if (st == EKM_OK) {
         ekm_run_hooks hooks = {.frame = write_frame, .ctx = &fc, .progress = !quiet};
-        st = ekm_run(&sc, s, stepper, &hooks, &stats, &err);
+        st = local ? ekm_local_slab_run(slab, s, &hooks, &stats, &err)
+                   : ekm_run(&sc, s, stepper, &hooks, &stats, &err);
+        if (st == EKM_OK && local) {
+            /* the slab solver's: its Newton iterations and the most cells whose phi was held at the
+             * end of the dilatancy law's range (local_slab.h) */
+            st = ekm_h5_writer_set_attr(fc.writer, "stats.newton_iterations", (double)stats.newton_iterations,
+                                        &err);
+            if (st == EKM_OK)
+                st = ekm_h5_writer_set_attr(fc.writer, "local.beyond_cells_max",
+                                            (double)ekm_local_slab_beyond_max(slab), &err);
+        }
         if (st == EKM_OK) {
             /* run statistics as root attributes: cost (the campaign's
              * DEM/EKM wall-time ratio) and the mass balance, for
@@ -283,6 +305,7 @@ static int cmd_run(int argc, char **argv)
                    sc.top.pressure);
     }
     ekm_step_free(stepper);
+    ekm_local_slab_free(slab);
     ekm_state_free(s);
     ekm_scenario_free(&sc);
     return code;

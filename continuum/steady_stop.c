@@ -1,5 +1,7 @@
 #include "steady_stop.h"
 
+#include "closure.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -93,7 +95,8 @@ ekm_status ekm_steady_stop_check(ekm_steady_stop *sd, const ekm_scenario *sc, co
         const double dt = s->t - sd->t_prev;
         double change = relative_change(s->phi, sd->phi, mask, n, FLOOR_PHI);
         change = fmax(change, relative_change(s->u, sd->u, mask, n, FLOOR_U));
-        change = fmax(change, relative_change(s->T, sd->T, mask, n, FLOOR_T));
+        if (sc->closure->has_temperature) /* else T is n/a (NAN) */
+            change = fmax(change, relative_change(s->T, sd->T, mask, n, FLOOR_T));
         change = fmax(change, fabs(Q - sd->Q_prev) / fmax(fabs(Q), FLOOR_U * depth));
         sd->drift = change / dt;
         if (sd->drift < sc->steady_tol) {

@@ -4,13 +4,10 @@
  * the largest of the relative changes per unit model time since the
  * previous output t_{k-1} of
  *
- *   phi, vx, T   ||a_k - a_{k-1}||_2 / max(||a_k||_2, floor sqrt(N)) / (t_k - t_{k-1}),
- *                L2 over the N cells with material (phi >= phi_dry) at
- *                either time; floors 1e-3 (phi), 1e-4 m/s (vx),
- *                1e-8 m^2/s^2 (T), so that a zero profile counts as steady
- *                when it stays (near) zero
- *   flow rate    Q = sum phi vx dz [m^2/s]: |Q_k - Q_{k-1}| / max(|Q_k|,
- *                1e-4 m/s sum phi dz) / (t_k - t_{k-1})
+ *   phi, vx, T   (T: a closure with a temperature) ||a_k - a_{k-1}||_2 / max(||a_k||_2, floor sqrt(N)) / (t_k
+ * - t_{k-1}), L2 over the N cells with material (phi >= phi_dry) at either time; floors 1e-3 (phi), 1e-4 m/s
+ * (vx), 1e-8 m^2/s^2 (T), so that a zero profile counts as steady when it stays (near) zero flow rate    Q =
+ * sum phi vx dz [m^2/s]: |Q_k - Q_{k-1}| / max(|Q_k|, 1e-4 m/s sum phi dz) / (t_k - t_{k-1})
  *
  * [1/s].  The run is steady once the drift has stayed below steady_tol at
  * every check from steady_time on for at least steady_window; the run then

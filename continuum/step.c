@@ -20,7 +20,7 @@
 ekm_stepper *ekm_step_alloc(const ekm_scenario *sc, ekm_error *err)
 {
     ekm_error cerr;
-    if (ekm_closure_require_ekm(sc->closure, "the 1D time stepper (ekm run, ekm steady)", &cerr) != EKM_OK) {
+    if (ekm_closure_require_ekm(sc->closure, "the EKM's 1D time stepper", &cerr) != EKM_OK) {
         EKM_FAIL(err, cerr.code, "%s: %s", sc->source, cerr.message);
         return NULL;
     }

@@ -125,6 +125,7 @@ ekm_status ekm_closure_require_ekm(const ekm_closure *c, const char *what, ekm_e
         return EKM_OK;
     return EKM_FAIL(err, EKM_EUNAVAILABLE,
                     "[model] closure = %s: %s solves the EKM's transport law only (ekm_full, ekm_thesis, "
-                    "ekm_jam); %s runs in ekm homog and ekmcompare fit --rheology (docs/model/closures.md)",
-                    c->name, what, c->name);
+                    "ekm_jam); %s runs in ekm homog and ekmcompare fit --rheology%s (docs/model/closures.md)",
+                    c->name, what, c->name,
+                    c->local_stress ? ", and in ekm run and ekm steady of a dense slab" : "");
 }

@@ -15,9 +15,10 @@
  * Every solver runs the styles that are the EKM's transport law with
  * their material (ekm_transport: the EKM's, and ekm_jam, whose phi_J and
  * beta are the material's phi_cp and g_beta). The other styles run where
- * their functions exist (today: the homogeneous steady shear, `ekm homog`
- * and `ekmcompare fit --rheology`); elsewhere the tool refuses them by
- * name (ekm_closure_require_ekm).
+ * their functions exist: the homogeneous steady shear (`ekm homog`,
+ * `ekmcompare fit --rheology`) and, with local_stress and local_phi, the
+ * dense slab solver (continuum/local_slab.h: `ekm run`, `ekm steady`);
+ * elsewhere the tool refuses them by name (ekm_closure_require_ekm).
  *
  * A style's parameters live in ekm_material.law_p, one slot per
  * registered parameter in the table's order, NAN when not given; or, for
@@ -80,6 +81,17 @@ struct ekm_closure {
      * is the volume fraction found */
     ekm_status (*homog_p)(const ekm_closure *c, const ekm_material *m, double P, double gdot,
                           ekm_homog_state *out, ekm_error *err);
+    /* A local rheology without a temperature, which the dense slab solver
+     * runs (continuum/local_slab.h; NULL: the closure has none):
+     * local_stress: the shear stress tau [Pa] at pressure P > 0 [Pa] and
+     * shear rate gdot = du/dz [1/s], its viscosity's divergence at gdot -> 0
+     * cut at gdot_min > 0 [1/s], with dtau/dgdot [Pa s] (> 0) into *dtau;
+     * local_phi: the volume fraction of the material sheared at |gdot|
+     * under P (its dilatancy law); *beyond = 1 where that lies outside the
+     * law's range and phi is held at the range's end (else 0). */
+    double (*local_stress)(const ekm_closure *c, const ekm_material *m, double P, double gdot,
+                           double gdot_min, double *dtau);
+    double (*local_phi)(const ekm_closure *c, const ekm_material *m, double P, double gdot, int *beyond);
 };
 
 /* The registered closures, in the table's order. */

@@ -99,6 +99,25 @@ static ekm_status mu_i_homog_p(const ekm_closure *c, const ekm_material *m, doub
     return EKM_OK;
 }
 
+/* The slab solver's stress: mu_i.h ekm_mu_i_shear_stress. */
+static double mu_i_local_stress(const ekm_closure *c, const ekm_material *m, double P, double gdot,
+                                double gdot_min, double *dtau)
+{
+    const ekm_mu_i_params p = params_of(c, m);
+    return ekm_mu_i_shear_stress(&p, P, gdot, gdot_min, dtau);
+}
+
+/* phi(I) at I = |gdot| d / sqrt(P / rho_p); beyond I = 1 (phi < phi_min,
+ * the linear law's extrapolation, no longer the dense regime) it is held
+ * at phi_min. */
+static double mu_i_local_phi(const ekm_closure *c, const ekm_material *m, double P, double gdot, int *beyond)
+{
+    const ekm_mu_i_params p = params_of(c, m);
+    const double I = ekm_mu_i_inertial_number(&p, P, gdot);
+    *beyond = !(I <= 1.0);
+    return *beyond ? p.phi_min : ekm_mu_i_phi_of_I(&p, I);
+}
+
 const ekm_closure ekm_closure_mu_i = {
     .name = "mu_i",
     .about = "mu(I) of Jop, Forterre and Pouliquen (2006) with phi(I) = phi_max - (phi_max - phi_min) I",
@@ -110,4 +129,6 @@ const ekm_closure ekm_closure_mu_i = {
     .check = mu_i_check,
     .homog = mu_i_homog,
     .homog_p = mu_i_homog_p,
+    .local_stress = mu_i_local_stress,
+    .local_phi = mu_i_local_phi,
 };

@@ -57,3 +57,22 @@ double ekm_mu_i_pressure(const ekm_mu_i_params *p, double I, double gdot)
     const double s = p->d * gdot / I;
     return p->rho_p * s * s;
 }
+
+double ekm_mu_i_inertial_number(const ekm_mu_i_params *p, double P, double gdot)
+{
+    return fabs(gdot) * p->d / sqrt(P / p->rho_p);
+}
+
+double ekm_mu_i_shear_stress(const ekm_mu_i_params *p, double P, double gdot, double gdot_min, double *dtau)
+{
+    const double I = ekm_mu_i_inertial_number(p, P, gdot);
+    const double mu = ekm_mu_i_friction(p, I);
+    /* dmu/dI = (mu_2 - mu_s) I_0 / (I_0 + I)^2; dI/d|gdot| = I / |gdot| = d / sqrt(P / rho_p) */
+    const double dmu_dI = (p->mu_2 - p->mu_s) * p->I_0 / ((p->I_0 + I) * (p->I_0 + I));
+    const double dI_dg = p->d / sqrt(P / p->rho_p);
+    const double s = sqrt(gdot * gdot + gdot_min * gdot_min);
+    const double ramp = gdot / s; /* in (-1, 1) */
+    /* d(ramp)/dgdot = gdot_min^2 / s^3; d(mu)/dgdot = dmu_dI dI_dg sign(gdot) */
+    *dtau = P * (dmu_dI * dI_dg * fabs(ramp) + mu * gdot_min * gdot_min / (s * s * s));
+    return mu * P * ramp;
+}

@@ -55,4 +55,18 @@ double ekm_mu_i_I_of_phi(const ekm_mu_i_params *p, double phi);
  * P = rho_p (d gdot / I)^2 [Pa]. */
 double ekm_mu_i_pressure(const ekm_mu_i_params *p, double I, double gdot);
 
+/* The inertial number at pressure P > 0 [Pa] and shear rate |gdot| [1/s]:
+ * I = |gdot| d / sqrt(P / rho_p). */
+double ekm_mu_i_inertial_number(const ekm_mu_i_params *p, double P, double gdot);
+
+/* The regularised shear stress of the slab solver (continuum/local_slab.h)
+ * at pressure P > 0 [Pa] and shear rate gdot = du/dz [1/s]:
+ *
+ *   tau = mu(I) P gdot / sqrt(gdot^2 + gdot_min^2)   [Pa],  I from |gdot|,
+ *
+ * the viscosity mu(I) P / |gdot| with its divergence at gdot -> 0 cut at
+ * gdot_min > 0 [1/s] (docs/model/closures.md, "Regularisation"); the
+ * derivative dtau/dgdot [Pa s] (> 0) into *dtau. */
+double ekm_mu_i_shear_stress(const ekm_mu_i_params *p, double P, double gdot, double gdot_min, double *dtau);
+
 #endif

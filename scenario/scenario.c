@@ -127,6 +127,7 @@ static const key_spec KEYS[] = {
     {"numerics", "thermal_relax_step", KEY_DOUBLE, SC(numerics.thermal_relax_step), 0, 0, NULL},
     {"numerics", "surface_fill", KEY_INT, SC(numerics.surface_fill), 0, 0, NULL},
     {"numerics", "solid_lag_tol", KEY_DOUBLE, SC(numerics.solid_lag_tol), 0, 0, NULL},
+    {"numerics", "gdot_min", KEY_DOUBLE, SC(numerics.gdot_min), 0, 0, NULL},
     {"hypo", "enabled", KEY_INT, SC(hypo.enabled), 0, 0, NULL},
     {"hypo", "T_ratio", KEY_DOUBLE, SC(hypo.T_ratio), 0, 0, NULL},
     {"hypo", "phi_margin", KEY_DOUBLE, SC(hypo.phi_margin), 0, 0, NULL},
@@ -186,6 +187,7 @@ void ekm_scenario_init_defaults(ekm_scenario *s)
         .newton_max = 30,
         .normal_coupling = EKM_COUPLING_IMPLICIT,
         .thermal_relax_step = 0.05,
+        .gdot_min = NAN,
     };
     s->hypo = (ekm_hypo_params){
         .enabled = 0,
@@ -1088,6 +1090,8 @@ static ekm_status check_scenario(const parse_ctx *c, ekm_scenario *s, ekm_error 
     RANGE(n->newton_tol > 0.0 && n->newton_tol < 1e-2, "numerics", "newton_tol", "a number in (0, 1e-2)",
           n->newton_tol);
     RANGE(n->newton_max >= 1, "numerics", "newton_max", "an integer >= 1", n->newton_max);
+    RANGE(isnan(n->gdot_min) || (n->gdot_min > 0.0 && isfinite(n->gdot_min)), "numerics", "gdot_min",
+          "a shear rate > 0 [1/s]", n->gdot_min);
     if (!word_listed(EKM_SCENARIO_LIMITERS, n->limiter)) {
         char w_[600];
         return EKM_FAIL(err, EKM_EINPUT, "%s: [numerics] limiter: unknown limiter '%s' (known: %s)",

@@ -54,6 +54,9 @@ typedef struct {
     double solid_lag_tol;         /* 2D: largest change of a solid cell's stress, relative to it, when
                                    * the law's norm is taken at the step's own rates instead of the
                                    * lagged ones (twod/regime2d.c) [-] */
+    double gdot_min;              /* a local rheology's (mu_i) cut of its viscosity mu P / |gdot| at
+                                   * vanishing shear rate (continuum/local_slab.h) [1/s]; NAN: not
+                                   * given (no default: the slab solver of such a closure needs it) */
 } ekm_numerics;
 
 /* Where a key's value came from. */
