@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "closure.h"
+#include "slab_takes.h"
 #include "ekm_version.h"
 
 /* json_object_set_new that remembers a failure (NULL value, out of memory). */
@@ -46,6 +47,17 @@ static json_t *resolved_object(const ekm_scenario *s, const ekm_resolved *r, int
     for (size_t k = 0; k < s->closure->nparams; k++)
         append(s->closure->params[k].grain_property ? grains : own, json_string(s->closure->params[k].key),
                failed);
+    /* does the 1D solver of the closure take this scenario (slab_takes.h)? */
+    ekm_error why = {0};
+    const int takes = ekm_scenario_slab_takes(s, &why) == EKM_OK;
+    const ekm_closure *c = s->closure;
+    put(closure, "slab_solver",
+        c->ekm_transport                  ? json_string("ekm")
+        : c->local_stress && c->local_phi ? json_string("local")
+                                          : json_null(),
+        failed);
+    put(closure, "slab_takes", json_boolean(takes), failed);
+    put(closure, "slab_why", takes ? json_null() : json_string(why.message), failed);
     put(closure, "params", own, failed);
     put(closure, "grain_properties", grains, failed);
     put(root, "closure", closure, failed);

@@ -6,7 +6,8 @@
 # [every campaign scenario], "sets": [{"name", "fit": the fit's FIT.json
 # relative to RES or null (thesis), "train": [the member scenarios],
 # "how": "rheology"|"scenario"|null, "closure": the closure style of a
-# closure set or null, "runs": false when the solvers cannot run it}]}.
+# closure set or null, "runs": false when the solvers cannot run it,
+# "skips": {scenario: why its solver does not take it}}]}.
 # Reads RES/scores.json (table.sh) and every set's FIT.json; writes
 # RES/calibration.json and RES/calibration.md (atomically) and prints the
 # markdown. A cell (set x scenario):
@@ -23,6 +24,11 @@
 #               ended at its t_end without reaching its steady state;
 #   no_solver   the set's closure has no solver yet: fitted, not run (its
 #               cells say n/a);
+#   not_taken   the set's closure has a slab solver that does not take this
+#               scenario (mu_i's: a no-slip base under a free surface or a
+#               pressure-held wall): the solver's reason, from the plan's
+#               "skips" (the cell says n/a (not taken); the reasons follow
+#               the table);
 #   train       whether the scenario is in the set's training data.
 # The floor row is LIGGGHTS vs LAMMPS (the scenarios both engines run).
 # Exit status (docs/exit-codes.md): 1 usage, 2 bad plan or score table,
@@ -65,6 +71,7 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
                    n_scores: "relative L2 errors averaged", points: "DEM points those errors were taken over (sets on the same scenario can differ: each run has its own common support)", missing: "comparisons of the set without a score (failed step)",
                    not_steady: "comparisons left out: the EKM run with the set ended at t_end without reaching its steady state",
                    no_solver: "the set'"'"'s closure has no solver yet (docs/model/closures.md): fitted, not run",
+                   not_taken: "the set'"'"'s closure has a slab solver that does not take the scenario (its reason; docs/model/closures.md)",
                    train: "the scenario is in the set'"'"'s training data"},
      sets: [$p.sets[] | . + {fitted: $fits[.name]}],
      scenarios: $p.scenarios,
@@ -78,9 +85,11 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
            scalar_rel: ($scells | map(select(.rel_error != null) | .rel_error | fabs) | mean),
            n_scores: ($cells | map(select(.status == "ok" and .rel_l2 != null)) | length),
            points: ($cells | map(select(.status == "ok") | .points // 0) | add // 0),
-           missing: (if $set.runs == false then 0 else ($cells | map(select(.status == "missing")) | length) end),
+           missing: (if $set.runs == false or (($set.skips // {})[$s] != null) then 0
+                     else ($cells | map(select(.status == "missing")) | length) end),
            not_steady: ($cells | map(select(.status == "not_steady")) | length),
            no_solver: ($set.runs == false),
+           not_taken: (($set.skips // {})[$s] // null),
            train: (($set.train | index($s)) != null)}}] | from_entries)}] | from_entries),
      floor: ([$p.scenarios[] as $s
        | ($rows | map(select(.scenario == $s) | .liggghts_vs_lammps)) as $cells
@@ -105,7 +114,7 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
   echo "Made $(date -u +%Y-%m-%d) by \`make campaign SIZE=$(jq -r .size "$plan")\` ($(jq -r .code_version "$res/calibration.json.tmp"))."
   echo
   jq -r 'def n: if . == null then "-" else (. * 1000 | round / 1000 | tostring) end;
-         def c: if .no_solver then "n/a (no solver)" elif .rel_l2 == null and .scalar_rel == null then "-" else "\(.rel_l2 | n) / \(.scalar_rel | n)" end;
+         def c: if .no_solver then "n/a (no solver)" elif .not_taken then "n/a (not taken)" elif .rel_l2 == null and .scalar_rel == null then "-" else "\(.rel_l2 | n) / \(.scalar_rel | n)" end;
          . as $c
          | "| set | " + ($c.scenarios | join(" | ")) + " |",
            "|---|" + ($c.scenarios | map("---:") | join("|")) + "|",
@@ -114,6 +123,9 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
                   + (if .missing > 0 then " (\(.missing) missing)" else "" end)
                   + (if .not_steady > 0 then " (\(.not_steady) not steady)" else "" end)] | join(" | ")) + " |"),
            "| floor (LIGGGHTS vs LAMMPS) | " + ([$c.scenarios[] as $x | $c.floor[$x] | c] | join(" | ")) + " |"' \
+    "$res/calibration.json.tmp"
+  jq -r '[.sets[] as $s | .matrix[$s.name] | to_entries[] | select(.value.not_taken) | "- \($s.name), \(.key): \(.value.not_taken)"]
+         | if length > 0 then "", "n/a (not taken): the closure'"'"'s slab solver does not take the scenario:", "", .[] else empty end' \
     "$res/calibration.json.tmp"
   echo
   echo "## Fitted parameters"

@@ -87,15 +87,20 @@ jq -e '[.rows[] | select(.scenario | startswith("simple_shear")) | .ekm_rheology
   "$scores" > /dev/null || fail "$scores: a training point of the fitted set without a score"
 cal=$work/results/calibration.json
 jq -e '(.sets | map(.name)) == ["thesis", "rheology", "rheology_ekm_jam", "rheology_mu_i"]
-       and ([.matrix[][] | (.rel_l2 | type == "number") or (.rel_l2 == null and (.not_steady > 0 or .no_solver))] | all)
+       and ([.matrix[][] | (.rel_l2 | type == "number") or (.rel_l2 == null and (.not_steady > 0 or .no_solver or .not_taken))] | all)
        and .matrix.rheology.simple_shear.train and .matrix.rheology.simple_shear_p.train
        and (.matrix.rheology.chute.train | not) and (.matrix.thesis.simple_shear.train | not)
        and .sets[1].fitted.params.eta0.value > 0
-       and ([.matrix.rheology_mu_i[] | .no_solver] | all) and ([.matrix.rheology_ekm_jam[] | .no_solver | not] | all)' \
+       and ([.matrix[][] | .no_solver] | any | not)
+       and ([.matrix.rheology_ekm_jam[] | .not_taken == null] | all)
+       and (.matrix.rheology_mu_i | ([.chute, .shear_cell, .simple_shear_p] | map(.not_taken == null and (.rel_l2 | type == "number")) | all)
+            and ([.filling, .simple_shear] | map(.not_taken | type == "string") | all))' \
   "$cal" > /dev/null ||
-  fail "$cal: expected sets thesis, rheology and its closure sets, every cell finite (mu_i: no solver), the training cells marked"
+  fail "$cal: expected sets thesis, rheology and its closure sets, every cell finite (mu_i: the dense slabs only), the training cells marked"
 grep -q "^| rheology | " "$work/results/calibration.md" || fail "calibration.md has no rheology row"
-grep -q "^| rheology_mu_i | n/a (no solver) | " "$work/results/calibration.md" || fail "calibration.md has no mu_i row"
+grep -q "^| rheology_mu_i | .*n/a (not taken)" "$work/results/calibration.md" || fail "calibration.md has no mu_i row with its n/a cells"
+grep -q "^- rheology_mu_i, filling: .*is not what closure mu_i's slab solver takes" "$work/results/calibration.md" ||
+  fail "calibration.md does not say why mu_i does not run the filling"
 # the closure sets ([campaign] fit_closures): each fitted on the same points
 # with its own constants; ekm_jam's run and scored at every point, mu_i's
 # fitted without T (it has no temperature)
@@ -108,6 +113,16 @@ jq -e '.closure == "mu_i" and (.params | keys) == ["mu_2", "mu_s", "phi_max", "p
 okj=$(jq '[.rows[] | (.ekm_rheology_ekm_jam_vs_liggghts, .ekm_rheology_ekm_jam_vs_lammps)
            | select((.status == "ok" and (.rel_l2 | type) == "number") or .status == "not_steady")] | length' "$scores")
 [ "$okj" -eq "$expected_ekm" ] || fail "$okj comparisons with the ekm_jam set, expected $expected_ekm"
+# mu_i's slab solver: every comparison of the dense slabs (a score, T n/a:
+# no points), none of the others
+jq -e '([.rows[] | select(.scenario == "chute" or .scenario == "shear_cell" or .scenario == "simple_shear_p")
+         | (.ekm_rheology_mu_i_vs_liggghts, .ekm_rheology_mu_i_vs_lammps) | select(.status != "n/a")
+         | .status == "ok" or .status == "not_steady"] | (length > 0 and all))
+       and ([.rows[] | select(.field == "T" and .scenario == "chute") | .ekm_rheology_mu_i_vs_lammps
+             | .status != "ok" or .rel_l2 == null] | all)
+       and ([.rows[] | select(.scenario == "filling" or .scenario == "simple_shear") | has("ekm_rheology_mu_i_vs_lammps")]
+            | any | not)' "$scores" > /dev/null ||
+  fail "$scores: expected mu_i scored at every point of the chute, shear_cell and simple_shear_p (T n/a), none elsewhere"
 grep -q "^## By parameter set" "$work/results/scores.md" || fail "scores.md has no table by parameter set"
 figs=$work/results/figures/figures.txt
 [ -s "$figs" ] || fail "no figures listed in $figs"

@@ -146,12 +146,16 @@ error "not UTF-8" 2 "latin1.ini:$n: \[scenario\] description: expected UTF-8 tex
 # the closure style of the [material] keys: the EKM's, ekm_jam's (its own
 # constants), mu_i's (its grain diameter a property, not a constant)
 cl() { "$ekm" scenario "$@" --json | jq -c .closure; }
-[ "$(cl "$src/scenarios/chute.ini")" = '{"name":"ekm_full","ekm_transport":true,"has_temperature":true,"params":[],"grain_properties":[]}' ] &&
+[ "$(cl "$src/scenarios/chute.ini")" = '{"name":"ekm_full","ekm_transport":true,"has_temperature":true,"slab_solver":"ekm","slab_takes":true,"slab_why":null,"params":[],"grain_properties":[]}' ] &&
   ok "resolved closure: ekm_full" || bad "resolved closure of chute.ini: $(cl "$src/scenarios/chute.ini")"
-[ "$(cl "$src/tests/continuum/data/shear_cell_jam.ini")" = '{"name":"ekm_jam","ekm_transport":true,"has_temperature":true,"params":["phi_J","beta"],"grain_properties":[]}' ] &&
+[ "$(cl "$src/tests/continuum/data/shear_cell_jam.ini")" = '{"name":"ekm_jam","ekm_transport":true,"has_temperature":true,"slab_solver":"ekm","slab_takes":true,"slab_why":null,"params":["phi_J","beta"],"grain_properties":[]}' ] &&
   ok "resolved closure: ekm_jam" || bad "resolved closure of shear_cell_jam.ini"
-[ "$(cl "$src/scenarios/simple_shear.ini" --material "$src/scenarios/closures/mu_i.ini" --set model.closure=mu_i)" = '{"name":"mu_i","ekm_transport":false,"has_temperature":false,"params":["mu_s","mu_2","I_0","phi_max","phi_min"],"grain_properties":["d"]}' ] &&
+[ "$(cl "$src/scenarios/simple_shear_p.ini" --material "$src/scenarios/closures/mu_i.ini" --set model.closure=mu_i)" = '{"name":"mu_i","ekm_transport":false,"has_temperature":false,"slab_solver":"local","slab_takes":true,"slab_why":null,"params":["mu_s","mu_2","I_0","phi_max","phi_min"],"grain_properties":["d"]}' ] &&
   ok "resolved closure: mu_i" || bad "resolved closure of mu_i"
+# mu_i's slab solver does not take a volume-controlled gap, and says why
+cl "$src/scenarios/simple_shear.ini" --material "$src/scenarios/closures/mu_i.ini" --set model.closure=mu_i \
+  --set numerics.gdot_min=1e-3 | jq -e '.slab_takes == false and (.slab_why | test("simple_shear.ini: \\[top\\]: a wall without pressure"))' > /dev/null &&
+  ok "resolved closure: mu_i does not run a volume-controlled gap" || bad "slab_takes of mu_i on simple_shear.ini"
 
 if "$ekm" --help | grep -q "ekm scenario FILE.ini"; then ok "ekm --help documents ekm scenario"; else bad "ekm --help"; fi
 
