@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "fields.h"
+#include "local_slab.h"
 #include "run.h"
 #include "state.h"
 #include "steady_solve.h"
@@ -108,14 +109,54 @@ static double gap_of(const ekm_scenario *sc, const ekm_state *s)
     return ekm_boundary_pressure_wall(&sc->top) ? s->dz * s->n : NAN;
 }
 
-/* Time stepping from the initial state (`ekm run`); *steady: it ended steady. */
+/* The steady solver of sc's closure takes sc (ekm steady's test): the
+ * EKM's (steady_solve.h) or a local rheology's slab solver (local_slab.h). */
+static int steady_takes(const ekm_scenario *sc, ekm_error *why)
+{
+    if (ekm_local_slab_applies(sc))
+        return ekm_local_slab_check(sc, why) == EKM_OK;
+    return ekm_steady_supported(sc, why) == EKM_OK;
+}
+
+/* The steady state from the initial state (`ekm steady`): Newton of the
+ * EKM's steady solver or of the local rheology's slab solver. */
+static ekm_status steady_from_start(const ekm_scenario *sc, ekm_state *s, ekm_error *err)
+{
+    if (!ekm_local_slab_applies(sc)) {
+        ekm_state_init(s, sc);
+        return ekm_steady_solve(sc, s, NULL, err);
+    }
+    ekm_local_slab *ls = ekm_local_slab_alloc(sc, err);
+    if (!ls)
+        return err->code;
+    ekm_local_slab_steady_report rep;
+    ekm_status st = ekm_local_slab_init(ls, s, err);
+    if (st == EKM_OK)
+        st = ekm_local_slab_steady(ls, s, &rep, err);
+    ekm_local_slab_free(ls);
+    return st;
+}
+
+/* Time stepping from the initial state (`ekm run`: the EKM's stepper or the
+ * local rheology's slab solver); *steady: it ended steady. */
 static ekm_status run_from_start(const ekm_scenario *sc, ekm_state *s, int *steady, ekm_error *err)
 {
+    ekm_run_stats stats;
+    if (ekm_local_slab_applies(sc)) {
+        ekm_local_slab *ls = ekm_local_slab_alloc(sc, err);
+        if (!ls)
+            return err ? err->code : EKM_ENOMEM;
+        ekm_status st = ekm_local_slab_init(ls, s, err);
+        if (st == EKM_OK)
+            st = ekm_local_slab_run(ls, s, NULL, &stats, err);
+        ekm_local_slab_free(ls);
+        *steady = st == EKM_OK && stats.steady;
+        return st;
+    }
     ekm_state_init(s, sc);
     ekm_stepper *stp = ekm_step_alloc(sc, err);
     if (!stp)
         return err ? err->code : EKM_ENOMEM;
-    ekm_run_stats stats;
     const ekm_status st = ekm_run(sc, s, stp, NULL, &stats, err);
     ekm_step_free(stp);
     *steady = st == EKM_OK && stats.steady;
@@ -136,9 +177,8 @@ ekm_status ekm_point_solve(const ekm_scenario *scenario, const ekm_material *m, 
     int steady = 0;
     ekm_error why = {0};
     p->solver = EKM_POINT_RUN;
-    if (sc.stop == EKM_STOP_STEADY && ekm_steady_supported(&sc, &why) == EKM_OK) {
-        ekm_state_init(s, &sc);
-        const ekm_status rc = ekm_steady_solve(&sc, s, NULL, &why);
+    if (sc.stop == EKM_STOP_STEADY && steady_takes(&sc, &why)) {
+        const ekm_status rc = steady_from_start(&sc, s, &why);
         if (rc == EKM_OK) {
             p->solver = EKM_POINT_NEWTON;
         } else if (rc != EKM_ENOTSTEADY) {

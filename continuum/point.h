@@ -5,7 +5,8 @@
  *
  * The policy. A scenario that runs to its steady state ([run] stop =
  * steady) is solved by Newton from its initial state (steady_solve.h, `ekm
- * steady`); one the steady solver does not take, or where Newton finds no
+ * steady`; a local rheology, mu_i: local_slab.h's steady solve, and its
+ * time stepping below); one the steady solver does not take, or where Newton finds no
  * steady state, is run by time stepping from its initial state (run.h,
  * `ekm run`). With check, the Newton state is also compared with the
  * time-stepped run: a slab can have more than one steady state, and the
