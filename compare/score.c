@@ -651,6 +651,17 @@ static ekm_status score_field(const cg_score_opts *o, const axes *ax, ekm_h5_fil
     char sename[48];
     snprintf(sename, sizeof sename, "%s_se", name);
     ekm_status rc = EKM_OK;
+    /* T of a model without a granular temperature (an ekm output of a
+     * closure with has_temperature = 0: mu_i): not a number to compare */
+    double has_T = 1.0;
+    if (!strcmp(name, "T") && ekm_h5_attr_exists(ekm, NULL, "has_temperature") &&
+        (rc = ekm_h5_attr_get_double(ekm, NULL, "has_temperature", &has_T, err)) != EKM_OK)
+        return rc;
+    if (has_T == 0.0) {
+        *r = (cg_score_field){.rel_l2 = NAN, .noise = NAN, .na = "no temperature"};
+        snprintf(r->name, sizeof r->name, "%s", name);
+        return EKM_OK;
+    }
     if (!ekm_h5_exists(dem, name))
         rc = EKM_FAIL(err, EKM_EINPUT, "%s: expected a dataset %s", o->dem, name);
     else if (!ekm_h5_exists(ekm, name))
@@ -724,6 +735,7 @@ static ekm_status score_field(const cg_score_opts *o, const axes *ax, ekm_h5_fil
         r->rel_l2 = m.rel_l2;
         r->noise = m.noise;
         r->se_both = fse != NULL;
+        r->na = NULL;
     }
     free(fd);
     free(sd);
@@ -742,8 +754,11 @@ static void write_table(FILE *fp, const cg_score_field *res, size_t nres, const 
     fprintf(fp, "| field | points | left out | rel. L2 error | noise-normalised error "
                 "|\n|---|---:|---:|---:|---:|\n");
     for (size_t i = 0; i < nres; i++)
-        fprintf(fp, "| %s | %zu | %zu | %.4g | %.4g |\n", res[i].name, res[i].points, res[i].points_left_out,
-                res[i].rel_l2, res[i].noise);
+        if (res[i].na)
+            fprintf(fp, "| %s | n/a (%s) | | | |\n", res[i].name, res[i].na);
+        else
+            fprintf(fp, "| %s | %zu | %zu | %.4g | %.4g |\n", res[i].name, res[i].points,
+                    res[i].points_left_out, res[i].rel_l2, res[i].noise);
     fprintf(fp, "\nlayer height: DEM %.4g m, model %.4g m, offset %.4g m = %.3g d\n", sm->dem_height,
             sm->model_height, sm->model_height - sm->dem_height,
             in_d(sm->model_height - sm->dem_height, sm->mean_diameter));

@@ -97,6 +97,9 @@ typedef struct {
     double noise;           /* noise-normalised error (NAN if undefined) */
     int se_both;            /* 1: the --ekm file had FIELD_se too (a second DEM
                                run): SE = sqrt(SE_dem^2 + SE_other^2) */
+    const char *na;         /* NULL: scored; else why the field is n/a ("no temperature":
+                               T of a model whose root attribute has_temperature is 0, a
+                               closure without one; its numbers NAN, points 0) */
 } cg_score_field;
 
 /* The interpolation of `score`, as pure functions (also used by

@@ -78,6 +78,11 @@ static json_t *fields_json(const cg_score_field *res, size_t nres, int *bad)
     json_t *all = json_object();
     for (size_t i = 0; i < nres; i++) {
         json_t *f = json_object();
+        if (res[i].na) { /* n/a: the reason, no numbers */
+            ekm_json_set(f, "n_a", json_string(res[i].na), bad);
+            ekm_json_set(all, res[i].name, f, bad);
+            continue;
+        }
         ekm_json_set(f, "points", json_integer((json_int_t)res[i].points), bad);
         ekm_json_set(f, "points_with_se", json_integer((json_int_t)res[i].points_se), bad);
         ekm_json_set(f, "points_left_out", json_integer((json_int_t)res[i].points_left_out), bad);

@@ -78,6 +78,7 @@ cell() {
       instate as $in | .fields[$f] as $r | if $in == "input gone" or $in == "input changed" then
          {status: "missing", reason: $in, inputs: [.inputs[].path], file: $file}
        elif $r == null then {status: "missing", file: $file}
+       elif $r.n_a then {status: "n/a", reason: $r.n_a, file: $file}
        elif .model_run.steady == 0 then {status: "not_steady", acceleration: .model_run.acceleration,
              drift_per_s: .model_run.drift_per_s, file: $file}
        else {status: "ok", rel_l2: $r.rel_l2, noise_normalised: $r.noise_normalised, points: $r.points,
