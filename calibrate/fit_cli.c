@@ -363,17 +363,19 @@ static ekm_status run_scenario_fit(const fit_args *a, ekm_error *err)
         st = cg_fitsc_load(&sc, a->scenario, err);
     /* every case's files are inputs too: its DEM file and its scenario */
     for (size_t i = 0; i < sc.ncases && st == EKM_OK; i++) {
-        const char *case_inputs[2] = {sc.cases[i].dem, sc.cases[i].scenario};
+        const char *case_inputs[3] = {sc.cases[i].dem, sc.cases[i].scenario, sc.cases[i].material};
+        const size_t n_in = sc.cases[i].material ? 3 : 2;
         if (a->json)
-            st = ekm_atomic_refuse_input(a->json, case_inputs, 2, err);
+            st = ekm_atomic_refuse_input(a->json, case_inputs, n_in, err);
         if (st == EKM_OK && a->ini)
-            st = ekm_atomic_refuse_input(a->ini, case_inputs, 2, err);
+            st = ekm_atomic_refuse_input(a->ini, case_inputs, n_in, err);
     }
     ekm_material start;
     ekm_variant variant = EKM_VARIANT_FULL;
+    const ekm_closure *closure = ekm_closure_of_variant(variant);
     char source[600];
     if (st == EKM_OK)
-        st = cg_fitsc_start_material(&sc, &start, &variant, err);
+        st = cg_fitsc_start_material(&sc, &start, &variant, &closure, err);
     if (st == EKM_OK && a->start) {
         ekm_scenario ss;
         st = ekm_scenario_load(&ss, a->start, NULL, 0, err);
@@ -402,7 +404,7 @@ static ekm_status run_scenario_fit(const fit_args *a, ekm_error *err)
             const cg_fit_outputs o = {.sc = &sc,
                                       .nstarts = sp.nstarts,
                                       .variant = variant,
-                                      .closure = ekm_closure_of_variant(variant),
+                                      .closure = closure, /* cases[0]'s */
                                       .res = &res,
                                       .start_source = source,
                                       .json_path = a->json,

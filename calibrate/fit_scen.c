@@ -38,6 +38,7 @@ static void case_free(cg_fitsc_case *c)
         ekm_scenario_free(&c->sc);
     free(c->dem);
     free(c->scenario);
+    free(c->material);
     for (size_t i = 0; i < c->nset; i++)
         free(c->set[i]);
     free(c->set);
@@ -66,7 +67,7 @@ static ekm_status parse_case(const char *path, size_t i, json_t *jc, unsigned cl
 {
     if (!json_is_object(jc))
         return EKM_FAIL(err, EKM_EINPUT, "%s: cases[%zu]: expected an object", path, i);
-    static const char *const known[] = {"dem", "scenario", "set", "fields", "shift_m", "weight"};
+    static const char *const known[] = {"dem", "scenario", "set", "fields", "shift_m", "weight", "material"};
     const char *key;
     json_t *v;
     json_object_foreach(jc, key, v)
@@ -75,10 +76,11 @@ static ekm_status parse_case(const char *path, size_t i, json_t *jc, unsigned cl
         while (k < sizeof known / sizeof *known && strcmp(known[k], key))
             k++;
         if (k == sizeof known / sizeof *known)
-            return EKM_FAIL(err, EKM_EINPUT,
-                            "%s: cases[%zu]: unknown key '%s': expected dem, scenario, set, fields, "
-                            "shift_m, weight",
-                            path, i, key);
+            return EKM_FAIL(
+                err, EKM_EINPUT,
+                "%s: cases[%zu]: unknown key '%s': expected dem, scenario, material, set, fields, "
+                "shift_m, weight",
+                path, i, key);
     }
     for (int k = 0; k < 2; k++) {
         json_t *s = json_object_get(jc, known[k]);
@@ -89,6 +91,14 @@ static ekm_status parse_case(const char *path, size_t i, json_t *jc, unsigned cl
                             i, known[k]);
         char **dst = k ? &c->scenario : &c->dem;
         if (!(*dst = dup_str(json_string_value(s))))
+            return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
+    }
+    json_t *mat = json_object_get(jc, "material");
+    if (mat) {
+        if (!json_is_string(mat) || !json_string_length(mat))
+            return EKM_FAIL(err, EKM_EINPUT, "%s: cases[%zu].material: expected a path (a non-empty string)",
+                            path, i);
+        if (!(c->material = dup_str(json_string_value(mat))))
             return EKM_FAIL(err, EKM_ENOMEM, "out of memory");
     }
     json_t *set = json_object_get(jc, "set");
@@ -338,10 +348,14 @@ ekm_status cg_fitsc_load(cg_fitsc_problem *pb, const char *cases_path, ekm_error
         if (st != EKM_OK)
             break;
         ekm_error serr = {0};
-        ekm_status ls = ekm_scenario_load(&c->sc, c->scenario, (const char *const *)c->set, c->nset, &serr);
+        ekm_status ls = ekm_scenario_load_material(&c->sc, c->scenario, c->material,
+                                                   (const char *const *)c->set, c->nset, &serr);
         c->sc_loaded = 1; /* also after a failed load: the reader may hold what it read */
         if (ls != EKM_OK) {
             st = EKM_FAIL(err, ls, "%s: cases[%zu].scenario: %s", cases_path, i, serr.message);
+        } else if ((c->fields & (1u << CG_FITSC_T)) && !c->sc.closure->has_temperature) {
+            st = EKM_FAIL(err, EKM_EINPUT, "%s: cases[%zu].fields: T: closure %s has no granular temperature",
+                          cases_path, i, c->sc.closure->name);
         } else {
             const ekm_scenario *sc = &c->sc;
             c->phi_init_max = sc->phi_init;
@@ -373,15 +387,17 @@ ekm_status cg_fitsc_load(cg_fitsc_problem *pb, const char *cases_path, ekm_error
 }
 
 ekm_status cg_fitsc_start_material(const cg_fitsc_problem *pb, ekm_material *m, ekm_variant *variant,
-                                   ekm_error *err)
+                                   const ekm_closure **closure, ekm_error *err)
 {
     const cg_fitsc_case *c = &pb->cases[0];
     ekm_scenario sc;
     ekm_error serr = {0};
-    ekm_status st = ekm_scenario_load(&sc, c->scenario, (const char *const *)c->set, c->nset, &serr);
+    ekm_status st = ekm_scenario_load_material(&sc, c->scenario, c->material, (const char *const *)c->set,
+                                               c->nset, &serr);
     if (st == EKM_OK) {
         *m = sc.material;
         *variant = sc.variant;
+        *closure = sc.closure;
     } else {
         st = EKM_FAIL(err, st, "%s: cases[0].scenario: %s", pb->cases_path, serr.message);
     }

@@ -8,10 +8,12 @@
  *               "scenario": "scenarios/chute.ini", "set": ["gravity.angle=22"],
  *               "fields": ["phi","vx","T","P","sxz"], "shift_m": 0, "weight": 1}, ...]}
  * dem and scenario are required (paths relative to the current directory);
- * set (default []), fields (default all five), shift_m (default 0, added
- * to the DEM coordinate as `score --shift`) and weight (default 1, > 0:
- * the case's residuals are multiplied by sqrt(weight)) are optional; any
- * other key is an error.
+ * material (a material file whose [material] replaces the scenario's, as
+ * `ekm run --material`: a closure set's start, e.g. scenarios/closures/
+ * mu_i.ini with set ["model.closure=mu_i"]; T is then refused in fields
+ * when the closure has no temperature), set (default []), fields (default all five), shift_m (default 0,
+ * added to the DEM coordinate as `score --shift`) and weight (default 1, > 0: the case's residuals are
+ * multiplied by sqrt(weight)) are optional; any other key is an error.
  *
  * Per trial material and case: the scenario is loaded through libekm's
  * reader with the case's set overrides followed by material.K=V (%.17g)
@@ -74,6 +76,7 @@ enum cg_fitsc_solver { CG_FITSC_SOLVER_NONE, CG_FITSC_SOLVER_STEADY, CG_FITSC_SO
 
 typedef struct {
     char *dem, *scenario; /* paths as given */
+    char *material;       /* the case's material file (its [material], as ekm run --material), NULL: none */
     char **set;           /* the case's overrides */
     size_t nset;
     unsigned fields; /* bit mask of cg_fitsc_field: the case's and --fields */
@@ -134,7 +137,7 @@ void cg_fitsc_free(cg_fitsc_problem *pb);
 
 /* The start material: the first case's scenario [material]. */
 ekm_status cg_fitsc_start_material(const cg_fitsc_problem *pb, ekm_material *m, ekm_variant *variant,
-                                   ekm_error *err);
+                                   const ekm_closure **closure, ekm_error *err);
 
 /* The driver's problem (residual callbacks on pb). */
 void cg_fitsc_spec(cg_fitsc_problem *pb, const ekm_material *start, cg_fit_spec *sp);

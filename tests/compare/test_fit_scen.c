@@ -21,6 +21,7 @@
 #include "fields.h"
 #include "fit_scen.h"
 #include "h5.h"
+#include "local_slab.h"
 #include "run.h"
 #include "scenario.h"
 #include "schema.h"
@@ -60,32 +61,19 @@ static const char scenario_text_steady[] =
 static const char *const case_sets[2][2] = {{"top.velocity=0.1", "bottom.velocity=-0.1"},
                                             {"top.velocity=0.25", "bottom.velocity=-0.25"}};
 
-/* The EKM's last state at the true material (the case's sets, then extra
- * if not NULL), interpolated onto the DEM grid (NB bins from the first to
- * the last cell centre of that state); written as a cg output with
- * SE = REL_SE x RMS, plus noise if rng is not NULL. */
-static void write_synthetic_dem(const char *ini, int which, const char *extra, const char *path, gsl_rng *rng)
+/* State s of scenario sc (its first n cells: the material) interpolated
+ * onto the DEM grid (NB bins from the first to the n-th cell centre);
+ * written as a cg output with SE = REL_SE x RMS, plus noise if rng is not
+ * NULL. A field without values (T of mu_i: NaN) is written as 0 +- 1. */
+static void write_cg_of_state(const ekm_scenario *sc, const ekm_state *s, size_t n, const char *path,
+                              gsl_rng *rng)
 {
-    char eta[64], eps[64];
-    snprintf(eta, sizeof eta, "material.eta0=%.17g", TRUE_ETA0);
-    snprintf(eps, sizeof eps, "material.eps0=%.17g", TRUE_EPS0);
-    const char *sets[5] = {case_sets[which][0], case_sets[which][1], eta, eps, extra};
-    const size_t nsets = extra ? 5 : 4;
-    ekm_scenario sc;
     ekm_error err = {0};
-    assert_int_equal(ekm_scenario_load(&sc, ini, sets, nsets, &err), EKM_OK);
-    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
-    ekm_stepper *st = ekm_step_alloc(&sc, &err);
-    assert_non_null(s);
-    assert_non_null(st);
-    ekm_state_init(s, &sc);
-    ekm_run_stats stats;
-    assert_int_equal(ekm_run(&sc, s, st, NULL, &stats, &err), EKM_OK);
-    const size_t n = (size_t)s->n;
     double vx[64], vz[64], P[64], sxz[64], szz[64];
     int regime[64];
+    assert_true(s->n <= 64);
     ekm_fields fl = {.vx = vx, .vz = vz, .P = P, .sxz = sxz, .szz = szz, .regime = regime};
-    ekm_fields_compute(&sc, s, s->t, &fl);
+    ekm_fields_compute(sc, s, s->t, &fl);
     const double *prof[CG_FITSC_NFIELD] = {s->phi, vx, s->T, P, sxz};
     double z[NB], val[CG_FITSC_NFIELD][NB], se[CG_FITSC_NFIELD][NB];
     for (size_t k = 0; k < NB; k++) /* inside the cell-centre range */
@@ -101,6 +89,11 @@ static void write_synthetic_dem(const char *ini, int which, const char *extra, c
         }
         rms = sqrt(rms / NB);
         for (size_t k = 0; k < NB; k++) {
+            if (!isfinite(rms)) {
+                val[f][k] = 0.0;
+                se[f][k] = 1.0;
+                continue;
+            }
             se[f][k] = REL_SE * rms;
             if (rng)
                 val[f][k] += gsl_ran_gaussian(rng, se[f][k]);
@@ -124,6 +117,28 @@ static void write_synthetic_dem(const char *ini, int which, const char *extra, c
     assert_int_equal(ekm_h5_attr_set_string(w, NULL, "kernel", "gauss", &err), EKM_OK);
     assert_int_equal(ekm_h5_attr_set_double(w, NULL, "snapshots_used", 8.0, &err), EKM_OK);
     assert_int_equal(ekm_h5_commit(w, &err), EKM_OK);
+}
+
+/* The EKM's last state at the true material (the case's sets, then extra
+ * if not NULL), written by write_cg_of_state. */
+static void write_synthetic_dem(const char *ini, int which, const char *extra, const char *path, gsl_rng *rng)
+{
+    char eta[64], eps[64];
+    snprintf(eta, sizeof eta, "material.eta0=%.17g", TRUE_ETA0);
+    snprintf(eps, sizeof eps, "material.eps0=%.17g", TRUE_EPS0);
+    const char *sets[5] = {case_sets[which][0], case_sets[which][1], eta, eps, extra};
+    const size_t nsets = extra ? 5 : 4;
+    ekm_scenario sc;
+    ekm_error err = {0};
+    assert_int_equal(ekm_scenario_load(&sc, ini, sets, nsets, &err), EKM_OK);
+    ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
+    ekm_stepper *st = ekm_step_alloc(&sc, &err);
+    assert_non_null(s);
+    assert_non_null(st);
+    ekm_state_init(s, &sc);
+    ekm_run_stats stats;
+    assert_int_equal(ekm_run(&sc, s, st, NULL, &stats, &err), EKM_OK);
+    write_cg_of_state(&sc, s, (size_t)s->n, path, rng);
     ekm_step_free(st);
     ekm_state_free(s);
     ekm_scenario_free(&sc);
@@ -329,6 +344,112 @@ static void test_steady_recovery(void **state)
     json_decref(root);
 }
 
+/* mu(I) on its slab solver (a case's "material" and [model] closure =
+ * mu_i): a chute at 23 and 27 degrees made with mu_s 0.40, mu_2 0.62,
+ * phi_max 0.61, phi_min 0.43 (I_0 0.28 held), data phi and vx; the fit
+ * from the start file's 0.382, 0.643, 0.63, 0.45 recovers the four within
+ * 3 SE, writes closure mu_i and its keys, and refuses T (no temperature). */
+static const char mu_i_scenario[] =
+    "[scenario]\nname = fit_mu_i\n[material]\nrho_p = 2500\nphi_co = 0.6\nphi_cp = 0.64\nT0 = 1.5\n"
+    "eta0 = 3.55e-4\nzeta0 = 1e-4\nlambda0 = 3.4e-4\neps0 = 212.2\nnu = 1\nA_h = 200e6\nB_h = 200e6\nalpha = "
+    "0\n"
+    "[domain]\nlength = 0.03\ncells = 30\n[gravity]\nmagnitude = 9.81\nangle = 24\n"
+    "[initial]\nphi = 0.58\nlayer_height = 0.02\n[bottom]\ntype = wall\n[top]\ntype = free\n"
+    "[run]\nt_end = 100\noutput_dt = 0.5\nstop = steady\nsteady_tol = 1e-8\n[numerics]\ngdot_min = 1e-3\n";
+static const char mu_i_material[] = "[material]\nrho_p = 2500\nmu_s = 0.382\nmu_2 = 0.643\nI_0 = 0.28\n"
+                                    "phi_max = 0.63\nphi_min = 0.45\nd = 0.002\n";
+
+static void test_mu_i_recovery(void **state)
+{
+    (void)state;
+    char ini[512], mat[512], dem[2][512], cases[512], out[512], ini_out[512];
+    tmp_path(ini, sizeof ini, "fitsc_mu_i.ini");
+    tmp_path(mat, sizeof mat, "fitsc_mu_i_material.ini");
+    tmp_path(dem[0], sizeof dem[0], "fitsc_mu_i_dem0.h5");
+    tmp_path(dem[1], sizeof dem[1], "fitsc_mu_i_dem1.h5");
+    tmp_path(cases, sizeof cases, "fitsc_mu_i_cases.json");
+    tmp_path(out, sizeof out, "fitsc_mu_i_fit.json");
+    tmp_path(ini_out, sizeof ini_out, "fitsc_mu_i_fit.ini");
+    assert_int_equal(write_text(ini, mu_i_scenario), 0);
+    assert_int_equal(write_text(mat, mu_i_material), 0);
+    const char *angle[2] = {"gravity.angle=23", "gravity.angle=27"};
+    const char *truth_sets[] = {"model.closure=mu_i",    "material.mu_s=0.40",    "material.mu_2=0.62",
+                                "material.phi_max=0.61", "material.phi_min=0.43", NULL};
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 4343);
+    for (int k = 0; k < 2; k++) {
+        truth_sets[5] = angle[k];
+        ekm_scenario sc;
+        ekm_error err = {0};
+        assert_int_equal(ekm_scenario_load_material(&sc, ini, mat, truth_sets, 6, &err), EKM_OK);
+        ekm_state *s = ekm_state_alloc(sc.cells, sc.length);
+        ekm_local_slab *ls = ekm_local_slab_alloc(&sc, &err);
+        assert_non_null(ls);
+        ekm_local_slab_steady_report rep;
+        assert_int_equal(ekm_local_slab_init(ls, s, &err), EKM_OK);
+        assert_int_equal(ekm_local_slab_steady(ls, s, &rep, &err), EKM_OK);
+        size_t nm = 0;
+        while (nm < (size_t)s->n && s->phi[nm] > 0.0)
+            nm++;
+        write_cg_of_state(&sc, s, nm, dem[k], rng);
+        ekm_local_slab_free(ls);
+        ekm_state_free(s);
+        ekm_scenario_free(&sc);
+    }
+    gsl_rng_free(rng);
+    char text[4096];
+    snprintf(text, sizeof text,
+             "{\"cases\": [\n"
+             " {\"dem\": \"%s\", \"scenario\": \"%s\", \"material\": \"%s\", \"set\": [\"%s\", "
+             "\"model.closure=mu_i\"], \"fields\": [\"phi\", \"vx\"]},\n"
+             " {\"dem\": \"%s\", \"scenario\": \"%s\", \"material\": \"%s\", \"set\": [\"%s\", "
+             "\"model.closure=mu_i\"], \"fields\": [\"phi\", \"vx\"]}\n]}\n",
+             dem[0], ini, mat, angle[0], dem[1], ini, mat, angle[1]);
+    assert_int_equal(write_text(cases, text), 0);
+    char args[4096], errbuf[8192];
+    unlink(out);
+    snprintf(args, sizeof args, "--scenario %s --params mu_s,mu_2,phi_max,phi_min -o %s --ini %s --quiet",
+             cases, out, ini_out);
+    const int rc = run_fit(args, errbuf, sizeof errbuf);
+    if (rc)
+        fprintf(stderr, "%s", errbuf);
+    assert_int_equal(rc, 0);
+    json_error_t je;
+    json_t *root = json_load_file(out, 0, &je);
+    assert_non_null(root);
+    assert_string_equal(json_string_value(json_object_get(root, "closure")), "mu_i");
+    const char *names[4] = {"mu_s", "mu_2", "phi_max", "phi_min"};
+    const double truth[4] = {0.40, 0.62, 0.61, 0.43};
+    for (int j = 0; j < 4; j++) {
+        json_t *p = json_object_get(json_object_get(root, "params"), names[j]);
+        const double v = json_real_value(json_object_get(p, "value")),
+                     se = json_real_value(json_object_get(p, "se"));
+        printf("  mu_i: %s truth %.6g fit %.6g SE %.3g (%+.2f SE)\n", names[j], truth[j], v, se,
+               (v - truth[j]) / se);
+        assert_true(se > 0.0 && se < 0.05 * truth[j]);
+        assert_close(v, truth[j], 3.0 * se);
+    }
+    json_decref(root);
+    char ini_text[4096] = "";
+    FILE *fp = fopen(ini_out, "r");
+    assert_non_null(fp);
+    ini_text[fread(ini_text, 1, sizeof ini_text - 1, fp)] = '\0';
+    fclose(fp);
+    assert_non_null(strstr(ini_text, "mu_s"));
+    assert_null(strstr(ini_text, "eta0"));
+    /* T asked of a closure without a temperature */
+    snprintf(text, sizeof text,
+             "{\"cases\": [{\"dem\": \"%s\", \"scenario\": \"%s\", \"material\": \"%s\", \"set\": "
+             "[\"model.closure=mu_i\"], \"fields\": [\"phi\", \"T\"]}]}\n",
+             dem[0], ini, mat);
+    assert_int_equal(write_text(cases, text), 0);
+    unlink(out);
+    snprintf(args, sizeof args, "--scenario %s --params mu_s -o %s --quiet", cases, out);
+    assert_int_equal(run_fit(args, errbuf, sizeof errbuf), 2);
+    assert_non_null(strstr(errbuf, "cases[0].fields: T: closure mu_i has no granular temperature"));
+    assert_int_equal(access(out, F_OK), -1);
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -428,7 +549,9 @@ static void test_pressure_wall(void **state)
         assert_int_equal(c->ncand[f], NB);
     ekm_material m;
     ekm_variant variant;
-    assert_int_equal(cg_fitsc_start_material(&pb, &m, &variant, &err), EKM_OK);
+    const ekm_closure *closure = NULL;
+    assert_int_equal(cg_fitsc_start_material(&pb, &m, &variant, &closure, &err), EKM_OK);
+    assert_string_equal(closure->name, "ekm_full");
     cg_fit_param_set(&m, pb.param[0], TRUE_ETA0);
     cg_fit_param_set(&m, pb.param[1], TRUE_EPS0);
     double r[CG_FITSC_NFIELD * NB];
@@ -465,9 +588,8 @@ static void test_pressure_wall(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_recovery),
-        cmocka_unit_test(test_steady_recovery),
-        cmocka_unit_test(test_pressure_wall),
+        cmocka_unit_test(test_recovery),      cmocka_unit_test(test_steady_recovery),
+        cmocka_unit_test(test_pressure_wall), cmocka_unit_test(test_mu_i_recovery),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
