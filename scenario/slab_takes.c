@@ -16,11 +16,6 @@ ekm_status ekm_scenario_slab_takes(const ekm_scenario *sc, ekm_error *err)
             "%s: [model] closure = %s has no slab solver (it runs in ekm homog and ekmcompare fit "
             "--rheology; docs/model/closures.md)",
             sc->source, name);
-    if (!(sc->numerics.gdot_min > 0.0))
-        return EKM_FAIL(err, EKM_EINPUT,
-                        "%s: [numerics] gdot_min: missing (closure %s's slab solver needs it: the shear rate "
-                        "[1/s] below which its viscosity mu P / |gdot| is cut, docs/model/closures.md)",
-                        sc->source, name);
     const char *why = NULL;
     if (sc->cells_x > 1)
         why = "[domain] cells_x: a 2D domain (the slab solver is 1D)";
@@ -55,5 +50,10 @@ ekm_status ekm_scenario_slab_takes(const ekm_scenario *sc, ekm_error *err)
             "%s: %s is not what closure %s's slab solver takes (a no-slip base; a free surface or "
             "a top wall held at a pressure; docs/model/closures.md)",
             sc->source, why, name);
+    if (!(sc->numerics.gdot_min > 0.0))
+        return EKM_FAIL(err, EKM_EINPUT,
+                        "%s: [numerics] gdot_min: missing (closure %s's slab solver needs it: the shear rate "
+                        "[1/s] below which its viscosity mu P / |gdot| is cut, docs/model/closures.md)",
+                        sc->source, name);
     return EKM_OK;
 }

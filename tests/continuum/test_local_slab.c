@@ -307,16 +307,20 @@ static void refused(const char *const *sets, size_t n, ekm_status want, const ch
 static void test_refusals(void **state)
 {
     (void)state;
-    /* the campaign's chute with mu_i's start values: no [numerics] gdot_min */
+    /* a mu_i chute without [numerics] gdot_min */
+    static const char no_gdot[] = "[scenario]\nname = no_gdot\n[material]\nrho_p = 2500\nmu_s = 0.382\n"
+                                  "mu_2 = 0.643\nI_0 = 0.279\nphi_max = 0.6\nphi_min = 0.4\nd = 0.002\n"
+                                  "[model]\nclosure = mu_i\n[domain]\nlength = 0.06\ncells = 60\n"
+                                  "[gravity]\nmagnitude = 9.81\nangle = 25\n[initial]\nphi = 0.58\n"
+                                  "layer_height = 0.04\n[bottom]\ntype = wall\n[top]\ntype = free\n"
+                                  "[run]\nt_end = 10\n";
+    const ekm_scenario_text text = {"no_gdot.ini", no_gdot, sizeof no_gdot - 1};
     ekm_scenario sc;
     ekm_error err = {0};
-    const char *closure[] = {"model.closure=mu_i"};
-    assert_int_equal(ekm_scenario_load_material(&sc, test_path("scenarios/chute.ini"),
-                                                test_path("scenarios/closures/mu_i.ini"), closure, 1, &err),
-                     EKM_OK);
+    assert_int_equal(ekm_scenario_load_texts(&sc, &text, NULL, NULL, 0, &err), EKM_OK);
     assert_null(ekm_local_slab_alloc(&sc, &err));
     assert_int_equal(err.code, EKM_EINPUT);
-    assert_non_null(strstr(err.message, "[numerics] gdot_min: missing"));
+    assert_non_null(strstr(err.message, "no_gdot.ini: [numerics] gdot_min: missing"));
     ekm_scenario_free(&sc);
     const char *inflow[] = {"bottom.type=inflow", "bottom.phi=0.3", "bottom.w=1"};
     refused(inflow, 3, EKM_EUNAVAILABLE, "[bottom] type: expected wall");
