@@ -470,27 +470,16 @@ ekm_status ekm_local_slab_run(ekm_local_slab *ls, ekm_state *s, const ekm_run_ho
     *stats = (ekm_run_stats){
         .dt_min_used = INFINITY, .steady_drift = NAN, .steady_time = NAN, .fail_time = -1.0, .fail_cell = -1};
     stats->mass_initial = ekm_local_slab_mass(sc, s);
-    for (int j = 0; j < s->n; j++)
-        stats->phi_max = fmax(stats->phi_max, s->phi[j]);
-    ekm_status rc;
-    if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, NULL, err)) != EKM_OK)
+    ekm_run_watch watch;
+    ekm_status rc = ekm_run_watch_start(&watch, sc, s, NULL, hooks, stats, err);
+    if (rc != EKM_OK)
         return rc;
-    ekm_steady_stop steady = {0};
-    const int until_steady = sc->stop == EKM_STOP_STEADY;
-    int is_steady = 0;
-    if (until_steady) {
-        if ((rc = ekm_steady_stop_init(&steady, s->n, err)) != EKM_OK)
-            return rc;
-        if ((rc = ekm_steady_stop_check(&steady, sc, s, &is_steady, err)) != EKM_OK)
-            goto done;
-    }
     const double started = ekm_now_s();
     ekm_progress progress;
     ekm_progress_start(&progress, hooks && hooks->progress ? stderr : NULL);
     long frame = 0;
     double dt_next = fmin(DT_FIRST, sc->output_dt);
-    rc = EKM_OK;
-    while (!is_steady && s->t < sc->t_end * (1.0 - 1e-14)) {
+    while (!watch.is_steady && s->t < sc->t_end * (1.0 - 1e-14)) {
         const double t_next_out = fmin(sc->t_end, (frame + 1) * sc->output_dt);
         double dt = fmin(dt_next, sc->numerics.dt_max);
         const int reaches = s->t + dt >= t_next_out * (1.0 - 1e-12);
@@ -523,11 +512,7 @@ ekm_status ekm_local_slab_run(ekm_local_slab *ls, ekm_state *s, const ekm_run_ho
             goto end;
         if (s->t >= t_next_out * (1.0 - 1e-12)) {
             frame++;
-            for (int j = 0; j < s->n; j++)
-                stats->phi_max = fmax(stats->phi_max, s->phi[j]);
-            if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, NULL, err)) != EKM_OK)
-                goto end;
-            if (until_steady && (rc = ekm_steady_stop_check(&steady, sc, s, &is_steady, err)) != EKM_OK)
+            if ((rc = ekm_run_watch_frame(&watch, sc, s, NULL, hooks, stats, err)) != EKM_OK)
                 goto end;
         }
         ekm_progress_update(&progress, s->t, sc->t_end, dt, s->steps, 0);
@@ -536,17 +521,10 @@ ekm_status ekm_local_slab_run(ekm_local_slab *ls, ekm_state *s, const ekm_run_ho
         ekm_progress_update(&progress, s->t, sc->t_end, dt_next, s->steps, 1);
     stats->wall_s = ekm_now_s() - started;
     stats->mass_final = ekm_local_slab_mass(sc, s);
-    if (until_steady) {
-        stats->steady = steady.steady;
-        stats->steady_drift = steady.drift;
-        stats->steady_time = steady.steady_time;
-        stats->steady_acceleration = ekm_steady_stop_acceleration(&steady, sc);
-    }
+    ekm_run_watch_verdict(&watch, sc, stats);
 end:
     ekm_progress_end(&progress);
-done:
-    if (until_steady)
-        ekm_steady_stop_free(&steady);
+    ekm_run_watch_free(&watch);
     return rc;
 }
 

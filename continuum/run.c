@@ -30,28 +30,62 @@ static ekm_status step_limit_failure(const ekm_scenario *sc, const ekm_state *s,
                     s->phi[j], s->T[j], s->w[j], s->w[j + 1], s->solid[j] ? "solid" : "flowing");
 }
 
+ekm_status ekm_run_watch_start(ekm_run_watch *w, const ekm_scenario *sc, const ekm_state *s,
+                               const ekm_stepper *st, const ekm_run_hooks *hooks, ekm_run_stats *stats,
+                               ekm_error *err)
+{
+    *w = (ekm_run_watch){.until_steady = sc->stop == EKM_STOP_STEADY};
+    track_phi(stats, s);
+    ekm_status rc;
+    if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
+        return rc;
+    if (!w->until_steady)
+        return EKM_OK;
+    if ((rc = ekm_steady_stop_init(&w->steady, s->n, err)) != EKM_OK)
+        return rc;
+    if ((rc = ekm_steady_stop_check(&w->steady, sc, s, &w->is_steady, err)) != EKM_OK)
+        ekm_run_watch_free(w);
+    return rc;
+}
+
+ekm_status ekm_run_watch_frame(ekm_run_watch *w, const ekm_scenario *sc, const ekm_state *s,
+                               const ekm_stepper *st, const ekm_run_hooks *hooks, ekm_run_stats *stats,
+                               ekm_error *err)
+{
+    track_phi(stats, s);
+    ekm_status rc;
+    if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
+        return rc;
+    return w->until_steady ? ekm_steady_stop_check(&w->steady, sc, s, &w->is_steady, err) : EKM_OK;
+}
+
+void ekm_run_watch_verdict(const ekm_run_watch *w, const ekm_scenario *sc, ekm_run_stats *stats)
+{
+    if (!w->until_steady)
+        return;
+    stats->steady = w->steady.steady;
+    stats->steady_drift = w->steady.drift;
+    stats->steady_time = w->steady.steady_time;
+    stats->steady_acceleration = ekm_steady_stop_acceleration(&w->steady, sc);
+}
+
+void ekm_run_watch_free(ekm_run_watch *w)
+{
+    if (w->until_steady)
+        ekm_steady_stop_free(&w->steady);
+    w->until_steady = 0;
+}
+
 ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const ekm_run_hooks *hooks,
                    ekm_run_stats *stats, ekm_error *err)
 {
     const double rho_p = sc->material.rho_p;
     *stats = (ekm_run_stats){.dt_min_used = INFINITY, .steady_drift = NAN, .steady_time = NAN};
     stats->mass_initial = ekm_state_mass(s, rho_p);
-    track_phi(stats, s);
-    ekm_status rc;
-    if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
+    ekm_run_watch watch;
+    ekm_status rc = ekm_run_watch_start(&watch, sc, s, st, hooks, stats, err);
+    if (rc != EKM_OK)
         return rc;
-    ekm_steady_stop steady = {0};
-    const int until_steady = sc->stop == EKM_STOP_STEADY;
-    int is_steady = 0;
-    if (until_steady) {
-        if ((rc = ekm_steady_stop_init(&steady, s->n, err)) != EKM_OK)
-            return rc;
-        if ((rc = ekm_steady_stop_check(&steady, sc, s, &is_steady, err)) != EKM_OK) {
-            ekm_steady_stop_free(&steady);
-            return rc;
-        }
-    }
-    rc = EKM_OK;
     const double started = ekm_now_s();
     ekm_progress progress;
     ekm_progress_start(&progress, hooks && hooks->progress ? stderr : NULL);
@@ -63,7 +97,7 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
     st->dt_change = 0.0;
     st->end_rate_valid = 0;
     double dt_prev = ekm_control_restart_dt(sc, s) / 1.5;
-    while (!is_steady && s->t < sc->t_end * (1.0 - 1e-14)) {
+    while (!watch.is_steady && s->t < sc->t_end * (1.0 - 1e-14)) {
         const double t_next_out = fmin(sc->t_end, (frame + 1) * sc->output_dt);
         ekm_dt_limit limit;
         const ekm_thermal_known known = {st->end_rate, st->end_rate_cell};
@@ -108,10 +142,7 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
             goto done;
         if (s->t >= t_next_out * (1.0 - 1e-12)) {
             frame++;
-            track_phi(stats, s);
-            if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
-                goto done;
-            if (until_steady && (rc = ekm_steady_stop_check(&steady, sc, s, &is_steady, err)) != EKM_OK)
+            if ((rc = ekm_run_watch_frame(&watch, sc, s, st, hooks, stats, err)) != EKM_OK)
                 goto done;
         }
         ekm_progress_update(&progress, s->t, sc->t_end, dt, s->steps, 0);
@@ -131,15 +162,9 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
     stats->fail_cell = st->regime.fail_cell;
     stats->fail_phi = st->regime.fail_phi;
     stats->fail_stress = st->regime.fail_stress;
-    if (until_steady) {
-        stats->steady = steady.steady;
-        stats->steady_drift = steady.drift;
-        stats->steady_time = steady.steady_time;
-        stats->steady_acceleration = ekm_steady_stop_acceleration(&steady, sc);
-    }
+    ekm_run_watch_verdict(&watch, sc, stats);
 done:
     ekm_progress_end(&progress); /* an error line starts on a line of its own */
-    if (until_steady)
-        ekm_steady_stop_free(&steady);
+    ekm_run_watch_free(&watch);
     return rc;
 }

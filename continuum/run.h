@@ -13,6 +13,7 @@
 #include "scenario.h"
 #include "state.h"
 #include "step.h"
+#include "steady_stop.h"
 
 typedef struct {
     /* Called at t = 0, every output_dt and at t_end. */
@@ -53,5 +54,28 @@ typedef struct {
 
 ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const ekm_run_hooks *hooks,
                    ekm_run_stats *stats, ekm_error *err);
+
+/* What every 1D time loop does at its outputs (ekm_run, and the local
+ * rheology's slab solver, local_slab.h): the frame hook, phi_max, and with
+ * [run] stop = steady the steady test (steady_stop.h). */
+typedef struct {
+    ekm_steady_stop steady;
+    int until_steady; /* [run] stop = steady */
+    int is_steady;    /* the test holds: the loop ends */
+} ekm_run_watch;
+
+/* The first output (t = 0): w set up, the frame hook and the first steady
+ * check. On an error w holds nothing to free. */
+ekm_status ekm_run_watch_start(ekm_run_watch *w, const ekm_scenario *sc, const ekm_state *s,
+                               const ekm_stepper *st, const ekm_run_hooks *hooks, ekm_run_stats *stats,
+                               ekm_error *err);
+/* An output: phi_max, the frame hook, the steady check. */
+ekm_status ekm_run_watch_frame(ekm_run_watch *w, const ekm_scenario *sc, const ekm_state *s,
+                               const ekm_stepper *st, const ekm_run_hooks *hooks, ekm_run_stats *stats,
+                               ekm_error *err);
+/* The steady verdict into stats (steady, steady_drift, steady_time,
+ * steady_acceleration), when until_steady. */
+void ekm_run_watch_verdict(const ekm_run_watch *w, const ekm_scenario *sc, ekm_run_stats *stats);
+void ekm_run_watch_free(ekm_run_watch *w);
 
 #endif
