@@ -16,6 +16,8 @@
 #               against the reference engine (LAMMPS where it runs the
 #               scenario, else LIGGGHTS): the cells ekm_vs_E (thesis) or
 #               ekm_<set>_vs_E of scores.json;
+#   rel_l2_no_T the same over phi, vx and P only (every closure has them:
+#               the like-for-like table of the closures);
 #   scalar_rel  mean |relative error| of the scenario's scalar observables
 #               over its points (same engine);
 #   n_scores    the relative L2 errors averaged; missing: comparisons of
@@ -64,9 +66,11 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
   def cellname($set; $e): if $set == "thesis" then "ekm_vs_" + $e else "ekm_" + $set + "_vs_" + $e end;
   . as $t | $plan[0] as $p
   | ($t.rows | map(select(.field == "phi" or .field == "vx" or .field == "P" or .field == "T"))) as $rows
+  | ($rows | map(select(.field != "T"))) as $rows_noT
   | ($t.scalar_rows // []) as $srows
   | {size: $p.size, engines: $p.engines, created: $created, code_version: $t.code_version,
      definitions: {rel_l2: "mean relative L2 error of phi, vx, P, T over the scenario'"'"'s points, common support, against the reference engine (LAMMPS where it runs the scenario, else LIGGGHTS)",
+                   rel_l2_no_T: "the same over phi, vx and P only: the fields every closure has (mu_i has no T), the like-for-like comparison of the closures",
                    scalar_rel: "mean |relative error| of the scenario'"'"'s scalar observables over its points, same engine",
                    n_scores: "relative L2 errors averaged", points: "DEM points those errors were taken over (sets on the same scenario can differ: each run has its own common support)", missing: "comparisons of the set without a score (failed step)",
                    not_steady: "comparisons left out: the EKM run with the set ended at t_end without reaching its steady state",
@@ -77,11 +81,13 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
      scenarios: $p.scenarios,
      matrix: ([$p.sets[] as $set | {key: $set.name, value: ([$p.scenarios[] as $s
        | ($rows | map(select(.scenario == $s) | (.[cellname($set.name; engine_of)] // {status: "missing"}))) as $cells
+       | ($rows_noT | map(select(.scenario == $s) | (.[cellname($set.name; engine_of)] // {status: "missing"}))) as $cells_noT
        | ($srows | map(select(.scenario == $s)) | map(. as $r
            | ($t.rows | map(select(.scenario == $r.scenario and .point == $r.point)) | (.[0] // {}) | engine_of) as $e
            | ($r[cellname($set.name; $e)] // {}))) as $scells
        | {key: $s, value: {
            rel_l2: ($cells | map(select(.status == "ok" and .rel_l2 != null) | .rel_l2) | mean),
+           rel_l2_no_T: ($cells_noT | map(select(.status == "ok" and .rel_l2 != null) | .rel_l2) | mean),
            scalar_rel: ($scells | map(select(.rel_error != null) | .rel_error | fabs) | mean),
            n_scores: ($cells | map(select(.status == "ok" and .rel_l2 != null)) | length),
            points: ($cells | map(select(.status == "ok") | .points // 0) | add // 0),
@@ -123,6 +129,20 @@ jq --slurpfile plan "$plan" --argjson fits "$fits" --arg created "$(date -u +%Y-
                   + (if .missing > 0 then " (\(.missing) missing)" else "" end)
                   + (if .not_steady > 0 then " (\(.not_steady) not steady)" else "" end)] | join(" | ")) + " |"),
            "| floor (LIGGGHTS vs LAMMPS) | " + ([$c.scenarios[] as $x | $c.floor[$x] | c] | join(" | ")) + " |"' \
+    "$res/calibration.json.tmp"
+  echo
+  echo "Like for like: the same cells over phi, vx and P only, the fields every"
+  echo "closure has (mu_i has no granular temperature, so its cells above leave T"
+  echo "out while the EKM's include it)."
+  echo
+  jq -r 'def n: if . == null then "-" else (. * 1000 | round / 1000 | tostring) end;
+         def c: if .no_solver then "n/a (no solver)" elif .not_taken then "n/a (not taken)" elif .rel_l2_no_T == null then "-" else (.rel_l2_no_T | n) end;
+         . as $c
+         | "| set | " + ($c.scenarios | join(" | ")) + " |",
+           "|---|" + ($c.scenarios | map("---:") | join("|")) + "|",
+           ($c.sets[] as $s | "| " + $s.name + " | "
+              + ([$c.scenarios[] as $x | $c.matrix[$s.name][$x] | if .train then "**" + c + "**" else c end
+                  + (if .not_steady > 0 then " (\(.not_steady) not steady)" else "" end)] | join(" | ")) + " |")' \
     "$res/calibration.json.tmp"
   jq -r '[.sets[] as $s | .matrix[$s.name] | to_entries[] | select(.value.not_taken) | "- \($s.name), \(.key): \(.value.not_taken)"]
          | if length > 0 then "", "n/a (not taken): the closure'"'"'s slab solver does not take the scenario:", "", .[] else empty end' \
