@@ -42,6 +42,8 @@ static void usage(FILE *fp)
             "\n"
             "Integrates the Extended Kinetic Model in the slab geometry described by the\n"
             "scenario file and writes one HDF5 file (+ XDMF sidecar for ParaView).\n"
+            "[model] closure = mu_i runs on the slab solver of a local rheology (a dense\n"
+            "layer on a no-slip base; needs [numerics] gdot_min; docs/model/closures.md).\n"
             "\n"
             "  -o OUT.h5        output file (default: the scenario file's name with .h5,\n"
             "                   in the current directory); written atomically\n"

@@ -98,6 +98,10 @@ jq -e '(.sets | map(.name)) == ["thesis", "rheology", "rheology_ekm_jam", "rheol
   "$cal" > /dev/null ||
   fail "$cal: expected sets thesis, rheology and its closure sets, every cell finite (mu_i: the dense slabs only), the training cells marked"
 grep -q "^| rheology | " "$work/results/calibration.md" || fail "calibration.md has no rheology row"
+# the like-for-like matrix over phi, vx and P (mu_i has no T)
+grep -q "^Like for like" "$work/results/calibration.md" || fail "calibration.md has no like-for-like matrix"
+jq -e '.matrix.rheology_mu_i.chute.rel_l2_no_T | type == "number"' "$cal" > /dev/null ||
+  fail "$cal: no like-for-like (phi, vx, P) cell of mu_i on the chute"
 grep -q "^| rheology_mu_i | .*n/a (not taken)" "$work/results/calibration.md" || fail "calibration.md has no mu_i row with its n/a cells"
 grep -q "^- rheology_mu_i, filling: .*is not what closure mu_i's slab solver takes" "$work/results/calibration.md" ||
   fail "calibration.md does not say why mu_i does not run the filling"
