@@ -49,7 +49,7 @@ other=$(grep -E '^rule ' "$work/dry.log" | grep -v -E '^rule (dem|fit):' | sort 
 # the calibration fits are cluster jobs too (a scenario fit runs the EKM
 # hundreds of times), one per parameter set (with the closure sets)
 nfit=$(grep -c '^rule fit:' "$work/dry.log")
-[ "$nfit" -eq 4 ] || fail "dry run: $nfit cluster jobs of rule fit, expected 4 (the sets chute, rheology, rheology_ekm_jam, rheology_mu_i)"
+[ "$nfit" -eq 5 ] || fail "dry run: $nfit cluster jobs of rule fit, expected 5 (the sets chute, chute_mu_i, rheology, rheology_ekm_jam, rheology_mu_i)"
 for r in cg ekm ekm_set score_ekm score_ekm_set score_engines; do
   grep -q "^localrule $r:" "$work/dry.log" || fail "dry run: no local job of rule $r"
 done
