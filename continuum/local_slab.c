@@ -506,15 +506,8 @@ ekm_status ekm_local_slab_run(ekm_local_slab *ls, ekm_state *s, const ekm_run_ho
         /* a step shortened to reach an output does not throttle the growth */
         if (!(reaches && stats->rejected == rejected_before))
             dt_next = 1.5 * dt;
-        stats->steps++;
-        stats->cell_updates += s->n;
-        if (hooks && hooks->step && (rc = hooks->step(hooks->ctx, s, NULL, err)) != EKM_OK)
+        if ((rc = ekm_run_watch_step(&watch, sc, s, NULL, hooks, stats, t_next_out, &frame, err)) != EKM_OK)
             goto end;
-        if (s->t >= t_next_out * (1.0 - 1e-12)) {
-            frame++;
-            if ((rc = ekm_run_watch_frame(&watch, sc, s, NULL, hooks, stats, err)) != EKM_OK)
-                goto end;
-        }
         ekm_progress_update(&progress, s->t, sc->t_end, dt, s->steps, 0);
     }
     if (progress.tty)

@@ -34,18 +34,29 @@ ekm_status ekm_run_watch_start(ekm_run_watch *w, const ekm_scenario *sc, const e
                                const ekm_stepper *st, const ekm_run_hooks *hooks, ekm_run_stats *stats,
                                ekm_error *err)
 {
-    *w = (ekm_run_watch){.until_steady = sc->stop == EKM_STOP_STEADY};
-    track_phi(stats, s);
+    *w = (ekm_run_watch){0};
     ekm_status rc;
-    if (hooks && hooks->frame && (rc = hooks->frame(hooks->ctx, s, st, err)) != EKM_OK)
+    if (sc->stop == EKM_STOP_STEADY && (rc = ekm_steady_stop_init(&w->steady, s->n, err)) != EKM_OK)
         return rc;
-    if (!w->until_steady)
-        return EKM_OK;
-    if ((rc = ekm_steady_stop_init(&w->steady, s->n, err)) != EKM_OK)
-        return rc;
-    if ((rc = ekm_steady_stop_check(&w->steady, sc, s, &w->is_steady, err)) != EKM_OK)
+    w->until_steady = sc->stop == EKM_STOP_STEADY;
+    if ((rc = ekm_run_watch_frame(w, sc, s, st, hooks, stats, err)) != EKM_OK)
         ekm_run_watch_free(w);
     return rc;
+}
+
+ekm_status ekm_run_watch_step(ekm_run_watch *w, const ekm_scenario *sc, const ekm_state *s,
+                              const ekm_stepper *st, const ekm_run_hooks *hooks, ekm_run_stats *stats,
+                              double t_next_out, long *frame, ekm_error *err)
+{
+    stats->steps++;
+    stats->cell_updates += s->n;
+    ekm_status rc;
+    if (hooks && hooks->step && (rc = hooks->step(hooks->ctx, s, st, err)) != EKM_OK)
+        return rc;
+    if (!(s->t >= t_next_out * (1.0 - 1e-12)))
+        return EKM_OK;
+    ++*frame;
+    return ekm_run_watch_frame(w, sc, s, st, hooks, stats, err);
 }
 
 ekm_status ekm_run_watch_frame(ekm_run_watch *w, const ekm_scenario *sc, const ekm_state *s,
@@ -135,16 +146,9 @@ ekm_status ekm_run(const ekm_scenario *sc, ekm_state *s, ekm_stepper *st, const 
             dt_prev = ekm_control_restart_dt(sc, s) / 1.5;
         else if (s->t < t_target * (1.0 - 1e-12))
             dt_prev = dt;
-        stats->steps++;
         stats->newton_iterations += st->newton_iterations;
-        stats->cell_updates += s->n;
-        if (hooks && hooks->step && (rc = hooks->step(hooks->ctx, s, st, err)) != EKM_OK)
+        if ((rc = ekm_run_watch_step(&watch, sc, s, st, hooks, stats, t_next_out, &frame, err)) != EKM_OK)
             goto done;
-        if (s->t >= t_next_out * (1.0 - 1e-12)) {
-            frame++;
-            if ((rc = ekm_run_watch_frame(&watch, sc, s, st, hooks, stats, err)) != EKM_OK)
-                goto done;
-        }
         ekm_progress_update(&progress, s->t, sc->t_end, dt, s->steps, 0);
     }
     if (progress.tty)

@@ -73,6 +73,11 @@ ekm_status ekm_run_watch_start(ekm_run_watch *w, const ekm_scenario *sc, const e
 ekm_status ekm_run_watch_frame(ekm_run_watch *w, const ekm_scenario *sc, const ekm_state *s,
                                const ekm_stepper *st, const ekm_run_hooks *hooks, ekm_run_stats *stats,
                                ekm_error *err);
+/* After an accepted step: steps and cell_updates counted, the step hook,
+ * and at t_next_out [s] the output (++*frame, ekm_run_watch_frame). */
+ekm_status ekm_run_watch_step(ekm_run_watch *w, const ekm_scenario *sc, const ekm_state *s,
+                              const ekm_stepper *st, const ekm_run_hooks *hooks, ekm_run_stats *stats,
+                              double t_next_out, long *frame, ekm_error *err);
 /* The steady verdict into stats (steady, steady_drift, steady_time,
  * steady_acceleration), when until_steady. */
 void ekm_run_watch_verdict(const ekm_run_watch *w, const ekm_scenario *sc, ekm_run_stats *stats);
