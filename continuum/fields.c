@@ -1,7 +1,6 @@
 #include "fields.h"
 
 #include "bc.h"
-#include "local_slab.h"
 #include "model.h"
 
 static double harmonic(double a, double b)
@@ -22,10 +21,6 @@ double ekm_face_viscosity(double eta_a, int solid_a, double eta_b, int solid_b)
 
 void ekm_fields_compute(const ekm_scenario *sc, const ekm_state *s, double t, ekm_fields *out)
 {
-    if (ekm_local_slab_applies(sc)) {
-        ekm_local_slab_fields(sc, s, t, out);
-        return;
-    }
     const ekm_material *m = &sc->material;
     const int n = s->n;
     const double dry = sc->numerics.phi_dry;

@@ -28,8 +28,9 @@ typedef struct {
  * frozen T gives a meaningless one); 0 next to an empty cell (eta = 0). */
 double ekm_face_viscosity(double eta_a, int solid_a, double eta_b, int solid_b);
 
-/* Arrays of n each, owned by the caller. A closure the dense slab solver
- * runs (mu_i) has its own: local_slab.h ekm_local_slab_fields. */
+/* Arrays of n each, owned by the caller. The EKM's state; a state of the
+ * dense slab solver (mu_i) has its own (local_slab.h; ekm_slab_fields
+ * there takes either). */
 void ekm_fields_compute(const ekm_scenario *sc, const ekm_state *s, double t, ekm_fields *out);
 
 #endif

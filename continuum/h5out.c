@@ -13,6 +13,7 @@
 
 #include "atomic.h"
 #include "fields.h"
+#include "local_slab.h"
 #include "h5.h"
 #include "schema.h"
 #include "xdmf.h"
@@ -188,7 +189,7 @@ ekm_status ekm_h5_writer_append(ekm_h5_writer *w, const ekm_state *s, ekm_error 
                      .sxz = w->buf[F_SXZ],
                      .szz = w->buf[F_SZZ],
                      .regime = w->regime};
-    ekm_fields_compute(w->sc, s, s->t, &fl);
+    ekm_slab_fields(w->sc, s, s->t, &fl);
     memcpy(w->buf[F_PHI], s->phi, w->nz * sizeof(double));
     memcpy(w->buf[F_T], s->T, w->nz * sizeof(double));
     for (int f = 0; f < N_FIELDS - 1; f++)

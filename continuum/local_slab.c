@@ -391,6 +391,14 @@ ekm_status ekm_local_slab_step(ekm_local_slab *ls, ekm_state *s, double dt, int 
     return EKM_OK;
 }
 
+void ekm_slab_fields(const ekm_scenario *sc, const ekm_state *s, double t, ekm_fields *out)
+{
+    if (ekm_local_slab_applies(sc))
+        ekm_local_slab_fields(sc, s, t, out);
+    else
+        ekm_fields_compute(sc, s, t, out);
+}
+
 double ekm_local_slab_mass(const ekm_scenario *sc, const ekm_state *s)
 {
     double b = 0.0, mass = 0.0;

@@ -121,6 +121,11 @@ int ekm_local_slab_beyond_max(const ekm_local_slab *ls);
  * (a free top: 0), szz = -P, regime dense flow (empty above the layer). */
 void ekm_local_slab_fields(const ekm_scenario *sc, const ekm_state *s, double t, ekm_fields *out);
 
+/* The output fields of a 1D state of sc, whichever solver made it: this
+ * solver's (ekm_local_slab_applies) or the EKM's (fields.h). What ekm
+ * writes (h5out.c) and what the campaign's points compare (point.c). */
+void ekm_slab_fields(const ekm_scenario *sc, const ekm_state *s, double t, ekm_fields *out);
+
 /* Mass per area of a state of this solver, sum rho_p phi_j h_j [kg/m^2]. */
 double ekm_local_slab_mass(const ekm_scenario *sc, const ekm_state *s);
 

@@ -96,7 +96,7 @@ static ekm_status profiles_of(const ekm_scenario *sc, const ekm_state *s, ekm_po
     p->sxz = block + 5 * n;
     ekm_fields fl = {
         .vx = p->vx, .vz = block + 6 * n, .P = p->P, .sxz = p->sxz, .szz = block + 7 * n, .regime = regime};
-    ekm_fields_compute(sc, s, s->t, &fl); /* what ekm writes (h5out.c) */
+    ekm_slab_fields(sc, s, s->t, &fl); /* what ekm writes (h5out.c) */
     memcpy(p->z, s->z, n * sizeof(double));
     memcpy(p->phi, s->phi, n * sizeof(double));
     memcpy(p->T, s->T, n * sizeof(double));

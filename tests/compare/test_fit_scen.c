@@ -73,7 +73,7 @@ static void write_cg_of_state(const ekm_scenario *sc, const ekm_state *s, size_t
     int regime[64];
     assert_true(s->n <= 64);
     ekm_fields fl = {.vx = vx, .vz = vz, .P = P, .sxz = sxz, .szz = szz, .regime = regime};
-    ekm_fields_compute(sc, s, s->t, &fl);
+    ekm_slab_fields(sc, s, s->t, &fl);
     const double *prof[CG_FITSC_NFIELD] = {s->phi, vx, s->T, P, sxz};
     double z[NB], val[CG_FITSC_NFIELD][NB], se[CG_FITSC_NFIELD][NB];
     for (size_t k = 0; k < NB; k++) /* inside the cell-centre range */

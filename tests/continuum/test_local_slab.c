@@ -107,7 +107,7 @@ static chute_err chute_case(const char *const *sets, size_t n_sets)
     int regime[256];
     assert_true(r.s->n <= 256);
     ekm_fields fl = {fl_store[0], fl_store[1], fl_store[2], fl_store[3], fl_store[4], regime};
-    ekm_fields_compute(&r.sc, r.s, r.s->t, &fl);
+    ekm_slab_fields(&r.sc, r.s, r.s->t, &fl);
     chute_err e = {0};
     const int nm = material_cells(r.s);
     assert_int_equal(nm, (int)lround(r.sc.cells * 0.04 / 0.06));
@@ -212,7 +212,7 @@ static void test_shear_cell(void **state)
     double fl_store[5][42];
     int regime[42];
     ekm_fields fl = {fl_store[0], fl_store[1], fl_store[2], fl_store[3], fl_store[4], regime};
-    ekm_fields_compute(&r.sc, r.s, r.s->t, &fl);
+    ekm_slab_fields(&r.sc, r.s, r.s->t, &fl);
     for (int j = 0; j < r.s->n; j++) {
         assert_true(fabs(r.s->u[j] - V * r.s->z[j] / gap) < 1e-8 * V);
         assert_true(fabs(r.s->phi[j] - (pmax - (pmax - pmin) * I)) < 1e-9);
@@ -240,7 +240,7 @@ static void test_simple_shear_p(void **state)
     double fl_store[5][20];
     int regime[20];
     ekm_fields fl = {fl_store[0], fl_store[1], fl_store[2], fl_store[3], fl_store[4], regime};
-    ekm_fields_compute(&r.sc, r.s, r.s->t, &fl);
+    ekm_slab_fields(&r.sc, r.s, r.s->t, &fl);
     const double ramp = 3 / sqrt(9 + 1e-6);
     for (int j = 0; j < r.s->n; j++) {
         assert_true(fabs(r.s->phi[j] - hs.phi) < 1e-9);
