@@ -53,7 +53,7 @@ struct ekm_local_slab {
     ekm_implicit_work *wk;
     int beyond_max;        /* most cells held at the dilatancy law's bound, any accepted step */
     int newton_iterations; /* of the last step */
-    char reject_reason[160];
+    char reject_reason[sizeof(((ekm_error *)0)->message) + 64];
 };
 
 int ekm_local_slab_applies(const ekm_scenario *sc)
